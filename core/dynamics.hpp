@@ -1,0 +1,38 @@
+// Kane's equations of the SA model (paper eqs. 2-6; MODEL.md sections 2 and 5):
+//   M(q) du/dt = F(q, u),
+// where F = F_r (active forces: gravity, joint torques, contact) plus the
+// velocity-dependent part of the generalized inertia forces F_r*.
+//
+// With every twist and wrench taken about one world point (the chassis origin),
+// Kane's sums over bodies reduce to a composite-body pass for M and a single
+// backward pass for F: each partial velocity is the unit motion of one node of
+// the kinematic tree, dotted with the net wrench of the subtree it carries.
+#pragma once
+
+#include "core/coordinates.hpp"
+#include "core/kinematic_tree.hpp"
+#include "core/model_inputs.hpp"
+
+namespace rover {
+
+// M(q): sum over bodies of m J_v^T J_v + J_w^T I J_w (symmetric positive definite).
+MassMatrix mass_matrix(const KinematicTree& tree, const TreeKinematics& kin);
+
+// Gravity plus the velocity-dependent inertia forces (F_r* at du/dt = 0).
+Coordinates gravity_and_inertia_forces(const KinematicTree& tree, const TreeKinematics& kin,
+                                       double gravity_mps2);
+
+// Generalized forces of the joints: S-structure springs and dampers, steering
+// servos with end-stops, wheel drives. The bogie pivot is ideal.
+Coordinates joint_forces(const RoverParameters& parameters, const ModelInputs& inputs,
+                         const Coordinates& q, const Coordinates& u);
+
+// Energies, for conservation checks and diagnostics.
+double kinetic_energy(const KinematicTree& tree, const TreeKinematics& kin);
+double gravity_potential_energy(const KinematicTree& tree, const TreeKinematics& kin,
+                                double gravity_mps2);
+// Elastic energy of the S-structures and the steering springs and end-stops.
+double joint_potential_energy(const RoverParameters& parameters, const ModelInputs& inputs,
+                              const Coordinates& q);
+
+}  // namespace rover

@@ -1,0 +1,171 @@
+// Kinematic tree of MODEL.md section 3 and its recursive kinematics.
+#include "core/kinematic_tree.hpp"
+
+#include <stdexcept>
+
+#include <Eigen/Geometry>
+
+namespace rover {
+namespace {
+
+int add_body(KinematicTree& tree, int& body_count, int node_index,
+             const RigidBodyParameters& body) {
+  const int b = body_count++;
+  tree.bodies[b] = body;
+  tree.body_node[b] = node_index;
+  tree.total_mass_kg += body.mass_kg;
+  return b;
+}
+
+RigidBodyParameters mirrored(const RigidBodyParameters& body, double s_x, double s_y) {
+  RigidBodyParameters m = body;
+  m.com_m = mirrored_position(body.com_m, s_x, s_y);
+  m.inertia_kgm2 = mirrored_inertia(body.inertia_kgm2, s_x, s_y);
+  return m;
+}
+
+}  // namespace
+
+KinematicTree build_kinematic_tree(const RoverParameters& p) {
+  KinematicTree tree;
+  int body_count = 0;
+  auto set = [&](int index, int parent, const Vec3& offset, JointType type, const Vec3& axis,
+                 int coordinate, double sign) {
+    TreeNode& n = tree.nodes[index];
+    n.parent = parent;
+    n.offset_m = offset;
+    n.type = type;
+    n.axis = axis;
+    n.coordinate = coordinate;
+    n.sign = sign;
+  };
+  const Vec3 ex = Vec3::UnitX(), ey = Vec3::UnitY(), ez = Vec3::UnitZ(), zero = Vec3::Zero();
+
+  // Floating chassis: translations along world axes, then yaw, pitch, roll.
+  set(0, -1, zero, JointType::kPrismatic, ex, coord::x, 1.0);
+  set(1, 0, zero, JointType::kPrismatic, ey, coord::y, 1.0);
+  set(2, 1, zero, JointType::kPrismatic, ez, coord::z, 1.0);
+  set(3, 2, zero, JointType::kRevolute, ez, coord::yaw, 1.0);
+  set(4, 3, zero, JointType::kRevolute, ey, coord::pitch, 1.0);
+  set(node::chassis, 4, zero, JointType::kRevolute, ex, coord::roll, 1.0);
+  tree.nodes[node::chassis].body = add_body(tree, body_count, node::chassis, p.chassis);
+
+  // Bogies: phi_R = +phi, phi_L = -phi (massless lever coupling).
+  for (const int side : {node::bogie_left, node::bogie_right}) {
+    const double s_y = side == node::bogie_left ? 1.0 : -1.0;
+    set(side, node::chassis, mirrored_position(p.geometry.bogie_pivot_m, 1.0, s_y),
+        JointType::kRevolute, ey, coord::bogie, -s_y);
+    tree.nodes[side].body = add_body(tree, body_count, side, mirrored(p.bogie, 1.0, s_y));
+  }
+
+  // Legs: hip and knee S-structure joints rotate by Ry(-s_x b), so positive b
+  // lifts the wheel; the hub steers about its z axis, the wheel rolls about y.
+  for (int leg = 0; leg < kNumLegs; ++leg) {
+    const double s_x = leg_sign_x(leg), s_y = leg_sign_y(leg);
+    const int bogie = s_y > 0 ? node::bogie_left : node::bogie_right;
+    set(node::module1(leg), bogie, mirrored_position(p.geometry.hip_m, s_x, s_y),
+        JointType::kRevolute, ey, coord::s_joint(leg, 0), -s_x);
+    tree.nodes[node::module1(leg)].body =
+        add_body(tree, body_count, node::module1(leg), mirrored(p.module1, s_x, s_y));
+    set(node::module2(leg), node::module1(leg), mirrored_position(p.geometry.knee_m, s_x, s_y),
+        JointType::kRevolute, ey, coord::s_joint(leg, 1), -s_x);
+    tree.nodes[node::module2(leg)].body =
+        add_body(tree, body_count, node::module2(leg), mirrored(p.module2, s_x, s_y));
+    set(node::hub(leg), node::module2(leg), mirrored_position(p.geometry.wheel_centre_m, s_x, s_y),
+        JointType::kRevolute, ez, coord::steer(leg), 1.0);
+    set(node::wheel(leg), node::hub(leg), zero, JointType::kRevolute, ey, coord::spin(leg), 1.0);
+    tree.nodes[node::wheel(leg)].body =
+        add_body(tree, body_count, node::wheel(leg), mirrored(p.wheel, s_x, s_y));
+  }
+  if (body_count != kNumBodies) throw std::logic_error("kinematic tree: wrong body count");
+
+  for (int i = 0; i < kNumTreeNodes; ++i) {
+    int len = 0;
+    for (int k = i; k >= 0; k = tree.nodes[k].parent) {
+      if (len == kMaxTreeDepth) throw std::logic_error("kinematic tree: too deep");
+      tree.path[i][len++] = k;
+    }
+    tree.path_length[i] = len;
+    if (tree.nodes[i].parent >= i) throw std::logic_error("kinematic tree: parents must come first");
+    // A coordinate may drive several nodes (the bogie coupling) but never two
+    // nodes on one path: that would double-count a partial velocity.
+    for (int a = 1; a < len; ++a)
+      if (tree.nodes[tree.path[i][a]].coordinate == tree.nodes[i].coordinate)
+        throw std::logic_error("kinematic tree: coordinate repeated along a path");
+  }
+  return tree;
+}
+
+TreeKinematics forward_kinematics(const KinematicTree& tree, const Coordinates& q,
+                                  const Coordinates& u) {
+  TreeKinematics kin;
+  for (int i = 0; i < kNumTreeNodes; ++i) {
+    const TreeNode& node = tree.nodes[i];
+    NodeKinematics& k = kin.nodes[i];
+    static const NodeKinematics kWorld{Mat3::Identity(), Vec3::Zero(), Vec3::Zero(),
+                                       Vec3::Zero(),     Vec3::Zero(), Vec3::Zero(),
+                                       Vec3::Zero(),     Vec3::Zero(), Vec3::Zero()};
+    const NodeKinematics& parent = node.parent >= 0 ? kin.nodes[node.parent] : kWorld;
+    const double displacement = node.sign * q[node.coordinate];
+    const double rate = node.sign * u[node.coordinate];
+    k.axis = parent.rotation * node.axis;
+    Vec3 r = parent.rotation * node.offset_m;
+    if (node.type == JointType::kRevolute) {
+      k.rotation = parent.rotation * Eigen::AngleAxisd(displacement, node.axis).toRotationMatrix();
+      k.omega = parent.omega + k.axis * rate;
+      k.alpha_bias = parent.alpha_bias + parent.omega.cross(k.axis * rate);
+      k.velocity = parent.velocity + parent.omega.cross(r);
+      k.accel_bias = parent.accel_bias + parent.alpha_bias.cross(r) +
+                     parent.omega.cross(parent.omega.cross(r));
+    } else {
+      r += k.axis * displacement;
+      const Vec3 slide = k.axis * rate;
+      k.rotation = parent.rotation;
+      k.omega = parent.omega;
+      k.alpha_bias = parent.alpha_bias;
+      k.velocity = parent.velocity + parent.omega.cross(r) + slide;
+      k.accel_bias = parent.accel_bias + parent.alpha_bias.cross(r) +
+                     parent.omega.cross(parent.omega.cross(r)) + 2.0 * parent.omega.cross(slide);
+    }
+    k.origin = parent.origin + r;
+  }
+  kin.reference = kin.nodes[node::chassis].origin;
+  for (int i = 0; i < kNumTreeNodes; ++i) {
+    NodeKinematics& k = kin.nodes[i];
+    const double s = tree.nodes[i].sign;
+    if (tree.nodes[i].type == JointType::kRevolute) {
+      k.motion_omega = s * k.axis;
+      k.motion_velocity = k.motion_omega.cross(kin.reference - k.origin);
+    } else {
+      k.motion_omega.setZero();
+      k.motion_velocity = s * k.axis;
+    }
+  }
+  return kin;
+}
+
+Eigen::Matrix<double, 3, kNumCoordinates> point_jacobian(const KinematicTree& tree,
+                                                         const TreeKinematics& kin,
+                                                         int node_index, const Vec3& p) {
+  Eigen::Matrix<double, 3, kNumCoordinates> jacobian = Eigen::Matrix<double, 3, kNumCoordinates>::Zero();
+  const Vec3 lever = p - kin.reference;
+  for (int a = 0; a < tree.path_length[node_index]; ++a) {
+    const int k = tree.path[node_index][a];
+    const NodeKinematics& n = kin.nodes[k];
+    jacobian.col(tree.nodes[k].coordinate) += n.motion_velocity + n.motion_omega.cross(lever);
+  }
+  return jacobian;
+}
+
+void add_point_force(const KinematicTree& tree, const TreeKinematics& kin, int node_index,
+                     const Vec3& p, const Vec3& force, Coordinates& generalized_force) {
+  const Vec3 moment = (p - kin.reference).cross(force);  // about the reference point
+  for (int a = 0; a < tree.path_length[node_index]; ++a) {
+    const int k = tree.path[node_index][a];
+    const NodeKinematics& n = kin.nodes[k];
+    generalized_force[tree.nodes[k].coordinate] +=
+        n.motion_omega.dot(moment) + n.motion_velocity.dot(force);
+  }
+}
+
+}  // namespace rover

@@ -1,0 +1,111 @@
+// The rover's kinematic tree (MODEL.md section 3) and its kinematics.
+//
+// The tree is a list of nodes, parents first. Each node is one elementary
+// 1-DOF joint (a rotation about, or a translation along, an axis fixed in the
+// parent frame after a constant offset) driven by one generalized coordinate
+// times a sign. Several nodes may share a coordinate: the two bogies are
+// driven by phi with signs +1 (right) and -1 (left), which is MODEL.md's
+// lever coupling. The floating chassis is six nodes: translations along the
+// world axes, then Rz(theta), Ry(chi), Rx(psi), so R_WC = Rz Ry Rx.
+//
+// forward_kinematics() evaluates, for every node, the world pose, velocity and
+// the "bias" accelerations (the accelerations when du/dt = 0). They are the
+// ingredients of Kane's partial velocities and inertia forces (paper eqs. 3-4).
+// Everything is expressed in the world frame; moments are taken about a single
+// reference point (the chassis origin) so sums over bodies are plain additions.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "core/coordinates.hpp"
+#include "core/rover_parameters.hpp"
+
+namespace rover {
+
+enum class JointType { kRevolute, kPrismatic };
+
+struct TreeNode {
+  int parent = -1;                 // index of the parent node, -1 for the world
+  Vec3 offset_m = Vec3::Zero();    // joint origin in the parent frame
+  JointType type = JointType::kRevolute;
+  Vec3 axis = Vec3::UnitZ();       // unit axis in the parent frame
+  int coordinate = 0;              // index into q and u
+  double sign = 1.0;               // joint displacement = sign * q[coordinate]
+  int body = -1;                   // index into KinematicTree::bodies, -1 if massless
+};
+
+inline constexpr int kNumTreeNodes = 24;
+inline constexpr int kNumBodies = 15;
+inline constexpr int kMaxTreeDepth = 12;
+
+// Node indices of the named frames.
+namespace node {
+inline constexpr int chassis = 5;
+inline constexpr int bogie_left = 6, bogie_right = 7;
+inline constexpr int module1(int leg) { return 8 + 4 * leg; }
+inline constexpr int module2(int leg) { return 9 + 4 * leg; }
+inline constexpr int hub(int leg) { return 10 + 4 * leg; }    // after steering
+inline constexpr int wheel(int leg) { return 11 + 4 * leg; }  // after rolling
+}  // namespace node
+
+struct KinematicTree {
+  std::array<TreeNode, kNumTreeNodes> nodes;
+  std::array<RigidBodyParameters, kNumBodies> bodies;  // in their node's frame
+  std::array<int, kNumBodies> body_node{};
+  // Ancestors of each node, the node itself first, root last.
+  std::array<std::array<int, kMaxTreeDepth>, kNumTreeNodes> path{};
+  std::array<int, kNumTreeNodes> path_length{};
+  double total_mass_kg = 0.0;
+};
+
+// Builds the tree of MODEL.md section 3 from the template parameters.
+KinematicTree build_kinematic_tree(const RoverParameters& parameters);
+
+// World pose, velocity and bias acceleration of one node frame.
+struct NodeKinematics {
+  Mat3 rotation;        // R_W,node
+  Vec3 origin;          // world position of the node origin
+  Vec3 axis;            // joint axis in world coordinates (unit)
+  Vec3 omega;           // angular velocity
+  Vec3 velocity;        // velocity of the node origin
+  Vec3 alpha_bias;      // angular acceleration at du/dt = 0
+  Vec3 accel_bias;      // acceleration of the node origin at du/dt = 0
+  // Unit joint motion (times sign) as a twist at the reference point:
+  // omega = motion_omega * u_c, v(ref) = motion_velocity * u_c.
+  Vec3 motion_omega;
+  Vec3 motion_velocity;
+};
+
+struct TreeKinematics {
+  std::array<NodeKinematics, kNumTreeNodes> nodes;
+  Vec3 reference;       // moment reference point (the chassis origin)
+};
+
+TreeKinematics forward_kinematics(const KinematicTree& tree, const Coordinates& q,
+                                  const Coordinates& u);
+
+// World position of the point with body-frame coordinates r_local on `node`.
+inline Vec3 point_position(const TreeKinematics& kin, int node_index, const Vec3& r_local) {
+  const NodeKinematics& n = kin.nodes[node_index];
+  return n.origin + n.rotation * r_local;
+}
+
+// Velocity of the material point at world position p, fixed to `node`.
+inline Vec3 point_velocity(const TreeKinematics& kin, int node_index, const Vec3& p) {
+  const NodeKinematics& n = kin.nodes[node_index];
+  return n.velocity + n.omega.cross(p - n.origin);
+}
+
+// Partial velocities (Jacobian d v_P / d u, 3 x 23) of the material point at
+// world position p fixed to `node`.
+Eigen::Matrix<double, 3, kNumCoordinates> point_jacobian(const KinematicTree& tree,
+                                                         const TreeKinematics& kin,
+                                                         int node_index, const Vec3& p);
+
+// Adds the generalized force J_P^T force of a force applied at world point p
+// of `node` to `generalized_force` (paper eq. 9).
+void add_point_force(const KinematicTree& tree, const TreeKinematics& kin, int node_index,
+                     const Vec3& p, const Vec3& force, Coordinates& generalized_force);
+
+}  // namespace rover

@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Installs every Debian package the project needs (apt-get) and builds it in build/.
+# Safe to run again: apt-get skips what is installed, CMake rebuilds what changed.
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+
+packages=(
+  build-essential cmake pkg-config
+  libeigen3-dev libboost-dev libnlopt-cxx-dev libnlopt-dev
+  libopenmpi-dev openmpi-bin libhdf5-dev
+  nlohmann-json3-dev libcli11-dev libgtest-dev libbenchmark-dev
+  gnuplot-nox python3-h5py python3-numpy
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "setup: installing ${missing[*]}"
+  sudo_cmd=""
+  if [[ $(id -u) -ne 0 ]]; then sudo_cmd="sudo"; fi
+  $sudo_cmd apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+build_type="${ROVER_BUILD_TYPE:-Release}"
+cmake -S "$here" -B "$here/build" -DCMAKE_BUILD_TYPE="$build_type" >/dev/null
+cmake --build "$here/build" --parallel "$(nproc)"
+echo "setup: built in $here/build"

@@ -1,0 +1,46 @@
+#include "test_support.hpp"
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <random>
+#include <sys/wait.h>
+
+#include <gtest/gtest.h>
+
+namespace rover::testing {
+
+std::string source_path(const std::string& relative) {
+  return std::string(ROVER_SOURCE_DIR) + "/" + relative;
+}
+
+std::string rover_binary() {
+  const char* env = std::getenv("ROVER_BINARY");
+  return env ? env : std::string(ROVER_SOURCE_DIR) + "/build/drivers/rover";
+}
+
+std::string temp_dir() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  std::string name = info ? std::string(info->test_suite_name()) + "_" + info->name() : "rover";
+  for (char& c : name)
+    if (c == '/') c = '_';
+  std::random_device rd;
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("rover_test_" + name + "_" + std::to_string(rd()));
+  std::filesystem::create_directories(dir);
+  return dir.string();
+}
+
+int run_command(const std::string& command, std::string* output) {
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  if (!pipe) return -1;
+  std::array<char, 4096> buffer{};
+  std::string text;
+  while (fgets(buffer.data(), buffer.size(), pipe)) text += buffer.data();
+  const int status = pclose(pipe);
+  if (output) *output = text;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+}  // namespace rover::testing

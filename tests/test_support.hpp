@@ -1,0 +1,15 @@
+// Helpers shared by the test executables: paths of the source tree and the
+// built `rover` program, and running a command.
+#pragma once
+
+#include <string>
+
+namespace rover::testing {
+
+std::string source_path(const std::string& relative);  // <source dir>/relative
+std::string rover_binary();                              // path of the built `rover`
+std::string temp_dir();                                  // a fresh directory for this test
+// Runs a shell command; returns its exit status and captures stdout+stderr.
+int run_command(const std::string& command, std::string* output = nullptr);
+
+}  // namespace rover::testing
