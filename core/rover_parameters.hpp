@@ -9,6 +9,7 @@
 
 #include <array>
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 namespace rover {
 

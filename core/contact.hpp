@@ -1,0 +1,55 @@
+// Wheel-terrain contact (MODEL.md section 6; paper sections 2.2.2-2.2.3, eqs. 7-9).
+//
+// The wheel is a disk of radius R_w in the plane through its centre normal to
+// its spin axis. Contact regions are the maximal arcs of the rim below the
+// terrain; in each, the contact point P is the rim point of maximum vertical
+// depth d = h(P_x, P_y) - P_z, the penetration is p = d n_z with n the terrain
+// normal at P, and the force is a Kelvin-Voigt normal force (never pulling)
+// plus Makkar friction on the slip velocity, applied to the wheel at P.
+#pragma once
+
+#include <array>
+
+#include "core/kinematic_tree.hpp"
+#include "core/rover_parameters.hpp"
+#include "core/terrain.hpp"
+
+namespace rover {
+
+inline constexpr int kMaxContactsPerWheel = 4;
+
+struct ContactPoint {
+  Vec3 point_m = Vec3::Zero();          // P, on the rim
+  Vec3 normal = Vec3::UnitZ();          // terrain normal at P (unit)
+  double depth_m = 0.0;                 // vertical depth d = h(P) - P_z > 0
+  double penetration_m = 0.0;           // p = d n_z
+  double penetration_rate_mps = 0.0;    // dp/dt = -v_P . n
+  Vec3 slip_velocity_mps = Vec3::Zero();  // v_t = v_P - (v_P . n) n
+  double normal_force_N = 0.0;          // F_n >= 0
+  Vec3 friction_force_N = Vec3::Zero();   // F_t
+};
+
+struct WheelContacts {
+  int count = 0;
+  std::array<ContactPoint, kMaxContactsPerWheel> points;
+  double total_normal_force_N() const {
+    double sum = 0.0;
+    for (int i = 0; i < count; ++i) sum += points[i].normal_force_N;
+    return sum;
+  }
+};
+
+// Geometry only: the deepest rim point of every region below the terrain
+// (point, normal, depth, penetration). Exact (to round-off) on flat terrain;
+// on a height grid, regions are found by sampling the lower rim and each
+// deepest point is refined by Brent's method.
+WheelContacts find_wheel_contacts(const Terrain& terrain, const Vec3& wheel_centre_m,
+                                  const Vec3& spin_axis, double wheel_radius_m);
+
+// Completes the contacts of one wheel with velocities and forces.
+// `wheel_node` is the node of the wheel body in the kinematic tree.
+void compute_contact_forces(const TreeKinematics& kin, int wheel_node,
+                            const ContactParameters& contact, const FrictionParameters& friction,
+                            WheelContacts& contacts);
+
+}  // namespace rover

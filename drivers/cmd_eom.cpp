@@ -1,0 +1,89 @@
+// `rover eom`: prints the equations of motion M(q), F(q, u) at one state, with
+// the world positions of B_l, B_r, G and the wheel centres and the contacts.
+#include <iostream>
+
+#include "core/equations_of_motion.hpp"
+#include "drivers/command_registry.hpp"
+#include "io/json_reader.hpp"
+#include "io/model_config.hpp"
+
+namespace rover::cli {
+namespace {
+
+io::Json vec_json(const Eigen::Ref<const Eigen::VectorXd>& v) {
+  io::Json a = io::Json::array();
+  for (Eigen::Index i = 0; i < v.size(); ++i) a.push_back(v[i]);
+  return a;
+}
+
+Coordinates read_coordinates(const io::JsonReader& r, const std::string& key) {
+  const auto values = r.fixed_numbers<kNumCoordinates>(key);
+  return Eigen::Map<const Coordinates>(values.data());
+}
+
+struct EomOptions {
+  std::string config = "configs/rover.json";
+  std::string terrain;
+  std::string state;
+};
+
+int run_eom(const EomOptions& o) {
+  const RoverModel model = io::load_rover_model(o.config, o.terrain);
+  const io::Json state_json = io::read_json_file(o.state);
+  const io::JsonReader state(state_json, o.state);
+  const Coordinates q = read_coordinates(state, "q");
+  const Coordinates u = read_coordinates(state, "u");
+  ModelInputs inputs = nominal_inputs(model.parameters);
+  if (state.has("params")) inputs = io::parse_model_inputs(state.child("params"), inputs);
+  state.finish();
+
+  const EquationsOfMotion eom = evaluate_equations_of_motion(model, q, u, inputs);
+  const TreeKinematics kin = forward_kinematics(model.tree, q, u);
+
+  io::Json out;
+  out["M"] = io::Json::array();
+  for (int r = 0; r < kNumCoordinates; ++r) out["M"].push_back(vec_json(eom.mass_matrix.row(r).transpose()));
+  out["F"] = vec_json(eom.forcing);
+  out["F_nocontact"] = vec_json(eom.forcing_no_contact);
+  out["points"]["B_l"] = vec_json(kin.nodes[node::bogie_left].origin);
+  out["points"]["B_r"] = vec_json(kin.nodes[node::bogie_right].origin);
+  out["points"]["G"] = vec_json(kin.nodes[node::chassis].origin);
+  out["points"]["wheel_centres"] = io::Json::array();
+  out["contacts"] = io::Json::array();
+  for (int leg = 0; leg < kNumLegs; ++leg) {
+    out["points"]["wheel_centres"].push_back(vec_json(kin.nodes[node::wheel(leg)].origin));
+    io::Json wheel = io::Json::array();
+    for (int k = 0; k < eom.contacts[leg].count; ++k) {
+      const ContactPoint& c = eom.contacts[leg].points[k];
+      wheel.push_back({{"point", vec_json(c.point_m)},
+                       {"normal", vec_json(c.normal)},
+                       {"penetration", c.penetration_m},
+                       {"Fn", c.normal_force_N},
+                       {"Ft", vec_json(c.friction_force_N)}});
+    }
+    out["contacts"].push_back(wheel);
+  }
+  std::cout << out.dump() << "\n";
+  return 0;
+}
+
+const RegisterCommand registration{
+    10, "eom", "Print the equations of motion M(q) du/dt = F(q, u) at one state, as JSON",
+    [](CLI::App& app) -> std::function<int()> {
+      auto o = std::make_shared<EomOptions>();
+      app.footer(
+          "STATE.json: {\"q\": [23 numbers], \"u\": [23 numbers], optional \"params\": {\"f\": .., "
+          "\"c_q\": .., \"M0\": [8], \"w_ref\": [4], \"d_ref\": [4]}}; coordinates in the order of "
+          "MODEL.md section 2 (x y z theta chi psi phi b11 b12 b21 b22 b31 b32 b41 b42 d1..d4 "
+          "z1..z4).\nOutput: {\"M\": [[23x23]], \"F\": [23], \"F_nocontact\": [23], \"points\": "
+          "{\"B_l\", \"B_r\", \"G\", \"wheel_centres\"}, \"contacts\": [per wheel: [{point, normal, "
+          "penetration, Fn, Ft}]]}.\n\nExample:\n  rover eom --state state.json --terrain "
+          "configs/terrains/obstacle.json");
+      app.add_option("--config", o->config, "Rover parameters (JSON)")->capture_default_str()->check(CLI::ExistingFile);
+      app.add_option("--terrain", o->terrain, "Terrain file (JSON); default: flat ground z = 0")->check(CLI::ExistingFile);
+      app.add_option("--state", o->state, "State file (JSON), see below")->required()->check(CLI::ExistingFile);
+      return [o] { return run_eom(*o); };
+    }};
+
+}  // namespace
+}  // namespace rover::cli

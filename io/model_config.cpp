@@ -1,0 +1,24 @@
+#include "io/model_config.hpp"
+
+#include "io/rover_config.hpp"
+#include "io/terrain_json.hpp"
+
+namespace rover::io {
+
+RoverModel load_rover_model(const std::string& rover_config_path, const std::string& terrain_path) {
+  RoverParameters parameters = load_rover_parameters(rover_config_path);
+  Terrain terrain = terrain_path.empty() ? Terrain::flat() : load_terrain(terrain_path);
+  return make_rover_model(std::move(parameters), std::move(terrain));
+}
+
+ModelInputs parse_model_inputs(const JsonReader& r, ModelInputs in) {
+  if (r.has("f")) in.sharpness_f = r.positive("f");
+  if (r.has("c_q")) in.damping_c_q = r.non_negative("c_q");
+  if (r.has("M0")) in.preload_Nm = r.fixed_numbers<kNumSJoints>("M0");
+  if (r.has("w_ref")) in.wheel_speed_ref_radps = r.fixed_numbers<kNumLegs>("w_ref");
+  if (r.has("d_ref")) in.steer_ref_rad = r.fixed_numbers<kNumLegs>("d_ref");
+  r.finish();
+  return in;
+}
+
+}  // namespace rover::io

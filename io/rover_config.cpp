@@ -1,0 +1,111 @@
+// See rover_config.hpp. Validation: masses and lengths positive, inertia
+// tensors symmetric positive definite, stiffnesses and dampings non-negative.
+#include "io/rover_config.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include <Eigen/Eigenvalues>
+
+namespace rover::io {
+namespace {
+
+RigidBodyParameters parse_body(const JsonReader& r) {
+  RigidBodyParameters b;
+  b.mass_kg = r.positive("mass");
+  b.com_m = r.vec3("com");
+  b.inertia_kgm2 = r.mat3("inertia");
+  const Mat3& I = b.inertia_kgm2;
+  if ((I - I.transpose()).cwiseAbs().maxCoeff() > 1e-12 * std::max(1.0, I.cwiseAbs().maxCoeff()))
+    r.fail("inertia", "inertia tensor is not symmetric");
+  const double smallest = Eigen::SelfAdjointEigenSolver<Mat3>(I, Eigen::EigenvaluesOnly).eigenvalues()(0);
+  if (!(smallest > 0.0)) {
+    std::ostringstream msg;
+    msg << "inertia tensor is not positive definite (smallest eigenvalue " << smallest << ")";
+    r.fail("inertia", msg.str());
+  }
+  r.finish();
+  return b;
+}
+
+template <std::size_t N>
+std::array<double, N> non_negative_array(const JsonReader& r, const std::string& key) {
+  const auto values = r.fixed_numbers<N>(key);
+  for (std::size_t i = 0; i < N; ++i)
+    if (!(values[i] >= 0.0)) r.fail(key, "element " + std::to_string(i) + " must not be negative");
+  return values;
+}
+
+}  // namespace
+
+RoverParameters parse_rover_parameters(const Json& config, const std::string& file) {
+  const JsonReader top(config, file);
+  RoverParameters p;
+  top.string_or("description", "");
+  p.gravity_mps2 = top.non_negative("gravity");
+
+  const JsonReader g = top.child("geometry");
+  p.geometry.bogie_pivot_m = g.vec3("bogie_pivot");
+  p.geometry.hip_m = g.vec3("hip");
+  p.geometry.knee_m = g.vec3("knee");
+  p.geometry.wheel_centre_m = g.vec3("wheel_centre");
+  p.geometry.wheel_radius_m = g.positive("wheel_radius");
+  for (const char* key : {"hip", "knee"})
+    if (!(g.vec3(key).norm() > 0.0)) g.fail(key, "link length must be positive");
+  g.finish();
+
+  const JsonReader bodies = top.child("bodies");
+  p.chassis = parse_body(bodies.child("chassis"));
+  p.bogie = parse_body(bodies.child("bogie"));
+  p.module1 = parse_body(bodies.child("module1"));
+  p.module2 = parse_body(bodies.child("module2"));
+  p.wheel = parse_body(bodies.child("wheel"));
+  bodies.finish();
+
+  const JsonReader s = top.child("s_structure");
+  p.s_structure.sharpness_f = s.positive("f");
+  p.s_structure.stiffness_Nm_per_rad = s.non_negative("k_q");
+  p.s_structure.damping_Nms_per_rad = s.non_negative("c_q");
+  s.has("preload_order");  // documentation only
+  p.s_structure.preload_mean_Nm = non_negative_array<kNumSJoints>(s, "preload_mean");
+  p.s_structure.preload_sd_Nm = non_negative_array<kNumSJoints>(s, "preload_sd");
+  s.finish();
+
+  const JsonReader st = top.child("steering");
+  p.steering.stiffness_Nm_per_rad = st.non_negative("K_d");
+  p.steering.damping_Nms_per_rad = st.non_negative("D_d");
+  p.steering.limit_rad = st.positive("limit");
+  p.steering.end_stop_stiffness_Nm_per_rad = st.non_negative("end_stop_stiffness");
+  st.finish();
+
+  const JsonReader d = top.child("drive");
+  p.drive.gain_Nms_per_rad = d.non_negative("K_w");
+  p.drive.max_torque_Nm = d.positive("tau_max");
+  d.finish();
+
+  const JsonReader c = top.child("contact");
+  p.contact.stiffness_k_g = c.positive("k_g");
+  p.contact.damping_c_g = c.non_negative("c_g");
+  p.contact.exponent_sigma = c.positive("sigma");
+  c.finish();
+
+  const JsonReader f = top.child("friction");
+  p.friction.mu_static = f.non_negative("mu_s");
+  p.friction.v_static_mps = f.positive("v_s");
+  p.friction.mu_kinetic = f.non_negative("mu_k");
+  p.friction.v_kinetic_mps = f.positive("v_k");
+  if (!(p.friction.v_kinetic_mps > p.friction.v_static_mps))
+    f.fail("v_k", "must be larger than v_s (" + std::to_string(p.friction.v_static_mps) + ")");
+  if (f.has("gammas")) p.friction.gammas = non_negative_array<6>(f, "gammas");
+  else p.friction.gammas.fill(std::nan(""));  // to be synthesised (rover::friction_gammas_for)
+  f.finish();
+
+  top.finish();
+  return p;
+}
+
+RoverParameters load_rover_parameters(const std::string& path) {
+  return parse_rover_parameters(read_json_file(path), path);
+}
+
+}  // namespace rover::io

@@ -1,0 +1,109 @@
+// Kinematics of the tree (core/kinematic_tree.cpp): MODEL.md section 3 geometry,
+// Jacobians and bias accelerations against finite differences.
+#include "core/kinematic_tree.hpp"
+
+#include <gtest/gtest.h>
+
+#include "model_fixtures.hpp"
+
+namespace rover {
+namespace {
+
+const KinematicTree kTree = build_kinematic_tree(default_rover_parameters());
+
+TEST(KinematicTree, WheelCentresAtZeroMatchModelGeometry) {
+  const TreeKinematics kin = forward_kinematics(kTree, Coordinates::Zero(), Coordinates::Zero());
+  for (int leg = 0; leg < kNumLegs; ++leg) {
+    const Vec3 c = kin.nodes[node::wheel(leg)].origin;
+    EXPECT_NEAR(c.x(), leg_sign_x(leg) * 0.360, 1e-12) << "leg " << leg;
+    EXPECT_NEAR(c.y(), leg_sign_y(leg) * 0.2215, 1e-12) << "leg " << leg;
+    EXPECT_NEAR(c.z(), -0.1435, 1e-12) << "leg " << leg;
+  }
+  const Vec3 fl = kin.nodes[node::wheel(0)].origin, fr = kin.nodes[node::wheel(1)].origin,
+             rl = kin.nodes[node::wheel(2)].origin;
+  EXPECT_NEAR(fl.x() - rl.x(), 0.720, 1e-12);  // wheelbase L (Table 1)
+  EXPECT_NEAR(fl.y() - fr.y(), 0.443, 1e-12);  // track W (Table 1)
+  EXPECT_NEAR(-fl.z() + default_rover_parameters().geometry.wheel_radius_m, 0.2285, 1e-12);
+  EXPECT_NEAR(kTree.total_mass_kg, 4.427, 1e-12);
+}
+
+TEST(KinematicTree, PositiveSJointAngleLiftsTheWheel) {
+  for (int leg = 0; leg < kNumLegs; ++leg)
+    for (int i = 0; i < 2; ++i) {
+      Coordinates q = Coordinates::Zero();
+      q[coord::s_joint(leg, i)] = 0.1;
+      const TreeKinematics kin = forward_kinematics(kTree, q, Coordinates::Zero());
+      EXPECT_GT(kin.nodes[node::wheel(leg)].origin.z(), -0.1435 + 0.005) << leg << "," << i;
+    }
+}
+
+TEST(KinematicTree, BogieCouplingRotatesSidesOppositely) {
+  Coordinates q = Coordinates::Zero();
+  q[coord::bogie] = 0.1;
+  const TreeKinematics kin = forward_kinematics(kTree, q, Coordinates::Zero());
+  // Right bogie Ry(+phi) lowers its front; the left one, Ry(-phi), raises it.
+  EXPECT_LT(kin.nodes[node::wheel(1)].origin.z(), -0.1435 - 0.01);
+  EXPECT_GT(kin.nodes[node::wheel(0)].origin.z(), -0.1435 + 0.01);
+  EXPECT_NEAR(kin.nodes[node::wheel(0)].origin.z() + kin.nodes[node::wheel(1)].origin.z(),
+              kin.nodes[node::wheel(2)].origin.z() + kin.nodes[node::wheel(3)].origin.z(), 1e-12);
+}
+
+TEST(KinematicTree, PointJacobianEqualsFiniteDifferences) {
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 5; ++trial) {
+    Coordinates q, u;
+    testing::random_state(rng, q, u);
+    for (int n : {node::chassis, node::bogie_right, node::module2(2), node::wheel(1), node::wheel(3)}) {
+      const Vec3 local(0.013, -0.021, 0.034);
+      const TreeKinematics kin = forward_kinematics(kTree, q, u);
+      const auto J = point_jacobian(kTree, kin, n, point_position(kin, n, local));
+      for (int k = 0; k < kNumCoordinates; ++k) {
+        const double h = 1e-6;
+        Coordinates qp = q, qm = q;
+        qp[k] += h;
+        qm[k] -= h;
+        const Vec3 fd = (point_position(forward_kinematics(kTree, qp, u), n, local) -
+                         point_position(forward_kinematics(kTree, qm, u), n, local)) / (2 * h);
+        EXPECT_LT((J.col(k) - fd).norm(), 1e-8) << "node " << n << " coordinate " << k;
+      }
+      // v_P = J u.
+      const Vec3 p = point_position(kin, n, local);
+      EXPECT_LT((point_velocity(kin, n, p) - J * u).norm(), 1e-12);
+    }
+  }
+}
+
+TEST(KinematicTree, AngularVelocityEqualsRotationRate) {
+  std::mt19937 rng(11);
+  Coordinates q, u;
+  testing::random_state(rng, q, u);
+  const double h = 1e-6;
+  const TreeKinematics kin = forward_kinematics(kTree, q, u);
+  const TreeKinematics kp = forward_kinematics(kTree, q + h * u, u);
+  const TreeKinematics km = forward_kinematics(kTree, q - h * u, u);
+  for (int n = 0; n < kNumTreeNodes; ++n) {
+    const Mat3 Rdot = (kp.nodes[n].rotation - km.nodes[n].rotation) / (2 * h);
+    const Mat3 W = Rdot * kin.nodes[n].rotation.transpose();  // skew(omega)
+    const Vec3 omega(W(2, 1), W(0, 2), W(1, 0));
+    EXPECT_LT((omega - kin.nodes[n].omega).norm(), 1e-8) << "node " << n;
+  }
+}
+
+TEST(KinematicTree, BiasAccelerationIsTheDerivativeOfVelocityAlongTheMotion) {
+  std::mt19937 rng(3);
+  Coordinates q, u;
+  testing::random_state(rng, q, u);
+  const double h = 1e-6;
+  const TreeKinematics kin = forward_kinematics(kTree, q, u);
+  const TreeKinematics kp = forward_kinematics(kTree, q + h * u, u);
+  const TreeKinematics km = forward_kinematics(kTree, q - h * u, u);
+  for (int n = 0; n < kNumTreeNodes; ++n) {
+    const Vec3 a = (kp.nodes[n].velocity - km.nodes[n].velocity) / (2 * h);
+    const Vec3 alpha = (kp.nodes[n].omega - km.nodes[n].omega) / (2 * h);
+    EXPECT_LT((a - kin.nodes[n].accel_bias).norm(), 1e-6) << "node " << n;
+    EXPECT_LT((alpha - kin.nodes[n].alpha_bias).norm(), 1e-6) << "node " << n;
+  }
+}
+
+}  // namespace
+}  // namespace rover
