@@ -1,0 +1,123 @@
+// `rover terrain`: generates terrain files reproducibly. `rover terrain obstacle`
+// writes the trapezoid obstacle of MODEL.md section 7 as a height grid
+// (core/obstacle.hpp) in the "grid" format of io/terrain_json.hpp.
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <numbers>
+#include <sstream>
+
+#include "core/obstacle.hpp"
+#include "drivers/command_registry.hpp"
+#include "io/plot.hpp"
+#include "io/terrain_json.hpp"
+
+namespace rover::cli {
+namespace {
+
+struct ObstacleOptions {
+  std::string out;
+  std::string png;
+  double spacing_m = 0.001;
+  double margin_m = 0.005;
+  TrapezoidObstacle obstacle;
+  double ramp_angle_deg = 20.0;
+};
+
+int run_obstacle(const ObstacleOptions& o) {
+  TrapezoidObstacle obstacle = o.obstacle;
+  obstacle.ramp_angle_rad = o.ramp_angle_deg * std::numbers::pi / 180.0;
+  const HeightGrid grid = trapezoid_obstacle_grid(obstacle, o.spacing_m, o.margin_m);
+
+  std::ostringstream description;
+  description << "Trapezoid obstacle of MODEL.md section 7 (obstacle negotiation): foot at x = "
+              << obstacle.foot_x_m << " m, height " << obstacle.height_m << " m, "
+              << o.ramp_angle_deg << " deg ramps, top " << obstacle.top_length_m
+              << " m, sides y = " << obstacle.y_min_m << " and " << obstacle.y_max_m
+              << " m; grid nodes on the foot and on both sides.";
+  const nlohmann::json provenance = {
+      {"description", description.str()},
+      {"generator",
+       {{"command", "rover terrain obstacle"},
+        {"version", ROVER_VERSION},
+        {"foot_x_m", obstacle.foot_x_m},
+        {"height_m", obstacle.height_m},
+        {"ramp_angle_deg", o.ramp_angle_deg},
+        {"ramp_length_m", obstacle.ramp_length_m()},
+        {"top_length_m", obstacle.top_length_m},
+        {"y_min_m", obstacle.y_min_m},
+        {"y_max_m", obstacle.y_max_m},
+        {"spacing_m", o.spacing_m},
+        {"margin_m", o.margin_m}}}};
+  io::save_terrain_grid(grid, o.out, provenance);
+
+  std::cout << "wrote " << o.out << ": " << grid.nx << " x " << grid.ny << " grid, spacing "
+            << grid.spacing_x_m << " x " << grid.spacing_y_m << " m, x in [" << grid.node_x(0)
+            << ", " << grid.node_x(grid.nx - 1) << "], y in [" << grid.node_y(0) << ", "
+            << grid.node_y(grid.ny - 1) << "], ramp length " << obstacle.ramp_length_m()
+            << " m, " << std::filesystem::file_size(o.out) << " bytes\n";
+  if (!o.png.empty()) {
+    io::SurfacePlot plot;
+    plot.title = "Trapezoid obstacle (MODEL.md section 7): terrain height [m]";
+    plot.x_label = "x [m]";
+    plot.y_label = "y [m]";
+    plot.z_label = "height [m]";
+    for (int ix = 0; ix < grid.nx; ++ix) plot.x.push_back(grid.node_x(ix));
+    for (int iy = 0; iy < grid.ny; ++iy) plot.y.push_back(grid.node_y(iy));
+    plot.z = grid.heights_m;
+    plot.contour_levels = 4;
+    plot.height_px = 500;
+    try {
+      io::write_png(plot, o.png);
+      std::cout << "wrote " << o.png << "\n";
+    } catch (const io::PlotError& e) {
+      std::cerr << "rover terrain: warning: no plot: " << e.what() << "\n";
+    }
+  }
+  return 0;
+}
+
+const RegisterCommand registration{
+    30, "terrain", "Generate terrain files (the obstacle of MODEL.md section 7)",
+    [](CLI::App& app) -> std::function<int()> {
+      app.require_subcommand(1);
+      app.footer(
+          "Terrain files are JSON: {\"type\": \"flat\", \"height\": 0}, {\"type\": \"grid\", "
+          "\"origin\", \"spacing\", \"counts\", \"heights\"} or {\"type\": \"control_points\", "
+          "...}; see io/terrain_json.hpp. Any simulation takes one with --terrain FILE.");
+
+      auto o = std::make_shared<ObstacleOptions>();
+      CLI::App* obstacle = app.add_subcommand(
+          "obstacle", "Write the trapezoid obstacle (MODEL.md section 7) as a height grid");
+      obstacle->footer(
+          "The obstacle: 0 before the foot, a ramp rising at --ramp-angle-deg to --height, a flat "
+          "top of --top-length, a ramp falling back to 0; laterally y in [--y-min, --y-max] with "
+          "vertical sides. Grid nodes lie exactly on x = foot and on both sides, so the sharp "
+          "edges are rounded over at most one spacing by the bilinear terrain; zero-height nodes "
+          "(--margin) surround it so the terrain outside the grid is the ground z = 0. Heights "
+          "are rounded to 1e-12 m. The defaults reproduce MODEL.md section 7 (ramps 0.2747 m "
+          "long).\n\nExample (regenerates the shipped file):\n"
+          "  rover terrain obstacle --out configs/terrains/obstacle.json --png obstacle.png\n"
+          "  rover eom --terrain configs/terrains/obstacle.json --state state.json");
+      obstacle->add_option("--out", o->out, "Terrain file to write (JSON)")->required();
+      obstacle->add_option("--png", o->png, "Also plot the height map to this PNG file");
+      obstacle->add_option("--spacing", o->spacing_m, "Grid spacing [m]")->capture_default_str();
+      obstacle->add_option("--margin", o->margin_m, "Zero-height margin around the obstacle [m]")
+          ->capture_default_str();
+      obstacle->add_option("--foot-x", o->obstacle.foot_x_m, "x of the foot of the rising ramp [m]")
+          ->capture_default_str();
+      obstacle->add_option("--height", o->obstacle.height_m, "Obstacle height [m]")->capture_default_str();
+      obstacle->add_option("--ramp-angle-deg", o->ramp_angle_deg, "Ramp angle [deg]")->capture_default_str();
+      obstacle->add_option("--top-length", o->obstacle.top_length_m, "Length of the flat top [m]")
+          ->capture_default_str();
+      obstacle->add_option("--y-min", o->obstacle.y_min_m, "Right lateral side [m]")->capture_default_str();
+      obstacle->add_option("--y-max", o->obstacle.y_max_m, "Left lateral side [m]")->capture_default_str();
+      return [o, obstacle]() -> int {
+        if (obstacle->parsed()) return run_obstacle(*o);
+        return 1;
+      };
+    }};
+
+}  // namespace
+}  // namespace rover::cli

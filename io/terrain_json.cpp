@@ -1,0 +1,214 @@
+// Terrain files: reading all three formats, writing grids (see terrain_json.hpp).
+#include "io/terrain_json.hpp"
+
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <vector>
+
+#include <unistd.h>
+
+#include "core/terrain_interpolation.hpp"
+#include "io/json_reader.hpp"
+
+namespace rover::io {
+namespace {
+
+std::string value_text(const Json& v) {
+  std::string text = v.dump();
+  if (text.size() > 40) text = text.substr(0, 37) + "...";
+  return text;
+}
+
+// "counts": [nx, ny], two integers >= 2.
+std::array<int, 2> read_counts(const JsonReader& r) {
+  const Json& v = r.raw("counts");
+  if (!v.is_array() || v.size() != 2)
+    r.fail("counts", "expected [nx, ny], two integers");
+  std::array<int, 2> counts{};
+  for (std::size_t k = 0; k < 2; ++k) {
+    if (!v[k].is_number_integer()) r.fail("counts", "expected [nx, ny], two integers");
+    const long long c = v[k].get<long long>();
+    if (c < 2 || c > 100'000'000)
+      r.fail("counts", std::string(k == 0 ? "nx" : "ny") + " = " + std::to_string(c) +
+                           ": need at least 2 x 2 grid points");
+    counts[k] = static_cast<int>(c);
+  }
+  if (static_cast<double>(counts[0]) * counts[1] > 1e9)
+    r.fail("counts", "grid too large (more than 1e9 points)");
+  return counts;
+}
+
+GridGeometry read_geometry(const JsonReader& r) {
+  const auto origin = r.fixed_numbers<2>("origin");
+  const auto spacing = r.fixed_numbers<2>("spacing");
+  if (!(spacing[0] > 0.0) || !(spacing[1] > 0.0))
+    r.fail("spacing", "both spacings must be positive");
+  const auto counts = read_counts(r);
+  return {origin[0], origin[1], spacing[0], spacing[1], counts[0], counts[1]};
+}
+
+// "heights": ny rows of nx finite numbers.
+std::vector<double> read_heights(const JsonReader& r, const GridGeometry& g) {
+  const Json& rows = r.raw("heights");
+  if (!rows.is_array()) r.fail("heights", "expected an array of rows [[..], [..], ...]");
+  if (rows.size() != static_cast<std::size_t>(g.ny))
+    r.fail("heights", "has " + std::to_string(rows.size()) + " rows, expected ny = " +
+                          std::to_string(g.ny) + " (from counts)");
+  std::vector<double> heights;
+  heights.reserve(static_cast<std::size_t>(g.nx) * static_cast<std::size_t>(g.ny));
+  for (std::size_t iy = 0; iy < rows.size(); ++iy) {
+    const Json& row = rows[iy];
+    if (!row.is_array())
+      r.fail("heights", "row " + std::to_string(iy) + " is not an array: " + value_text(row));
+    if (row.size() != static_cast<std::size_t>(g.nx))
+      r.fail("heights", "row " + std::to_string(iy) + " has " + std::to_string(row.size()) +
+                            " values, expected " + std::to_string(g.nx) + " (nx from counts)");
+    for (std::size_t ix = 0; ix < row.size(); ++ix) {
+      const Json& h = row[ix];
+      if (!h.is_number() || !std::isfinite(h.get<double>()))
+        r.fail("heights", "row " + std::to_string(iy) + ", value " + std::to_string(ix) + " is " +
+                              value_text(h) + ", expected a finite number");
+      heights.push_back(h.get<double>());
+    }
+  }
+  return heights;
+}
+
+std::vector<Eigen::Vector3d> read_points(const JsonReader& r) {
+  const Json& v = r.raw("points");
+  if (!v.is_array()) r.fail("points", "expected an array of [x, y, z] points");
+  if (v.size() < 3)
+    r.fail("points", "has " + std::to_string(v.size()) + " points, need at least 3");
+  std::vector<Eigen::Vector3d> points;
+  points.reserve(v.size());
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const Json& p = v[i];
+    if (!p.is_array() || p.size() != 3)
+      r.fail("points", "point " + std::to_string(i) + " is " + value_text(p) + ", expected [x, y, z]");
+    Eigen::Vector3d point;
+    for (std::size_t k = 0; k < 3; ++k) {
+      if (!p[k].is_number() || !std::isfinite(p[k].get<double>()))
+        r.fail("points", "point " + std::to_string(i) + " is " + value_text(p) +
+                             ", expected three finite numbers");
+      point[static_cast<Eigen::Index>(k)] = p[k].get<double>();
+    }
+    points.push_back(point);
+  }
+  return points;
+}
+
+HeightGrid make_grid(const GridGeometry& g, std::vector<double> heights) {
+  HeightGrid grid;
+  grid.origin_x_m = g.origin_x_m;
+  grid.origin_y_m = g.origin_y_m;
+  grid.spacing_x_m = g.spacing_x_m;
+  grid.spacing_y_m = g.spacing_y_m;
+  grid.nx = g.nx;
+  grid.ny = g.ny;
+  grid.heights_m = std::move(heights);
+  return grid;
+}
+
+void append_number(std::string& out, double v) {
+  char text[32];
+  const auto result = std::to_chars(text, text + sizeof text, v);  // shortest exact form
+  out.append(text, result.ptr);
+}
+
+}  // namespace
+
+Terrain load_terrain(const std::string& path) {
+  const Json json = read_json_file(path);
+  const JsonReader r(json, path);
+  if (r.has("description")) (void)r.string("description");
+  (void)r.has("generator");  // free-form provenance
+  const std::string type = r.string("type");
+  Terrain terrain;
+  try {
+    if (type == "flat") {
+      terrain = Terrain::flat(r.number_or("height", 0.0));
+    } else if (type == "grid") {
+      const GridGeometry geometry = read_geometry(r);
+      terrain = Terrain::from_grid(make_grid(geometry, read_heights(r, geometry)));
+    } else if (type == "control_points") {
+      const std::string method = r.string_or("method", "thin_plate_spline");
+      if (method != "thin_plate_spline")
+        r.fail("method", "unknown interpolation method (known: thin_plate_spline)");
+      const std::vector<Eigen::Vector3d> points = read_points(r);
+      const JsonReader grid_reader = r.child("grid");
+      const GridGeometry geometry = read_geometry(grid_reader);
+      grid_reader.finish();
+      terrain = Terrain::from_grid(grid_from_control_points(points, geometry));
+    } else {
+      r.fail("type", "unknown terrain type (known: flat, grid, control_points)");
+    }
+  } catch (const std::invalid_argument& e) {
+    throw ConfigError(path + ": " + e.what());
+  }
+  r.finish();
+  return terrain;
+}
+
+void save_terrain_grid(const HeightGrid& grid, const std::string& path, const Json& provenance) {
+  validate_height_grid(grid);
+  if (!provenance.is_null() && !provenance.is_object())
+    throw std::invalid_argument("save_terrain_grid: provenance must be a JSON object or null");
+  if (!provenance.is_null())
+    for (const auto& [key, value] : provenance.items()) {
+      if (key != "description" && key != "generator")
+        throw std::invalid_argument("save_terrain_grid: provenance key '" + key +
+                                    "' is not one of description, generator");
+      if (key == "description" && !value.is_string())
+        throw std::invalid_argument("save_terrain_grid: provenance description must be a string");
+    }
+
+  std::string out = "{\n  \"type\": \"grid\",\n";
+  if (!provenance.is_null())
+    for (const char* key : {"description", "generator"})
+      if (provenance.contains(key))
+        out += "  \"" + std::string(key) + "\": " + provenance.at(key).dump() + ",\n";
+  out += "  \"origin\": [";
+  append_number(out, grid.origin_x_m);
+  out += ", ";
+  append_number(out, grid.origin_y_m);
+  out += "],\n  \"spacing\": [";
+  append_number(out, grid.spacing_x_m);
+  out += ", ";
+  append_number(out, grid.spacing_y_m);
+  out += "],\n  \"counts\": [" + std::to_string(grid.nx) + ", " + std::to_string(grid.ny) +
+         "],\n  \"heights\": [\n";
+  for (int iy = 0; iy < grid.ny; ++iy) {
+    out += "    [";
+    for (int ix = 0; ix < grid.nx; ++ix) {
+      if (ix > 0) out += ',';
+      append_number(out, grid.at(ix, iy));
+    }
+    out += iy + 1 < grid.ny ? "],\n" : "]\n";
+  }
+  out += "  ]\n}\n";
+
+  const std::string temp = path + ".tmp." + std::to_string(::getpid());
+  {
+    std::ofstream file(temp, std::ios::binary | std::ios::trunc);
+    file << out;
+    file.close();
+    if (!file) {
+      std::error_code ignored;
+      std::filesystem::remove(temp, ignored);
+      throw std::runtime_error(path + ": cannot write terrain file (temporary " + temp + ")");
+    }
+  }
+  std::error_code error;
+  std::filesystem::rename(temp, path, error);
+  if (error) {
+    std::error_code ignored;
+    std::filesystem::remove(temp, ignored);
+    throw std::runtime_error(path + ": cannot write terrain file: " + error.message());
+  }
+}
+
+}  // namespace rover::io
