@@ -67,6 +67,7 @@ class JsonReader {
   std::string field(const std::string& key) const;  // "path.key"
   const Json& raw(const std::string& key) const;
   const std::string& file() const { return file_; }
+  const Json& raw_object() const { return object_; }
 
  private:
   const Json& object_;

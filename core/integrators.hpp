@@ -1,0 +1,55 @@
+// Time integrators of the first-order system x = [q; u] (MODEL.md section 9).
+// Each integrator advances one OdeSystem from t = 0, hands the state at every
+// requested sample time to a recorder, and stops early on trouble (non-finite
+// state, step-size underflow, wall-time budget), reporting why.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/coordinates.hpp"
+#include "core/model_inputs.hpp"
+#include "core/rover_model.hpp"
+#include "core/scenario.hpp"
+
+namespace rover {
+
+// The system being integrated: the model, its inputs, and a counter of
+// right-hand-side evaluations (owned by the caller, not shared).
+struct OdeSystem {
+  const RoverModel& model;
+  const ModelInputs& inputs;
+  long* rhs_evaluations;
+  StateVector derivative(const StateVector& x) const;
+};
+
+struct IntegrationRequest {
+  double sample_period_s = 1e-3;
+  std::size_t sample_count = 1;  // samples at k * period, k = 0 .. count-1 (sample 0 is x0)
+  std::function<void(double t, const StateVector& x)> record;
+  std::function<bool()> out_of_time;            // wall-time budget check
+  std::function<void(double t)> progress;       // optional, called now and then
+};
+
+enum class IntegrationStatus { kOk = 0, kNonFinite = 1, kStepSizeUnderflow = 2, kTimeBudgetExceeded = 3 };
+
+struct IntegrationReport {
+  IntegrationStatus status = IntegrationStatus::kOk;
+  double failed_at_s = 0.0;
+  std::string detail;
+  long steps = 0;
+  double min_step_s = 0.0, max_step_s = 0.0;
+};
+
+IntegrationReport integrate_dormand_prince(const OdeSystem& system, StateVector x,
+                                           const IntegratorSettings& settings,
+                                           const IntegrationRequest& request);
+IntegrationReport integrate_rk4(const OdeSystem& system, StateVector x,
+                                const IntegratorSettings& settings, const IntegrationRequest& request);
+
+// Dispatches on settings.method.
+IntegrationReport integrate(const OdeSystem& system, const StateVector& x0,
+                            const IntegratorSettings& settings, const IntegrationRequest& request);
+
+}  // namespace rover

@@ -1,0 +1,44 @@
+// A simulation scenario (MODEL.md section 7): initial state, actuator
+// set-points, duration, output rate and integrator settings. The terrain is
+// part of the RoverModel; the file formats live in io/scenario_config.hpp.
+#pragma once
+
+#include <array>
+#include <string>
+
+#include "core/coordinates.hpp"
+#include "core/rover_parameters.hpp"
+
+namespace rover {
+
+enum class IntegratorMethod {
+  kDormandPrince45,  // explicit Runge-Kutta 5(4), adaptive, dense output (default)
+  kRungeKutta4,      // the paper's classic fixed-step RK4
+};
+
+const char* integrator_name(IntegratorMethod method);
+IntegratorMethod integrator_from_name(const std::string& name);  // throws std::invalid_argument
+
+struct IntegratorSettings {
+  IntegratorMethod method = IntegratorMethod::kDormandPrince45;
+  double relative_tolerance = 1e-6;
+  double absolute_tolerance = 1e-9;
+  double initial_step_s = 1e-5;      // adaptive: first trial step
+  double min_step_s = 1e-12;         // adaptive: below this the run fails
+  double max_step_s = 1e-2;          // adaptive: upper bound on the step
+  double fixed_step_s = 1e-5;        // RK4: step (rounded so it divides the output period)
+};
+
+struct Scenario {
+  std::string name;
+  Coordinates initial_q = Coordinates::Zero();
+  Coordinates initial_u = Coordinates::Zero();
+  std::array<double, kNumLegs> wheel_speed_ref_radps{};
+  std::array<double, kNumLegs> steer_ref_rad{};
+  double duration_s = 1.0;
+  double output_rate_hz = 1000.0;
+  IntegratorSettings integrator;
+  double wall_time_budget_s = 3600.0;  // a run taking longer is stopped and reported
+};
+
+}  // namespace rover

@@ -1,0 +1,131 @@
+// simulate(): a scenario integrated with the chosen integrator, sampled at the
+// output rate into the outputs of MODEL.md section 8 (see simulate.hpp).
+#include "core/simulate.hpp"
+
+#include <chrono>
+#include <cmath>
+
+#include "core/equations_of_motion.hpp"
+#include "core/integrators.hpp"
+
+namespace rover {
+
+SimulationInputs nominal_simulation_inputs(const RoverParameters& p) {
+  return {p.s_structure.sharpness_f, p.s_structure.damping_Nms_per_rad, p.s_structure.preload_mean_Nm};
+}
+
+const char* status_name(SimulationStatus status) {
+  switch (status) {
+    case SimulationStatus::kOk: return "ok";
+    case SimulationStatus::kNonFinite: return "non-finite state";
+    case SimulationStatus::kStepSizeUnderflow: return "step size underflow";
+    case SimulationStatus::kTimeBudgetExceeded: return "time budget exceeded";
+  }
+  return "unknown";
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Collects the outputs of MODEL.md section 8 at the sample times.
+class TrajectoryRecorder {
+ public:
+  TrajectoryRecorder(const RoverModel& model, std::size_t capacity, Trajectory& out)
+      : model_(model), out_(out) {
+    out_.t.reserve(capacity);
+    q_rows_.reserve(capacity);
+    u_rows_.reserve(capacity);
+    fn_rows_.reserve(capacity);
+  }
+
+  void record(double t, const StateVector& x) {
+    const Coordinates q = x.head<kNumCoordinates>(), u = x.tail<kNumCoordinates>();
+    const TreeKinematics kin = forward_kinematics(model_.tree, q, u);
+    const auto contacts = wheel_contacts(model_, kin);
+    out_.t.push_back(t);
+    q_rows_.push_back(q);
+    u_rows_.push_back(u);
+    out_.B_l_z.push_back(kin.nodes[node::bogie_left].origin.z());
+    out_.B_r_z.push_back(kin.nodes[node::bogie_right].origin.z());
+    out_.G_z.push_back(kin.nodes[node::chassis].origin.z());
+    out_.pitch.push_back(q[coord::pitch]);
+    out_.roll.push_back(q[coord::roll]);
+    Eigen::Vector4d fn;
+    for (int leg = 0; leg < kNumLegs; ++leg) fn[leg] = contacts[leg].total_normal_force_N();
+    fn_rows_.push_back(fn);
+  }
+
+  void finish() {
+    const auto n = static_cast<Eigen::Index>(q_rows_.size());
+    out_.q.resize(n, kNumCoordinates);
+    out_.u.resize(n, kNumCoordinates);
+    out_.normal_force_N.resize(n, kNumLegs);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      out_.q.row(i) = q_rows_[i].transpose();
+      out_.u.row(i) = u_rows_[i].transpose();
+      out_.normal_force_N.row(i) = fn_rows_[i].transpose();
+    }
+  }
+
+ private:
+  const RoverModel& model_;
+  Trajectory& out_;
+  std::vector<Coordinates> q_rows_, u_rows_;
+  std::vector<Eigen::Vector4d> fn_rows_;
+};
+
+}  // namespace
+
+Trajectory simulate(const RoverModel& model, const Scenario& scenario,
+                    const SimulationInputs& inputs, const SimulationObserver& observer) {
+  const auto wall_start = Clock::now();
+  auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - wall_start).count(); };
+
+  ModelInputs model_inputs;
+  model_inputs.sharpness_f = inputs.sharpness_f;
+  model_inputs.damping_c_q = inputs.damping_c_q;
+  model_inputs.preload_Nm = inputs.preload_Nm;
+  model_inputs.wheel_speed_ref_radps = scenario.wheel_speed_ref_radps;
+  model_inputs.steer_ref_rad = scenario.steer_ref_rad;
+
+  Trajectory out;
+  const double period = 1.0 / scenario.output_rate_hz;
+  const auto samples =
+      static_cast<std::size_t>(std::floor(scenario.duration_s / period * (1.0 + 1e-12))) + 1;
+  TrajectoryRecorder recorder(model, samples, out);
+
+  IntegrationRequest request;
+  request.sample_period_s = period;
+  request.sample_count = samples;
+  request.record = [&](double t, const StateVector& x) { recorder.record(t, x); };
+  request.out_of_time = [&] { return elapsed() > scenario.wall_time_budget_s; };
+  double last_progress_s = 0.0;
+  if (observer.progress)
+    request.progress = [&](double t) {
+      if (elapsed() - last_progress_s > 1.0) {
+        last_progress_s = elapsed();
+        observer.progress(t);
+      }
+    };
+
+  long evaluations = 0;
+  const OdeSystem system{model, model_inputs, &evaluations};
+  StateVector x0;
+  x0 << scenario.initial_q, scenario.initial_u;
+  const IntegrationReport report = integrate(system, x0, scenario.integrator, request);
+
+  recorder.finish();
+  out.status = static_cast<SimulationStatus>(report.status);
+  if (!out.ok())
+    out.message = std::string(status_name(out.status)) + " at t = " +
+                  std::to_string(report.failed_at_s) + " s: " + report.detail;
+  out.rhs_evaluations = evaluations;
+  out.steps = report.steps;
+  out.min_step_s = report.min_step_s;
+  out.max_step_s = report.max_step_s;
+  out.wall_time_s = elapsed();
+  return out;
+}
+
+}  // namespace rover

@@ -1,0 +1,60 @@
+// The pure simulation function the study layer calls thousands of times
+// (MODEL.md sections 7-9): integrates the equations of motion of a scenario
+// with given (f, c_q, M0) and returns the sampled trajectory and its outputs.
+//
+// simulate() has no side effects and shares nothing mutable: many threads may
+// call it at once with the same RoverModel. A run that blows up (non-finite
+// state, step size underflow, wall-time budget exceeded) returns a status and
+// a message; it never throws for numerical trouble, and never hangs.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/rover_model.hpp"
+#include "core/scenario.hpp"
+
+namespace rover {
+
+// What a study varies (MODEL.md section 5); everything else comes from configs.
+struct SimulationInputs {
+  double sharpness_f = 1e4;
+  double damping_c_q = 0.14;
+  std::array<double, kNumSJoints> preload_Nm{};
+};
+
+SimulationInputs nominal_simulation_inputs(const RoverParameters& parameters);
+
+// Same values as IntegrationStatus (core/integrators.hpp).
+enum class SimulationStatus { kOk = 0, kNonFinite = 1, kStepSizeUnderflow = 2, kTimeBudgetExceeded = 3 };
+const char* status_name(SimulationStatus status);
+
+using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+// Output samples (MODEL.md section 8), one row per sample time.
+struct Trajectory {
+  SimulationStatus status = SimulationStatus::kOk;
+  std::string message;
+  std::vector<double> t;
+  RowMatrix q, u;                    // samples x 23
+  std::vector<double> B_l_z, B_r_z, G_z, pitch, roll;
+  RowMatrix normal_force_N;          // samples x 4, total per wheel
+  double wall_time_s = 0.0;
+  long rhs_evaluations = 0;
+  long steps = 0;
+  double min_step_s = 0.0, max_step_s = 0.0;
+  bool ok() const { return status == SimulationStatus::kOk; }
+};
+
+struct SimulationObserver {
+  // Called now and then with the simulated time (progress on long runs).
+  std::function<void(double t_s)> progress;
+};
+
+Trajectory simulate(const RoverModel& model, const Scenario& scenario,
+                    const SimulationInputs& inputs, const SimulationObserver& observer = {});
+
+}  // namespace rover

@@ -1,0 +1,57 @@
+// `rover compare A B`: the metrics of MODEL.md section 8 between two curves.
+#include <iomanip>
+#include <iostream>
+
+#include "core/metrics.hpp"
+#include "drivers/command_registry.hpp"
+#include "io/json_reader.hpp"
+#include "io/trajectory_io.hpp"
+
+namespace rover::cli {
+namespace {
+
+struct CompareOptions {
+  std::string first, second, column = "B_l_z";
+  double rest_time_s = 1.0;
+};
+
+int run_compare(const CompareOptions& o) {
+  const io::Curve a = io::read_curve(o.first, o.column);
+  const io::Curve b = io::read_curve(o.second, o.column);
+  io::Json out;
+  out["column"] = o.column;
+  out["rms_m"] = rms_difference(a.t, a.y, b.t, b.y);
+  out["max_abs_difference_m"] = [&] {
+    double m = 0.0;
+    for (std::size_t i = 0; i < a.t.size(); ++i)
+      if (a.t[i] >= b.t.front() && a.t[i] <= b.t.back())
+        m = std::max(m, std::abs(interpolate(b.t, b.y, a.t[i]) - a.y[i]));
+    return m;
+  }();
+  // A is the one judged, B the reference (eqs. 10-11).
+  out["deflection_error"] = deflection_error(a.t, a.y, b.t, b.y, o.rest_time_s);
+  out["at_rest_error"] = at_rest_error(a.t, a.y, b.t, b.y, o.rest_time_s);
+  out["rest_time_s"] = o.rest_time_s;
+  std::cout << std::setw(2) << out << "\n";
+  return 0;
+}
+
+const RegisterCommand registration{
+    45, "compare", "Compare two curves: RMS, deflection error (eq. 10), at-rest error (eq. 11)",
+    [](CLI::App& app) -> std::function<int()> {
+      auto o = std::make_shared<CompareOptions>();
+      app.footer(
+          "A and B are HDF5 trajectories (rover simulate) or CSV files with a header: a 't' column\n"
+          "and the compared column (or 'z', as in measured drop data 't,z'). B is the reference:\n"
+          "B is interpolated linearly onto A's sample times over the common interval.\n\n"
+          "Example:\n"
+          "  rover compare results/drop_horizontal.h5 configs/data/drop_horizontal_synthetic.csv");
+      app.add_option("A", o->first, "Curve to judge (.h5 or .csv)")->required()->check(CLI::ExistingFile);
+      app.add_option("B", o->second, "Reference curve (.h5 or .csv)")->required()->check(CLI::ExistingFile);
+      app.add_option("--column", o->column, "Dataset/column to compare")->capture_default_str();
+      app.add_option("--rest-time", o->rest_time_s, "Time of the at-rest value z_r [s]")->capture_default_str();
+      return [o] { return run_compare(*o); };
+    }};
+
+}  // namespace
+}  // namespace rover::cli

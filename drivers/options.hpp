@@ -1,0 +1,55 @@
+// Command-line options shared by several subcommands: overrides of the study
+// inputs (f, c_q, the 8 preloads M0).
+#pragma once
+
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "core/simulate.hpp"
+
+namespace rover::cli {
+
+struct InputOverrides {
+  std::optional<double> f, c_q;
+  std::string M0;  // comma-separated, 8 values
+};
+
+inline void add_input_overrides(CLI::App& app, InputOverrides& o) {
+  app.add_option("--f", o.f, "S-structure sharpness f [1/rad] (default: the rover config)");
+  app.add_option("--cq", o.c_q, "S-structure damping c_q [N m s/rad] (default: the rover config)");
+  app.add_option("--M0", o.M0, "The 8 preloads M0 [N m], comma-separated, order 11,12,21,22,31,32,41,42");
+}
+
+inline SimulationInputs apply_overrides(const InputOverrides& o, SimulationInputs in) {
+  if (o.f) {
+    if (!(*o.f > 0.0)) throw std::invalid_argument("--f must be positive, got " + std::to_string(*o.f));
+    in.sharpness_f = *o.f;
+  }
+  if (o.c_q) {
+    if (!(*o.c_q >= 0.0)) throw std::invalid_argument("--cq must not be negative, got " + std::to_string(*o.c_q));
+    in.damping_c_q = *o.c_q;
+  }
+  if (!o.M0.empty()) {
+    std::stringstream ss(o.M0);
+    std::string item;
+    std::size_t n = 0;
+    while (std::getline(ss, item, ',')) {
+      if (n == in.preload_Nm.size())
+        throw std::invalid_argument("--M0 takes 8 values, got more: '" + o.M0 + "'");
+      try {
+        in.preload_Nm[n++] = std::stod(item);
+      } catch (const std::exception&) {
+        throw std::invalid_argument("--M0: '" + item + "' is not a number");
+      }
+    }
+    if (n != in.preload_Nm.size())
+      throw std::invalid_argument("--M0 takes 8 values, got " + std::to_string(n));
+  }
+  return in;
+}
+
+}  // namespace rover::cli

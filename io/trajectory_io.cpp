@@ -1,0 +1,156 @@
+// See trajectory_io.hpp.
+#include "io/trajectory_io.hpp"
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+
+#include "core/coordinates.hpp"
+#include "io/csv.hpp"
+#include "io/hdf5_file.hpp"
+#include "io/plot.hpp"
+
+namespace rover::io {
+namespace {
+
+std::string file_text(const std::string& path) {
+  if (path.empty()) return "";
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+bool ends_with(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+}  // namespace
+
+void write_trajectory_hdf5(const std::string& path, const Trajectory& tr, const ScenarioSetup& setup,
+                           const SimulationInputs& inputs) {
+  Hdf5Writer h5(path);
+  h5.write("/t", tr.t);
+  h5.write("/B_l_z", tr.B_l_z);
+  h5.write("/B_r_z", tr.B_r_z);
+  h5.write("/G_z", tr.G_z);
+  h5.write("/pitch", tr.pitch);
+  h5.write("/roll", tr.roll);
+  h5.write("/q", Eigen::MatrixXd(tr.q));
+  h5.write("/u", Eigen::MatrixXd(tr.u));
+  h5.write("/Fn", Eigen::MatrixXd(tr.normal_force_N));
+  std::vector<std::string> names(std::begin(kCoordinateNames), std::end(kCoordinateNames));
+  h5.write("/coordinate_names", names);
+
+  const Scenario& s = setup.scenario;
+  const IntegratorSettings& integ = s.integrator;
+  h5.attribute("/", "project_version", ROVER_VERSION);
+  h5.attribute("/", "scenario", s.name);
+  h5.attribute("/", "scenario_file", setup.scenario_path);
+  h5.attribute("/", "rover_file", setup.rover_path);
+  h5.attribute("/", "terrain_file", setup.terrain_path.empty() ? "flat z = 0" : setup.terrain_path);
+  h5.attribute("/", "scenario_json", file_text(setup.scenario_path));
+  h5.attribute("/", "rover_json", file_text(setup.rover_path));
+  h5.attribute("/", "f", inputs.sharpness_f);
+  h5.attribute("/", "c_q", inputs.damping_c_q);
+  h5.attribute("/", "M0", std::vector<double>(inputs.preload_Nm.begin(), inputs.preload_Nm.end()));
+  const auto& g = setup.model.parameters.friction.gammas;
+  h5.attribute("/", "friction_gammas", std::vector<double>(g.begin(), g.end()));
+  h5.attribute("/", "duration_s", s.duration_s);
+  h5.attribute("/", "output_rate_hz", s.output_rate_hz);
+  h5.attribute("/", "integrator", integrator_name(integ.method));
+  h5.attribute("/", "rtol", integ.relative_tolerance);
+  h5.attribute("/", "atol", integ.absolute_tolerance);
+  h5.attribute("/", "initial_step_s", integ.initial_step_s);
+  h5.attribute("/", "min_step_s", integ.min_step_s);
+  h5.attribute("/", "max_step_s", integ.max_step_s);
+  h5.attribute("/", "fixed_step_s", integ.fixed_step_s);
+  h5.attribute("/", "status", status_name(tr.status));
+  h5.attribute("/", "status_code", static_cast<long long>(tr.status));
+  h5.attribute("/", "message", tr.message);
+  h5.attribute("/", "wall_time_s", tr.wall_time_s);
+  h5.attribute("/", "rhs_evaluations", static_cast<long long>(tr.rhs_evaluations));
+  h5.attribute("/", "steps", static_cast<long long>(tr.steps));
+  h5.attribute("/", "smallest_step_s", tr.min_step_s);
+  h5.attribute("/", "largest_step_s", tr.max_step_s);
+  h5.commit();
+}
+
+void write_trajectory_csv(const std::string& path, const Trajectory& tr) {
+  std::vector<std::string> header{"t", "B_l_z", "B_r_z", "G_z", "pitch", "roll"};
+  std::vector<std::vector<double>> columns{tr.t, tr.B_l_z, tr.B_r_z, tr.G_z, tr.pitch, tr.roll};
+  auto add_matrix = [&](const RowMatrix& m, const std::string& prefix, auto name_of) {
+    for (Eigen::Index c = 0; c < m.cols(); ++c) {
+      header.push_back(prefix + name_of(static_cast<int>(c)));
+      columns.emplace_back(m.rows());
+      for (Eigen::Index r = 0; r < m.rows(); ++r) columns.back()[static_cast<std::size_t>(r)] = m(r, c);
+    }
+  };
+  add_matrix(tr.q, "q_", [](int c) { return std::string(kCoordinateNames[c]); });
+  add_matrix(tr.u, "u_", [](int c) { return std::string(kCoordinateNames[c]); });
+  add_matrix(tr.normal_force_N, "Fn_", [](int c) { return std::to_string(c + 1); });
+  write_csv(path, header, columns);
+}
+
+std::vector<std::string> write_trajectory_plots(const std::string& png_stem, const Trajectory& tr,
+                                                const std::string& title, bool obstacle_run) {
+  std::vector<std::string> written;
+  auto mm = [](const std::vector<double>& z) {
+    std::vector<double> out(z.size());
+    for (std::size_t i = 0; i < z.size(); ++i) out[i] = 1000.0 * z[i];
+    return out;
+  };
+  auto series = [](std::string label, const std::vector<double>& x, std::vector<double> y) {
+    Series s;
+    s.label = std::move(label);
+    s.x = x;
+    s.y = std::move(y);
+    return s;
+  };
+  LinePlot heights;
+  heights.title = title;
+  heights.x_label = "t [s]";
+  heights.y_label = "z [mm]";
+  heights.series.push_back(series("B_l z", tr.t, mm(tr.B_l_z)));
+  if (obstacle_run) {
+    heights.series.push_back(series("B_r z", tr.t, mm(tr.B_r_z)));
+    heights.series.push_back(series("G z", tr.t, mm(tr.G_z)));
+  }
+  write_png(heights, png_stem + ".png");
+  written.push_back(png_stem + ".png");
+  if (obstacle_run) {
+    LinePlot attitude;
+    attitude.title = title + ": attitude";
+    attitude.x_label = "t [s]";
+    attitude.y_label = "angle [deg]";
+    auto deg = [](const std::vector<double>& a) {
+      std::vector<double> out(a.size());
+      for (std::size_t i = 0; i < a.size(); ++i) out[i] = a[i] * 180.0 / M_PI;
+      return out;
+    };
+    attitude.series.push_back(series("pitch chi", tr.t, deg(tr.pitch)));
+    attitude.series.push_back(series("roll psi", tr.t, deg(tr.roll)));
+    write_png(attitude, png_stem + "_attitude.png");
+    written.push_back(png_stem + "_attitude.png");
+  }
+  return written;
+}
+
+Curve read_curve(const std::string& path, const std::string& column) {
+  Curve c;
+  if (ends_with(path, ".csv")) {
+    // Simulated trajectories have the column; measured drop data has t,z.
+    const CsvTable table = read_csv(path, {"t"});
+    const auto& h = table.header;
+    const bool has_column = std::find(h.begin(), h.end(), column) != h.end();
+    c.t = table.column("t");
+    c.y = table.column(has_column ? column : "z");
+    return c;
+  }
+  const Hdf5Reader h5(path);
+  c.t = h5.read_doubles("/t");
+  c.y = h5.read_doubles("/" + column);
+  return c;
+}
+
+}  // namespace rover::io

@@ -1,0 +1,34 @@
+// Trajectory files: HDF5 (datasets /t, /B_l_z, /B_r_z, /G_z, /pitch, /roll,
+// /q (T x 23), /u (T x 23), /Fn (T x 4), with attributes recording every
+// parameter, the integrator and its settings, wall time, right-hand-side
+// evaluations and the project version), the same columns as CSV, and PNG
+// plots (paper Fig. 11). Also reading a curve back for `rover compare` and
+// calibration data.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/simulate.hpp"
+#include "io/scenario_config.hpp"
+
+namespace rover::io {
+
+void write_trajectory_hdf5(const std::string& path, const Trajectory& trajectory,
+                           const ScenarioSetup& setup, const SimulationInputs& inputs);
+void write_trajectory_csv(const std::string& path, const Trajectory& trajectory);
+
+// Drop tests: B_l z(t) (Fig. 11a-b). Obstacle runs: B_l, B_r, G z(t) and a
+// second file with pitch and roll (Fig. 11c-h). Returns the files written.
+std::vector<std::string> write_trajectory_plots(const std::string& png_stem,
+                                                const Trajectory& trajectory,
+                                                const std::string& title, bool obstacle_run);
+
+// A named curve (t, y) from a trajectory file: HDF5 (/t and /<column>) or CSV
+// with a header (column "t" and the named one, or "z" for measured drop data).
+struct Curve {
+  std::vector<double> t, y;
+};
+Curve read_curve(const std::string& path, const std::string& column = "B_l_z");
+
+}  // namespace rover::io
