@@ -70,6 +70,9 @@ struct ContactParameters {
 };
 
 // Makkar friction (eq. 8): engineering parameters and the fitted gammas.
+// `gammas` are used as they are only while the engineering parameters equal
+// `gammas_fitted_to` (mu_s, v_s, mu_k, v_k) exactly and the fit passes the
+// quality bar; otherwise rover::friction_gammas_for() synthesises a new set.
 struct FrictionParameters {
   double mu_static = 0.3;
   double v_static_mps = 5.5e-4;
@@ -78,6 +81,7 @@ struct FrictionParameters {
   std::array<double, 6> gammas{0.9264631218718848, 1831.8163703630614,
                                1062.6242130578348, 0.20009963867985064,
                                730.7116335954703, 0.0};
+  std::array<double, 4> gammas_fitted_to{0.3, 5.5e-4, 0.2, 2e-3};
 };
 
 struct RoverParameters {

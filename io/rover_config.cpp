@@ -90,14 +90,20 @@ RoverParameters parse_rover_parameters(const Json& config, const std::string& fi
   c.finish();
 
   const JsonReader f = top.child("friction");
+  f.string_or("comment", "");
   p.friction.mu_static = f.non_negative("mu_s");
   p.friction.v_static_mps = f.positive("v_s");
   p.friction.mu_kinetic = f.non_negative("mu_k");
   p.friction.v_kinetic_mps = f.positive("v_k");
   if (!(p.friction.v_kinetic_mps > p.friction.v_static_mps))
     f.fail("v_k", "must be larger than v_s (" + std::to_string(p.friction.v_static_mps) + ")");
-  if (f.has("gammas")) p.friction.gammas = non_negative_array<6>(f, "gammas");
-  else p.friction.gammas.fill(std::nan(""));  // to be synthesised (rover::friction_gammas_for)
+  if (f.has("gammas")) {
+    p.friction.gammas = non_negative_array<6>(f, "gammas");
+    p.friction.gammas_fitted_to = f.fixed_numbers<4>("gammas_fitted_to");
+  } else {
+    p.friction.gammas.fill(std::nan(""));  // synthesised by rover::friction_gammas_for
+    p.friction.gammas_fitted_to.fill(std::nan(""));
+  }
   f.finish();
 
   top.finish();

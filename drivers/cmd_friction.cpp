@@ -1,0 +1,141 @@
+// `rover friction`: the Makkar friction curve (paper eq. 8) for a set of
+// engineering parameters, with its fit quality against the STEP target of
+// MODEL.md section 6 ("Friction synthesis"), as JSON on stdout and optionally
+// as a PNG of mu(v) and the target.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include "core/friction_synthesis.hpp"
+#include "drivers/command_registry.hpp"
+#include "io/json_reader.hpp"
+#include "io/plot.hpp"
+#include "io/rover_config.hpp"
+
+namespace rover::cli {
+namespace {
+
+struct FrictionOptions {
+  std::string config = "configs/rover.json";
+  double mu_static = std::nan("");  // NaN: keep the config's value
+  double v_static_mps = std::nan("");
+  double mu_kinetic = std::nan("");
+  double v_kinetic_mps = std::nan("");
+  bool synthesize = false;
+  std::string png;
+};
+
+void write_friction_png(const FrictionParameters& p, const MakkarGammas& gammas,
+                        const FrictionFitQuality& quality, const std::string& png_path) {
+  constexpr int kSamples = 1001;
+  const double v_max_mps = 10.0 * p.v_kinetic_mps;
+  io::Series fit{"Makkar fit (eq. 8)", {}, {}, io::SeriesStyle::lines, "#1f77b4", 2.0};
+  io::Series target{"STEP target", {}, {}, io::SeriesStyle::dashed, "black", 1.5};
+  for (int i = 0; i < kSamples; ++i) {
+    const double v = v_max_mps * i / (kSamples - 1);
+    fit.x.push_back(1e3 * v);
+    fit.y.push_back(makkar_mu(v, gammas));
+    target.x.push_back(1e3 * v);
+    target.y.push_back(friction_target_mu(v, p));
+  }
+  io::Series peak{"peak", {1e3 * quality.peak_speed_mps}, {quality.peak_mu},
+                  io::SeriesStyle::points, "#d62728", 1.5};
+  char title[200];
+  std::snprintf(title, sizeof title,
+                "Makkar friction: mu_s %.3g at v_s %.3g mm/s, mu_k %.3g at v_k %.3g mm/s "
+                "(RMS %.2g, peak %.4g at %.3g mm/s)",
+                p.mu_static, 1e3 * p.v_static_mps, p.mu_kinetic, 1e3 * p.v_kinetic_mps,
+                quality.rms, quality.peak_mu, 1e3 * quality.peak_speed_mps);
+  io::LinePlot plot;
+  plot.title = title;
+  plot.x_label = "slip speed v [mm/s]";
+  plot.y_label = "friction coefficient mu [-]";
+  plot.series = {target, fit, peak};
+  plot.x_range = io::AxisRange{0.0, 1e3 * v_max_mps};
+  const auto parent = std::filesystem::path(png_path).parent_path();
+  if (!parent.empty()) std::filesystem::create_directories(parent);
+  io::write_png(plot, png_path);
+}
+
+int run_friction(const FrictionOptions& o) {
+  FrictionParameters p = io::load_rover_parameters(o.config).friction;
+  if (std::isfinite(o.mu_static)) p.mu_static = o.mu_static;
+  if (std::isfinite(o.v_static_mps)) p.v_static_mps = o.v_static_mps;
+  if (std::isfinite(o.mu_kinetic)) p.mu_kinetic = o.mu_kinetic;
+  if (std::isfinite(o.v_kinetic_mps)) p.v_kinetic_mps = o.v_kinetic_mps;
+
+  const auto start = std::chrono::steady_clock::now();
+  const MakkarGammas gammas = o.synthesize ? synthesize_friction(p) : friction_gammas_for(p);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const bool from_config = !o.synthesize && gammas == p.gammas;
+  const FrictionFitQuality quality = friction_fit_quality(gammas, p);
+
+  io::Json out;
+  out["engineering"] = {{"mu_s", p.mu_static},
+                        {"v_s_mps", p.v_static_mps},
+                        {"mu_k", p.mu_kinetic},
+                        {"v_k_mps", p.v_kinetic_mps}};
+  out["gammas"] = gammas;
+  out["source"] = from_config ? "config" : "synthesized";
+  out["quality"] = {{"rms", quality.rms},
+                    {"peak_mu", quality.peak_mu},
+                    {"peak_speed_mps", quality.peak_speed_mps},
+                    {"acceptable", quality.acceptable}};
+  if (!o.png.empty()) out["png"] = o.png;
+  std::cout << out.dump(2) << "\n";
+  if (!from_config) std::cerr << "synthesized the gammas in " << seconds << " s\n";
+  if (!quality.acceptable)
+    std::cerr << "warning: the fit misses the quality bar (RMS < " << kFrictionMaxRms
+              << ", peak within " << 100 * kFrictionMaxPeakError << " % of mu_s)\n";
+
+  if (!o.png.empty()) {
+    try {
+      write_friction_png(p, gammas, quality, o.png);
+    } catch (const std::exception& e) {  // the numbers above stand without the plot
+      std::cerr << "warning: no plot: " << e.what() << "\n";
+    }
+  }
+  return 0;
+}
+
+const RegisterCommand registration{
+    20, "friction",
+    "Makkar friction gammas for mu_s, v_s, mu_k, v_k: fit quality as JSON, mu(v) as PNG",
+    [](CLI::App& app) -> std::function<int()> {
+      auto o = std::make_shared<FrictionOptions>();
+      app.footer(
+          "Takes the friction section of the rover config, overrides any of mu_s, v_s, mu_k, "
+          "v_k given on the command line, and resolves the six gammas of eq. 8 as the model "
+          "does: the configured gammas if they still fit (RMS < 0.01 against the STEP target of "
+          "MODEL.md section 6 on v in [0, 10 v_k], peak within 5 % of mu_s), otherwise a fresh "
+          "least-squares synthesis (global NLopt search + local polish, deterministic, ~0.1 s). "
+          "--synthesize always fits anew.\n"
+          "Output (stdout): {\"engineering\": {mu_s, v_s_mps, mu_k, v_k_mps}, \"gammas\": [6], "
+          "\"source\": \"config\"|\"synthesized\", \"quality\": {rms, peak_mu, peak_speed_mps, "
+          "acceptable}}. Paste the gammas into the config's friction.gammas to pin them.\n\n"
+          "Examples:\n"
+          "  rover friction --png results/friction.png\n"
+          "  rover friction --mu-s 0.5 --v-s 1e-3 --mu-k 0.35 --v-k 4e-3 --png results/f.png");
+      app.add_option("--config", o->config, "Rover parameters (JSON)")
+          ->capture_default_str()
+          ->check(CLI::ExistingFile);
+      app.add_option("--mu-s", o->mu_static, "Static friction coefficient mu_s [-]")
+          ->check(CLI::NonNegativeNumber);
+      app.add_option("--v-s", o->v_static_mps, "Stiction transition speed v_s [m/s]")
+          ->check(CLI::PositiveNumber);
+      app.add_option("--mu-k", o->mu_kinetic, "Kinetic friction coefficient mu_k [-]")
+          ->check(CLI::NonNegativeNumber);
+      app.add_option("--v-k", o->v_kinetic_mps, "Kinetic transition speed v_k [m/s] (> v_s)")
+          ->check(CLI::PositiveNumber);
+      app.add_flag("--synthesize", o->synthesize,
+                   "Fit the gammas even if the configured ones pass the quality bar");
+      app.add_option("--png", o->png, "Write mu(v) and the target to this PNG");
+      return [o] { return run_friction(*o); };
+    }};
+
+}  // namespace
+}  // namespace rover::cli

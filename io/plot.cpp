@@ -1,0 +1,312 @@
+// PNG plots through gnuplot: the data go into inline data blocks of one
+// script file, gnuplot renders into a temp file next to the target, and the
+// temp file is renamed onto the target only when gnuplot succeeded.
+#include "io/plot.hpp"
+
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <random>
+#include <sstream>
+
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace rover::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A gnuplot single-quoted string: only '' is special there (no escapes, no
+// backquote or macro substitution); line breaks become spaces.
+std::string quoted(const std::string& text) {
+  std::string out = "'";
+  for (const char c : text) {
+    if (c == '\'') out += "''";
+    else if (c == '\n' || c == '\r') out += ' ';
+    else out += c;
+  }
+  return out + "'";
+}
+
+// A POSIX shell single-quoted word.
+std::string shell_quoted(const std::string& text) {
+  std::string out = "'";
+  for (const char c : text) out += (c == '\'') ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+std::string number(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.12g", value);
+  return buffer;
+}
+
+// "lc rgb '<colour>' " or nothing; refuses anything but a name or #rrggbb.
+std::string color_spec(const std::string& color) {
+  if (color.empty()) return "";
+  for (const char c : color) {
+    const bool ok = std::isalnum(static_cast<unsigned char>(c)) || c == '#' || c == '-';
+    if (!ok) throw std::invalid_argument("plot: unusable colour '" + color + "'");
+  }
+  return "lc rgb " + quoted(color) + " ";
+}
+
+std::string title_spec(const std::string& label) {
+  return label.empty() ? "notitle" : "title " + quoted(label);
+}
+
+void check_size(const std::string& what, std::size_t size, std::size_t expected) {
+  if (size != expected)
+    throw std::invalid_argument("plot: " + what + " has " + std::to_string(size) +
+                                " values, expected " + std::to_string(expected));
+}
+
+void check_canvas(int width_px, int height_px) {
+  if (width_px < 100 || height_px < 100 || width_px > 20000 || height_px > 20000)
+    throw std::invalid_argument("plot: canvas " + std::to_string(width_px) + "x" +
+                                std::to_string(height_px) + " px out of range [100, 20000]");
+}
+
+// A data block of rows; a row with a non-finite value becomes a blank line,
+// which gnuplot draws as a gap.
+void write_block(std::ostream& out, const std::string& name,
+                 const std::vector<const std::vector<double>*>& columns) {
+  out << name << " << EOD\n";
+  const std::size_t rows = columns.front()->size();
+  for (std::size_t i = 0; i < rows; ++i) {
+    bool finite = true;
+    for (const auto* column : columns) finite = finite && std::isfinite((*column)[i]);
+    if (finite) {
+      for (std::size_t j = 0; j < columns.size(); ++j)
+        out << (j ? " " : "") << number((*columns[j])[i]);
+    }
+    out << "\n";
+  }
+  out << "EOD\n";
+}
+
+std::string series_spec(const Series& s) {
+  std::string style;
+  switch (s.style) {
+    case SeriesStyle::lines: style = "with lines dt solid "; break;
+    case SeriesStyle::dashed: style = "with lines dt 2 "; break;
+    case SeriesStyle::points: style = "with points pt 7 ps 0.6 "; break;
+    case SeriesStyle::lines_points: style = "with linespoints pt 7 ps 0.6 "; break;
+  }
+  return style + "lw " + number(s.line_width) + " " + color_spec(s.color) + title_spec(s.label);
+}
+
+void write_common(std::ostream& out, const std::string& output, int width_px, int height_px,
+                  const std::string& title, const std::string& x_label,
+                  const std::string& y_label, bool log_x, bool log_y) {
+  out << "set terminal pngcairo size " << width_px << "," << height_px
+      << " noenhanced font 'sans,11'\n"
+      << "set output " << quoted(output) << "\n"
+      << "set encoding utf8\n";
+  if (!title.empty()) out << "set title " << quoted(title) << "\n";
+  out << "set xlabel " << quoted(x_label) << "\n"
+      << "set ylabel " << quoted(y_label) << "\n";
+  if (log_x) out << "set logscale x\n";
+  if (log_y) out << "set logscale y\n";
+}
+
+// A new file "<stem><random>" (mode 0666 less the umask, like any output),
+// removed when it goes out of scope unless released.
+class TempFile {
+ public:
+  // Throws PlotError naming `purpose` when the file cannot be created.
+  TempFile(const std::string& stem, const std::string& purpose) {
+    std::random_device entropy;
+    for (int attempt = 0; attempt < 100; ++attempt) {
+      char suffix[16];
+      std::snprintf(suffix, sizeof suffix, "%08x", static_cast<unsigned>(entropy()));
+      const std::string candidate = stem + suffix;
+      const int fd = ::open(candidate.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+      if (fd >= 0) {
+        ::close(fd);
+        path_ = candidate;
+        return;
+      }
+      if (errno != EEXIST)
+        throw PlotError("plot: cannot create " + purpose + " '" + candidate + "': " +
+                        std::strerror(errno));
+    }
+    throw PlotError("plot: cannot create a unique " + purpose + " '" + stem + "*'");
+  }
+  TempFile(const TempFile&) = delete;
+  TempFile& operator=(const TempFile&) = delete;
+  ~TempFile() {
+    if (!path_.empty()) {
+      std::error_code ignored;
+      fs::remove(path_, ignored);
+    }
+  }
+  const std::string& path() const { return path_; }
+  void release() { path_.clear(); }
+
+ private:
+  std::string path_;
+};
+
+// Writes the script that `script_for(output path)` returns, runs gnuplot on
+// it, and moves the output onto png_path only when gnuplot succeeded.
+void render(const std::string& png_path,
+            const std::function<std::string(const std::string&)>& script_for) {
+  TempFile partial(png_path + ".partial-", "plot file");
+  const TempFile script((fs::temp_directory_path() / "rover-plot-").string(), "gnuplot script");
+  {
+    std::ofstream out(script.path());
+    out << script_for(partial.path());
+    if (!out) throw PlotError("plot: cannot write gnuplot script '" + script.path() + "'");
+  }
+  const std::string command = "gnuplot " + shell_quoted(script.path()) + " 2>&1";
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (!pipe) throw PlotError("plot: cannot run gnuplot: " + std::string(std::strerror(errno)));
+  std::string log;
+  char buffer[512];
+  while (std::fgets(buffer, sizeof buffer, pipe)) log += buffer;
+  const int status = ::pclose(pipe);
+  const int code = (status != -1 && WIFEXITED(status)) ? WEXITSTATUS(status) : -1;
+  if (code == 127)
+    throw PlotError("plot: gnuplot not found on PATH (install gnuplot with the pngcairo "
+                    "terminal); " + png_path + " not written");
+  if (code != 0)
+    throw PlotError("plot: gnuplot failed (exit " + std::to_string(code) + ") writing " +
+                    png_path + ": " + log);
+  std::error_code error;
+  const auto size = fs::file_size(partial.path(), error);
+  if (error || size == 0) throw PlotError("plot: gnuplot wrote nothing for " + png_path + ": " + log);
+  // The temporary file was created private (0600); a plot is for everyone to read.
+  fs::permissions(partial.path(),
+                  fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read |
+                      fs::perms::others_read,
+                  error);
+  fs::rename(partial.path(), png_path, error);
+  if (error)
+    throw PlotError("plot: cannot rename '" + partial.path() + "' to " + png_path + ": " +
+                    error.message());
+  partial.release();
+}
+
+}  // namespace
+
+void write_png(const LinePlot& plot, const std::string& png_path) {
+  check_canvas(plot.width_px, plot.height_px);
+  bool any_data = false;
+  for (const Series& s : plot.series) {
+    check_size("series '" + s.label + "' y", s.y.size(), s.x.size());
+    any_data = any_data || !s.x.empty();
+  }
+  for (const Band& b : plot.bands) {
+    check_size("band '" + b.label + "' lower", b.lower.size(), b.x.size());
+    check_size("band '" + b.label + "' upper", b.upper.size(), b.x.size());
+    if (!(b.opacity >= 0.0 && b.opacity <= 1.0))
+      throw std::invalid_argument("plot: band '" + b.label + "' opacity " + number(b.opacity) +
+                                  " not in [0, 1]");
+    any_data = any_data || !b.x.empty();
+  }
+  if (!any_data) throw std::invalid_argument("plot: nothing to plot for " + png_path);
+
+  render(png_path, [&](const std::string& output) {
+    std::ostringstream out;
+    write_common(out, output, plot.width_px, plot.height_px, plot.title, plot.x_label,
+                 plot.y_label, plot.log_x, plot.log_y);
+    out << "set grid\nset key top right opaque box\n";
+    if (plot.x_range)
+      out << "set xrange [" << number(plot.x_range->first) << ":" << number(plot.x_range->second)
+          << "]\n";
+    if (plot.y_range)
+      out << "set yrange [" << number(plot.y_range->first) << ":" << number(plot.y_range->second)
+          << "]\n";
+    std::vector<std::string> items;
+    for (std::size_t k = 0; k < plot.bands.size(); ++k) {
+      const Band& b = plot.bands[k];
+      if (b.x.empty()) continue;
+      const std::string name = "$band" + std::to_string(k);
+      write_block(out, name, {&b.x, &b.lower, &b.upper});
+      items.push_back(name + " using 1:2:3 with filledcurves fs transparent solid " +
+                      number(b.opacity) + " noborder " + color_spec(b.color) +
+                      title_spec(b.label));
+    }
+    for (std::size_t k = 0; k < plot.series.size(); ++k) {
+      const Series& s = plot.series[k];
+      if (s.x.empty()) continue;
+      const std::string name = "$series" + std::to_string(k);
+      write_block(out, name, {&s.x, &s.y});
+      items.push_back(name + " using 1:2 " + series_spec(s));
+    }
+    out << "plot ";
+    for (std::size_t k = 0; k < items.size(); ++k) out << (k ? ", \\\n     " : "") << items[k];
+    out << "\n";
+    return out.str();
+  });
+}
+
+void write_png(const SurfacePlot& plot, const std::string& png_path) {
+  check_canvas(plot.width_px, plot.height_px);
+  const std::size_t nx = plot.x.size(), ny = plot.y.size();
+  if (nx < 2 || ny < 2)
+    throw std::invalid_argument("plot: surface needs at least 2 x and 2 y values, got " +
+                                std::to_string(nx) + " and " + std::to_string(ny));
+  check_size("surface z", plot.z.size(), nx * ny);
+  for (const auto* axis : {&plot.x, &plot.y})
+    for (std::size_t i = 1; i < axis->size(); ++i)
+      if (!((*axis)[i] > (*axis)[i - 1]))
+        throw std::invalid_argument("plot: surface axes must be strictly increasing");
+  if (plot.contour_levels < 0)
+    throw std::invalid_argument("plot: contour_levels must be >= 0");
+  for (const Series& s : plot.overlays)
+    check_size("overlay '" + s.label + "' y", s.y.size(), s.x.size());
+
+  render(png_path, [&](const std::string& output) {
+    std::ostringstream out;
+    write_common(out, output, plot.width_px, plot.height_px, plot.title, plot.x_label,
+                 plot.y_label, plot.log_x, plot.log_y);
+    out << "set cblabel " << quoted(plot.z_label) << "\n"
+        << "set view map\n"
+        << "set pm3d at b corners2color mean\n"
+        << "set palette defined (0 '#440154', 1 '#3b528b', 2 '#21918c', 3 '#5ec962', "
+           "4 '#fde725')\n"
+        << "set xrange [" << number(plot.x.front()) << ":" << number(plot.x.back()) << "]\n"
+        << "set yrange [" << number(plot.y.front()) << ":" << number(plot.y.back()) << "]\n"
+        << "set key top left opaque box\n";
+    if (plot.contour_levels > 0)
+      out << "set contour base\nset cntrparam levels auto " << plot.contour_levels
+          << "\nset cntrlabel onecolor\n";
+    // Grid rows, one scan per y, separated by blank lines.
+    out << "$grid << EOD\n";
+    for (std::size_t j = 0; j < ny; ++j) {
+      for (std::size_t i = 0; i < nx; ++i) {
+        const double z = plot.z[j * nx + i];
+        out << number(plot.x[i]) << " " << number(plot.y[j]) << " "
+            << (std::isfinite(z) ? number(z) : std::string("NaN")) << "\n";
+      }
+      out << "\n";
+    }
+    out << "EOD\n";
+    std::vector<std::string> items{"$grid using 1:2:3 with pm3d notitle"};
+    if (plot.contour_levels > 0)
+      items.push_back("$grid using 1:2:3 with lines nosurface lc rgb 'black' lw 0.8 notitle");
+    for (std::size_t k = 0; k < plot.overlays.size(); ++k) {
+      const Series& s = plot.overlays[k];
+      if (s.x.empty()) continue;
+      const std::string name = "$overlay" + std::to_string(k);
+      write_block(out, name, {&s.x, &s.y});
+      items.push_back(name + " using 1:2:(0) " + series_spec(s) + " nocontour");
+    }
+    out << "splot ";
+    for (std::size_t k = 0; k < items.size(); ++k) out << (k ? ", \\\n      " : "") << items[k];
+    out << "\n";
+    return out.str();
+  });
+}
+
+}  // namespace rover::io

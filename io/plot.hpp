@@ -1,0 +1,76 @@
+// PNG plots through gnuplot (pngcairo terminal): line plots with shaded bands
+// (drop curves, Monte Carlo envelopes, fits) and heat maps with contour lines
+// (response surfaces).
+//
+// Plots are a by-product: callers write their numeric results first and treat
+// a PlotError as a warning. A plot is written atomically (temp file in the
+// target directory, then rename), so a failure never leaves a partial PNG.
+// Labels are printed literally (no gnuplot markup: "v_s" stays "v_s").
+#pragma once
+
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace rover::io {
+
+// gnuplot is missing, the output cannot be written, or gnuplot failed.
+class PlotError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+enum class SeriesStyle { lines, dashed, points, lines_points };
+
+// (Every member has a default, so designated initializers may skip any.)
+
+// A curve y(x). Non-finite values leave a gap. `color` is a gnuplot colour
+// name ("black", "dark-red") or "#rrggbb"; empty picks the next default colour.
+struct Series {
+  std::string label{};  // legend entry; empty = none
+  std::vector<double> x{}, y{};
+  SeriesStyle style = SeriesStyle::lines;
+  std::string color{};
+  double line_width = 1.5;
+};
+
+// A shaded area between lower(x) and upper(x), drawn under the series.
+struct Band {
+  std::string label{};
+  std::vector<double> x{}, lower{}, upper{};
+  std::string color{};
+  double opacity = 0.25;  // 0 = invisible, 1 = opaque
+};
+
+using AxisRange = std::pair<double, double>;
+
+struct LinePlot {
+  std::string title{}, x_label{}, y_label{};
+  std::vector<Series> series{};
+  std::vector<Band> bands{};
+  bool log_x = false, log_y = false;
+  std::optional<AxisRange> x_range{}, y_range{};  // automatic when empty
+  int width_px = 1000, height_px = 650;
+};
+
+// A heat map of z(x, y) on a rectangular grid, with contour lines.
+// z is row-major with one row per y: z[j * x.size() + i] = z(x[i], y[j]);
+// x and y are strictly increasing.
+struct SurfacePlot {
+  std::string title{}, x_label{}, y_label{}, z_label{};
+  std::vector<double> x{}, y{}, z{};
+  bool log_x = false, log_y = false;
+  int contour_levels = 10;       // 0 = no contour lines
+  std::vector<Series> overlays{};  // e.g. sample points or an optimum, drawn on top
+  int width_px = 1000, height_px = 800;
+};
+
+// Write the plot to `png_path` (replacing it). Throws std::invalid_argument on
+// inconsistent data (sizes, unusable colour, empty plot) and PlotError when
+// gnuplot is missing or fails or the file cannot be written.
+void write_png(const LinePlot& plot, const std::string& png_path);
+void write_png(const SurfacePlot& plot, const std::string& png_path);
+
+}  // namespace rover::io
