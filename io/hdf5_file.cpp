@@ -1,0 +1,590 @@
+// See hdf5_file.hpp.
+#include "io/hdf5_file.hpp"
+
+#include <hdf5.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <stdexcept>
+#include <system_error>
+#include <type_traits>
+#include <utility>
+
+namespace rover::io {
+namespace {
+
+static_assert(std::is_same_v<hid_t, std::int64_t>, "hid_t is stored as std::int64_t");
+
+// Numeric datasets with at least this many elements are chunked and compressed.
+constexpr hsize_t kCompressMinElements = 1 << 16;
+// Chunks hold at most this many elements (1 MiB of doubles: HDF5's default chunk cache).
+constexpr hsize_t kChunkElements = 1 << 17;
+constexpr unsigned kDeflateLevel = 4;
+
+// Owns one HDF5 identifier and closes it with the matching H5?close.
+class Handle {
+ public:
+  Handle() = default;
+  Handle(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
+  Handle(Handle&& other) noexcept
+      : id_(std::exchange(other.id_, H5I_INVALID_HID)), close_(other.close_) {}
+  Handle& operator=(Handle&&) = delete;
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  ~Handle() {
+    if (id_ >= 0) close_(id_);
+  }
+  hid_t get() const { return id_; }
+
+ private:
+  hid_t id_ = H5I_INVALID_HID;
+  herr_t (*close_)(hid_t) = nullptr;
+};
+
+void silence_hdf5_error_printing() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+
+// The innermost (most specific) message on HDF5's error stack, which is cleared.
+std::string hdf5_error_detail() {
+  std::string detail;
+  H5Ewalk2(
+      H5E_DEFAULT, H5E_WALK_UPWARD,
+      [](unsigned n, const H5E_error2_t* error, void* out) -> herr_t {
+        if (n == 0 && error->desc) *static_cast<std::string*>(out) = error->desc;
+        return 0;
+      },
+      &detail);
+  H5Eclear2(H5E_DEFAULT);
+  return detail;
+}
+
+[[noreturn]] void fail(const std::string& file, const std::string& what,
+                       const std::string& problem) {
+  std::string message = file + ": " + what + ": " + problem;
+  const std::string detail = hdf5_error_detail();
+  if (!detail.empty()) message += " (HDF5: " + detail + ")";
+  throw std::runtime_error(message);
+}
+
+std::string dataset_label(const std::string& name) { return "dataset '" + name + "'"; }
+std::string attribute_label(const std::string& object, const std::string& name) {
+  return "attribute '" + name + "' of '" + object + "'";
+}
+
+// Throws (naming file and object) if an HDF5 call returned a negative value.
+template <typename T>
+T check(T result, const std::string& file, const std::string& what, const std::string& problem) {
+  if (result < 0) fail(file, what, problem);
+  return result;
+}
+
+Handle checked_handle(hid_t id, herr_t (*close)(hid_t), const std::string& file,
+                      const std::string& what, const std::string& problem) {
+  return Handle(check(id, file, what, problem), close);
+}
+
+// "/a//b/c/" -> {"a", "b", "c"}
+std::vector<std::string> split_path(const std::string& path) {
+  std::vector<std::string> parts;
+  std::size_t start = 0;
+  while (start <= path.size()) {
+    const std::size_t end = std::min(path.find('/', start), path.size());
+    if (end > start) parts.push_back(path.substr(start, end - start));
+    start = end + 1;
+  }
+  return parts;
+}
+
+std::string join_path(const std::vector<std::string>& parts, std::size_t count) {
+  std::string path;
+  for (std::size_t i = 0; i < count; ++i) path += "/" + parts[i];
+  return path.empty() ? "/" : path;
+}
+
+// True if every component of `path` exists (intermediate ones being groups).
+bool object_exists(hid_t file, const std::string& path) {
+  const std::vector<std::string> parts = split_path(path);
+  for (std::size_t i = 1; i <= parts.size(); ++i) {
+    const std::string prefix = join_path(parts, i);
+    if (H5Lexists(file, prefix.c_str(), H5P_DEFAULT) <= 0) {
+      H5Eclear2(H5E_DEFAULT);
+      return false;
+    }
+    if (i < parts.size()) {
+      const Handle object(H5Oopen(file, prefix.c_str(), H5P_DEFAULT), H5Oclose);
+      if (object.get() < 0 || H5Iget_type(object.get()) != H5I_GROUP) {
+        H5Eclear2(H5E_DEFAULT);
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
+// Object creation properties shared by groups and datasets: no time stamps,
+// so that identical content gives identical bytes.
+void no_time_stamps(hid_t plist, const std::string& file, const std::string& what) {
+  check(H5Pset_obj_track_times(plist, false), file, what, "cannot set creation properties");
+}
+
+// Creates the groups along `path` that are missing (all of them when
+// `include_last`, else all but the last component).
+void create_groups(hid_t file, const std::string& file_name, const std::string& path,
+                   bool include_last) {
+  const std::vector<std::string> parts = split_path(path);
+  const std::size_t groups = include_last ? parts.size() : (parts.empty() ? 0 : parts.size() - 1);
+  for (std::size_t i = 1; i <= groups; ++i) {
+    const std::string prefix = join_path(parts, i);
+    const std::string what = "group '" + prefix + "'";
+    if (check(H5Lexists(file, prefix.c_str(), H5P_DEFAULT), file_name, what, "cannot look up") >
+        0) {
+      const Handle object = checked_handle(H5Oopen(file, prefix.c_str(), H5P_DEFAULT), H5Oclose,
+                                           file_name, what, "cannot open");
+      if (H5Iget_type(object.get()) != H5I_GROUP)
+        fail(file_name, what, "exists and is not a group (needed for '" + path + "')");
+      continue;
+    }
+    const Handle gcpl = checked_handle(H5Pcreate(H5P_GROUP_CREATE), H5Pclose, file_name, what,
+                                       "cannot create property list");
+    no_time_stamps(gcpl.get(), file_name, what);
+    checked_handle(H5Gcreate2(file, prefix.c_str(), H5P_DEFAULT, gcpl.get(), H5P_DEFAULT), H5Gclose,
+                   file_name, what, "cannot create group");
+  }
+}
+
+// Creates dataset `name` of `file_type` and `dims` and writes `data` (in
+// `memory_type`) to it.
+void write_dataset(hid_t file, const std::string& file_name, const std::string& name,
+                   hid_t memory_type, hid_t file_type, const std::vector<hsize_t>& dims,
+                   const void* data, bool compressible) {
+  const std::string what = dataset_label(name);
+  if (split_path(name).empty()) fail(file_name, what, "empty dataset name");
+  create_groups(file, file_name, name, /*include_last=*/false);
+  if (H5Lexists(file, name.c_str(), H5P_DEFAULT) > 0) fail(file_name, what, "already written");
+  H5Eclear2(H5E_DEFAULT);
+
+  hsize_t elements = 1;
+  for (const hsize_t d : dims) elements *= d;
+  const Handle space =
+      checked_handle(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr),
+                     H5Sclose, file_name, what, "cannot create dataspace");
+  const Handle dcpl = checked_handle(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, file_name, what,
+                                     "cannot create property list");
+  no_time_stamps(dcpl.get(), file_name, what);
+  if (compressible && elements >= kCompressMinElements && H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0) {
+    // Chunks of whole rows (or row pieces), at most kChunkElements each.
+    std::vector<hsize_t> chunk(dims);
+    const hsize_t last = std::min<hsize_t>(chunk.back(), kChunkElements);
+    chunk.back() = last;
+    hsize_t room = kChunkElements / last;
+    for (std::size_t i = chunk.size() - 1; i-- > 0;) {
+      chunk[i] = std::max<hsize_t>(1, std::min(chunk[i], room));
+      room = std::max<hsize_t>(1, room / chunk[i]);
+    }
+    check(H5Pset_chunk(dcpl.get(), static_cast<int>(chunk.size()), chunk.data()), file_name, what,
+          "cannot set chunking");
+    check(H5Pset_shuffle(dcpl.get()), file_name, what, "cannot set shuffle filter");
+    check(H5Pset_deflate(dcpl.get(), kDeflateLevel), file_name, what, "cannot set deflate filter");
+  }
+  const Handle dataset = checked_handle(
+      H5Dcreate2(file, name.c_str(), file_type, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
+      H5Dclose, file_name, what, "cannot create dataset");
+  if (elements > 0)
+    check(H5Dwrite(dataset.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), file_name,
+          what, "cannot write");
+}
+
+Handle variable_string_type(const std::string& file, const std::string& what) {
+  Handle type = checked_handle(H5Tcopy(H5T_C_S1), H5Tclose, file, what, "cannot create type");
+  check(H5Tset_size(type.get(), H5T_VARIABLE), file, what, "cannot create string type");
+  check(H5Tset_cset(type.get(), H5T_CSET_UTF8), file, what, "cannot create string type");
+  return type;
+}
+
+Handle open_object(hid_t file, const std::string& file_name, const std::string& object,
+                   const std::string& what) {
+  if (!object_exists(file, object)) fail(file_name, what, "no such object '" + object + "'");
+  return checked_handle(H5Oopen(file, object.c_str(), H5P_DEFAULT), H5Oclose, file_name, what,
+                        "cannot open '" + object + "'");
+}
+
+// Creates attribute `name` on `object` (replacing an existing one) and writes it.
+void write_attribute(hid_t file, const std::string& file_name, const std::string& object,
+                     const std::string& name, hid_t memory_type, hid_t file_type, hid_t space,
+                     const void* data) {
+  const std::string what = attribute_label(object, name);
+  const Handle target = open_object(file, file_name, object, what);
+  if (check(H5Aexists(target.get(), name.c_str()), file_name, what, "cannot look up") > 0)
+    check(H5Adelete(target.get(), name.c_str()), file_name, what, "cannot replace");
+  const Handle attribute = checked_handle(
+      H5Acreate2(target.get(), name.c_str(), file_type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
+      file_name, what, "cannot create");
+  if (H5Sget_select_npoints(space) > 0)
+    check(H5Awrite(attribute.get(), memory_type, data), file_name, what, "cannot write");
+}
+
+// Number of elements of a dataspace.
+std::size_t element_count(hid_t space, const std::string& file, const std::string& what) {
+  return static_cast<std::size_t>(
+      check(H5Sget_simple_extent_npoints(space), file, what, "cannot read the dataspace"));
+}
+
+// Reads a whole string dataset or attribute of `type` with `count` elements.
+// `read(memory_type, buffer)` performs the H5Dread / H5Aread.
+template <typename Read>
+std::vector<std::string> read_string_data(hid_t type, std::size_t count, const std::string& file,
+                                          const std::string& what, Read read) {
+  if (H5Tget_class(type) != H5T_STRING) fail(file, what, "does not hold strings");
+  std::vector<std::string> out;
+  out.reserve(count);
+  if (count == 0) return out;
+  const htri_t variable = check(H5Tis_variable_str(type), file, what, "cannot inspect the type");
+  if (variable > 0) {
+    const Handle memory_type = variable_string_type(file, what);
+    std::vector<char*> buffer(count, nullptr);
+    check(read(memory_type.get(), buffer.data()), file, what, "cannot read");
+    for (char* s : buffer) {
+      out.emplace_back(s ? s : "");
+      if (s) H5free_memory(s);
+    }
+    return out;
+  }
+  const std::size_t size = H5Tget_size(type);
+  const H5T_str_t padding = H5Tget_strpad(type);
+  std::vector<char> buffer(count * size);
+  const Handle memory_type =
+      checked_handle(H5Tcopy(type), H5Tclose, file, what, "cannot copy type");
+  check(read(memory_type.get(), buffer.data()), file, what, "cannot read");
+  for (std::size_t i = 0; i < count; ++i) {
+    std::string s(buffer.data() + i * size, size);
+    const char pad = padding == H5T_STR_SPACEPAD ? ' ' : '\0';
+    const std::size_t end = s.find_last_not_of(pad);
+    s.erase(end == std::string::npos ? 0 : end + 1);
+    if (pad == '\0') s.erase(std::min(s.find('\0'), s.size()));
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+}  // namespace
+
+// ------------------------------------------------------------------ Hdf5Writer
+
+Hdf5Writer::Hdf5Writer(const std::string& path) : path_(path), partial_path_(path + ".partial") {
+  silence_hdf5_error_printing();
+  const Handle fcpl = checked_handle(H5Pcreate(H5P_FILE_CREATE), H5Pclose, path_, "file",
+                                     "cannot create property list");
+  no_time_stamps(fcpl.get(), path_, "file");
+  file_ = H5Fcreate(partial_path_.c_str(), H5F_ACC_TRUNC, fcpl.get(), H5P_DEFAULT);
+  if (file_ < 0) fail(path_, "file", "cannot create '" + partial_path_ + "'");
+}
+
+Hdf5Writer::~Hdf5Writer() {
+  if (file_ < 0) return;  // committed, or commit() failed and cleaned up
+  H5Fclose(file_);
+  H5Eclear2(H5E_DEFAULT);
+  std::error_code ignored;
+  std::filesystem::remove(partial_path_, ignored);
+}
+
+void Hdf5Writer::require_open(const std::string& what) const {
+  if (file_ < 0) throw std::runtime_error(path_ + ": " + what + ": file already committed");
+}
+
+void Hdf5Writer::write(const std::string& dataset, const std::vector<double>& values) {
+  require_open(dataset_label(dataset));
+  write_dataset(file_, path_, dataset, H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, {values.size()},
+                values.data(), true);
+}
+
+void Hdf5Writer::write(const std::string& dataset, const std::vector<double>& row_major_values,
+                       std::size_t rows, std::size_t cols) {
+  require_open(dataset_label(dataset));
+  if (row_major_values.size() != rows * cols)
+    throw std::runtime_error(path_ + ": " + dataset_label(dataset) + ": " +
+                             std::to_string(row_major_values.size()) + " values for a " +
+                             std::to_string(rows) + " x " + std::to_string(cols) + " dataset");
+  write_dataset(file_, path_, dataset, H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, {rows, cols},
+                row_major_values.data(), true);
+}
+
+void Hdf5Writer::write(const std::string& dataset, const Eigen::MatrixXd& matrix) {
+  require_open(dataset_label(dataset));
+  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> row_major = matrix;
+  write_dataset(file_, path_, dataset, H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE,
+                {static_cast<hsize_t>(matrix.rows()), static_cast<hsize_t>(matrix.cols())},
+                row_major.data(), true);
+}
+
+void Hdf5Writer::write(const std::string& dataset, const std::vector<int>& values) {
+  require_open(dataset_label(dataset));
+  write_dataset(file_, path_, dataset, H5T_NATIVE_INT, H5T_STD_I32LE, {values.size()},
+                values.data(), true);
+}
+
+void Hdf5Writer::write(const std::string& dataset, const std::vector<std::string>& values) {
+  const std::string what = dataset_label(dataset);
+  require_open(what);
+  std::vector<const char*> pointers;
+  pointers.reserve(values.size());
+  for (const std::string& s : values) pointers.push_back(s.c_str());
+  const Handle type = variable_string_type(path_, what);
+  write_dataset(file_, path_, dataset, type.get(), type.get(), {values.size()}, pointers.data(),
+                false);
+}
+
+void Hdf5Writer::create_group(const std::string& group) {
+  require_open("group '" + group + "'");
+  create_groups(file_, path_, group, /*include_last=*/true);
+}
+
+void Hdf5Writer::attribute(const std::string& object, const std::string& name, double value) {
+  const std::string what = attribute_label(object, name);
+  require_open(what);
+  const Handle space = checked_handle(H5Screate(H5S_SCALAR), H5Sclose, path_, what, "dataspace");
+  write_attribute(file_, path_, object, name, H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, space.get(),
+                  &value);
+}
+
+void Hdf5Writer::attribute(const std::string& object, const std::string& name, long long value) {
+  const std::string what = attribute_label(object, name);
+  require_open(what);
+  const Handle space = checked_handle(H5Screate(H5S_SCALAR), H5Sclose, path_, what, "dataspace");
+  write_attribute(file_, path_, object, name, H5T_NATIVE_LLONG, H5T_STD_I64LE, space.get(), &value);
+}
+
+void Hdf5Writer::attribute(const std::string& object, const std::string& name,
+                           const std::string& value) {
+  const std::string what = attribute_label(object, name);
+  require_open(what);
+  const Handle space = checked_handle(H5Screate(H5S_SCALAR), H5Sclose, path_, what, "dataspace");
+  const Handle type = variable_string_type(path_, what);
+  const char* text = value.c_str();
+  write_attribute(file_, path_, object, name, type.get(), type.get(), space.get(), &text);
+}
+
+void Hdf5Writer::attribute(const std::string& object, const std::string& name,
+                           const std::vector<double>& values) {
+  const std::string what = attribute_label(object, name);
+  require_open(what);
+  const hsize_t n = values.size();
+  // An empty attribute has a null dataspace (a zero-length simple one is not allowed).
+  const Handle space = checked_handle(n ? H5Screate_simple(1, &n, nullptr) : H5Screate(H5S_NULL),
+                                      H5Sclose, path_, what, "dataspace");
+  write_attribute(file_, path_, object, name, H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, space.get(),
+                  values.data());
+}
+
+void Hdf5Writer::commit() {
+  require_open("commit");
+  const hid_t file = std::exchange(file_, H5I_INVALID_HID);
+  std::error_code ignored;
+  if (H5Fclose(file) < 0) {
+    std::filesystem::remove(partial_path_, ignored);
+    fail(path_, "file", "cannot close '" + partial_path_ + "'");
+  }
+  std::error_code error;
+  std::filesystem::rename(partial_path_, path_, error);
+  if (error) {
+    std::filesystem::remove(partial_path_, ignored);
+    throw std::runtime_error(path_ + ": cannot rename '" + partial_path_ + "': " + error.message());
+  }
+}
+
+// ------------------------------------------------------------------ Hdf5Reader
+
+Hdf5Reader::Hdf5Reader(const std::string& path) : path_(path) {
+  silence_hdf5_error_printing();
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path_, error))
+    throw std::runtime_error(path_ + ": no such file");
+  if (H5Fis_hdf5(path_.c_str()) <= 0) {
+    H5Eclear2(H5E_DEFAULT);
+    throw std::runtime_error(path_ + ": not an HDF5 file");
+  }
+  file_ = H5Fopen(path_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (file_ < 0) fail(path_, "file", "cannot open");
+}
+
+Hdf5Reader::~Hdf5Reader() {
+  if (file_ >= 0) H5Fclose(file_);
+}
+
+bool Hdf5Reader::exists(const std::string& object) const { return object_exists(file_, object); }
+
+namespace {
+
+Handle open_dataset(hid_t file, const std::string& file_name, const std::string& name) {
+  const std::string what = dataset_label(name);
+  if (!object_exists(file, name)) fail(file_name, what, "no such dataset");
+  return checked_handle(H5Dopen2(file, name.c_str(), H5P_DEFAULT), H5Dclose, file_name, what,
+                        "cannot open (not a dataset?)");
+}
+
+// Reads a whole numeric dataset converted to `memory_type`.
+template <typename T>
+std::vector<T> read_numbers(hid_t file, const std::string& file_name, const std::string& name,
+                            hid_t memory_type, bool allow_float) {
+  const std::string what = dataset_label(name);
+  const Handle dataset = open_dataset(file, file_name, name);
+  const Handle type =
+      checked_handle(H5Dget_type(dataset.get()), H5Tclose, file_name, what, "cannot read the type");
+  const H5T_class_t type_class = H5Tget_class(type.get());
+  if (type_class != H5T_INTEGER && !(allow_float && type_class == H5T_FLOAT))
+    fail(file_name, what,
+         allow_float ? "does not hold numbers"
+                     : (type_class == H5T_FLOAT ? "holds floating-point values, not integers"
+                                                : "does not hold integers"));
+  const Handle space = checked_handle(H5Dget_space(dataset.get()), H5Sclose, file_name, what,
+                                      "cannot read the dataspace");
+  std::vector<T> values(element_count(space.get(), file_name, what));
+  if (!values.empty())
+    check(H5Dread(dataset.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()),
+          file_name, what, "cannot read");
+  return values;
+}
+
+Handle open_attribute(hid_t file, const std::string& file_name, const std::string& object,
+                      const std::string& name) {
+  const std::string what = attribute_label(object, name);
+  const Handle target = open_object(file, file_name, object, what);
+  if (check(H5Aexists(target.get(), name.c_str()), file_name, what, "cannot look up") <= 0)
+    fail(file_name, what, "no such attribute");
+  return checked_handle(H5Aopen(target.get(), name.c_str(), H5P_DEFAULT), H5Aclose, file_name, what,
+                        "cannot open");
+}
+
+template <typename T>
+std::vector<T> read_attribute_numbers(hid_t file, const std::string& file_name,
+                                      const std::string& object, const std::string& name,
+                                      hid_t memory_type) {
+  const std::string what = attribute_label(object, name);
+  const Handle attribute = open_attribute(file, file_name, object, name);
+  const Handle type = checked_handle(H5Aget_type(attribute.get()), H5Tclose, file_name, what,
+                                     "cannot read the type");
+  const H5T_class_t type_class = H5Tget_class(type.get());
+  if (type_class != H5T_INTEGER && type_class != H5T_FLOAT) fail(file_name, what, "is not numeric");
+  const Handle space = checked_handle(H5Aget_space(attribute.get()), H5Sclose, file_name, what,
+                                      "cannot read the dataspace");
+  std::vector<T> values(element_count(space.get(), file_name, what));
+  if (!values.empty())
+    check(H5Aread(attribute.get(), memory_type, values.data()), file_name, what, "cannot read");
+  return values;
+}
+
+template <typename T>
+T single(const std::vector<T>& values, const std::string& file_name, const std::string& what) {
+  if (values.size() != 1)
+    throw std::runtime_error(file_name + ": " + what + ": expected one value, got " +
+                             std::to_string(values.size()));
+  return values.front();
+}
+
+}  // namespace
+
+std::vector<std::size_t> Hdf5Reader::shape(const std::string& dataset) const {
+  const std::string what = dataset_label(dataset);
+  const Handle handle = open_dataset(file_, path_, dataset);
+  const Handle space = checked_handle(H5Dget_space(handle.get()), H5Sclose, path_, what,
+                                      "cannot read the dataspace");
+  const int rank = check(H5Sget_simple_extent_ndims(space.get()), path_, what, "cannot read rank");
+  std::vector<hsize_t> dims(static_cast<std::size_t>(rank));
+  check(H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr), path_, what,
+        "cannot read dimensions");
+  return {dims.begin(), dims.end()};
+}
+
+std::vector<double> Hdf5Reader::read_doubles(const std::string& dataset) const {
+  return read_numbers<double>(file_, path_, dataset, H5T_NATIVE_DOUBLE, true);
+}
+
+Eigen::MatrixXd Hdf5Reader::read_matrix(const std::string& dataset) const {
+  const std::vector<std::size_t> dims = shape(dataset);
+  if (dims.empty() || dims.size() > 2)
+    throw std::runtime_error(path_ + ": " + dataset_label(dataset) + ": expected a 1-D or 2-D " +
+                             "dataset, got " + std::to_string(dims.size()) + " dimensions");
+  const std::vector<double> values = read_doubles(dataset);
+  const auto rows = static_cast<Eigen::Index>(dims[0]);
+  const auto cols = static_cast<Eigen::Index>(dims.size() == 2 ? dims[1] : 1);
+  return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+      values.data(), rows, cols);
+}
+
+std::vector<int> Hdf5Reader::read_ints(const std::string& dataset) const {
+  return read_numbers<int>(file_, path_, dataset, H5T_NATIVE_INT, false);
+}
+
+std::vector<std::string> Hdf5Reader::read_strings(const std::string& dataset) const {
+  const std::string what = dataset_label(dataset);
+  const Handle handle = open_dataset(file_, path_, dataset);
+  const Handle type =
+      checked_handle(H5Dget_type(handle.get()), H5Tclose, path_, what, "cannot read the type");
+  const Handle space = checked_handle(H5Dget_space(handle.get()), H5Sclose, path_, what,
+                                      "cannot read the dataspace");
+  return read_string_data(type.get(), element_count(space.get(), path_, what), path_, what,
+                          [&](hid_t memory_type, void* buffer) {
+                            return H5Dread(handle.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT,
+                                           buffer);
+                          });
+}
+
+bool Hdf5Reader::has_attribute(const std::string& object, const std::string& name) const {
+  if (!object_exists(file_, object)) return false;
+  const Handle target(H5Oopen(file_, object.c_str(), H5P_DEFAULT), H5Oclose);
+  const bool found = target.get() >= 0 && H5Aexists(target.get(), name.c_str()) > 0;
+  H5Eclear2(H5E_DEFAULT);
+  return found;
+}
+
+double Hdf5Reader::attribute_double(const std::string& object, const std::string& name) const {
+  return single(read_attribute_numbers<double>(file_, path_, object, name, H5T_NATIVE_DOUBLE),
+                path_, attribute_label(object, name));
+}
+
+long long Hdf5Reader::attribute_integer(const std::string& object, const std::string& name) const {
+  return single(read_attribute_numbers<long long>(file_, path_, object, name, H5T_NATIVE_LLONG),
+                path_, attribute_label(object, name));
+}
+
+std::vector<double> Hdf5Reader::attribute_doubles(const std::string& object,
+                                                  const std::string& name) const {
+  return read_attribute_numbers<double>(file_, path_, object, name, H5T_NATIVE_DOUBLE);
+}
+
+std::string Hdf5Reader::attribute_string(const std::string& object, const std::string& name) const {
+  const std::string what = attribute_label(object, name);
+  const Handle attribute = open_attribute(file_, path_, object, name);
+  const Handle type =
+      checked_handle(H5Aget_type(attribute.get()), H5Tclose, path_, what, "cannot read the type");
+  const Handle space = checked_handle(H5Aget_space(attribute.get()), H5Sclose, path_, what,
+                                      "cannot read the dataspace");
+  return single(read_string_data(type.get(), element_count(space.get(), path_, what), path_, what,
+                                 [&](hid_t memory_type, void* buffer) {
+                                   return H5Aread(attribute.get(), memory_type, buffer);
+                                 }),
+                path_, what);
+}
+
+std::vector<std::string> Hdf5Reader::list(const std::string& group) const {
+  const std::string what = "group '" + group + "'";
+  if (!object_exists(file_, group)) fail(path_, what, "no such group");
+  const Handle handle = checked_handle(H5Gopen2(file_, group.c_str(), H5P_DEFAULT), H5Gclose, path_,
+                                       what, "cannot open (not a group?)");
+  H5G_info_t info{};
+  check(H5Gget_info(handle.get(), &info), path_, what, "cannot read group info");
+  std::vector<std::string> names;
+  for (hsize_t i = 0; i < info.nlinks; ++i) {
+    const ssize_t length = check(H5Lget_name_by_idx(handle.get(), ".", H5_INDEX_NAME, H5_ITER_INC,
+                                                    i, nullptr, 0, H5P_DEFAULT),
+                                 path_, what, "cannot read member names");
+    std::string name(static_cast<std::size_t>(length) + 1, '\0');
+    check(H5Lget_name_by_idx(handle.get(), ".", H5_INDEX_NAME, H5_ITER_INC, i, name.data(),
+                             name.size(), H5P_DEFAULT),
+          path_, what, "cannot read member names");
+    name.resize(static_cast<std::size_t>(length));
+    names.push_back(std::move(name));
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+}  // namespace rover::io

@@ -1,0 +1,113 @@
+// HDF5 result files: an RAII writer that never leaves a file that looks
+// complete after a failure, and a reader for resume, comparison and tests.
+//
+// Hdf5Writer writes to "<path>.partial" and renames it to <path> only in
+// commit(); destroying a writer without commit() removes the partial file.
+// Datasets are stored the way h5py and numpy expect them: 2-D data row-major
+// (rows x cols), strings as variable-length UTF-8. Object modification times
+// are not recorded, so the same content gives byte-identical files. Large
+// numeric datasets are chunked and compressed (shuffle + deflate).
+//
+// Every failure is a std::runtime_error naming the file and the object; the
+// HDF5 library's own error stack printing is switched off (H5Eset_auto) and its
+// innermost message is appended to ours.
+//
+// Not thread-safe (serial HDF5): use one thread for HDF5 at a time.
+#pragma once
+
+#include <Eigen/Core>
+#include <concepts>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace rover::io {
+
+class Hdf5Writer {
+ public:
+  explicit Hdf5Writer(const std::string& path);
+  ~Hdf5Writer();  // without commit(): closes and removes "<path>.partial"
+  Hdf5Writer(const Hdf5Writer&) = delete;
+  Hdf5Writer& operator=(const Hdf5Writer&) = delete;
+
+  // Datasets. Names are absolute or relative to the root ("/band/mean" and
+  // "band/mean" are the same); missing intermediate groups are created. Writing
+  // an existing dataset is an error.
+  void write(const std::string& dataset, const std::vector<double>& values);  // 1-D
+  void write(const std::string& dataset, const std::vector<double>& row_major_values,
+             std::size_t rows, std::size_t cols);                          // 2-D
+  void write(const std::string& dataset, const Eigen::MatrixXd& matrix);   // 2-D, rows x cols
+  void write(const std::string& dataset, const std::vector<int>& values);  // 1-D
+  void write(const std::string& dataset, const std::vector<std::string>& values);  // 1-D
+  // Creates an (empty) group, with its intermediate groups; no-op if it exists.
+  void create_group(const std::string& group);
+
+  // Attributes of an object: "/" (the file) or an existing group or dataset.
+  // Writing an existing attribute replaces it.
+  void attribute(const std::string& object, const std::string& name, double value);
+  void attribute(const std::string& object, const std::string& name, long long value);
+  void attribute(const std::string& object, const std::string& name, const std::string& value);
+  void attribute(const std::string& object, const std::string& name,
+                 const std::vector<double>& values);
+  // Any other integer type (int, std::size_t, ...) is stored as a 64-bit integer.
+  template <std::integral T>
+  requires(!std::same_as<T, bool> &&
+           !std::same_as<T, long long>) void attribute(const std::string& object,
+                                                       const std::string& name, T value) {
+    attribute(object, name, static_cast<long long>(value));
+  }
+  void attribute(const std::string& object, const std::string& name, const char* value) {
+    attribute(object, name, std::string(value));
+  }
+
+  // Closes the file and renames "<path>.partial" to <path> (replacing an older
+  // file atomically). Nothing can be written afterwards.
+  void commit();
+
+  const std::string& path() const { return path_; }
+
+ private:
+  void require_open(const std::string& object) const;
+
+  std::string path_, partial_path_;
+  std::int64_t file_ = -1;  // hid_t
+};
+
+class Hdf5Reader {
+ public:
+  explicit Hdf5Reader(const std::string& path);  // throws if missing or not HDF5
+  ~Hdf5Reader();
+  Hdf5Reader(const Hdf5Reader&) = delete;
+  Hdf5Reader& operator=(const Hdf5Reader&) = delete;
+
+  // True if a dataset or group exists at this path ("/" always exists).
+  bool exists(const std::string& object) const;
+  // Dimensions of a dataset ({} for a scalar).
+  std::vector<std::size_t> shape(const std::string& dataset) const;
+  // Any shape, flattened row-major; integer datasets are converted.
+  std::vector<double> read_doubles(const std::string& dataset) const;
+  // A 2-D dataset as rows x cols (a 1-D dataset of n values gives n x 1).
+  Eigen::MatrixXd read_matrix(const std::string& dataset) const;
+  // Integer datasets only (floating-point data is refused, not truncated).
+  std::vector<int> read_ints(const std::string& dataset) const;
+  // Variable- or fixed-length string datasets, flattened row-major.
+  std::vector<std::string> read_strings(const std::string& dataset) const;
+
+  bool has_attribute(const std::string& object, const std::string& name) const;
+  double attribute_double(const std::string& object, const std::string& name) const;
+  long long attribute_integer(const std::string& object, const std::string& name) const;
+  std::string attribute_string(const std::string& object, const std::string& name) const;
+  std::vector<double> attribute_doubles(const std::string& object, const std::string& name) const;
+
+  // Names of the members of a group, sorted.
+  std::vector<std::string> list(const std::string& group = "/") const;
+
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+  std::int64_t file_ = -1;  // hid_t
+};
+
+}  // namespace rover::io
