@@ -17,6 +17,8 @@
 namespace rover {
 
 inline constexpr int kMaxContactsPerWheel = 4;
+// Angular spacing of the rim samples that find contact regions on a height grid.
+inline constexpr double kRimSamplingStep_rad = 2.0 * 3.14159265358979323846 / 180.0;
 
 struct ContactPoint {
   Vec3 point_m = Vec3::Zero();          // P, on the rim

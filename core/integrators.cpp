@@ -20,9 +20,20 @@
 namespace rover {
 namespace odeint = boost::numeric::odeint;
 
-StateVector OdeSystem::derivative(const StateVector& x) const {
+ModelInputs OdeSystem::inputs_at(double t) const {
+  if (drive_schedule == nullptr || drive_schedule->segments.empty()) return inputs;
+  ModelInputs in = inputs;
+  const WheelCommands w = wheel_commands_at(drive_schedule->kinematics, drive_schedule->segments, t,
+                                            drive_schedule->options);
+  in.steer_ref_rad = w.steer_rad;
+  in.wheel_speed_ref_radps = w.wheel_speed_radps;
+  return in;
+}
+
+StateVector OdeSystem::derivative(double t, const StateVector& x) const {
   ++*rhs_evaluations;
-  return state_derivative(model, inputs, x);
+  if (drive_schedule == nullptr) return state_derivative(model, inputs, x);
+  return state_derivative(model, inputs_at(t), x);
 }
 
 namespace {
@@ -68,7 +79,7 @@ IntegrationReport integrate_dormand_prince(const OdeSystem& system, StateVector 
   IntegrationReport report;
   request.record(0.0, x);
   if (request.sample_count < 2) return report;
-  auto rhs = [&](const StateVector& s, StateVector& ds, double) { ds = system.derivative(s); };
+  auto rhs = [&](const StateVector& s, StateVector& ds, double t) { ds = system.derivative(t, s); };
   Dense stepper(Controlled(Checker(settings.absolute_tolerance, settings.relative_tolerance, 1.0, 0.0),
                            Adjuster(settings.max_step_s)));
   stepper.initialize(x, 0.0, settings.initial_step_s);
@@ -103,7 +114,7 @@ IntegrationReport integrate_dormand_prince(const OdeSystem& system, StateVector 
 IntegrationReport integrate_rk4(const OdeSystem& system, StateVector x,
                                 const IntegratorSettings& settings, const IntegrationRequest& request) {
   odeint::runge_kutta4<StateVector, double, StateVector, double, odeint::vector_space_algebra> stepper;
-  auto rhs = [&](const StateVector& s, StateVector& ds, double) { ds = system.derivative(s); };
+  auto rhs = [&](const StateVector& s, StateVector& ds, double t) { ds = system.derivative(t, s); };
   // Sub-steps of equal length that divide the sample period.
   const int substeps = std::max(
       1, static_cast<int>(std::ceil(request.sample_period_s / settings.fixed_step_s - 1e-9)));

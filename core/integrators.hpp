@@ -15,13 +15,17 @@
 
 namespace rover {
 
-// The system being integrated: the model, its inputs, and a counter of
-// right-hand-side evaluations (owned by the caller, not shared).
+// The system being integrated: the model, its inputs (with the actuator
+// set-points of a drive schedule at time t, if the scenario has one), and a
+// counter of right-hand-side evaluations (owned by the caller, not shared).
 struct OdeSystem {
   const RoverModel& model;
   const ModelInputs& inputs;
+  const DriveSchedule* drive_schedule;  // nullptr: constant set-points of `inputs`
   long* rhs_evaluations;
-  StateVector derivative(const StateVector& x) const;
+  // The model inputs in force at time t.
+  ModelInputs inputs_at(double t) const;
+  StateVector derivative(double t, const StateVector& x) const;
 };
 
 struct IntegrationRequest {

@@ -5,8 +5,10 @@
 
 #include <array>
 #include <string>
+#include <vector>
 
 #include "core/coordinates.hpp"
+#include "core/drive_kinematics.hpp"
 #include "core/rover_parameters.hpp"
 
 namespace rover {
@@ -29,6 +31,14 @@ struct IntegratorSettings {
   double fixed_step_s = 1e-5;        // RK4: step (rounded so it divides the output period)
 };
 
+// A time-varying driving command (issue 6): piecewise body-velocity commands
+// in a driving mode, turned into d_ref and w_ref by core/drive_kinematics.
+struct DriveSchedule {
+  DriveKinematics kinematics;
+  std::vector<DriveCommandSegment> segments;  // empty: constant set-points
+  DriveScheduleOptions options;
+};
+
 struct Scenario {
   std::string name;
   Coordinates initial_q = Coordinates::Zero();
@@ -39,6 +49,7 @@ struct Scenario {
   double output_rate_hz = 1000.0;
   IntegratorSettings integrator;
   double wall_time_budget_s = 3600.0;  // a run taking longer is stopped and reported
+  DriveSchedule drive;                 // optional; overrides the set-points above
 };
 
 }  // namespace rover

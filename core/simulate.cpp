@@ -110,7 +110,8 @@ Trajectory simulate(const RoverModel& model, const Scenario& scenario,
     };
 
   long evaluations = 0;
-  const OdeSystem system{model, model_inputs, &evaluations};
+  const OdeSystem system{model, model_inputs,
+                         scenario.drive.segments.empty() ? nullptr : &scenario.drive, &evaluations};
   StateVector x0;
   x0 << scenario.initial_q, scenario.initial_u;
   const IntegrationReport report = integrate(system, x0, scenario.integrator, request);

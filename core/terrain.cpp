@@ -140,6 +140,26 @@ Terrain Terrain::from_grid(HeightGrid grid) {
   t.min_height_m_ = *lo;
   t.max_height_m_ = *hi;
   t.grid_ = std::make_shared<const HeightGrid>(std::move(grid));
+  // Block maxima (shared edge nodes, so every cell lies inside one block).
+  const HeightGrid& g = *t.grid_;
+  constexpr int B = kMaxBlockNodes;
+  t.blocks_x_ = (g.nx - 2) / B + 1;
+  t.blocks_y_ = (g.ny - 2) / B + 1;
+  auto blocks = std::make_shared<std::vector<double>>(
+      static_cast<std::size_t>(t.blocks_x_) * static_cast<std::size_t>(t.blocks_y_),
+      -std::numeric_limits<double>::infinity());
+  for (int iy = 0; iy < g.ny; ++iy)
+    for (int ix = 0; ix < g.nx; ++ix) {
+      const double h = g.at(ix, iy);
+      // A node on a block edge belongs to both blocks.
+      for (int by = std::max(0, (iy - 1) / B); by <= std::min(t.blocks_y_ - 1, iy / B); ++by)
+        for (int bx = std::max(0, (ix - 1) / B); bx <= std::min(t.blocks_x_ - 1, ix / B); ++bx) {
+          double& m = (*blocks)[static_cast<std::size_t>(by) * static_cast<std::size_t>(t.blocks_x_) +
+                                static_cast<std::size_t>(bx)];
+          m = std::max(m, h);
+        }
+    }
+  t.block_max_ = std::move(blocks);
   return t;
 }
 
@@ -184,6 +204,31 @@ Eigen::Vector2d Terrain::gradient(double x, double y) const { return sample(x, y
 Eigen::Vector3d Terrain::normal(double x, double y) const {
   const Eigen::Vector2d g = sample(x, y).gradient;
   return Eigen::Vector3d(-g.x(), -g.y(), 1.0).normalized();
+}
+
+}  // namespace rover
+
+namespace rover {
+
+double Terrain::max_height_in(double x_min, double x_max, double y_min, double y_max) const {
+  if (!grid_) return flat_height_m_;
+  const HeightGrid& g = *grid_;
+  // Cells touched by the rectangle, clamped to the grid (outside, the edge values extend).
+  auto cell = [](double v, double origin, double spacing, int n) {
+    const double c = std::floor((v - origin) / spacing);
+    return static_cast<int>(std::clamp(c, 0.0, static_cast<double>(n - 2)));
+  };
+  if (!(x_min <= x_max) || !(y_min <= y_max)) return max_height_m_;
+  const int bx0 = cell(x_min, g.origin_x_m, g.spacing_x_m, g.nx) / kMaxBlockNodes;
+  const int bx1 = cell(x_max, g.origin_x_m, g.spacing_x_m, g.nx) / kMaxBlockNodes;
+  const int by0 = cell(y_min, g.origin_y_m, g.spacing_y_m, g.ny) / kMaxBlockNodes;
+  const int by1 = cell(y_max, g.origin_y_m, g.spacing_y_m, g.ny) / kMaxBlockNodes;
+  double m = -std::numeric_limits<double>::infinity();
+  for (int by = by0; by <= by1; ++by)
+    for (int bx = bx0; bx <= bx1; ++bx)
+      m = std::max(m, (*block_max_)[static_cast<std::size_t>(by) * static_cast<std::size_t>(blocks_x_) +
+                                    static_cast<std::size_t>(bx)]);
+  return m;
 }
 
 }  // namespace rover

@@ -81,9 +81,19 @@ class Terrain {
   // Bounds of h over the whole plane (the grid's extreme nodes; the plane's height).
   double max_height() const { return max_height_m_; }
   double min_height() const { return min_height_m_; }
+  // An upper bound of h over the rectangle [x_min, x_max] x [y_min, y_max]
+  // (exact up to the block size: the largest node of the blocks of
+  // kMaxBlockNodes x kMaxBlockNodes cells it touches). Lets the contact search
+  // skip rim arcs that are above the terrain nearby.
+  double max_height_in(double x_min, double x_max, double y_min, double y_max) const;
+  static constexpr int kMaxBlockNodes = 16;
 
  private:
   std::shared_ptr<const HeightGrid> grid_;
+  // Block maxima for max_height_in(): block (bx, by) covers nodes
+  // [bx B, bx B + B] x [by B, by B + B] (B = kMaxBlockNodes, shared edges).
+  std::shared_ptr<const std::vector<double>> block_max_;
+  int blocks_x_ = 0, blocks_y_ = 0;
   double flat_height_m_ = 0.0;
   double max_height_m_ = 0.0;
   double min_height_m_ = 0.0;
