@@ -1,0 +1,66 @@
+// `rover calibrate`: fit c_q (and f, M0_scale, time_offset) to a measured drop
+// curve with any NLopt algorithm. See study/calibration.hpp for the formats.
+#include <iostream>
+#include <sstream>
+
+#include "drivers/command_registry.hpp"
+#include "drivers/study_options.hpp"
+#include "study/calibration.hpp"
+#include "study/mpi_session.hpp"
+
+namespace rover::cli {
+namespace {
+
+struct CalibrateOptions {
+  std::string study_path = "configs/studies/calibration.json";
+  std::string fit;
+  study::CalibrationOverrides overrides;
+  study::StudyRunControl control;
+};
+
+int run_calibrate_command(CalibrateOptions o) {
+  study::MpiSession mpi(nullptr, nullptr);
+  std::stringstream ss(o.fit);
+  for (std::string name; std::getline(ss, name, ',');)
+    if (!name.empty()) o.overrides.fit.push_back(name);
+  const study::CalibrationStudy s = study::load_calibration_study(o.study_path, o.overrides);
+  if (mpi.rank() == 0) {
+    std::cerr << "calibrate: fitting";
+    for (const auto& p : s.fit) std::cerr << " " << p.name << " in [" << p.lower << ", " << p.upper << "]";
+    std::cerr << " to " << s.data_path << " (" << s.data_t.size() << " points) with " << s.algorithm
+              << ", " << s.starts << " start(s) on " << mpi.size() << " rank(s)\n";
+  }
+  study::run_calibration(s, o.control);
+  return 0;
+}
+
+const RegisterCommand registration{
+    58, "calibrate", "Fit c_q (and f, M0_scale, time offset) to a measured drop curve with NLopt",
+    [](CLI::App& app) -> std::function<int()> {
+      auto o = std::make_shared<CalibrateOptions>();
+      app.footer(std::string(
+          "Minimises the RMS between simulated and measured B_l z. DATA.csv has the header t,z\n"
+          "(seconds, metres of the left bogie pin); its time origin need not be the release: the\n"
+          "offset is profiled out (or fitted, with --fit ...,time_offset). Bounds, initial values\n"
+          "and the scenario come from the study file. Writes /history (every evaluation),\n"
+          "/best, /data, /fit and a PNG of data against the fitted curve.\n\n"
+          "Examples:\n"
+          "  rover calibrate --data configs/data/drop_horizontal_synthetic.csv --fit c_q --algorithm LN_BOBYQA\n"
+          "  rover calibrate --fit c_q,M0_scale --algorithm GN_DIRECT_L --max-evaluations 60\n"
+          "  mpirun -np 4 rover calibrate --fit c_q,f --starts 4\n\n") + kMpiFooter);
+      app.add_option("--study", o->study_path, "Study file (type calibration)")
+          ->capture_default_str()->check(CLI::ExistingFile);
+      app.add_option("--data", o->overrides.data_path, "Measured curve, CSV t,z (default: the study's)")
+          ->check(CLI::ExistingFile);
+      app.add_option("--fit", o->fit, "Parameters to fit, comma-separated: c_q, f, M0_scale, time_offset");
+      app.add_option("--algorithm", o->overrides.algorithm,
+                     "Any NLopt algorithm by name: LN_BOBYQA, LN_NELDERMEAD, LN_SBPLX, GN_DIRECT_L, "
+                     "GN_CRS2_LM, GN_ISRES, G_MLSL_LDS (with a BOBYQA local search), ...");
+      app.add_option("--starts", o->overrides.starts, "Number of independent starts (fanned out over ranks)");
+      app.add_option("--max-evaluations", o->overrides.max_evaluations, "Simulations per start");
+      add_study_control(app, o->control);
+      return [o] { return run_calibrate_command(*o); };
+    }};
+
+}  // namespace
+}  // namespace rover::cli

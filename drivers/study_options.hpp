@@ -1,0 +1,30 @@
+// Options shared by the study subcommands (montecarlo, surface, calibrate).
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "study/montecarlo.hpp"
+
+namespace rover::cli {
+
+inline void add_study_control(CLI::App& app, study::StudyRunControl& c) {
+  app.add_option("--out", c.results_path, "HDF5 result file (default results/<study name>.h5)");
+  app.add_flag("--resume", c.resume,
+               "Continue an interrupted study from its checkpoint (<out>.checkpoint): only the "
+               "missing runs are computed");
+  app.add_flag("!--no-plot", c.plot, "Do not write PNG plots");
+  app.add_option("--progress-interval", c.progress_interval_s, "Seconds between progress lines")
+      ->capture_default_str();
+}
+
+inline constexpr const char* kMpiFooter =
+    "Parallel: every study runs unchanged as `mpirun -np N rover ...`; runs are handed out\n"
+    "dynamically, rank 0 writes the results, and they do not depend on N. As root, Open MPI\n"
+    "needs OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 (and --oversubscribe\n"
+    "for more ranks than cores). A crash leaves no half-written result file: finished runs\n"
+    "are kept in <out>.checkpoint and `--resume` computes only the missing ones.";
+
+}  // namespace rover::cli

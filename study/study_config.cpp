@@ -1,0 +1,42 @@
+#include "study/study_config.hpp"
+
+#include <fstream>
+#include <sstream>
+
+#include "io/checkpoint.hpp"
+
+namespace rover::study {
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+StudyCommon parse_study_common(const io::JsonReader& r, const std::string& expected_type) {
+  StudyCommon c;
+  c.path = r.file();
+  c.type = r.string("type");
+  if (c.type != expected_type)
+    r.fail("type", "this command runs '" + expected_type + "' studies");
+  c.name = r.string("name");
+  r.string_or("description", "");
+  const std::string scenario = io::resolve_relative(c.path, r.string("scenario"));
+  try {
+    c.setup = io::load_scenario(scenario);
+  } catch (const io::ConfigError& e) {
+    r.fail("scenario", e.what());
+  }
+  if (r.has("integrator"))
+    c.setup.scenario.integrator =
+        io::parse_integrator_settings(r.child("integrator"), c.setup.scenario.integrator);
+  c.fingerprint = io::config_fingerprint(read_text(c.path) + read_text(scenario) +
+                                         read_text(c.setup.rover_path) +
+                                         read_text(c.setup.terrain_path));
+  return c;
+}
+
+std::string default_results_path(const StudyCommon& common) { return "results/" + common.name + ".h5"; }
+
+}  // namespace rover::study

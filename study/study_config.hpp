@@ -1,0 +1,32 @@
+// What every study config (configs/studies/*.json) has in common:
+//   "type": "montecarlo" | "surface" | "calibration",
+//   "name": "...", "description": "...",
+//   "scenario": "../scenarios/drop_horizontal.json"  (relative to the study file),
+//   "integrator": {"method": "dopri5", "rtol": .., ...}  (optional override of the scenario's)
+// The fingerprint covers the study, scenario, rover and terrain files, so a
+// checkpoint is never resumed against a changed configuration.
+#pragma once
+
+#include <string>
+
+#include "io/json_reader.hpp"
+#include "io/scenario_config.hpp"
+
+namespace rover::study {
+
+struct StudyCommon {
+  std::string path, name, type;
+  io::ScenarioSetup setup;
+  std::string fingerprint;
+};
+
+// Reads the common keys (and marks them used in `reader`); checks the type.
+StudyCommon parse_study_common(const io::JsonReader& reader, const std::string& expected_type);
+
+// The text of a file (for fingerprints and provenance attributes).
+std::string read_text(const std::string& path);
+
+// Default result path: results/<name>.h5.
+std::string default_results_path(const StudyCommon& common);
+
+}  // namespace rover::study
