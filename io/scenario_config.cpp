@@ -1,7 +1,12 @@
 // See scenario_config.hpp.
 #include "io/scenario_config.hpp"
 
+#include <cmath>
 #include <filesystem>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+#include <utility>
 
 #include "core/kinematic_tree.hpp"
 #include "io/model_config.hpp"
@@ -16,8 +21,9 @@ int coordinate_index(const JsonReader& r, const std::string& name) {
                "b42 d1 d2 d3 d4 z1 z2 z3 z4)");
 }
 
-Coordinates parse_named_coordinates(const JsonReader& parent, const std::string& key) {
-  Coordinates c = Coordinates::Zero();
+// The named entries of parent[key] over `c` (entries not named keep their value).
+Coordinates parse_named_coordinates(const JsonReader& parent, const std::string& key,
+                                    Coordinates c = Coordinates::Zero()) {
   if (!parent.has(key)) return c;
   const JsonReader r = parent.child(key);
   for (const auto& [name, value] : r.raw_object().items()) c[coordinate_index(r, name)] = r.number(name);
@@ -40,7 +46,117 @@ double lowest_wheel_bottom(const RoverModel& model, const Coordinates& q) {
   return lowest;
 }
 
+// ---- "drive": a time-varying driving command (issue 6) ----------------------
+
+constexpr const char* kModeKeywords =
+    "car, ackermann, general-ackermann, parallel, lateral, rotation";
+
+// A command given by its mode's natural parameters ("speed" and the geometry).
+DriveCommand natural_command(const JsonReader& s, const DriveKinematics& k, DriveMode mode) {
+  constexpr double kStraight = std::numeric_limits<double>::infinity();
+  const double speed = s.number("speed");
+  switch (mode) {
+    case DriveMode::kCarLike:
+      return car_like_command(k, speed, s.number_or("radius", kStraight));
+    case DriveMode::kSymmetricAckermann:
+      return symmetric_ackermann_command(k, speed, s.number_or("radius", kStraight));
+    case DriveMode::kGeneralAckermann: {
+      const auto icr = s.fixed_numbers<2>("icr");
+      return general_ackermann_command(speed, Vec2(icr[0], icr[1]));
+    }
+    case DriveMode::kParallel:
+      return parallel_command(speed, s.number_or("crab_angle", 0.0));
+    case DriveMode::kLateral:
+      return lateral_command(speed);
+    case DriveMode::kInPlaceRotation:
+      break;
+  }
+  s.fail("speed", "the rotation mode is commanded by 'yaw_rate' [rad/s] alone");
+}
+
+// One element of "segments"; `where` is its field path ("drive.segments[1]").
+DriveCommandSegment parse_drive_segment(const Json& json, const std::string& file,
+                                        const std::string& where, const DriveKinematics& k,
+                                        const WheelCommandOptions& wheel_options, bool first) {
+  const JsonReader s(json, file, where);
+  DriveCommandSegment segment;
+  segment.start_time_s = first ? s.number_or("start", 0.0) : s.number("start");
+  if (first && segment.start_time_s != 0.0)
+    s.fail("start", "the first segment must start at 0 s, where the simulation starts");
+  const std::string keyword = s.string("mode");
+  const std::optional<DriveMode> mode = drive_mode_from_keyword(keyword);
+  if (!mode) s.fail("mode", std::string("unknown driving mode (known: ") + kModeKeywords + ")");
+  segment.mode = *mode;
+
+  const bool natural = s.has("speed");
+  for (const char* key : {"forward", "lateral", "yaw_rate"}) {
+    if (natural && s.has(key))
+      s.fail(key, "give either 'speed' with the mode's geometry (radius, icr, crab_angle) or the "
+                  "body velocity 'forward', 'lateral', 'yaw_rate', not both");
+  }
+  for (const char* key : {"radius", "icr", "crab_angle"}) {
+    if (!natural && s.has(key)) s.fail(key, "needs 'speed' [m/s] in the same segment");
+  }
+  try {
+    if (natural) {
+      segment.command = body_velocity(natural_command(s, k, segment.mode).motion);
+    } else {
+      segment.command = {s.number_or("forward", 0.0), s.number_or("lateral", 0.0),
+                         s.number_or("yaw_rate", 0.0)};
+    }
+    // Can the mode serve it within the end-stops? (The whole schedule is
+    // checked again below, with the steering each wheel holds when at rest.)
+    wheel_commands(k, segment.mode, segment.command, wheel_options);
+  } catch (const std::invalid_argument& e) {
+    throw ConfigError(file + ": field '" + where + "': " + e.what());
+  }
+  s.finish();
+  return segment;
+}
+
+// The speeds that match a drive command: the chassis moves with the body
+// velocity (turned by the yaw into the world frame), every wheel spins at its
+// commanded rate.
+Coordinates commanded_speeds(const BodyVelocityCommand& v, const WheelCommands& w,
+                             double yaw_rad) {
+  Coordinates u = Coordinates::Zero();
+  const double c = std::cos(yaw_rad), sn = std::sin(yaw_rad);
+  u[coord::x] = c * v.forward_mps - sn * v.lateral_mps;
+  u[coord::y] = sn * v.forward_mps + c * v.lateral_mps;
+  u[coord::yaw] = v.yaw_rate_radps;
+  for (int leg = 0; leg < kNumLegs; ++leg) u[coord::spin(leg)] = w.wheel_speed_radps[leg];
+  return u;
+}
+
 }  // namespace
+
+DriveConfig parse_drive(const JsonReader& r, const DriveKinematics& kinematics) {
+  DriveConfig config;
+  DriveSchedule& drive = config.schedule;
+  drive.kinematics = kinematics;
+  if (r.has("ramp_time")) drive.options.ramp_time_s = r.non_negative("ramp_time");
+  drive.options.wheel.allow_flip = r.boolean_or("allow_flip", true);
+  const std::string initial = r.string_or("initial_motion", "commanded");
+  if (initial != "commanded" && initial != "rest")
+    r.fail("initial_motion", "expected \"commanded\" or \"rest\"");
+  config.start_at_rest = initial == "rest";
+
+  const Json& list = r.raw("segments");
+  if (!list.is_array() || list.empty())
+    r.fail("segments", "expected a non-empty array of segments {\"start\", \"mode\", ...}");
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    drive.segments.push_back(parse_drive_segment(list[i], r.file(),
+                                                 r.field("segments") + "[" + std::to_string(i) + "]",
+                                                 kinematics, drive.options.wheel, i == 0));
+  }
+  try {
+    validate_drive_schedule(kinematics, drive.segments, drive.options);
+  } catch (const std::invalid_argument& e) {
+    r.fail("segments", e.what());
+  }
+  r.finish();
+  return config;
+}
 
 std::string resolve_relative(const std::string& config_path, const std::string& path) {
   const std::filesystem::path p(path);
@@ -91,8 +207,29 @@ ScenarioSetup load_scenario(const std::string& path) {
   setup.model = load_rover_model(setup.rover_path, setup.terrain_path);
   const double R = setup.model.parameters.geometry.wheel_radius_m;
 
-  s.initial_q = parse_named_coordinates(r, "initial_q");
-  s.initial_u = parse_named_coordinates(r, "initial_u");
+  // A drive schedule replaces the constant set-points; its command at t = 0
+  // gives the initial steering and, unless it starts at rest, the speeds.
+  const bool has_drive = r.has("drive");
+  if (has_drive) {
+    for (const char* key : {"forward_speed", "wheel_speed_ref", "steer_ref"}) {
+      if (r.has(key))
+        r.fail(key, "conflicts with 'drive', whose schedule sets the wheel speed and steering "
+                    "references (drive straight with a parallel or ackermann segment)");
+    }
+    DriveConfig drive = parse_drive(r.child("drive"), make_drive_kinematics(setup.model.parameters));
+    s.drive = std::move(drive.schedule);
+    const WheelCommands w0 =
+        wheel_commands_at(s.drive.kinematics, s.drive.segments, 0.0, s.drive.options);
+    s.steer_ref_rad = w0.steer_rad;
+    s.wheel_speed_ref_radps = w0.wheel_speed_radps;
+    for (int leg = 0; leg < kNumLegs; ++leg) s.initial_q[coord::steer(leg)] = w0.steer_rad[leg];
+    s.initial_q = parse_named_coordinates(r, "initial_q", s.initial_q);
+    if (!drive.start_at_rest)
+      s.initial_u = commanded_speeds(s.drive.segments.front().command, w0, s.initial_q[coord::yaw]);
+  } else {
+    s.initial_q = parse_named_coordinates(r, "initial_q");
+  }
+  s.initial_u = parse_named_coordinates(r, "initial_u", s.initial_u);
   if (r.has("forward_speed")) {
     const double v = r.number("forward_speed");
     s.initial_u[coord::x] = v;
@@ -111,6 +248,7 @@ ScenarioSetup load_scenario(const std::string& path) {
   if (r.has("duration")) {
     s.duration_s = r.positive("duration");
   } else {
+    if (has_drive) r.fail("travel_distance", "give 'duration' [s] with 'drive'");
     const double distance = r.positive("travel_distance");
     if (!r.has("forward_speed") || !(r.number("forward_speed") > 0.0))
       r.fail("travel_distance", "needs a positive 'forward_speed'");

@@ -17,8 +17,59 @@
 //   "integrator": {"method": "dopri5" | "rk4", "rtol": 1e-6, "atol": 1e-9,
 //                  "initial_step": 1e-5, "min_step": 1e-12, "max_step": 0.01, "fixed_step": 1e-5},
 //   "wall_time_budget": 3600,                 // s; a longer run stops with a status
-//   "inputs": {"f": 1e4, "c_q": 0.14, "M0": [8]}  // optional overrides of the rover config
+//   "inputs": {"f": 1e4, "c_q": 0.14, "M0": [8]},  // optional overrides of the rover config
+//   "drive": {...}                            // optional, see below
 // }
+//
+// "drive": a time-varying driving command (issue 6; core/drive_kinematics.hpp),
+// turned into the steering and wheel-speed references d_ref, w_ref at every
+// time by the simulator. It replaces "forward_speed", "wheel_speed_ref" and
+// "steer_ref" (giving one of them too is an error), and needs "duration".
+//
+// "drive": {
+//   "ramp_time": 0.3,              // optional [s], default 0: smoothstep blend at each
+//                                  // segment start after the first (0 = steps)
+//   "allow_flip": true,            // optional: serve headings beyond the end-stop by
+//                                  // turning the wheel by pi and reversing it
+//   "initial_motion": "commanded", // optional: "commanded" (default) or "rest"
+//   "segments": [                  // piecewise-constant commands, start times increasing
+//     {"start": 0.0, "mode": "ackermann", "speed": 0.3, "radius": 1.0},
+//     {"start": 5.0, "mode": "general-ackermann", "forward": 0.2, "lateral": 0.1, "yaw_rate": 0.3}
+//   ]
+// }
+//
+// A segment runs from "start" [s] until the next one starts; the first starts
+// at 0 ("start" may be left out there), each later one lasts at least
+// ramp_time. "mode" is one of car, ackermann, general-ackermann, parallel,
+// lateral, rotation. The command is given in one of two forms:
+//   * the chassis velocity at G in chassis axes: "forward" [m/s], "lateral"
+//     [m/s, + left], "yaw_rate" [rad/s, + turning left], each defaulting to 0.
+//     The mode must be able to serve it (e.g. parallel: yaw_rate 0; car: the
+//     rear-axle centre moves straight ahead); rotation takes "yaw_rate" only.
+//   * the mode's natural parameters, "speed" [m/s, signed, + forward] with
+//       car, ackermann:    "radius" [m, signed, + = turning left; omit for
+//                          straight ahead] of the rear-axle centre (car) or of
+//                          the point midway between the axles (ackermann; G on
+//                          the default rover), which moves at "speed";
+//       general-ackermann: "icr": [x, y] [m], the instantaneous centre of
+//                          rotation in the chassis frame; G moves at "speed";
+//       parallel:          "crab_angle" [rad, + left of forward], default 0;
+//       lateral:           nothing else (+ = left).
+//     These are turned into the equivalent body velocity; a zero speed is rest
+//     (the wheels hold their steering).
+// A segment the mode cannot serve, a steering angle beyond the end-stop that
+// the flip cannot serve, or a bad schedule is a ConfigError naming the file
+// and the field ("drive.segments[1]").
+//
+// Initial state with a drive: the initial steering angles d_j are the
+// commanded ones at t = 0. With "initial_motion": "commanded" the chassis
+// starts with the commanded body velocity at t = 0 (turned into the world
+// frame by the initial yaw theta: dx/dt, dy/dt, dtheta/dt = yaw_rate) and every
+// wheel spins at its commanded rate dz_j/dt, so a rover dropped from
+// "initial_ground_clearance" lands already rolling; with "rest" every speed
+// starts at 0 (begin the schedule with a zero-speed segment and a ramp_time
+// to accelerate smoothly). Entries of "initial_q" and "initial_u" override
+// these values.
 #pragma once
 
 #include <string>
@@ -38,6 +89,13 @@ struct ScenarioSetup {
 };
 
 ScenarioSetup load_scenario(const std::string& path);
+
+// The "drive" block (see above) for a rover with these driving kinematics.
+struct DriveConfig {
+  DriveSchedule schedule;
+  bool start_at_rest = false;  // "initial_motion": "rest"
+};
+DriveConfig parse_drive(const JsonReader& r, const DriveKinematics& kinematics);
 
 // Parses "integrator": {...} over `base`; used by scenarios and studies.
 IntegratorSettings parse_integrator_settings(const JsonReader& r, IntegratorSettings base);
