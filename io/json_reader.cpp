@@ -143,8 +143,10 @@ void JsonReader::finish() const {
     if (!used_.count(it.key())) {
       std::ostringstream known;
       for (const auto& k : used_) known << (known.tellp() > 0 ? ", " : "") << k;
-      throw ConfigError(file_ + ": field '" + field(it.key()) + "': unknown key (known keys here: " +
-                        known.str() + ")");
+      std::string value = it.value().dump();
+      if (value.size() > 80) value = value.substr(0, 77) + "...";
+      throw ConfigError(file_ + ": field '" + field(it.key()) + "': unknown key (value " + value +
+                        "; known keys here: " + known.str() + ")");
     }
   }
 }

@@ -28,12 +28,12 @@ Band band_statistics(const Eigen::MatrixXd& curves) {
   std::vector<double> column(rows.size());
   const double n = static_cast<double>(rows.size());
   for (std::size_t t = 0; t < T; ++t) {
-    double sum = 0.0;
-    for (std::size_t k = 0; k < rows.size(); ++k) {
-      column[k] = curves(rows[k], static_cast<Eigen::Index>(t));
-      sum += column[k];
-    }
-    const double mean = sum / n;
+    // Shifted by the first value: exact for identical samples, and no
+    // cancellation for curves far from zero.
+    for (std::size_t k = 0; k < rows.size(); ++k) column[k] = curves(rows[k], static_cast<Eigen::Index>(t));
+    double shifted_sum = 0.0;
+    for (double x : column) shifted_sum += x - column[0];
+    const double mean = column[0] + shifted_sum / n;
     double ss = 0.0;
     for (double x : column) ss += (x - mean) * (x - mean);
     const double sd = rows.size() > 1 ? std::sqrt(ss / (n - 1.0)) : 0.0;

@@ -171,13 +171,17 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
   }
   bounds.finish();
   initial.finish();
-  s.algorithm = !o.algorithm.empty() ? o.algorithm : r.string_or("algorithm", "LN_BOBYQA");
-  if (nlopt_algorithm_from_string(s.algorithm.c_str()) == static_cast<nlopt_algorithm>(-1))
+  // Read every key even when the command line overrides it (no "unknown key").
+  const std::string configured_algorithm = r.string_or("algorithm", "LN_BOBYQA");
+  const int configured_evaluations = r.integer_or("max_evaluations", 40);
+  const int configured_starts = r.integer_or("starts", 1);
+  s.algorithm = !o.algorithm.empty() ? o.algorithm : configured_algorithm;
+  if (static_cast<int>(nlopt_algorithm_from_string(s.algorithm.c_str())) < 0)
     r.fail("algorithm", "unknown NLopt algorithm '" + s.algorithm + "' (e.g. LN_BOBYQA, LN_NELDERMEAD, GN_DIRECT_L, GN_CRS2_LM)");
-  s.max_evaluations = o.max_evaluations > 0 ? o.max_evaluations : r.integer_or("max_evaluations", 40);
+  s.max_evaluations = o.max_evaluations > 0 ? o.max_evaluations : configured_evaluations;
   if (s.max_evaluations <= 0) r.fail("max_evaluations", "must be positive");
   s.xtol_rel = r.has("xtol_rel") ? r.positive("xtol_rel") : 1e-3;
-  s.starts = o.starts > 0 ? o.starts : r.integer_or("starts", 1);
+  s.starts = o.starts > 0 ? o.starts : configured_starts;
   if (s.starts <= 0) r.fail("starts", "must be positive");
   s.seed = static_cast<std::uint64_t>(r.integer_or("seed", 1));
   r.finish();

@@ -15,9 +15,25 @@ std::string source_path(const std::string& relative) {
   return std::string(ROVER_SOURCE_DIR) + "/" + relative;
 }
 
+namespace {
+// Open MPI refuses root unless told, and CI runs as root with 2 cores.
+const bool kMpiEnvironment = [] {
+  setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 0);
+  setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 0);
+  setenv("OMPI_MCA_rmaps_base_oversubscribe", "1", 0);
+  return true;
+}();
+}  // namespace
+
 std::string rover_binary() {
   const char* env = std::getenv("ROVER_BINARY");
-  return env ? env : std::string(ROVER_SOURCE_DIR) + "/build/drivers/rover";
+  return env ? env : std::string(ROVER_BINARY_PATH);
+}
+
+std::string mpiexec() {
+  (void)kMpiEnvironment;
+  const std::string exe = std::string(ROVER_MPIEXEC).empty() ? "mpirun" : ROVER_MPIEXEC;
+  return exe + " --oversubscribe";
 }
 
 std::string temp_dir() {

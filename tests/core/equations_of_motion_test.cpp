@@ -5,8 +5,12 @@
 
 #include <gtest/gtest.h>
 
+// GCC 12 warns inside odeint's steppers (-Wmaybe-uninitialized), not about this code.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <boost/numeric/odeint.hpp>
 #include <boost/numeric/odeint/external/eigen/eigen.hpp>
+#pragma GCC diagnostic pop
 
 #include "model_fixtures.hpp"
 
