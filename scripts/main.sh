@@ -5,10 +5,11 @@
 #   preloads, a coarse (f, c_q) response surface, and a calibration of c_q on
 #   the shipped SYNTHETIC drop curve. Results (HDF5 + PNG) go to results/.
 # Environment: ROVER_RANKS (MPI ranks, default: number of cores),
-#              ROVER_MC_SAMPLES (Monte Carlo samples, default 200).
+#              ROVER_MC_SAMPLES (Monte Carlo samples, default 200),
+#              ROVER_SKIP_SETUP=1 (re-run with the existing build, no apt-get/cmake).
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-bash "$here/scripts/setup.sh"
+if [[ "${ROVER_SKIP_SETUP:-0}" != 1 ]]; then bash "$here/scripts/setup.sh"; fi
 cd "$here"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 ranks="${ROVER_RANKS:-$(nproc)}"
