@@ -13,11 +13,13 @@ namespace {
 struct CompareOptions {
   std::string first, second, column = "B_l_z";
   double rest_time_s = 1.0;
+  double time_offset_s = 0.0;
 };
 
 int run_compare(const CompareOptions& o) {
   const io::Curve a = io::read_curve(o.first, o.column);
-  const io::Curve b = io::read_curve(o.second, o.column);
+  io::Curve b = io::read_curve(o.second, o.column);
+  for (double& t : b.t) t -= o.time_offset_s;  // B's clock -> A's clock
   io::Json out;
   out["column"] = o.column;
   out["rms_m"] = rms_difference(a.t, a.y, b.t, b.y);
@@ -32,6 +34,7 @@ int run_compare(const CompareOptions& o) {
   out["deflection_error"] = deflection_error(a.t, a.y, b.t, b.y, o.rest_time_s);
   out["at_rest_error"] = at_rest_error(a.t, a.y, b.t, b.y, o.rest_time_s);
   out["rest_time_s"] = o.rest_time_s;
+  out["time_offset_s"] = o.time_offset_s;
   std::cout << std::setw(2) << out << "\n";
   return 0;
 }
@@ -45,11 +48,14 @@ const RegisterCommand registration{
           "and the compared column (or 'z', as in measured drop data 't,z'). B is the reference:\n"
           "B is interpolated linearly onto A's sample times over the common interval.\n\n"
           "Example:\n"
-          "  rover compare results/drop_horizontal.h5 configs/data/drop_horizontal_synthetic.csv");
+          "  rover compare results/drop_horizontal.h5 configs/data/drop_horizontal_synthetic.csv --time-offset 0.05");
       app.add_option("A", o->first, "Curve to judge (.h5 or .csv)")->required()->check(CLI::ExistingFile);
       app.add_option("B", o->second, "Reference curve (.h5 or .csv)")->required()->check(CLI::ExistingFile);
       app.add_option("--column", o->column, "Dataset/column to compare")->capture_default_str();
       app.add_option("--rest-time", o->rest_time_s, "Time of the at-rest value z_r [s]")->capture_default_str();
+      app.add_option("--time-offset", o->time_offset_s,
+                     "Time of A's t = 0 on B's clock [s] (e.g. the release time in measured data)")
+          ->capture_default_str();
       return [o] { return run_compare(*o); };
     }};
 
