@@ -1,0 +1,419 @@
+// Wheel-terrain contact (core/contact.cpp; MODEL.md section 6): the geometry
+// of the deepest rim point against analytic results on flat and planar
+// terrain, several contact regions at the foot of a ramp, the slope normal,
+// the mean-slope normal at a convex edge on a grid line, and the forces: never
+// pulling, friction against the slip, and generalized forces consistent with
+// the virtual power of the contact forces and with finite differences.
+#include "core/contact.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "core/equations_of_motion.hpp"
+#include "core/friction.hpp"
+#include "core/obstacle.hpp"
+#include "model_fixtures.hpp"
+
+namespace rover {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kRadius = 0.085;
+const double kRamp = 20.0 * kPi / 180.0;
+
+Mat3 rot(const Vec3& axis, double angle) { return Eigen::AngleAxisd(angle, axis).toRotationMatrix(); }
+
+// Spin axis of a wheel steered by `steer` on a chassis with yaw, pitch, roll
+// (all joints at 0): R_WC Rz(steer) e_y, R_WC = Rz Ry Rx (MODEL.md sections 1, 3).
+Vec3 spin_axis(double yaw, double pitch, double roll, double steer) {
+  return rot(Vec3::UnitZ(), yaw) * rot(Vec3::UnitY(), pitch) * rot(Vec3::UnitX(), roll) *
+         rot(Vec3::UnitZ(), steer) * Vec3::UnitY();
+}
+
+// The rim point farthest along -direction: the deepest point against a plane
+// with upward normal `direction` (a circle's support point).
+Vec3 support_point(const Vec3& centre, const Vec3& spin, double radius, const Vec3& direction) {
+  const Vec3 in_plane = direction - direction.dot(spin) * spin;
+  return centre - radius * in_plane.normalized();
+}
+
+// Lowest z of the rim by brute force (1e6 samples: error < R (pi/1e6)^2 / 2 = 4e-13 m).
+double lowest_rim_z_sampled(const Vec3& centre, const Vec3& spin, double radius) {
+  const Vec3 e1 = spin.unitOrthogonal(), e2 = spin.cross(e1);
+  double lowest = centre.z();
+  const int n = 1000000;
+  for (int i = 0; i < n; ++i) {
+    const double a = 2.0 * kPi * i / n;
+    lowest = std::min(lowest, centre.z() + radius * (std::cos(a) * e1.z() + std::sin(a) * e2.z()));
+  }
+  return lowest;
+}
+
+void expect_on_rim(const ContactPoint& c, const Vec3& centre, const Vec3& spin, double radius) {
+  EXPECT_NEAR((c.point_m - centre).norm(), radius, 1e-12);
+  EXPECT_NEAR((c.point_m - centre).dot(spin), 0.0, 1e-12);
+}
+
+template <class Height>
+HeightGrid sampled_grid(double x0, double y0, double dx, double dy, int nx, int ny, Height h) {
+  HeightGrid g;
+  g.origin_x_m = x0;
+  g.origin_y_m = y0;
+  g.spacing_x_m = dx;
+  g.spacing_y_m = dy;
+  g.nx = nx;
+  g.ny = ny;
+  for (int iy = 0; iy < ny; ++iy)
+    for (int ix = 0; ix < nx; ++ix) g.heights_m.push_back(h(g.node_x(ix), g.node_y(iy)));
+  return g;
+}
+
+const Terrain& obstacle_terrain() {
+  static const Terrain terrain = Terrain::from_grid(trapezoid_obstacle_grid(TrapezoidObstacle{}));
+  return terrain;
+}
+
+// ---------------------------------------------------------------- geometry
+
+TEST(Contact, FlatGroundPenetrationIsExactForATiltedSteeredPitchedWheel) {
+  const Terrain ground = Terrain::flat(0.02);
+  struct Pose {
+    double yaw, pitch, roll, steer;
+  };
+  for (const Pose& pose : {Pose{0, 0, 0, 0}, Pose{0.3, 0.2, -0.15, 0.7}, Pose{-1.0, -0.35, 0.4, -1.2},
+                           Pose{2.0, 0.1, 0.6, 1.5}}) {
+    const Vec3 spin = spin_axis(pose.yaw, pose.pitch, pose.roll, pose.steer);
+    // Lowest rim point: R sqrt(1 - s_z^2) below the centre.
+    const double drop = kRadius * std::sqrt(1.0 - spin.z() * spin.z());
+    ASSERT_NEAR(lowest_rim_z_sampled(Vec3::Zero(), spin, kRadius), -drop, 1e-12);
+    const Vec3 centre(0.4, -1.3, 0.02 + drop - 0.0031);  // 3.1 mm into the ground
+    const WheelContacts w = find_wheel_contacts(ground, centre, spin, kRadius);
+    ASSERT_EQ(w.count, 1);
+    const ContactPoint& c = w.points[0];
+    EXPECT_NEAR(c.penetration_m, 0.0031, 1e-12);
+    EXPECT_NEAR(c.depth_m, 0.0031, 1e-12);
+    EXPECT_EQ(c.normal, Vec3::UnitZ());
+    EXPECT_NEAR(c.point_m.z(), 0.02 - 0.0031, 1e-12);
+    EXPECT_LT((c.point_m - support_point(centre, spin, kRadius, Vec3::UnitZ())).norm(), 1e-12);
+    expect_on_rim(c, centre, spin, kRadius);
+
+    // Just above the ground: no contact.
+    const Vec3 lifted = centre + Vec3(0, 0, 0.0031 + 1e-9);
+    EXPECT_EQ(find_wheel_contacts(ground, lifted, spin, kRadius).count, 0);
+  }
+}
+
+TEST(Contact, ModelWheelsUseTheirSpinAxis) {
+  // Through the kinematic tree: chassis yawed, pitched, rolled, wheels steered.
+  const RoverModel model = make_rover_model(default_rover_parameters());
+  Coordinates q = Coordinates::Zero();
+  q[coord::yaw] = 0.4;
+  q[coord::pitch] = 0.12;
+  q[coord::roll] = -0.08;
+  const double steer[4] = {0.5, -0.3, 1.1, -0.9};
+  for (int leg = 0; leg < kNumLegs; ++leg) q[coord::steer(leg)] = steer[leg];
+  q[coord::z] = 0.22;
+  const TreeKinematics kin = forward_kinematics(model.tree, q, Coordinates::Zero());
+  const auto contacts = wheel_contacts(model, kin);
+  int touching = 0;
+  for (int leg = 0; leg < kNumLegs; ++leg) {
+    const Vec3 spin = spin_axis(q[coord::yaw], q[coord::pitch], q[coord::roll], steer[leg]);
+    const Vec3 centre = kin.nodes[node::wheel(leg)].origin;
+    const double penetration = -(centre.z() - kRadius * std::sqrt(1.0 - spin.z() * spin.z()));
+    if (penetration > 0.0) {
+      ASSERT_EQ(contacts[leg].count, 1) << "leg " << leg;
+      EXPECT_NEAR(contacts[leg].points[0].penetration_m, penetration, 1e-12) << "leg " << leg;
+      expect_on_rim(contacts[leg].points[0], centre, spin, kRadius);
+      ++touching;
+    } else {
+      EXPECT_EQ(contacts[leg].count, 0) << "leg " << leg;
+    }
+  }
+  EXPECT_GE(touching, 2);
+  EXPECT_LE(touching, 3);  // the pose makes some, not all, wheels touch
+}
+
+TEST(Contact, TiltedPlaneGridMatchesThePlane) {
+  // h = c + a x + b y sampled on a grid: bilinear interpolation is the plane.
+  const double a = 0.25, b = -0.15, c0 = 0.01;
+  const Terrain plane = Terrain::from_grid(
+      sampled_grid(-0.5, -0.6, 0.013, 0.017, 90, 80, [&](double x, double y) { return c0 + a * x + b * y; }));
+  const Vec3 m(-a, -b, 1.0);  // upward normal, unnormalised
+  const Vec3 n = m.normalized();
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> angle(-0.6, 0.6), place(-0.2, 0.2);
+  for (int trial = 0; trial < 20; ++trial) {
+    const Vec3 spin = spin_axis(angle(rng), angle(rng), angle(rng), 2.0 * angle(rng));
+    Vec3 centre(place(rng), place(rng), 0.0);
+    // Place the centre so the deepest rim point is 3 mm (vertically) below the plane.
+    const Vec3 lowest = support_point(centre, spin, kRadius, n);
+    centre.z() = c0 + a * lowest.x() + b * lowest.y() - lowest.z() - 0.003;
+    // Analytic result at this centre.
+    const Vec3 deepest = support_point(centre, spin, kRadius, n);
+    const double depth = c0 + a * deepest.x() + b * deepest.y() - deepest.z();
+    const WheelContacts w = find_wheel_contacts(plane, centre, spin, kRadius);
+    ASSERT_EQ(w.count, 1) << "trial " << trial;
+    const ContactPoint& cp = w.points[0];
+    EXPECT_NEAR(cp.depth_m, depth, 1e-9) << "trial " << trial;
+    EXPECT_NEAR(cp.penetration_m, depth * n.z(), 1e-9) << "trial " << trial;
+    EXPECT_LT((cp.normal - n).norm(), 1e-12) << "trial " << trial;
+    // The maximiser of a smooth function is only determined to ~sqrt(eps) of
+    // the rim angle; its depth (above) is exact.
+    EXPECT_LT((cp.point_m - deepest).norm(), 1e-8) << "trial " << trial;
+    expect_on_rim(cp, centre, spin, kRadius);
+  }
+}
+
+TEST(Contact, RampNormalFollowsTheSlope) {
+  const Terrain& terrain = obstacle_terrain();
+  const Vec3 n(-std::sin(kRamp), 0.0, std::cos(kRamp));
+  for (double steer : {0.0, 0.5, -0.3}) {
+    const Vec3 spin = rot(Vec3::UnitZ(), steer) * Vec3::UnitY();
+    const double x_c = 1.50, y_c = -0.2215, penetration = 0.002;
+    // Centre at perpendicular distance (R_eff - penetration) from the ramp plane,
+    // where R_eff is how far the rim reaches along -n.
+    const double reach = kRadius * (n - n.dot(spin) * spin).norm();
+    const double z_c = (reach - penetration) / std::cos(kRamp) + (x_c - 1.36) * std::tan(kRamp);
+    const Vec3 centre(x_c, y_c, z_c);
+    const WheelContacts w = find_wheel_contacts(terrain, centre, spin, kRadius);
+    ASSERT_EQ(w.count, 1) << "steer " << steer;
+    const ContactPoint& c = w.points[0];
+    EXPECT_LT((c.normal - n).norm(), 1e-8) << "steer " << steer << ": " << c.normal.transpose();
+    EXPECT_NEAR(c.penetration_m, penetration, 1e-9) << "steer " << steer;
+    EXPECT_NEAR(c.depth_m, penetration / std::cos(kRamp), 1e-9) << "steer " << steer;
+    EXPECT_LT((c.point_m - support_point(centre, spin, kRadius, n)).norm(), 1e-7);
+    expect_on_rim(c, centre, spin, kRadius);
+  }
+}
+
+TEST(Contact, WheelAtTheFootOfTheRampHasTwoRegions) {
+  // 0.5 mm into the flat ground and, in front, into the 20 deg ramp; the rim
+  // is above the ground at the foot, so these are two separate regions.
+  const Terrain& terrain = obstacle_terrain();
+  const double ground_depth = 0.0005, x_c = 1.36 - 0.012;
+  const Vec3 centre(x_c, -0.2215, kRadius - ground_depth);
+  const Vec3 spin = Vec3::UnitY();
+  ASSERT_GT(centre.z() - std::sqrt(kRadius * kRadius - 0.012 * 0.012), 0.0) << "rim above the foot";
+  const Vec3 n_ramp(-std::sin(kRamp), 0.0, std::cos(kRamp));
+  const double ramp_distance = (1.36 - x_c) * std::sin(kRamp) + centre.z() * std::cos(kRamp);
+  ASSERT_LT(ramp_distance, kRadius);
+
+  const WheelContacts w = find_wheel_contacts(terrain, centre, spin, kRadius);
+  ASSERT_EQ(w.count, 2);
+  const ContactPoint& ground = w.points[0].normal.z() > w.points[1].normal.z() ? w.points[0] : w.points[1];
+  const ContactPoint& ramp = &ground == &w.points[0] ? w.points[1] : w.points[0];
+  EXPECT_LT((ground.normal - Vec3::UnitZ()).norm(), 1e-12);
+  EXPECT_NEAR(ground.penetration_m, ground_depth, 1e-9);
+  EXPECT_NEAR(ground.point_m.x(), x_c, 1e-6);
+  EXPECT_LT((ramp.normal - n_ramp).norm(), 1e-8);
+  EXPECT_NEAR(ramp.penetration_m, kRadius - ramp_distance, 1e-9);
+  EXPECT_LT((ramp.point_m - (centre - kRadius * n_ramp)).norm(), 1e-7);
+  for (const ContactPoint& c : {ground, ramp}) expect_on_rim(c, centre, spin, kRadius);
+}
+
+TEST(Contact, ConvexEdgeOnAGridLineGivesTheMeanSlopeNormal) {
+  // A ridge along y on the grid line x0: slope +0.3 before it, -0.1 after.
+  // For a wheel centred just before x0 the deepest rim point is the kink
+  // itself (neither plane's own optimum lies on its side), so the contact
+  // point must sit on the grid line and take the mean-slope normal.
+  const double x0 = 0.5, top = 0.05, up = 0.3, down = -0.1;
+  const Terrain ridge = Terrain::from_grid(sampled_grid(0.0, -0.5, 0.01, 0.05, 101, 21, [&](double x, double) {
+    return x <= x0 ? top + up * (x - x0) : top + down * (x - x0);
+  }));
+  ASSERT_DOUBLE_EQ(ridge.height(x0, 0.0), top);
+  const Vec3 spin = Vec3::UnitY();
+  for (double offset : {-0.005, -0.012, 0.004}) {
+    const double x_c = x0 + offset, penetration_at_kink = 0.002;
+    const double z_c = top - penetration_at_kink + std::sqrt(kRadius * kRadius - offset * offset);
+    const Vec3 centre(x_c, 0.013, z_c);
+    const WheelContacts w = find_wheel_contacts(ridge, centre, spin, kRadius);
+    ASSERT_EQ(w.count, 1) << "offset " << offset;
+    const ContactPoint& c = w.points[0];
+    // On the line itself (snapped), not only within the mean-slope tolerance
+    // of it where Brent's method stops (~5e-10 m, 1e-10 m short in depth).
+    EXPECT_NEAR(c.point_m.x(), x0, 1e-12) << "offset " << offset;
+    const Vec3 mean_normal = Vec3(-0.5 * (up + down), 0.0, 1.0).normalized();
+    EXPECT_LT((c.normal - mean_normal).norm(), 1e-12) << "offset " << offset << ": " << c.normal.transpose();
+    EXPECT_NEAR(c.depth_m, penetration_at_kink, 1e-12) << "offset " << offset;
+    EXPECT_NEAR(c.penetration_m, penetration_at_kink * mean_normal.z(), 1e-12);
+    expect_on_rim(c, centre, spin, kRadius);
+  }
+}
+
+// ---------------------------------------------------------------- forces
+
+// The default model on `terrain` with every wheel `penetration` into flat
+// ground (chassis level, joints at 0) and speeds u.
+struct ForcesAt {
+  RoverModel model;
+  TreeKinematics kin;
+  std::array<WheelContacts, kNumLegs> contacts;
+};
+ForcesAt forces_at(const Coordinates& q, const Coordinates& u, Terrain terrain = Terrain::flat()) {
+  ForcesAt f{make_rover_model(default_rover_parameters(), std::move(terrain)), {}, {}};
+  f.kin = forward_kinematics(f.model.tree, q, u);
+  f.contacts = wheel_contacts(f.model, f.kin);
+  return f;
+}
+constexpr double kBottomBelowG = 0.2285;  // MODEL.md section 3
+
+TEST(Contact, NormalForceNeverPulls) {
+  Coordinates q = Coordinates::Zero(), u = Coordinates::Zero();
+  q[coord::z] = kBottomBelowG - 1e-4;  // 0.1 mm in
+  u[coord::x] = 0.2;                   // sliding too, so friction would act if Fn did
+  for (double rise : {1.0, 0.01, 1e-5}) {
+    u[coord::z] = rise;
+    const ForcesAt f = forces_at(q, u);
+    const ContactParameters& k = f.model.parameters.contact;
+    const double elastic = k.stiffness_k_g * std::pow(1e-4, k.exponent_sigma);
+    for (int leg = 0; leg < kNumLegs; ++leg) {
+      ASSERT_EQ(f.contacts[leg].count, 1);
+      const ContactPoint& c = f.contacts[leg].points[0];
+      EXPECT_NEAR(c.penetration_rate_mps, -rise, 1e-12);
+      EXPECT_GE(c.normal_force_N, 0.0);
+      const double kelvin_voigt = elastic - k.damping_c_g * rise;
+      if (kelvin_voigt < 0.0) {
+        EXPECT_EQ(c.normal_force_N, 0.0) << "pulling out at " << rise << " m/s";
+        EXPECT_EQ(c.friction_force_N, Vec3::Zero());
+      } else {
+        EXPECT_NEAR(c.normal_force_N, kelvin_voigt, 1e-12);
+      }
+    }
+  }
+}
+
+TEST(Contact, FrictionOpposesSlip) {
+  Coordinates q = Coordinates::Zero(), u = Coordinates::Zero();
+  q[coord::z] = kBottomBelowG - 0.002;
+  u[coord::x] = 0.3;
+  u[coord::y] = -0.1;
+  u[coord::yaw] = 0.2;
+  for (int leg = 0; leg < kNumLegs; ++leg) u[coord::spin(leg)] = 2.0 * leg - 1.0;
+  const ForcesAt f = forces_at(q, u);
+  for (int leg = 0; leg < kNumLegs; ++leg) {
+    ASSERT_EQ(f.contacts[leg].count, 1);
+    const ContactPoint& c = f.contacts[leg].points[0];
+    const Vec3 v = point_velocity(f.kin, node::wheel(leg), c.point_m);
+    const Vec3 slip = v - v.dot(c.normal) * c.normal;
+    EXPECT_LT((c.slip_velocity_mps - slip).norm(), 1e-14);
+    ASSERT_GT(slip.norm(), 1e-3);
+    EXPECT_LT(c.friction_force_N.dot(slip), 0.0) << "leg " << leg;
+    EXPECT_NEAR(c.friction_force_N.dot(c.normal), 0.0, 1e-12);
+    // Anti-parallel to the slip, of magnitude mu(|v_t|) F_n.
+    EXPECT_LT(c.friction_force_N.cross(slip).norm(), 1e-12 * c.friction_force_N.norm() * slip.norm());
+    EXPECT_NEAR(c.friction_force_N.norm(),
+                makkar_mu(slip.norm(), f.model.parameters.friction.gammas) * c.normal_force_N, 1e-12);
+  }
+}
+
+TEST(Contact, FrictionVanishesAtZeroSlip) {
+  Coordinates q = Coordinates::Zero(), u = Coordinates::Zero();
+  q[coord::z] = kBottomBelowG - 0.002;
+  {  // At rest.
+    const ForcesAt f = forces_at(q, u);
+    for (const WheelContacts& w : f.contacts) {
+      ASSERT_EQ(w.count, 1);
+      EXPECT_GT(w.points[0].normal_force_N, 0.0);
+      EXPECT_EQ(w.points[0].friction_force_N, Vec3::Zero());
+    }
+  }
+  // Rolling without slip: v = omega R, the contact point is momentarily still.
+  const double v = 0.7;
+  u[coord::x] = v;
+  for (int leg = 0; leg < kNumLegs; ++leg) u[coord::spin(leg)] = v / kRadius;
+  const ForcesAt rolling = forces_at(q, u);
+  for (const WheelContacts& w : rolling.contacts) {
+    ASSERT_EQ(w.count, 1);
+    EXPECT_LT(w.points[0].slip_velocity_mps.norm(), 1e-14);
+    EXPECT_LT(w.points[0].friction_force_N.norm(), 1e-9 * w.points[0].normal_force_N);
+  }
+  // ... and it grows continuously from there.
+  for (int leg = 0; leg < kNumLegs; ++leg) u[coord::spin(leg)] = (v - 1e-6) / kRadius;
+  const ForcesAt slipping = forces_at(q, u);
+  for (const WheelContacts& w : slipping.contacts) {
+    const double mu = w.points[0].friction_force_N.norm() / w.points[0].normal_force_N;
+    EXPECT_GT(mu, 0.0);
+    EXPECT_LT(mu, 0.01);
+    EXPECT_LT(w.points[0].friction_force_N.x(), 0.0);  // the rim slides forward: pushed back
+  }
+}
+
+// Random states with contacts on flat ground and on a tilted plane grid.
+std::vector<Terrain> test_terrains() {
+  return {Terrain::flat(),
+          Terrain::from_grid(sampled_grid(-2.0, -2.0, 0.011, 0.013, 365, 310,
+                                          [](double x, double y) { return 0.02 * x - 0.03 * y; }))};
+}
+
+TEST(Contact, GeneralizedForceHasTheVirtualPowerOfTheContactForces) {
+  std::mt19937 rng(21);
+  int contacts_seen = 0;
+  for (const Terrain& terrain : test_terrains()) {
+    for (int trial = 0; trial < 6; ++trial) {
+      Coordinates q, u;
+      testing::random_state(rng, q, u);
+      q[coord::x] *= 0.5;
+      q[coord::y] *= 0.5;
+      q[coord::z] = 0.21;
+      const ForcesAt f = forces_at(q, u, terrain);
+      const Coordinates Q = contact_generalized_forces(f.model, f.kin, f.contacts);
+      double power = 0.0;
+      for (int leg = 0; leg < kNumLegs; ++leg)
+        for (int k = 0; k < f.contacts[leg].count; ++k) {
+          const ContactPoint& c = f.contacts[leg].points[k];
+          power += (c.normal_force_N * c.normal + c.friction_force_N)
+                       .dot(point_velocity(f.kin, node::wheel(leg), c.point_m));
+          ++contacts_seen;
+        }
+      EXPECT_NEAR(Q.dot(u), power, 1e-10 * std::max(1.0, std::abs(power))) << "trial " << trial;
+    }
+  }
+  EXPECT_GT(contacts_seen, 10);
+}
+
+TEST(Contact, GeneralizedForceIsTheFiniteDifferenceJacobianTransposed) {
+  // J_P^T F with J_P = d P / d q for the material point P of the wheel at the
+  // contact (u = dq/dt, MODEL.md section 2).
+  std::mt19937 rng(22);
+  for (const Terrain& terrain : test_terrains()) {
+    for (int trial = 0; trial < 4; ++trial) {
+      Coordinates q, u;
+      testing::random_state(rng, q, u);
+      q[coord::x] *= 0.5;
+      q[coord::y] *= 0.5;
+      q[coord::z] = 0.21;
+      const ForcesAt f = forces_at(q, u, terrain);
+      Coordinates expected = Coordinates::Zero();
+      const double h = 1e-6;
+      int count = 0;
+      for (int leg = 0; leg < kNumLegs; ++leg) {
+        const NodeKinematics& wheel = f.kin.nodes[node::wheel(leg)];
+        for (int k = 0; k < f.contacts[leg].count; ++k) {
+          const ContactPoint& c = f.contacts[leg].points[k];
+          const Vec3 force = c.normal_force_N * c.normal + c.friction_force_N;
+          const Vec3 body_fixed = wheel.rotation.transpose() * (c.point_m - wheel.origin);
+          for (int i = 0; i < kNumCoordinates; ++i) {
+            Coordinates qp = q, qm = q;
+            qp[i] += h;
+            qm[i] -= h;
+            const Vec3 dP = (point_position(forward_kinematics(f.model.tree, qp, u), node::wheel(leg), body_fixed) -
+                             point_position(forward_kinematics(f.model.tree, qm, u), node::wheel(leg), body_fixed)) /
+                            (2.0 * h);
+            expected[i] += dP.dot(force);
+          }
+          ++count;
+        }
+      }
+      ASSERT_GT(count, 0) << "trial " << trial;
+      const Coordinates Q = contact_generalized_forces(f.model, f.kin, f.contacts);
+      EXPECT_LT((Q - expected).cwiseAbs().maxCoeff(), 1e-7 * std::max(1.0, expected.cwiseAbs().maxCoeff()))
+          << "trial " << trial << "\nQ        " << Q.transpose() << "\nexpected " << expected.transpose();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace rover

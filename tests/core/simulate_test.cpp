@@ -1,0 +1,279 @@
+// simulate() (core/simulate.cpp, core/integrators.cpp; MODEL.md sections 7-9)
+// on the shipped scenarios: the adaptive and a fine fixed-step integrator
+// agree; a dropped rover lands, rebounds and comes to rest in a sensible pose
+// carrying its weight; with the wheels held, energy (contact springs included)
+// never grows; over the obstacle the right bogie pin rises and comes back, the
+// bogies counter-rotate and the heading is kept; runs are deterministic; and
+// numerical trouble ends in a status, never a crash or a hang.
+#include "core/simulate.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+#include "core/equations_of_motion.hpp"
+#include "core/metrics.hpp"
+#include "io/scenario_config.hpp"
+#include "test_support.hpp"
+
+namespace rover {
+namespace {
+
+using testing::source_path;
+
+io::ScenarioSetup shipped(const std::string& name) {
+  return io::load_scenario(source_path("configs/scenarios/" + name + ".json"));
+}
+
+double weight_N(const RoverModel& model) {
+  return model.tree.total_mass_kg * model.parameters.gravity_mps2;
+}
+
+TEST(Simulate, DormandPrinceAndFineStepRk4Agree) {
+  io::ScenarioSetup setup = shipped("drop_horizontal");
+  setup.scenario.duration_s = 0.4;  // release, impact, first rebound
+  const Trajectory adaptive = simulate(setup.model, setup.scenario, setup.inputs);
+  setup.scenario.integrator.method = IntegratorMethod::kRungeKutta4;
+  setup.scenario.integrator.fixed_step_s = 5e-6;
+  const Trajectory fixed = simulate(setup.model, setup.scenario, setup.inputs);
+  ASSERT_TRUE(adaptive.ok()) << adaptive.message;
+  ASSERT_TRUE(fixed.ok()) << fixed.message;
+  ASSERT_EQ(adaptive.t.size(), 401u);
+  ASSERT_EQ(fixed.t, adaptive.t);
+  EXPECT_EQ(fixed.steps, 80000);  // 5 us steps dividing the 1 ms output period
+  // MODEL.md section 9: B_l z within 0.05 mm.
+  EXPECT_LT(rms_difference(adaptive.t, adaptive.B_l_z, fixed.t, fixed.B_l_z), 5e-5);
+  double worst = 0.0;
+  for (std::size_t i = 0; i < adaptive.t.size(); ++i)
+    worst = std::max(worst, std::abs(adaptive.B_l_z[i] - fixed.B_l_z[i]));
+  EXPECT_LT(worst, 5e-5);
+  // The comparison covers the impact, not just free fall.
+  EXPECT_GT(adaptive.normal_force_N.maxCoeff(), weight_N(setup.model) / 4);
+}
+
+TEST(Simulate, DropLandsReboundsAndComesToRest) {
+  const io::ScenarioSetup setup = shipped("drop_horizontal");
+  const Trajectory tr = simulate(setup.model, setup.scenario, setup.inputs);
+  ASSERT_TRUE(tr.ok()) << tr.message;
+  ASSERT_EQ(tr.t.size(), 1001u);
+  EXPECT_EQ(tr.t.back(), 1.0);
+  const double mg = weight_N(setup.model);
+
+  // Free fall first (no force), then contact forces appear.
+  EXPECT_EQ(tr.normal_force_N.row(0).sum(), 0.0);
+  Eigen::Index first_contact = -1;
+  for (Eigen::Index i = 0; i < tr.normal_force_N.rows() && first_contact < 0; ++i)
+    if (tr.normal_force_N.row(i).sum() > 0.0) first_contact = i;
+  ASSERT_GT(first_contact, 10);  // released ~5 cm above the ground: ~0.1 s of fall
+  // In free fall z follows z0 - g t^2 / 2 (nothing else acts on the whole rover).
+  const auto k = static_cast<std::size_t>(first_contact - 1);
+  EXPECT_NEAR(tr.q(first_contact - 1, coord::z) - tr.q(0, coord::z),
+              -0.5 * setup.model.parameters.gravity_mps2 * tr.t[k] * tr.t[k], 1e-9);
+
+  // Lands: B_l z reaches a minimum, then rebounds to a local maximum above it.
+  std::size_t first_min = 0;
+  for (std::size_t i = 1; i + 1 < tr.B_l_z.size(); ++i)
+    if (tr.B_l_z[i] < tr.B_l_z[i - 1] && tr.B_l_z[i] <= tr.B_l_z[i + 1]) {
+      first_min = i;
+      break;
+    }
+  ASSERT_GT(first_min, static_cast<std::size_t>(first_contact));
+  std::size_t rebound = 0;
+  for (std::size_t i = first_min + 1; i + 1 < tr.B_l_z.size(); ++i)
+    if (tr.B_l_z[i] > tr.B_l_z[i - 1] && tr.B_l_z[i] >= tr.B_l_z[i + 1]) {
+      rebound = i;
+      break;
+    }
+  ASSERT_GT(rebound, first_min) << "no local maximum after the first minimum";
+  EXPECT_GT(tr.B_l_z[rebound] - tr.B_l_z[first_min], 0.005) << "a rebound of at least 5 mm";
+  EXPECT_LT(tr.B_l_z[rebound], tr.B_l_z.front()) << "it does not bounce back to the release height";
+
+  // At rest by 1 s: no motion, the wheels carry the weight.
+  const Eigen::Index last = tr.q.rows() - 1;
+  EXPECT_LT(tr.u.row(last).cwiseAbs().maxCoeff(), 1e-3);
+  EXPECT_NEAR(tr.normal_force_N.row(last).sum(), mg, 0.01 * mg);
+  for (int leg = 0; leg < kNumLegs; ++leg)
+    EXPECT_NEAR(tr.normal_force_N(last, leg), mg / 4, 0.2 * mg / 4) << "wheel " << leg + 1;
+  // ... in a sensible pose: chassis level, resting on its wheels above the ground.
+  const double degree = std::numbers::pi / 180.0;
+  EXPECT_LT(std::abs(tr.pitch.back()), 1.0 * degree);
+  EXPECT_LT(std::abs(tr.roll.back()), 1.0 * degree);
+  EXPECT_GT(tr.G_z.back(), 0.2);                           // wheel bottoms are 0.2285 m below G
+  EXPECT_LT(tr.G_z.back(), 0.2285);                        // S-structures and contact compressed
+  EXPECT_NEAR(tr.B_l_z.back(), tr.B_r_z.back(), 0.001);    // level side to side
+  EXPECT_GT(tr.B_l_z.back(), tr.B_l_z[first_min]);         // rests above its deepest point
+}
+
+TEST(Simulate, EnergyNeverGrowsWithTheWheelsHeld) {
+  // Horizontal drop on flat ground, w_ref = d_ref = 0. The total energy is
+  // the mechanical energy plus the elastic energy k p^(sigma+1)/(sigma+1) of
+  // each contact; everything else (contact and joint damping, friction, the
+  // holding drives, the one-sided contact) only dissipates.
+  io::ScenarioSetup setup = shipped("drop_horizontal");
+  setup.scenario.duration_s = 0.6;
+  ASSERT_EQ(setup.scenario.wheel_speed_ref_radps, (std::array<double, 4>{}));
+  ASSERT_TRUE(setup.model.terrain.is_flat());
+  const Trajectory tr = simulate(setup.model, setup.scenario, setup.inputs);
+  ASSERT_TRUE(tr.ok()) << tr.message;
+
+  ModelInputs inputs = nominal_inputs(setup.model.parameters);
+  inputs.sharpness_f = setup.inputs.sharpness_f;
+  inputs.damping_c_q = setup.inputs.damping_c_q;
+  inputs.preload_Nm = setup.inputs.preload_Nm;
+  const ContactParameters& k = setup.model.parameters.contact;
+  std::vector<double> energy;
+  double max_contact_energy = 0.0;
+  for (Eigen::Index i = 0; i < tr.q.rows(); ++i) {
+    const Coordinates q = tr.q.row(i).transpose(), u = tr.u.row(i).transpose();
+    const TreeKinematics kin = forward_kinematics(setup.model.tree, q, u);
+    double contact = 0.0;
+    for (const WheelContacts& w : wheel_contacts(setup.model, kin))
+      for (int c = 0; c < w.count; ++c)
+        contact += k.stiffness_k_g * std::pow(w.points[c].penetration_m, k.exponent_sigma + 1.0) /
+                   (k.exponent_sigma + 1.0);
+    max_contact_energy = std::max(max_contact_energy, contact);
+    energy.push_back(mechanical_energy(setup.model, inputs, q, u) + contact);
+  }
+  // Tolerance: integration error only (rtol 1e-6; measured increases are at
+  // round-off, 1e-14 J). Leaving out the contact springs' energy would show
+  // apparent increases of ~7e-4 J, so the check can tell.
+  double worst_increase = 0.0;
+  std::size_t worst_at = 0;
+  for (std::size_t i = 1; i < energy.size(); ++i)
+    if (energy[i] - energy[i - 1] > worst_increase) {
+      worst_increase = energy[i] - energy[i - 1];
+      worst_at = i;
+    }
+  EXPECT_LT(worst_increase, 1e-6) << "at t = " << tr.t[worst_at];
+  EXPECT_LT(energy.back(), energy.front());
+  // The check is not vacuous: the contacts stored energy, and much was dissipated.
+  EXPECT_GT(max_contact_energy, 0.01);
+  EXPECT_GT(energy.front() - energy.back(), 0.5);
+}
+
+TEST(Simulate, ObstacleAtOneMetrePerSecond) {
+  const io::ScenarioSetup setup = shipped("obstacle_v1");
+  const Trajectory tr = simulate(setup.model, setup.scenario, setup.inputs);
+  ASSERT_TRUE(tr.ok()) << tr.message;
+  ASSERT_EQ(tr.t.size(), 2870u);  // 2.869 s at 1 kHz
+  const double obstacle_height = 0.10, degree = std::numbers::pi / 180.0;
+  auto index_at = [&](double t) { return static_cast<std::size_t>(std::lround(t * 1000.0)); };
+
+  // Settled on flat ground before the front-right wheel reaches the ramp foot
+  // (x = 1.36 m; the wheel is 0.36 + 0.085 m ahead of G): the reference level.
+  double level = 0.0;
+  for (std::size_t i = index_at(0.5); i <= index_at(0.8); ++i) level += tr.B_r_z[i] / (index_at(0.8) - index_at(0.5) + 1);
+  EXPECT_NEAR(tr.B_r_z[index_at(0.5)], tr.B_r_z[index_at(0.8)], 1e-4) << "not settled before the obstacle";
+
+  // The right bogie pin rises by part of the obstacle height: the 0.30 m top is
+  // shorter than the 0.72 m wheelbase, so both right wheels are never on top.
+  const auto peak = std::max_element(tr.B_r_z.begin(), tr.B_r_z.end());
+  const double rise = *peak - level;
+  EXPECT_GT(rise, 0.30 * obstacle_height);
+  EXPECT_LT(rise, 0.70 * obstacle_height);
+  // ... and comes back down once both right wheels are past it.
+  EXPECT_NEAR(tr.B_r_z.back(), level, 0.002);
+  // The left side stays near its level; its pin moves much less.
+  const double left_rise = *std::max_element(tr.B_l_z.begin(), tr.B_l_z.end()) - level;
+  EXPECT_LT(left_rise, 0.5 * rise);
+
+  // Bogie angle: nonzero while climbing, with the opposite sign when the rear
+  // wheel climbs; the left bogie turns the opposite way relative to the chassis.
+  const auto phi = tr.q.col(coord::bogie);
+  Eigen::Index front_up, rear_up;
+  const double phi_min = phi.minCoeff(&front_up), phi_max = phi.maxCoeff(&rear_up);
+  EXPECT_LT(phi_min, -0.02);
+  EXPECT_GT(phi_max, 0.02);
+  EXPECT_LT(front_up, rear_up) << "the front wheel climbs first";
+  for (const Eigen::Index i : {front_up, rear_up}) {
+    const Coordinates q = tr.q.row(i).transpose();
+    const TreeKinematics kin = forward_kinematics(setup.model.tree, q, Coordinates::Zero());
+    const Mat3& chassis = kin.nodes[node::chassis].rotation;
+    // Elevation of each bogie's forward axis, in the chassis frame.
+    const double right = (chassis.transpose() * kin.nodes[node::bogie_right].rotation)(2, 0);
+    const double left = (chassis.transpose() * kin.nodes[node::bogie_left].rotation)(2, 0);
+    const double expected_sign = i == front_up ? 1.0 : -1.0;  // the raised wheel's end goes up
+    EXPECT_GT(expected_sign * right, 0.02) << "t = " << tr.t[static_cast<std::size_t>(i)];
+    EXPECT_LT(expected_sign * left, -0.02) << "t = " << tr.t[static_cast<std::size_t>(i)];
+    EXPECT_NEAR(right, -left, 1e-12);
+    // The right front (or rear) wheel is the raised one: in the chassis frame it
+    // is higher than its bogie partner, while on the left the order is reversed.
+    auto z_in_chassis = [&](int leg) {
+      return (chassis.transpose() * (kin.nodes[node::wheel(leg)].origin - kin.nodes[node::chassis].origin)).z();
+    };
+    EXPECT_GT(expected_sign * (z_in_chassis(1) - z_in_chassis(3)), 0.0);  // FR vs RR
+    EXPECT_LT(expected_sign * (z_in_chassis(0) - z_in_chassis(2)), 0.0);  // FL vs RL
+  }
+
+  // Keeps its heading, drifts little sideways, and really drives the distance.
+  EXPECT_LT(tr.q.col(coord::yaw).cwiseAbs().maxCoeff(), 2.0 * degree);
+  EXPECT_LT(tr.q.col(coord::y).cwiseAbs().maxCoeff(), 0.04);
+  EXPECT_NEAR(tr.q(tr.q.rows() - 1, coord::x), 2.869, 0.05 * 2.869);
+}
+
+TEST(Simulate, RunsAreBitIdentical) {
+  io::ScenarioSetup setup = shipped("drop_skewed");
+  setup.scenario.duration_s = 0.3;
+  const Trajectory a = simulate(setup.model, setup.scenario, setup.inputs);
+  const Trajectory b = simulate(setup.model, setup.scenario, setup.inputs);
+  ASSERT_TRUE(a.ok()) << a.message;
+  EXPECT_EQ(a.t, b.t);
+  EXPECT_EQ(a.q, b.q);
+  EXPECT_EQ(a.u, b.u);
+  EXPECT_EQ(a.B_l_z, b.B_l_z);
+  EXPECT_EQ(a.B_r_z, b.B_r_z);
+  EXPECT_EQ(a.G_z, b.G_z);
+  EXPECT_EQ(a.pitch, b.pitch);
+  EXPECT_EQ(a.roll, b.roll);
+  EXPECT_EQ(a.normal_force_N, b.normal_force_N);
+  EXPECT_EQ(a.rhs_evaluations, b.rhs_evaluations);
+  EXPECT_EQ(a.steps, b.steps);
+  EXPECT_GT(a.normal_force_N.maxCoeff(), 0.0);  // through an impact
+}
+
+TEST(Simulate, TinyWallTimeBudgetStopsWithAStatus) {
+  io::ScenarioSetup setup = shipped("drop_horizontal");
+  setup.scenario.wall_time_budget_s = 1e-9;
+  const Trajectory tr = simulate(setup.model, setup.scenario, setup.inputs);
+  EXPECT_FALSE(tr.ok());
+  EXPECT_EQ(tr.status, SimulationStatus::kTimeBudgetExceeded);
+  EXPECT_NE(tr.message.find("time budget"), std::string::npos) << tr.message;
+  EXPECT_LT(tr.t.size(), 1001u);
+  EXPECT_GE(tr.t.size(), 1u);  // the initial state is kept
+  // The arrays stay consistent.
+  EXPECT_EQ(static_cast<std::size_t>(tr.q.rows()), tr.t.size());
+  EXPECT_EQ(tr.B_l_z.size(), tr.t.size());
+}
+
+TEST(Simulate, AbsurdInputsFailWithAStatusNotACrashOrHang) {
+  // A budget far above the expected time turns a hang into a visible failure.
+  const auto start = std::chrono::steady_clock::now();
+  {
+    // An S-structure 1e8 times too sharp that the integrator may not resolve.
+    io::ScenarioSetup setup = shipped("drop_horizontal");
+    setup.inputs.sharpness_f = 1e12;
+    setup.scenario.integrator.min_step_s = 1e-4;
+    setup.scenario.integrator.initial_step_s = 1e-4;
+    setup.scenario.wall_time_budget_s = 60.0;
+    const Trajectory tr = simulate(setup.model, setup.scenario, setup.inputs);
+    EXPECT_EQ(tr.status, SimulationStatus::kStepSizeUnderflow) << tr.message;
+    EXPECT_NE(tr.message.find("step"), std::string::npos) << tr.message;
+    EXPECT_EQ(static_cast<std::size_t>(tr.q.rows()), tr.t.size());
+  }
+  {
+    // A non-finite initial state.
+    io::ScenarioSetup setup = shipped("drop_horizontal");
+    setup.scenario.initial_u[coord::roll] = std::nan("");
+    setup.scenario.wall_time_budget_s = 60.0;
+    const Trajectory tr = simulate(setup.model, setup.scenario, setup.inputs);
+    EXPECT_EQ(tr.status, SimulationStatus::kNonFinite) << tr.message;
+    EXPECT_NE(tr.message.find("NaN"), std::string::npos) << tr.message;
+  }
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 30.0);
+}
+
+}  // namespace
+}  // namespace rover

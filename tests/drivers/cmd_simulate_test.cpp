@@ -1,0 +1,145 @@
+// `rover simulate` and `rover compare` (drivers/cmd_simulate.cpp,
+// drivers/cmd_compare.cpp): a short drop writes HDF5, CSV and a PNG plot; a
+// file compared with itself (or with its own CSV) has no error; bad options
+// fail with a clear message.
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "io/hdf5_file.hpp"
+#include "io/json_reader.hpp"
+#include "test_support.hpp"
+
+namespace rover {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using testing::rover_binary;
+using testing::run_command;
+using testing::source_path;
+
+// A 0.2 s horizontal drop pointing at the shipped rover and terrain by absolute path.
+std::string short_drop_scenario(const std::string& dir) {
+  json j = io::read_json_file(source_path("configs/scenarios/drop_horizontal.json"));
+  j["name"] = "short_drop";
+  j["rover"] = source_path("configs/rover.json");
+  j["terrain"] = source_path("configs/terrains/flat.json");
+  j["duration"] = 0.2;
+  const std::string path = dir + "/short_drop.json";
+  std::ofstream(path) << j.dump(2);
+  return path;
+}
+
+class CmdSimulate : public ::testing::Test {
+ protected:
+  // One simulation shared by the tests of this suite.
+  static void SetUpTestSuite() {
+    dir_ = new std::string(testing::temp_dir());
+    const std::string scenario = short_drop_scenario(*dir_);
+    output_ = new std::string;
+    status_ = run_command(rover_binary() + " simulate --scenario " + scenario + " --out " + *dir_ +
+                              "/out/drop.h5 --csv " + *dir_ + "/out/drop.csv",
+                          output_);
+  }
+  static void TearDownTestSuite() {
+    delete dir_;
+    delete output_;
+  }
+  static std::string* dir_;
+  static std::string* output_;
+  static int status_;
+};
+std::string* CmdSimulate::dir_ = nullptr;
+std::string* CmdSimulate::output_ = nullptr;
+int CmdSimulate::status_ = -1;
+
+TEST_F(CmdSimulate, WritesHdf5CsvAndPng) {
+  ASSERT_EQ(status_, 0) << *output_;
+  const std::string h5 = *dir_ + "/out/drop.h5", csv = *dir_ + "/out/drop.csv", png = *dir_ + "/out/drop.png";
+  ASSERT_TRUE(fs::exists(h5)) << *output_;
+  EXPECT_TRUE(fs::exists(csv)) << *output_;
+  EXPECT_FALSE(fs::exists(h5 + ".partial"));
+  const io::Hdf5Reader reader(h5);
+  EXPECT_EQ(reader.shape("/t"), std::vector<std::size_t>{201});  // 0.2 s at 1 kHz, both ends
+  EXPECT_EQ(reader.shape("/q"), (std::vector<std::size_t>{201, 23}));
+  EXPECT_EQ(reader.attribute_string("/", "status"), "ok");
+  EXPECT_GT(reader.attribute_integer("/", "rhs_evaluations"), 0);
+  const std::vector<double> bl = reader.read_doubles("/B_l_z");
+  EXPECT_LT(bl.back(), bl.front());  // it fell
+  // A PNG: the 8-byte signature.
+  ASSERT_TRUE(fs::exists(png)) << *output_;
+  std::ifstream in(png, std::ios::binary);
+  std::string head(8, '\0');
+  in.read(head.data(), 8);
+  EXPECT_EQ(head, std::string("\x89PNG\r\n\x1a\n", 8));
+  EXPECT_GT(fs::file_size(png), 1000u);
+}
+
+TEST_F(CmdSimulate, CompareWithItselfGivesZero) {
+  ASSERT_EQ(status_, 0) << *output_;
+  const std::string h5 = *dir_ + "/out/drop.h5", csv = *dir_ + "/out/drop.csv";
+  for (const std::string& other : {h5, csv}) {
+    std::string out;
+    ASSERT_EQ(run_command(rover_binary() + " compare " + h5 + " " + other + " --rest-time 0.2", &out), 0) << out;
+    const json j = json::parse(out);
+    EXPECT_EQ(j.at("rms_m").get<double>(), 0.0) << other;
+    EXPECT_EQ(j.at("max_abs_difference_m").get<double>(), 0.0) << other;
+    EXPECT_EQ(j.at("deflection_error").get<double>(), 0.0) << other;
+    EXPECT_EQ(j.at("at_rest_error").get<double>(), 0.0) << other;
+  }
+  // Another column is compared when asked; against a shifted curve the RMS is the shift.
+  const std::string shifted = *dir_ + "/shifted.csv";
+  {
+    std::ofstream s(shifted);
+    s.precision(17);
+    s << "t,z\n";
+    const io::Hdf5Reader reader(h5);
+    const std::vector<double> t = reader.read_doubles("/t"), g = reader.read_doubles("/G_z");
+    for (std::size_t i = 0; i < t.size(); ++i) s << t[i] << "," << g[i] + 0.001 << "\n";
+  }
+  std::string out;
+  ASSERT_EQ(run_command(rover_binary() + " compare " + h5 + " " + shifted + " --column G_z", &out), 0) << out;
+  EXPECT_NEAR(json::parse(out).at("rms_m").get<double>(), 0.001, 1e-12);
+}
+
+TEST(CmdSimulateOptions, WrongNumberOfPreloadsFailsClearly) {
+  const std::string dir = testing::temp_dir();
+  const std::string scenario = short_drop_scenario(dir);
+  std::string out;
+  EXPECT_NE(run_command(rover_binary() + " simulate --scenario " + scenario + " --out " + dir +
+                            "/x.h5 --M0 1,1,1,1,1,1,1",
+                        &out),
+            0);
+  EXPECT_NE(out.find("--M0 takes 8 values, got 7"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(dir + "/x.h5"));
+  EXPECT_NE(run_command(rover_binary() + " simulate --scenario " + scenario + " --out " + dir +
+                            "/x.h5 --M0 1,1,1,1,1,1,1,1,1",
+                        &out),
+            0);
+  EXPECT_NE(out.find("--M0 takes 8 values"), std::string::npos) << out;
+  EXPECT_NE(run_command(rover_binary() + " simulate --scenario " + scenario + " --out " + dir + "/x.h5 --cq -1", &out),
+            0);
+  EXPECT_NE(out.find("--cq"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(dir + "/x.h5"));
+}
+
+TEST(CmdSimulateOptions, BadScenarioNamesTheFile) {
+  const std::string dir = testing::temp_dir();
+  json j = io::read_json_file(short_drop_scenario(dir));
+  j["integrator"]["method"] = "euler";
+  const std::string path = dir + "/bad.json";
+  std::ofstream(path) << j.dump();
+  std::string out;
+  EXPECT_NE(run_command(rover_binary() + " simulate --scenario " + path + " --out " + dir + "/x.h5", &out), 0);
+  EXPECT_NE(out.find(path), std::string::npos) << out;
+  EXPECT_NE(out.find("'integrator.method'"), std::string::npos) << out;
+  EXPECT_NE(out.find("euler"), std::string::npos) << out;
+}
+
+}  // namespace
+}  // namespace rover

@@ -1,0 +1,221 @@
+// Scenario files (io/scenario_config.cpp; MODEL.md section 7): the shipped
+// scenarios load with the initial states of Table 2 and the obstacle runs'
+// speeds, durations and ground clearance; bad files are refused with a
+// ConfigError naming the file, the field and the value.
+#include "io/scenario_config.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "core/kinematic_tree.hpp"
+#include "test_support.hpp"
+
+namespace rover {
+namespace {
+
+using io::Json;
+using testing::source_path;
+
+// Height of each wheel's lowest rim point above z = 0 at q.
+std::array<double, kNumLegs> wheel_bottoms(const RoverModel& model, const Coordinates& q) {
+  const TreeKinematics kin = forward_kinematics(model.tree, q, Coordinates::Zero());
+  std::array<double, kNumLegs> bottom{};
+  for (int leg = 0; leg < kNumLegs; ++leg) {
+    const NodeKinematics& w = kin.nodes[node::wheel(leg)];
+    const double s_z = w.rotation(2, 1);  // spin axis z component
+    bottom[leg] = w.origin.z() - model.parameters.geometry.wheel_radius_m * std::sqrt(1.0 - s_z * s_z);
+  }
+  return bottom;
+}
+
+TEST(ScenarioConfig, DropScenariosHaveTheInitialStatesOfTable2) {
+  struct Case {
+    const char* file;
+    double z, chi, psi;
+  };
+  for (const Case& c : {Case{"drop_horizontal", 0.281, 0.039, 0.0042}, Case{"drop_skewed", 0.299, 0.116, -0.0809}}) {
+    const io::ScenarioSetup s = io::load_scenario(source_path("configs/scenarios/" + std::string(c.file) + ".json"));
+    SCOPED_TRACE(c.file);
+    EXPECT_EQ(s.scenario.name, c.file);
+    Coordinates q = Coordinates::Zero();
+    q[coord::z] = c.z;
+    q[coord::pitch] = c.chi;
+    q[coord::roll] = c.psi;
+    EXPECT_EQ(s.scenario.initial_q, q);
+    EXPECT_EQ(s.scenario.initial_u, Coordinates::Zero());
+    EXPECT_EQ(s.scenario.duration_s, 1.0);
+    EXPECT_EQ(s.scenario.output_rate_hz, 1000.0);
+    EXPECT_EQ(s.scenario.integrator.method, IntegratorMethod::kDormandPrince45);
+    EXPECT_EQ(s.scenario.integrator.relative_tolerance, 1e-6);
+    EXPECT_EQ(s.scenario.integrator.absolute_tolerance, 1e-9);
+    EXPECT_EQ(s.scenario.wheel_speed_ref_radps, (std::array<double, 4>{}));
+    EXPECT_TRUE(s.model.terrain.is_flat());
+    EXPECT_EQ(s.model.terrain.flat_height(), 0.0);
+    // The inputs are the rover config's nominal values.
+    EXPECT_EQ(s.inputs.sharpness_f, s.model.parameters.s_structure.sharpness_f);
+    EXPECT_EQ(s.inputs.damping_c_q, s.model.parameters.s_structure.damping_Nms_per_rad);
+    EXPECT_EQ(s.inputs.preload_Nm, s.model.parameters.s_structure.preload_mean_Nm);
+    // Released above the ground.
+    for (double b : wheel_bottoms(s.model, s.scenario.initial_q)) EXPECT_GT(b, 0.0);
+  }
+}
+
+TEST(ScenarioConfig, ObstacleScenariosDriveTheDistanceWithOneMillimetreClearance) {
+  for (const auto& [file, v] : {std::pair{"obstacle_v034", 0.34}, std::pair{"obstacle_v1", 1.0},
+                                std::pair{"obstacle_v2", 2.0}}) {
+    SCOPED_TRACE(file);
+    const io::ScenarioSetup s = io::load_scenario(source_path("configs/scenarios/" + std::string(file) + ".json"));
+    const double R = s.model.parameters.geometry.wheel_radius_m;
+    EXPECT_DOUBLE_EQ(s.scenario.duration_s, 2.869 / v);
+    EXPECT_EQ(s.scenario.initial_u[coord::x], v);
+    for (int leg = 0; leg < kNumLegs; ++leg) {
+      EXPECT_DOUBLE_EQ(s.scenario.initial_u[coord::spin(leg)], v / R);
+      EXPECT_DOUBLE_EQ(s.scenario.wheel_speed_ref_radps[leg], v / R);
+    }
+    // Level chassis at the origin, joints at 0; only z set by the clearance.
+    Coordinates q = Coordinates::Zero();
+    q[coord::z] = s.scenario.initial_q[coord::z];
+    EXPECT_EQ(s.scenario.initial_q, q);
+    for (double b : wheel_bottoms(s.model, s.scenario.initial_q)) EXPECT_NEAR(b, 0.001, 1e-12);
+    EXPECT_NEAR(q[coord::z], 0.2285 + 0.001, 1e-12);  // MODEL.md section 3: bottoms 0.2285 m below G
+    // The obstacle terrain: its top is 0.1 m, in front of the right wheels.
+    ASSERT_FALSE(s.model.terrain.is_flat());
+    EXPECT_NEAR(s.model.terrain.max_height(), 0.1, 1e-12);
+    EXPECT_NEAR(s.model.terrain.height(1.8, -0.2215), 0.1, 1e-12);
+    EXPECT_EQ(s.model.terrain.height(1.8, 0.2215), 0.0);
+    EXPECT_EQ(s.terrain_path, source_path("configs/terrains/obstacle.json"));
+  }
+}
+
+TEST(ScenarioConfig, EveryShippedScenarioLoads) {
+  int count = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(source_path("configs/scenarios"))) {
+    if (entry.path().extension() != ".json") continue;
+    SCOPED_TRACE(entry.path().string());
+    EXPECT_NO_THROW({
+      const io::ScenarioSetup s = io::load_scenario(entry.path().string());
+      EXPECT_GT(s.scenario.duration_s, 0.0);
+      EXPECT_EQ(s.scenario.name, entry.path().stem().string());
+    });
+    ++count;
+  }
+  EXPECT_GE(count, 5);
+}
+
+// ---------------------------------------------------------------- bad files
+
+// A small valid scenario: the shipped horizontal drop with absolute paths.
+Json base_scenario() {
+  Json j = io::read_json_file(source_path("configs/scenarios/drop_horizontal.json"));
+  j["rover"] = source_path("configs/rover.json");
+  j["terrain"] = source_path("configs/terrains/flat.json");
+  return j;
+}
+
+std::string write_scenario(const Json& j) {
+  const std::string path = testing::temp_dir() + "/scenario.json";
+  std::ofstream(path) << j.dump(2);
+  return path;
+}
+
+TEST(ScenarioConfig, OverridesAreRead) {
+  Json j = base_scenario();
+  j["inputs"] = {{"f", 1e3}, {"c_q", 0.3}, {"M0", {1, 2, 3, 4, 5, 6, 7, 8}}};
+  j["integrator"] = {{"method", "rk4"}, {"fixed_step", 2e-5}};
+  j["initial_u"] = {{"b21", 0.5}, {"z3", -1.0}};
+  j["steer_ref"] = {0.1, 0.2, 0.3, 0.4};
+  j["wall_time_budget"] = 12.5;
+  const io::ScenarioSetup s = io::load_scenario(write_scenario(j));
+  EXPECT_EQ(s.inputs.sharpness_f, 1e3);
+  EXPECT_EQ(s.inputs.damping_c_q, 0.3);
+  EXPECT_EQ(s.inputs.preload_Nm, (std::array<double, 8>{1, 2, 3, 4, 5, 6, 7, 8}));
+  EXPECT_EQ(s.scenario.integrator.method, IntegratorMethod::kRungeKutta4);
+  EXPECT_EQ(s.scenario.integrator.fixed_step_s, 2e-5);
+  EXPECT_EQ(s.scenario.initial_u[coord::s_joint(1, 0)], 0.5);
+  EXPECT_EQ(s.scenario.initial_u[coord::spin(2)], -1.0);
+  EXPECT_EQ(s.scenario.initial_u.cwiseAbs().sum(), 1.5);
+  EXPECT_EQ(s.scenario.steer_ref_rad, (std::array<double, 4>{0.1, 0.2, 0.3, 0.4}));
+  EXPECT_EQ(s.scenario.wall_time_budget_s, 12.5);
+}
+
+TEST(ScenarioConfig, BadFilesNameFileFieldAndValue) {
+  const struct {
+    const char* name;
+    std::function<void(Json&)> edit;
+    std::string field, problem, value;  // value: "" if the field is absent
+  } cases[] = {
+      {"unknown key", [](Json& j) { j["duratoin"] = 1.0; }, "duratoin", "unknown key", "1.0"},
+      {"unknown integrator key", [](Json& j) { j["integrator"]["r_tol"] = 1e-6; }, "integrator.r_tol",
+       "unknown key", "1e-06"},
+      {"unknown coordinate", [](Json& j) { j["initial_q"]["zz"] = 0.3; }, "initial_q.zz",
+       "unknown coordinate", "0.3"},
+      {"unknown speed coordinate", [](Json& j) { j["initial_u"] = {{"b13", 1.0}}; }, "initial_u.b13",
+       "unknown coordinate", "1.0"},
+      {"duration and travel distance",
+       [](Json& j) {
+         j["forward_speed"] = 1.0;
+         j["travel_distance"] = 2.869;
+       },
+       "duration", "exactly one", "1.0"},
+      {"neither duration nor travel distance", [](Json& j) { j.erase("duration"); }, "duration",
+       "exactly one", ""},
+      {"travel distance without speed",
+       [](Json& j) {
+         j.erase("duration");
+         j["travel_distance"] = 2.869;
+       },
+       "travel_distance", "forward_speed", "2.869"},
+      {"missing rover file", [](Json& j) { j["rover"] = "/nonexistent/rover.json"; }, "rover",
+       "file not found", "/nonexistent/rover.json"},
+      {"missing terrain file", [](Json& j) { j["terrain"] = "no_such_terrain.json"; }, "terrain",
+       "file not found", "no_such_terrain.json"},
+      {"unknown integrator", [](Json& j) { j["integrator"]["method"] = "rk99"; }, "integrator.method",
+       "unknown integrator", "rk99"},
+      {"negative duration", [](Json& j) { j["duration"] = -1.0; }, "duration", "positive", "-1.0"},
+      {"7 preloads", [](Json& j) { j["inputs"] = {{"M0", {1, 1, 1, 1, 1, 1, 1}}}; }, "inputs.M0",
+       "expected 8 numbers, got 7", "[1,1,1,1,1,1,1]"},
+      {"zero output rate", [](Json& j) { j["output_rate"] = 0; }, "output_rate", "positive", "0"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.name);
+    Json j = base_scenario();
+    c.edit(j);
+    const std::string path = write_scenario(j);
+    try {
+      io::load_scenario(path);
+      ADD_FAILURE() << "loaded:\n" << j.dump(2);
+    } catch (const io::ConfigError& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find(path), std::string::npos) << message;
+      EXPECT_NE(message.find("'" + c.field + "'"), std::string::npos) << message;
+      EXPECT_NE(message.find(c.problem), std::string::npos) << message;
+      EXPECT_NE(message.find(c.value), std::string::npos) << message;
+    }
+  }
+}
+
+TEST(ScenarioConfig, ErrorsInTheRoverFileNameThatFile) {
+  Json rover = io::read_json_file(source_path("configs/rover.json"));
+  rover["drive"]["tau_max"] = -4.1;
+  const std::string dir = testing::temp_dir();
+  std::ofstream(dir + "/rover.json") << rover.dump(2);
+  Json j = base_scenario();
+  j["rover"] = "rover.json";  // relative to the scenario file
+  const std::string path = dir + "/scenario.json";
+  std::ofstream(path) << j.dump(2);
+  try {
+    io::load_scenario(path);
+    ADD_FAILURE() << "loaded";
+  } catch (const io::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find(dir + "/rover.json"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("'drive.tau_max'"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace rover
