@@ -2,6 +2,7 @@
 #include "core/contact.hpp"
 
 #include <cmath>
+#include <numbers>
 
 #include <boost/math/tools/minima.hpp>
 
@@ -109,11 +110,11 @@ WheelContacts find_wheel_contacts(const Terrain& terrain, const Vec3& wheel_cent
       terrain.max_height_in(wheel_centre_m.x() - reach_x, wheel_centre_m.x() + reach_x,
                             wheel_centre_m.y() - reach_y, wheel_centre_m.y() + reach_y);
   const double down_z = rim.down.z();
-  double half_arc = M_PI;
+  double half_arc = std::numbers::pi;
   if (down_z < -1e-12) {
     const double c = (max_height - wheel_centre_m.z()) / (wheel_radius_m * down_z);
     if (c >= 1.0) return out;  // the whole rim is above the terrain
-    half_arc = c <= -1.0 ? M_PI : std::acos(c);
+    half_arc = c <= -1.0 ? std::numbers::pi : std::acos(c);
   }
   // Regions are found on samples kRimSamplingStep_rad apart; a region thinner
   // than that is at most R (1 - cos(step / 2)) deep (0.013 mm for 2 degrees

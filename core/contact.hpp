@@ -9,6 +9,7 @@
 #pragma once
 
 #include <array>
+#include <numbers>
 
 #include "core/kinematic_tree.hpp"
 #include "core/rover_parameters.hpp"
@@ -18,7 +19,7 @@ namespace rover {
 
 inline constexpr int kMaxContactsPerWheel = 4;
 // Angular spacing of the rim samples that find contact regions on a height grid.
-inline constexpr double kRimSamplingStep_rad = 2.0 * 3.14159265358979323846 / 180.0;
+inline constexpr double kRimSamplingStep_rad = 2.0 * std::numbers::pi / 180.0;
 
 struct ContactPoint {
   Vec3 point_m = Vec3::Zero();          // P, on the rim

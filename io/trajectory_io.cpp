@@ -2,6 +2,7 @@
 #include "io/trajectory_io.hpp"
 
 #include <algorithm>
+#include <numbers>
 #include <fstream>
 #include <sstream>
 
@@ -125,7 +126,7 @@ std::vector<std::string> write_trajectory_plots(const std::string& png_stem, con
     attitude.y_label = "angle [deg]";
     auto deg = [](const std::vector<double>& a) {
       std::vector<double> out(a.size());
-      for (std::size_t i = 0; i < a.size(); ++i) out[i] = a[i] * 180.0 / M_PI;
+      for (std::size_t i = 0; i < a.size(); ++i) out[i] = a[i] * 180.0 / std::numbers::pi;
       return out;
     };
     attitude.series.push_back(series("pitch chi", tr.t, deg(tr.pitch)));
