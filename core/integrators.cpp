@@ -142,6 +142,8 @@ IntegrationReport integrate(const OdeSystem& system, const StateVector& x0,
       return integrate_dormand_prince(system, x0, settings, request);
     case IntegratorMethod::kRungeKutta4:
       return integrate_rk4(system, x0, settings, request);
+    case IntegratorMethod::kRosenbrockW:
+      return integrate_rosenbrock(system, x0, settings, request);
   }
   return {};
 }

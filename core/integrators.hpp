@@ -51,6 +51,13 @@ IntegrationReport integrate_dormand_prince(const OdeSystem& system, StateVector 
                                            const IntegrationRequest& request);
 IntegrationReport integrate_rk4(const OdeSystem& system, StateVector x,
                                 const IntegratorSettings& settings, const IntegrationRequest& request);
+// Linearly implicit Rosenbrock-W (ROS34PW2) with analytic derivatives of the
+// stiff force elements; adaptive like Dormand-Prince, with the same settings
+// (core/integrator_rosenbrock.cpp). The Jacobian assembly of each step is
+// counted as one right-hand-side evaluation.
+IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
+                                       const IntegratorSettings& settings,
+                                       const IntegrationRequest& request);
 
 // Dispatches on settings.method.
 IntegrationReport integrate(const OdeSystem& system, const StateVector& x0,

@@ -8,6 +8,7 @@ const char* integrator_name(IntegratorMethod method) {
   switch (method) {
     case IntegratorMethod::kDormandPrince45: return "dopri5";
     case IntegratorMethod::kRungeKutta4: return "rk4";
+    case IntegratorMethod::kRosenbrockW: return "rosenbrock";
   }
   return "unknown";
 }
@@ -15,7 +16,18 @@ const char* integrator_name(IntegratorMethod method) {
 IntegratorMethod integrator_from_name(const std::string& name) {
   if (name == "dopri5" || name == "rk45") return IntegratorMethod::kDormandPrince45;
   if (name == "rk4") return IntegratorMethod::kRungeKutta4;
-  throw std::invalid_argument("unknown integrator '" + name + "' (known: dopri5, rk4)");
+  if (name == "rosenbrock" || name == "ros34pw2") return IntegratorMethod::kRosenbrockW;
+  throw std::invalid_argument("unknown integrator '" + name + "' (known: dopri5, rk4, rosenbrock)");
+}
+
+IntegratorSettings default_integrator_settings(IntegratorMethod method) {
+  IntegratorSettings s;
+  s.method = method;
+  if (method == IntegratorMethod::kRosenbrockW) {
+    s.relative_tolerance = 1e-5;
+    s.absolute_tolerance = 1e-3;
+  }
+  return s;
 }
 
 }  // namespace rover

@@ -1,0 +1,212 @@
+// The stiff integrator against the explicit reference (issue 7; MODEL.md
+// section 9): the 1 s horizontal drop with dopri5 (rtol 1e-6, atol 1e-9, the
+// scenario's settings) and rosenbrock (default_integrator_settings: rtol 1e-5,
+// atol 1e-3), side by side, for f = 1e2 .. 1e5 and for the friction speed
+// scale v_s (and v_k with it) times 1, 0.1 and 0.01: wall time, right-hand
+// sides, steps, and the RMS difference of B_l z between the two. Scaling v_s
+// and v_k by s scales the Makkar gammas g2, g3, g5 (and g6) by 1/s exactly
+// (friction_synthesis.hpp): mu(v) keeps its shape on a speed axis s times
+// shorter, so mu'(0) and the stiffness of the stuck friction grow by 1/s.
+// With --obstacle it also runs the obstacle scenario at 1 m/s against a
+// dopri5 reference at rtol 1e-8 (about a minute). Then the Google Benchmark
+// timings of a right-hand side, a Jacobian assembly and the drop.
+//
+// Run on one quiet core, e.g.
+//   taskset -c 0 build/bench/integrator_bench [--obstacle] [--budget 300]
+// The dopri5 run at v_s x 0.01 takes about 1.5 minutes (2.3 million steps).
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+
+#include "core/equations_of_motion.hpp"
+#include "core/force_jacobian.hpp"
+#include "core/simulate.hpp"
+#include "io/scenario_config.hpp"
+
+namespace {
+
+using namespace rover;
+
+const io::ScenarioSetup& drop_setup() {
+  static const io::ScenarioSetup s =
+      io::load_scenario(ROVER_SOURCE_DIR "/configs/scenarios/drop_horizontal.json");
+  return s;
+}
+
+// The model with v_s and v_k scaled by `scale` and the gammas scaled to match.
+RoverModel friction_scaled_model(const RoverModel& base, double scale) {
+  RoverParameters p = base.parameters;
+  p.friction.v_static_mps *= scale;
+  p.friction.v_kinetic_mps *= scale;
+  for (const int g : {1, 2, 4, 5}) p.friction.gammas[g] /= scale;
+  p.friction.gammas_fitted_to = {p.friction.mu_static, p.friction.v_static_mps,
+                                 p.friction.mu_kinetic, p.friction.v_kinetic_mps};
+  return make_rover_model(p, base.terrain);
+}
+
+double rms_mm(const std::vector<double>& a, const std::vector<double>& b) {
+  const std::size_t n = std::min(a.size(), b.size());
+  if (n == 0) return NAN;
+  double sum = 0.0;
+  for (std::size_t i = 0; i < n; ++i) sum += (a[i] - b[i]) * (a[i] - b[i]);
+  return 1e3 * std::sqrt(sum / static_cast<double>(n));
+}
+
+std::string cell(const Trajectory& tr) {
+  char buf[96];
+  if (tr.ok())
+    std::snprintf(buf, sizeof buf, "%9.4f %9ld %8ld", tr.wall_time_s, tr.rhs_evaluations, tr.steps);
+  else
+    std::snprintf(buf, sizeof buf, "%9.4f %9ld %8ld*", tr.wall_time_s, tr.rhs_evaluations, tr.steps);
+  return buf;
+}
+
+void print_drop_table(double budget_s) {
+  const io::ScenarioSetup& setup = drop_setup();
+  struct Row {
+    double f, vs_scale;
+  };
+  const Row rows[] = {{1e2, 1.0}, {1e3, 1.0}, {1e4, 1.0}, {1e5, 1.0}, {1e4, 0.1}, {1e4, 0.01}};
+  std::printf("Horizontal drop, 1 s (configs/scenarios/drop_horizontal.json); wall [s], right-hand sides, steps\n");
+  std::printf("dopri5: rtol %.0e atol %.0e; rosenbrock: rtol %.0e atol %.0e (Jacobian assemblies counted as right-hand sides)\n",
+              setup.scenario.integrator.relative_tolerance, setup.scenario.integrator.absolute_tolerance,
+              default_integrator_settings(IntegratorMethod::kRosenbrockW).relative_tolerance,
+              default_integrator_settings(IntegratorMethod::kRosenbrockW).absolute_tolerance);
+  std::printf("%8s %6s | %28s | %28s | %7s %7s | %s\n", "f", "v_s x", "dopri5  wall       rhs    steps",
+              "rosenbrock wall     rhs    steps", "speedup", "rhs", "B_l z RMS diff [mm]");
+  for (const Row& r : rows) {
+    const RoverModel model = friction_scaled_model(setup.model, r.vs_scale);
+    SimulationInputs inputs = setup.inputs;
+    inputs.sharpness_f = r.f;
+    Scenario explicit_run = setup.scenario;
+    explicit_run.wall_time_budget_s = budget_s;
+    Scenario stiff_run = explicit_run;
+    stiff_run.integrator = default_integrator_settings(IntegratorMethod::kRosenbrockW);
+    const Trajectory ros = simulate(model, stiff_run, inputs);
+    const Trajectory dp = simulate(model, explicit_run, inputs);
+    std::printf("%8.0e %6.2f | %s | %s | %7.1f %7.1f | %.4f%s\n", r.f, r.vs_scale, cell(dp).c_str(),
+                cell(ros).c_str(), dp.wall_time_s / ros.wall_time_s,
+                static_cast<double>(dp.rhs_evaluations) / static_cast<double>(ros.rhs_evaluations),
+                rms_mm(ros.B_l_z, dp.B_l_z), dp.ok() && ros.ok() ? "" : " (over the common samples)");
+    std::fflush(stdout);
+  }
+  std::printf("* = stopped (wall-time budget); its counts are up to the stop.\n\n");
+}
+
+void print_obstacle_comparison() {
+  const io::ScenarioSetup setup = io::load_scenario(ROVER_SOURCE_DIR "/configs/scenarios/obstacle_v1.json");
+  Scenario reference = setup.scenario;
+  reference.integrator.relative_tolerance = 1e-8;
+  reference.integrator.absolute_tolerance = 1e-11;
+  Scenario stiff = setup.scenario;
+  stiff.integrator = default_integrator_settings(IntegratorMethod::kRosenbrockW);
+  const Trajectory ref = simulate(setup.model, reference, setup.inputs);
+  const Trajectory dp = simulate(setup.model, setup.scenario, setup.inputs);
+  const Trajectory ros = simulate(setup.model, stiff, setup.inputs);
+  std::printf("Obstacle at 1 m/s, %.3f s (configs/scenarios/obstacle_v1.json); wall [s], right-hand sides, steps\n",
+              setup.scenario.duration_s);
+  std::printf("  dopri5 rtol 1e-8 (reference) %s\n", cell(ref).c_str());
+  std::printf("  dopri5 rtol 1e-6             %s   B_l z RMS vs reference %.4f mm\n", cell(dp).c_str(),
+              rms_mm(dp.B_l_z, ref.B_l_z));
+  std::printf("  rosenbrock                   %s   B_l z RMS vs reference %.4f mm (issue 7 asks < 0.5 mm)\n\n",
+              cell(ros).c_str(), rms_mm(ros.B_l_z, ref.B_l_z));
+}
+
+// The rover at rest at the end of the drop.
+StateVector rest_state() {
+  static const StateVector x = [] {
+    const io::ScenarioSetup& s = drop_setup();
+    const Trajectory tr = simulate(s.model, s.scenario, s.inputs);
+    StateVector r;
+    r << tr.q.bottomRows<1>().transpose(), tr.u.bottomRows<1>().transpose();
+    return r;
+  }();
+  return x;
+}
+
+ModelInputs model_inputs(const io::ScenarioSetup& s) {
+  ModelInputs in = nominal_inputs(s.model.parameters);
+  in.sharpness_f = s.inputs.sharpness_f;
+  in.damping_c_q = s.inputs.damping_c_q;
+  in.preload_Nm = s.inputs.preload_Nm;
+  return in;
+}
+
+void BM_RightHandSide(benchmark::State& state) {
+  const io::ScenarioSetup& s = drop_setup();
+  const ModelInputs in = model_inputs(s);
+  StateVector x = rest_state();
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(x);
+    benchmark::DoNotOptimize(state_derivative(s.model, in, x));
+  }
+}
+
+// What the integrator adds per step to its right-hand sides: D and K.
+void BM_StiffForceJacobian(benchmark::State& state) {
+  const io::ScenarioSetup& s = drop_setup();
+  const ModelInputs in = model_inputs(s);
+  const StateVector x = rest_state();
+  const Coordinates q = x.head<kNumCoordinates>(), u = x.tail<kNumCoordinates>();
+  const TreeKinematics kin = forward_kinematics(s.model.tree, q, u);
+  const auto contacts = wheel_contacts(s.model, kin);
+  for (auto _ : state) benchmark::DoNotOptimize(stiff_force_jacobian(s.model, in, q, u, kin, contacts));
+}
+
+void BM_DropHorizontal1s(benchmark::State& state) {
+  const io::ScenarioSetup& s = drop_setup();
+  Scenario scenario = s.scenario;
+  const auto method = static_cast<IntegratorMethod>(state.range(0));
+  if (method != IntegratorMethod::kDormandPrince45) scenario.integrator = default_integrator_settings(method);
+  Trajectory tr;
+  for (auto _ : state) {
+    tr = simulate(s.model, scenario, s.inputs);
+    if (!tr.ok()) state.SkipWithError(tr.message.c_str());
+  }
+  state.SetLabel(integrator_name(method));
+  state.counters["rhs_evaluations"] = static_cast<double>(tr.rhs_evaluations);
+  state.counters["steps"] = static_cast<double>(tr.steps);
+}
+
+BENCHMARK(BM_RightHandSide);
+BENCHMARK(BM_StiffForceJacobian);
+BENCHMARK(BM_DropHorizontal1s)
+    ->Unit(benchmark::kMillisecond)
+    ->Arg(static_cast<int>(IntegratorMethod::kDormandPrince45))
+    ->Iterations(1);
+BENCHMARK(BM_DropHorizontal1s)
+    ->Unit(benchmark::kMillisecond)
+    ->Arg(static_cast<int>(IntegratorMethod::kRosenbrockW))
+    ->Iterations(20);
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bool table = true, obstacle = false;
+  double budget_s = 600.0;
+  std::vector<char*> rest{argv[0]};
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--no-table") == 0) {
+      table = false;
+    } else if (std::strcmp(argv[i], "--obstacle") == 0) {
+      obstacle = true;
+    } else if (std::strcmp(argv[i], "--budget") == 0 && i + 1 < argc) {
+      budget_s = std::stod(argv[++i]);
+    } else {
+      rest.push_back(argv[i]);
+    }
+  }
+  if (table) print_drop_table(budget_s);
+  if (obstacle) print_obstacle_comparison();
+  int bench_argc = static_cast<int>(rest.size());
+  benchmark::Initialize(&bench_argc, rest.data());
+  if (benchmark::ReportUnrecognizedArguments(bench_argc, rest.data())) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

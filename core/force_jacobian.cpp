@@ -1,0 +1,96 @@
+// Derivatives of the stiff applied forces (see force_jacobian.hpp).
+#include "core/force_jacobian.hpp"
+
+#include <cmath>
+
+#include "core/actuators.hpp"
+#include "core/friction.hpp"
+#include "core/s_structure.hpp"
+
+namespace rover {
+
+ContactForceDerivatives contact_force_derivatives(const ContactPoint& c,
+                                                  const ContactParameters& parameters,
+                                                  const FrictionParameters& friction) {
+  ContactForceDerivatives out;
+  if (!(c.normal_force_N > 0.0)) return out;  // clamped: no force nearby
+  const Vec3& n = c.normal;
+  const double p = std::max(c.penetration_m, 0.0);
+  // F_n = k p^sigma + c_g dp/dt with dp/dt = -v_P . n.
+  const double dFn_dp =
+      p > 0.0 ? parameters.stiffness_k_g * parameters.exponent_sigma *
+                    std::pow(p, parameters.exponent_sigma - 1.0)
+              : 0.0;
+  // F_t = -mu(s) F_n e with s = |v_t|, e = v_t / s, v_t = (I - n n^T) v_P.
+  // d(mu(s) e)/dv_t = mu'(s) e e^T + (mu(s) / s) (P - e e^T), P = I - n n^T;
+  // as s -> 0 both mu' and mu/s tend to mu'(0), so it tends to mu'(0) P.
+  const Mat3 tangent = Mat3::Identity() - n * n.transpose();
+  const double s = c.slip_velocity_mps.norm();
+  Mat3 friction_gain;  // d(mu e)/dv_P
+  Vec3 mu_e = Vec3::Zero();
+  if (s > 0.0) {
+    const Vec3 e = c.slip_velocity_mps / s;
+    const double mu = makkar_mu(s, friction.gammas);
+    const double mu_over_s = mu / s;
+    friction_gain = makkar_mu_derivative(s, friction.gammas) * e * e.transpose() +
+                    mu_over_s * (tangent - e * e.transpose());
+    mu_e = mu * e;
+  } else {
+    friction_gain = makkar_mu_derivative(0.0, friction.gammas) * tangent;
+  }
+  // f = F_n (n - mu e): df/dF_n = n - mu e, dF_n/dv_P = -c_g n^T.
+  const Vec3 d_force_d_normal_force = n - mu_e;
+  out.d_force_d_velocity = -parameters.damping_c_g * d_force_d_normal_force * n.transpose() -
+                           c.normal_force_N * friction_gain;
+  out.d_force_d_penetration = dFn_dp * d_force_d_normal_force;
+  return out;
+}
+
+JointForceDerivatives joint_force_derivatives(const RoverParameters& p, const ModelInputs& in,
+                                              const Coordinates& q, const Coordinates& u) {
+  JointForceDerivatives d;
+  for (int leg = 0; leg < kNumLegs; ++leg) {
+    for (int i = 0; i < 2; ++i) {
+      const int c = coord::s_joint(leg, i);
+      const JointTorque t = s_structure_torque(q[c], u[c], in.preload_Nm[2 * leg + i],
+                                               in.sharpness_f, p.s_structure.stiffness_Nm_per_rad,
+                                               in.damping_c_q);
+      d.d_position[c] = t.d_angle;
+      d.d_speed[c] = t.d_rate;
+    }
+    const int s = coord::steer(leg);
+    const JointTorque steer = steering_torque(q[s], u[s], in.steer_ref_rad[leg], p.steering);
+    d.d_position[s] = steer.d_angle;
+    d.d_speed[s] = steer.d_rate;
+    const int w = coord::spin(leg);
+    d.d_speed[w] = drive_torque(u[w], in.wheel_speed_ref_radps[leg], p.drive).d_rate;
+  }
+  return d;
+}
+
+StiffForceJacobian stiff_force_jacobian(const RoverModel& model, const ModelInputs& inputs,
+                                        const Coordinates& q, const Coordinates& u,
+                                        const TreeKinematics& kin,
+                                        const std::array<WheelContacts, kNumLegs>& contacts) {
+  StiffForceJacobian jac;
+  const JointForceDerivatives joints = joint_force_derivatives(model.parameters, inputs, q, u);
+  jac.d_speed.diagonal() = joints.d_speed;
+  jac.d_position.diagonal() = joints.d_position;
+  for (int leg = 0; leg < kNumLegs; ++leg)
+    for (int k = 0; k < contacts[leg].count; ++k) {
+      const ContactPoint& c = contacts[leg].points[k];
+      if (!(c.normal_force_N > 0.0)) continue;
+      const ContactForceDerivatives d =
+          contact_force_derivatives(c, model.parameters.contact, model.parameters.friction);
+      const Eigen::Matrix<double, 3, kNumCoordinates> J =
+          point_jacobian(model.tree, kin, node::wheel(leg), c.point_m);
+      const Eigen::Matrix<double, 3, kNumCoordinates> df_du = d.d_force_d_velocity * J;
+      jac.d_speed.noalias() += J.transpose() * df_du;
+      // dp/dq = -n^T J_P.
+      const Eigen::Matrix<double, 1, kNumCoordinates> dp_dq = -c.normal.transpose() * J;
+      jac.d_position.noalias() += (J.transpose() * d.d_force_d_penetration) * dp_dq;
+    }
+  return jac;
+}
+
+}  // namespace rover

@@ -1,0 +1,286 @@
+// The linearly implicit integrator of the SA model (issue 7; MODEL.md section 9;
+// declared in integrators.hpp): the Rosenbrock-W method ROS34PW2
+// (rosenbrock_w.hpp) with the stiff force elements linearized analytically
+// (force_jacobian.hpp), the mass matrix of the step start in the iteration
+// matrix M0 - h g D - h^2 g^2 K (23 x 23, one LU per step size tried), step
+// control on the embedded second-order solution, and cubic Hermite output.
+//
+// Error control, on the embedded second-order solution:
+//  * positions: the max norm of the dopri5 control, e_i / (atol + rtol |x_i|);
+//  * speeds: the same, except that a speed error is measured by the
+//    displacement it makes within the time it acts, min(1 / omega_c, 1 s),
+//    where omega_c = sqrt(-K_cc / M_cc) is the local frequency of coordinate c
+//    on its stiff springs (an S-structure in its preload region, a loaded
+//    contact). Non-stiff speeds are held to atol as by dopri5, but a 3 kHz
+//    ringing of an S-structure joint, whose speed is 2e4 times its
+//    displacement, is not followed to the last micro-radian per second;
+//  * slip: at every contact of the step start, the error of the slip speed,
+//    (I - n n^T) J_P e_u, is held to 5 % of v_s (+ rtol |v_t|): the friction
+//    law changes over v_s, so that is the speed resolution it needs.
+// The third-order solution that is kept is much better than the estimate, so
+// this integrator wants looser tolerances than dopri5 for the same accuracy
+// (default_integrator_settings(): rtol 1e-5, atol 1e-3).
+//
+// Touchdown: the normal force jumps from 0 to c_g dp/dt when a wheel starts to
+// touch. A step whose stages all miss the contact, but whose end state has it,
+// has skipped part of the impact without its error estimate noticing; such a
+// step is rejected and retried at half the size, until a stage sees the
+// contact and the error estimate takes over.
+//
+// Work per accepted step: the right-hand side at the step start (which also
+// gives M0, F0 and the contacts), one assembly of D and K from the contacts'
+// point Jacobians, one 23 x 23 LU, and three right-hand sides for the stages.
+// Every right-hand side is counted in the OdeSystem's counter, and so is each
+// Jacobian assembly, as one evaluation (it costs about half of one right-hand
+// side; bench/integrator_bench.cpp times both).
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <Eigen/Cholesky>
+
+#include "core/dynamics.hpp"
+#include "core/equations_of_motion.hpp"
+#include "core/force_jacobian.hpp"
+#include "core/integrators.hpp"
+#include "core/rosenbrock_w.hpp"
+
+namespace rover {
+namespace {
+
+using ContactCounts = std::array<int, kNumLegs>;
+
+// Contacts that push (F_n > 0), per wheel.
+ContactCounts active_contacts(const std::array<WheelContacts, kNumLegs>& contacts) {
+  ContactCounts n{};
+  for (int leg = 0; leg < kNumLegs; ++leg)
+    for (int k = 0; k < contacts[leg].count; ++k)
+      n[leg] += contacts[leg].points[k].normal_force_N > 0.0 ? 1 : 0;
+  return n;
+}
+
+void keep_maximum(ContactCounts& seen, const ContactCounts& n) {
+  for (int leg = 0; leg < kNumLegs; ++leg) seen[leg] = std::max(seen[leg], n[leg]);
+}
+
+bool has_more(const ContactCounts& n, const ContactCounts& seen) {
+  for (int leg = 0; leg < kNumLegs; ++leg)
+    if (n[leg] > seen[leg]) return true;
+  return false;
+}
+
+// One right-hand side, with the same sums as state_derivative(), keeping the
+// kinematics, the contacts and M, F for the Jacobian.
+struct Evaluation {
+  double t = 0.0;
+  StateVector x, dx;
+  TreeKinematics kinematics;
+  std::array<WheelContacts, kNumLegs> contacts;
+  ModelInputs inputs;
+  MassMatrix mass;
+  Coordinates force;
+};
+
+void evaluate(const OdeSystem& system, double t, const StateVector& x, Evaluation& e) {
+  ++*system.rhs_evaluations;
+  const RoverModel& model = system.model;
+  e.t = t;
+  e.x = x;
+  e.inputs = system.inputs_at(t);
+  const Coordinates q = x.head<kNumCoordinates>(), u = x.tail<kNumCoordinates>();
+  e.kinematics = forward_kinematics(model.tree, q, u);
+  e.contacts = wheel_contacts(model, e.kinematics);
+  e.force = gravity_and_inertia_forces(model.tree, e.kinematics, model.parameters.gravity_mps2) +
+            joint_forces(model.parameters, e.inputs, q, u);
+  e.force += contact_generalized_forces(model, e.kinematics, e.contacts);
+  e.mass = mass_matrix(model.tree, e.kinematics);
+  e.dx << u, e.mass.llt().solve(e.force);
+}
+
+// M0, F0 and the stiff-force Jacobian at an evaluated step start.
+MechanicalLinearization<kNumCoordinates> linearize(const OdeSystem& system, const Evaluation& e) {
+  ++*system.rhs_evaluations;  // the Jacobian assembly, counted as one evaluation
+  const StiffForceJacobian jac =
+      stiff_force_jacobian(system.model, e.inputs, e.x.head<kNumCoordinates>(),
+                           e.x.tail<kNumCoordinates>(), e.kinematics, e.contacts);
+  MechanicalLinearization<kNumCoordinates> lin;
+  lin.mass = e.mass;
+  lin.force = e.force;
+  lin.d_force_d_speed = jac.d_speed;
+  lin.d_force_d_position = jac.d_position;
+  return lin;
+}
+
+// Cubic Hermite interpolation between two step ends, at t in [a.t, b.t].
+StateVector hermite(const Evaluation& a, const Evaluation& b, double t) {
+  const double h = b.t - a.t;
+  const double s = (t - a.t) / h;
+  const double s2 = s * s, s3 = s2 * s;
+  return (2.0 * s3 - 3.0 * s2 + 1.0) * a.x + (h * (s3 - 2.0 * s2 + s)) * a.dx +
+         (3.0 * s2 - 2.0 * s3) * b.x + (h * (s3 - s2)) * b.dx;
+}
+
+// Tolerance of each state component for a step from x0 to x1 (see the top).
+StateVector error_scale(const StateVector& x0, const StateVector& x1,
+                        const MechanicalLinearization<kNumCoordinates>& lin,
+                        const IntegratorSettings& settings) {
+  constexpr double kLongestActing_s = 1.0;
+  StateVector scale = settings.absolute_tolerance +
+                      settings.relative_tolerance * x0.cwiseAbs().cwiseMax(x1.cwiseAbs()).array();
+  for (int c = 0; c < kNumCoordinates; ++c) {
+    const double omega = std::sqrt(std::max(0.0, -lin.d_force_d_position(c, c)) / lin.mass(c, c));
+    scale[kNumCoordinates + c] +=
+        settings.absolute_tolerance * (std::max(omega * kLongestActing_s, 1.0) - 1.0);
+  }
+  return scale;
+}
+
+// Infinite for a step that produced NaN or infinities (rejected, not accepted).
+double error_norm(const StateVector& error, const StateVector& scale) {
+  if (!error.allFinite()) return std::numeric_limits<double>::infinity();
+  const double norm = (error.cwiseAbs().array() / scale.array()).maxCoeff();
+  return std::isfinite(norm) ? norm : std::numeric_limits<double>::infinity();
+}
+
+// Slip-speed errors at the contacts of the step start: the friction law
+// varies on the speed scale v_s, so a slip-speed error of v_s would change
+// mu by its whole range; the error of the tangential speed of each contact
+// point, (I - n n^T) J_P e_u, is held to kSlipTolerance v_s (+ rtol |v_t|).
+constexpr double kSlipTolerance = 0.05;
+
+struct SlipRows {
+  Eigen::Matrix<double, 3, kNumCoordinates> tangential_jacobian;  // (I - n n^T) J_P
+  double slip_speed_mps = 0.0;
+};
+
+std::vector<SlipRows> slip_rows(const RoverModel& model, const Evaluation& e) {
+  std::vector<SlipRows> rows;
+  for (int leg = 0; leg < kNumLegs; ++leg)
+    for (int k = 0; k < e.contacts[leg].count; ++k) {
+      const ContactPoint& c = e.contacts[leg].points[k];
+      if (!(c.normal_force_N > 0.0)) continue;
+      const Mat3 tangent = Mat3::Identity() - c.normal * c.normal.transpose();
+      rows.push_back({tangent * point_jacobian(model.tree, e.kinematics, node::wheel(leg), c.point_m),
+                      c.slip_velocity_mps.norm()});
+    }
+  return rows;
+}
+
+double slip_error_norm(const std::vector<SlipRows>& rows, const Coordinates& speed_error,
+                       double v_static_mps, const IntegratorSettings& settings) {
+  double norm = 0.0;
+  for (const SlipRows& r : rows)
+    norm = std::max(norm, (r.tangential_jacobian * speed_error).norm() /
+                              (kSlipTolerance * v_static_mps +
+                               settings.relative_tolerance * r.slip_speed_mps));
+  return std::isfinite(norm) ? norm : std::numeric_limits<double>::infinity();
+}
+
+// Step-size factor from the error of an order-2 embedded solution (local
+// error ~ h^3), with the usual safety factor and bounds.
+double step_factor(double error, double max_growth) {
+  constexpr double kSafety = 0.9, kMinShrink = 0.2;
+  if (!(error < std::numeric_limits<double>::infinity())) return kMinShrink;
+  if (error <= 0.0) return max_growth;
+  return std::clamp(kSafety * std::cbrt(1.0 / error), kMinShrink, max_growth);
+}
+
+}  // namespace
+
+IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
+                                       const IntegratorSettings& settings,
+                                       const IntegrationRequest& request) {
+  constexpr double kMaxGrowth = 5.0, kOnsetShrink = 0.5;
+  IntegrationReport report;
+  request.record(0.0, x);
+  if (request.sample_count < 2) return report;
+  const double t_end = static_cast<double>(request.sample_count - 1) * request.sample_period_s;
+  auto sample_time = [&](std::size_t k) { return static_cast<double>(k) * request.sample_period_s; };
+  auto underflow = [&](double t, double h, const std::string& why) {
+    report.status = IntegrationStatus::kStepSizeUnderflow;
+    report.failed_at_s = t;
+    report.detail = "step " + std::to_string(h) + " s is below min_step " +
+                    std::to_string(settings.min_step_s) + " s (" + why + ")";
+    return report;
+  };
+
+  Evaluation start, end, stage;
+  evaluate(system, 0.0, x, start);
+  double h = std::clamp(settings.initial_step_s, settings.min_step_s, settings.max_step_s);
+  std::size_t next = 1;
+  while (next < request.sample_count) {
+    const MechanicalLinearization<kNumCoordinates> lin = linearize(system, start);
+    const Coordinates q0 = start.x.head<kNumCoordinates>(), u0 = start.x.tail<kNumCoordinates>();
+    const ContactCounts start_contacts = active_contacts(start.contacts);
+    const std::vector<SlipRows> slips = slip_rows(system.model, start);
+    // Try steps until one passes the error test and misses no touchdown.
+    double error = 0.0, t1 = 0.0;
+    for (;;) {
+      bool last = false;
+      if (start.t + h >= t_end * (1.0 - 1e-15)) {
+        h = t_end - start.t;
+        last = true;
+      }
+      ContactCounts seen = start_contacts;
+      auto acceleration = [&](double t, const Coordinates& q, const Coordinates& u) -> Coordinates {
+        StateVector s;
+        s << q, u;
+        evaluate(system, t, s, stage);
+        keep_maximum(seen, active_contacts(stage.contacts));
+        return stage.dx.tail<kNumCoordinates>();
+      };
+      const RosenbrockWStep<kNumCoordinates> step =
+          ros34pw2_step<kNumCoordinates>(lin, start.t, q0, u0, h, acceleration);
+      StateVector x1, e;
+      x1 << step.q, step.u;
+      e << step.error_q, step.error_u;
+      error = !x1.allFinite()
+                  ? std::numeric_limits<double>::infinity()
+                  : std::max(error_norm(e, error_scale(start.x, x1, lin, settings)),
+                             slip_error_norm(slips, step.error_u,
+                                             system.model.parameters.friction.v_static_mps, settings));
+      if (error <= 1.0) {
+        t1 = last ? t_end : start.t + h;
+        evaluate(system, t1, x1, end);
+        if (!has_more(active_contacts(end.contacts), seen)) break;
+        h *= kOnsetShrink;  // a touchdown inside the step that no stage saw
+        if (h < settings.min_step_s) return underflow(start.t, h, "touchdown");
+        continue;
+      }
+      h *= step_factor(error, 1.0);
+      if (h < settings.min_step_s)
+        return underflow(start.t, h, "error estimate " + std::to_string(error));
+    }
+
+    ++report.steps;
+    const double taken = t1 - start.t;
+    report.min_step_s = report.steps == 1 ? taken : std::min(report.min_step_s, taken);
+    report.max_step_s = std::max(report.max_step_s, taken);
+    if (!end.x.allFinite()) {
+      report.status = IntegrationStatus::kNonFinite;
+      report.failed_at_s = t1;
+      report.detail = "the state has NaN or infinite entries";
+      return report;
+    }
+    if (request.out_of_time && request.out_of_time()) {
+      report.status = IntegrationStatus::kTimeBudgetExceeded;
+      report.failed_at_s = t1;
+      report.detail = "wall-time budget used up";
+      return report;
+    }
+    while (next < request.sample_count && sample_time(next) <= t1) {
+      const double ts = sample_time(next);
+      request.record(ts, ts >= t1 ? end.x : hermite(start, end, ts));
+      ++next;
+    }
+    std::swap(start, end);
+    if (request.progress) request.progress(t1);
+    h = std::min(taken * step_factor(error, kMaxGrowth), settings.max_step_s);
+  }
+  return report;
+}
+
+}  // namespace rover

@@ -1,0 +1,162 @@
+// One step of the Rosenbrock-W method ROS34PW2 (J. Rang and L. Angermann, BIT
+// 45 (2005) 761-787) for a mechanical system in second-order form
+//   dq/dt = u,   M(q) du/dt = F(t, q, u),
+// with the stiff forces treated linearly implicitly (issue 7, MODEL.md 9).
+//
+// ROS34PW2 has four stages, order 3 with an embedded order-2 solution for the
+// step-size control, and is L-stable (R(inf) = 0; the embedded method is
+// A-stable with R(inf) = 0.48). It is a W-method: it keeps its order with ANY
+// matrix in place of the Jacobian of the right-hand side, so an approximate
+// Jacobian that captures the stiff forces (force_jacobian.hpp) is enough.
+//
+// Written in the transformed variables U_i = sum_j gamma_ij k_j (Hairer and
+// Wanner, Solving ODEs II, IV.7, eq. 7.4'), each stage solves
+//   (I / (h g) - J) U_i = f(x + sum_j a_ij U_j) + sum_j (c_ij / h) U_j
+// with the approximate Jacobian of x = [q; u]
+//   J = [0, I; M0^{-1} K, M0^{-1} D],  D ~ dF/du, K ~ dF/dq at the step start,
+// which reduces (multiply the u rows by h g M0 and eliminate U_q) to one N x N
+// system per stage with a single matrix per step:
+//   (M0 - h g D - h^2 g^2 K) U_u = h g (M0 r_u + h g K r_q),  U_q = h g (r_q + U_u),
+// where r = [r_q; r_u] is the right-hand side above. A time dependence of F is
+// taken at the stage times t + alpha_i h and left out of J (a W-method allows it).
+#pragma once
+
+#include <array>
+#include <cmath>
+
+#include <Eigen/Core>
+#include <Eigen/LU>
+
+namespace rover {
+
+// The system linearized at the start (t0, q0, u0) of a step.
+template <int N>
+struct MechanicalLinearization {
+  using Vector = Eigen::Matrix<double, N, 1>;
+  using Matrix = Eigen::Matrix<double, N, N>;
+  Matrix mass = Matrix::Zero();                // M(q0)
+  Vector force = Vector::Zero();               // F(t0, q0, u0)
+  Matrix d_force_d_speed = Matrix::Zero();     // D, at least its stiff part
+  Matrix d_force_d_position = Matrix::Zero();  // K, at least its stiff part
+};
+
+template <int N>
+struct RosenbrockWStep {
+  using Vector = Eigen::Matrix<double, N, 1>;
+  Vector q, u;              // third-order solution at t0 + h
+  Vector error_q, error_u;  // third- minus embedded second-order solution
+};
+
+// Coefficients of ROS34PW2 in the transformed form (a, c, m, m_hat computed
+// from the published alpha, gamma, b, b_hat; see ros34pw2_tableau()).
+struct RosenbrockWTableau {
+  static constexpr int kStages = 4;
+  double gamma = 0.0;                                    // diagonal gamma_ii
+  std::array<std::array<double, kStages>, kStages> a{};  // strictly lower
+  std::array<std::array<double, kStages>, kStages> c{};  // strictly lower
+  std::array<double, kStages> m{}, m_error{};            // m and m - m_hat
+  std::array<double, kStages> stage_time{};              // alpha_i = sum_j alpha_ij
+};
+
+namespace detail {
+
+constexpr RosenbrockWTableau make_ros34pw2_tableau() {
+  constexpr int s = RosenbrockWTableau::kStages;
+  // Rang and Angermann (2005), ROS34PW2: alpha_ij, gamma_ij, b_i, b_hat_i.
+  const double g = 4.3586652150845900e-01;
+  const double alpha[s][s] = {{0.0, 0.0, 0.0, 0.0},
+                              {8.7173304301691801e-01, 0.0, 0.0, 0.0},
+                              {8.4457060015369423e-01, -1.1299064236484185e-01, 0.0, 0.0},
+                              {0.0, 0.0, 1.0, 0.0}};
+  const double gamma[s][s] = {{g, 0.0, 0.0, 0.0},
+                              {-8.7173304301691801e-01, g, 0.0, 0.0},
+                              {-9.0338057013044082e-01, 5.4180672388095326e-02, g, 0.0},
+                              {2.4212380706095346e-01, -1.2232505839045147e+00,
+                               5.4526025533510214e-01, g}};
+  const double b[s] = {2.4212380706095346e-01, -1.2232505839045147e+00, 1.5452602553351020e+00,
+                       4.3586652150845900e-01};
+  const double b_hat[s] = {3.7810903145819369e-01, -9.6042292212423178e-02, 0.5,
+                           2.1793326075422950e-01};
+  // Inverse of the lower-triangular Gamma by forward substitution.
+  double inv[s][s] = {};
+  for (int j = 0; j < s; ++j) {
+    inv[j][j] = 1.0 / gamma[j][j];
+    for (int i = j + 1; i < s; ++i) {
+      double sum = 0.0;
+      for (int k = j; k < i; ++k) sum += gamma[i][k] * inv[k][j];
+      inv[i][j] = -sum / gamma[i][i];
+    }
+  }
+  RosenbrockWTableau t;
+  t.gamma = g;
+  for (int i = 0; i < s; ++i) {
+    for (int j = 0; j < i; ++j) {
+      double sum = 0.0;
+      for (int k = j; k < i; ++k) sum += alpha[i][k] * inv[k][j];
+      t.a[i][j] = sum;
+      t.c[i][j] = -inv[i][j];
+      t.stage_time[i] += alpha[i][j];
+    }
+    double m = 0.0, m_hat = 0.0;
+    for (int k = i; k < s; ++k) {
+      m += b[k] * inv[k][i];
+      m_hat += b_hat[k] * inv[k][i];
+    }
+    t.m[i] = m;
+    t.m_error[i] = m - m_hat;
+  }
+  return t;
+}
+
+}  // namespace detail
+
+inline constexpr RosenbrockWTableau kRos34pw2 = detail::make_ros34pw2_tableau();
+
+// One ROS34PW2 step of size h from (t0, q0, u0), linearized there as `lin`.
+// acceleration(t, q, u) must return M(q)^{-1} F(t, q, u); it is called three
+// times (the first stage uses lin.force). Non-finite results (a singular
+// iteration matrix, a blown-up stage) propagate into q, u and the error, for
+// the caller's step control to reject.
+template <int N, class Acceleration>
+RosenbrockWStep<N> ros34pw2_step(const MechanicalLinearization<N>& lin, double t0,
+                                 const Eigen::Matrix<double, N, 1>& q0,
+                                 const Eigen::Matrix<double, N, 1>& u0, double h,
+                                 Acceleration&& acceleration) {
+  using Vector = Eigen::Matrix<double, N, 1>;
+  using Matrix = Eigen::Matrix<double, N, N>;
+  constexpr int s = RosenbrockWTableau::kStages;
+  const RosenbrockWTableau& tab = kRos34pw2;
+  const double hg = h * tab.gamma;
+  const Matrix iteration =
+      lin.mass - hg * lin.d_force_d_speed - (hg * hg) * lin.d_force_d_position;
+  const Eigen::PartialPivLU<Matrix> lu(iteration);
+
+  std::array<Vector, s> Uq, Uu;  // transformed stage increments
+  RosenbrockWStep<N> out{q0, u0, Vector::Zero(), Vector::Zero()};
+  for (int i = 0; i < s; ++i) {
+    // Stage point x + sum_j a_ij U_j and the right-hand side r of the stage.
+    Vector q = q0, u = u0, rq, ru_correction = Vector::Zero();
+    for (int j = 0; j < i; ++j) {
+      q += tab.a[i][j] * Uq[j];
+      u += tab.a[i][j] * Uu[j];
+    }
+    rq = u;
+    for (int j = 0; j < i; ++j) {
+      rq += (tab.c[i][j] / h) * Uq[j];
+      ru_correction += (tab.c[i][j] / h) * Uu[j];
+    }
+    // M0 r_u, where for the first stage M0 f_u(x) = M0 M0^{-1} F0 = F0.
+    const Vector mass_ru =
+        i == 0 ? lin.force
+               : Vector(lin.mass * (acceleration(t0 + tab.stage_time[i] * h, q, u) + ru_correction));
+    Uu[i] = lu.solve(hg * (mass_ru + hg * (lin.d_force_d_position * rq)));
+    Uq[i] = hg * (rq + Uu[i]);
+    out.q += tab.m[i] * Uq[i];
+    out.u += tab.m[i] * Uu[i];
+    out.error_q += tab.m_error[i] * Uq[i];
+    out.error_u += tab.m_error[i] * Uu[i];
+  }
+  return out;
+}
+
+}  // namespace rover
