@@ -21,7 +21,8 @@ struct SimulateOptions {
 
 int run_simulate(const SimulateOptions& o) {
   io::ScenarioSetup setup = io::load_scenario(o.scenario);
-  if (!o.integrator.empty()) setup.scenario.integrator.method = integrator_from_name(o.integrator);
+  // A different method comes with its own default tolerances (see default_integrator_settings).
+  if (!o.integrator.empty()) setup.scenario.integrator = default_integrator_settings(integrator_from_name(o.integrator));
   const SimulationInputs inputs = apply_overrides(o.overrides, setup.inputs);
   const std::string out =
       o.out.empty() ? "results/" + setup.scenario.name + ".h5" : o.out;
@@ -76,7 +77,7 @@ const RegisterCommand registration{
       app.add_option("--out", o->out, "HDF5 output (default results/<scenario>.h5)");
       app.add_option("--csv", o->csv, "Also write the same columns as CSV to this file");
       app.add_flag("--no-plot", o->no_plot, "Do not write PNG plots");
-      app.add_option("--integrator", o->integrator, "Override the scenario's integrator (dopri5, rk4)");
+      app.add_option("--integrator", o->integrator, "Override the scenario's integrator, with that method's default tolerances: dopri5 (rtol 1e-6, atol 1e-9), rk4 (step 1e-5 s), rosenbrock (stiff, rtol 1e-5, atol 1e-3)");
       add_input_overrides(app, o->overrides);
       return [o] { return run_simulate(*o); };
     }};

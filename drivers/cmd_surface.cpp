@@ -18,7 +18,8 @@ struct SurfaceOptions {
 int run_surface_command(const SurfaceOptions& o) {
   study::MpiSession mpi(nullptr, nullptr);
   study::SurfaceStudy s = study::load_surface_study(o.study_path);
-  if (!o.integrator.empty()) s.common.setup.scenario.integrator.method = integrator_from_name(o.integrator);
+  if (!o.integrator.empty())
+    s.common.setup.scenario.integrator = default_integrator_settings(integrator_from_name(o.integrator));
   if (mpi.rank() == 0)
     std::cerr << "surface: " << s.f.size() << " x " << s.c_q.size() << " grid + " << s.sweep_f.size()
               << " sweep runs of " << s.common.setup.scenario.name << " on " << mpi.size()
@@ -43,7 +44,7 @@ const RegisterCommand registration{
           "  mpirun -np 8 rover surface --study configs/studies/f_cq_surface.json\n\n") + kMpiFooter);
       app.add_option("--study", o->study_path, "Study file (configs/studies/*.json, type surface)")
           ->required()->check(CLI::ExistingFile);
-      app.add_option("--integrator", o->integrator, "Override the integrator (see rover simulate)");
+      app.add_option("--integrator", o->integrator, "Override the integrator, with its default tolerances (dopri5, rk4, rosenbrock)");
       add_study_control(app, o->control);
       return [o] { return run_surface_command(*o); };
     }};
