@@ -129,13 +129,7 @@ StateVector rest_state() {
   return x;
 }
 
-ModelInputs model_inputs(const io::ScenarioSetup& s) {
-  ModelInputs in = nominal_inputs(s.model.parameters);
-  in.sharpness_f = s.inputs.sharpness_f;
-  in.damping_c_q = s.inputs.damping_c_q;
-  in.preload_Nm = s.inputs.preload_Nm;
-  return in;
-}
+ModelInputs model_inputs(const io::ScenarioSetup& s) { return model_inputs_for(s.scenario, s.inputs); }
 
 void BM_RightHandSide(benchmark::State& state) {
   const io::ScenarioSetup& s = drop_setup();

@@ -255,22 +255,8 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
         return underflow(start.t, h, "error estimate " + std::to_string(error));
     }
 
-    ++report.steps;
     const double taken = t1 - start.t;
-    report.min_step_s = report.steps == 1 ? taken : std::min(report.min_step_s, taken);
-    report.max_step_s = std::max(report.max_step_s, taken);
-    if (!end.x.allFinite()) {
-      report.status = IntegrationStatus::kNonFinite;
-      report.failed_at_s = t1;
-      report.detail = "the state has NaN or infinite entries";
-      return report;
-    }
-    if (request.out_of_time && request.out_of_time()) {
-      report.status = IntegrationStatus::kTimeBudgetExceeded;
-      report.failed_at_s = t1;
-      report.detail = "wall-time budget used up";
-      return report;
-    }
+    if (step_is_bad(report, t1, taken, end.x, request)) return report;
     while (next < request.sample_count && sample_time(next) <= t1) {
       const double ts = sample_time(next);
       request.record(ts, ts >= t1 ? end.x : hermite(start, end, ts));

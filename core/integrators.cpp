@@ -42,7 +42,8 @@ double sample_time(const IntegrationRequest& r, std::size_t k) {
   return static_cast<double>(k) * r.sample_period_s;
 }
 
-// Shared bookkeeping of a step: extremes of the step size, trouble checks.
+}  // namespace
+
 bool step_is_bad(IntegrationReport& report, double t, double h, const StateVector& x,
                  const IntegrationRequest& request) {
   ++report.steps;
@@ -62,8 +63,6 @@ bool step_is_bad(IntegrationReport& report, double t, double h, const StateVecto
   }
   return false;
 }
-
-}  // namespace
 
 IntegrationReport integrate_dormand_prince(const OdeSystem& system, StateVector x,
                                            const IntegratorSettings& settings,

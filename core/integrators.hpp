@@ -46,6 +46,13 @@ struct IntegrationReport {
   double min_step_s = 0.0, max_step_s = 0.0;
 };
 
+// Bookkeeping shared by every integrator after an accepted step of length h
+// ending at t: counts it, tracks the extreme step sizes, and returns true (with
+// the status filled in) if the state is not finite or the wall-time budget is
+// used up.
+bool step_is_bad(IntegrationReport& report, double t, double h, const StateVector& x,
+                 const IntegrationRequest& request);
+
 IntegrationReport integrate_dormand_prince(const OdeSystem& system, StateVector x,
                                            const IntegratorSettings& settings,
                                            const IntegrationRequest& request);

@@ -14,6 +14,16 @@ SimulationInputs nominal_simulation_inputs(const RoverParameters& p) {
   return {p.s_structure.sharpness_f, p.s_structure.damping_Nms_per_rad, p.s_structure.preload_mean_Nm};
 }
 
+ModelInputs model_inputs_for(const Scenario& scenario, const SimulationInputs& inputs) {
+  ModelInputs in;
+  in.sharpness_f = inputs.sharpness_f;
+  in.damping_c_q = inputs.damping_c_q;
+  in.preload_Nm = inputs.preload_Nm;
+  in.wheel_speed_ref_radps = scenario.wheel_speed_ref_radps;
+  in.steer_ref_rad = scenario.steer_ref_rad;
+  return in;
+}
+
 const char* status_name(SimulationStatus status) {
   switch (status) {
     case SimulationStatus::kOk: return "ok";
@@ -82,12 +92,7 @@ Trajectory simulate(const RoverModel& model, const Scenario& scenario,
   const auto wall_start = Clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - wall_start).count(); };
 
-  ModelInputs model_inputs;
-  model_inputs.sharpness_f = inputs.sharpness_f;
-  model_inputs.damping_c_q = inputs.damping_c_q;
-  model_inputs.preload_Nm = inputs.preload_Nm;
-  model_inputs.wheel_speed_ref_radps = scenario.wheel_speed_ref_radps;
-  model_inputs.steer_ref_rad = scenario.steer_ref_rad;
+  const ModelInputs model_inputs = model_inputs_for(scenario, inputs);
 
   Trajectory out;
   const double period = 1.0 / scenario.output_rate_hz;

@@ -14,6 +14,7 @@
 
 #include <Eigen/Core>
 
+#include "core/model_inputs.hpp"
 #include "core/rover_model.hpp"
 #include "core/scenario.hpp"
 
@@ -27,6 +28,10 @@ struct SimulationInputs {
 };
 
 SimulationInputs nominal_simulation_inputs(const RoverParameters& parameters);
+
+// The model inputs of a run: (f, c_q, M0) from `inputs`, the constant
+// actuator set-points from `scenario` (a drive schedule overrides them in time).
+ModelInputs model_inputs_for(const Scenario& scenario, const SimulationInputs& inputs);
 
 // Same values as IntegrationStatus (core/integrators.hpp).
 enum class SimulationStatus { kOk = 0, kNonFinite = 1, kStepSizeUnderflow = 2, kTimeBudgetExceeded = 3 };

@@ -119,10 +119,7 @@ TEST(Simulate, EnergyNeverGrowsWithTheWheelsHeld) {
   const Trajectory tr = simulate(setup.model, setup.scenario, setup.inputs);
   ASSERT_TRUE(tr.ok()) << tr.message;
 
-  ModelInputs inputs = nominal_inputs(setup.model.parameters);
-  inputs.sharpness_f = setup.inputs.sharpness_f;
-  inputs.damping_c_q = setup.inputs.damping_c_q;
-  inputs.preload_Nm = setup.inputs.preload_Nm;
+  const ModelInputs inputs = model_inputs_for(setup.scenario, setup.inputs);
   const ContactParameters& k = setup.model.parameters.contact;
   std::vector<double> energy;
   double max_contact_energy = 0.0;
