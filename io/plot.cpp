@@ -309,4 +309,16 @@ void write_png(const SurfacePlot& plot, const std::string& png_path) {
   });
 }
 
+bool write_png_or_warn(const LinePlot& plot, const std::string& png_path, const std::string& label,
+                       std::ostream& log) {
+  try {
+    write_png(plot, png_path);
+    log << label << ": wrote " << png_path << "\n";
+    return true;
+  } catch (const std::exception& e) {
+    log << label << ": warning: no plot (" << e.what() << ")\n";
+    return false;
+  }
+}
+
 }  // namespace rover::io

@@ -10,6 +10,7 @@
 
 #include <optional>
 #include <stdexcept>
+#include <ostream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -72,5 +73,11 @@ struct SurfacePlot {
 // gnuplot is missing or fails or the file cannot be written.
 void write_png(const LinePlot& plot, const std::string& png_path);
 void write_png(const SurfacePlot& plot, const std::string& png_path);
+
+// For callers whose numbers are already saved: writes the plot and logs
+// "<label>: wrote <path>", or logs "<label>: warning: no plot (<why>)" instead
+// of throwing, so a missing gnuplot never costs a result. Returns success.
+bool write_png_or_warn(const LinePlot& plot, const std::string& png_path, const std::string& label,
+                       std::ostream& log);
 
 }  // namespace rover::io

@@ -327,12 +327,7 @@ std::string run_calibration(const CalibrationStudy& s, const StudyRunControl& co
     model.x = fit_t;
     for (double z : fit.B_l_z) model.y.push_back(1000.0 * z);
     plot.series = {data, model};
-    try {
-      io::write_png(plot, png);
-      std::cerr << "calibrate: wrote " << png << "\n";
-    } catch (const std::exception& e) {
-      std::cerr << "calibrate: warning: no plot (" << e.what() << ")\n";
-    }
+    io::write_png_or_warn(plot, png, "calibrate", std::cerr);
   }
   return out;
 }

@@ -172,12 +172,7 @@ std::string run_montecarlo(const MonteCarloStudy& study, const StudyRunControl& 
       q.style = io::SeriesStyle::dashed;
       plot.series.push_back(q);
     }
-    try {
-      io::write_png(plot, png);
-      std::cerr << "montecarlo: wrote " << png << "\n";
-    } catch (const std::exception& e) {
-      std::cerr << "montecarlo: warning: no plot (" << e.what() << ")\n";
-    }
+    io::write_png_or_warn(plot, png, "montecarlo", std::cerr);
   }
   return out;
 }
