@@ -15,8 +15,14 @@
 //    ringing of an S-structure joint, whose speed is 2e4 times its
 //    displacement, is not followed to the last micro-radian per second;
 //  * slip: at every contact of the step start, the error of the slip speed,
-//    (I - n n^T) J_P e_u, is held to 5 % of v_s (+ rtol |v_t|): the friction
-//    law changes over v_s, so that is the speed resolution it needs.
+//    (I - n n^T) J_P e_u, is held to 5 % of the speed scale on which the
+//    friction force changes: v_s near stick, about |v_t| in gross sliding
+//    (slip_error_norm() below);
+//  * wheel spin: a disk wheel's rolling angle enters no force, and its rate
+//    matters through the speed of its rim. A wheel on the ground is measured
+//    by its slip alone; a wheel in the air by its absolute rate about its
+//    axis, not by the rate relative to the leg, which follows every ringing
+//    of the S-joints above it (wheel_spin_rows() below).
 // The third-order solution that is kept is much better than the estimate, so
 // this integrator wants looser tolerances than dopri5 for the same accuracy
 // (default_integrator_settings(): rtol 1e-5, atol 1e-3).
@@ -45,8 +51,10 @@
 #include "core/dynamics.hpp"
 #include "core/equations_of_motion.hpp"
 #include "core/force_jacobian.hpp"
+#include "core/friction.hpp"
 #include "core/integrators.hpp"
 #include "core/rosenbrock_w.hpp"
+#include "core/s_structure.hpp"
 
 namespace rover {
 namespace {
@@ -123,10 +131,12 @@ StateVector hermite(const Evaluation& a, const Evaluation& b, double t) {
          (3.0 * s2 - 2.0 * s3) * b.x + (h * (s3 - s2)) * b.dx;
 }
 
-// Tolerance of each state component for a step from x0 to x1 (see the top).
+// Tolerance of each state component for a step from x0 to x1 (see the top);
+// the spin angle and rate of a wheel touching the ground are left to the slip
+// test (infinite tolerance here).
 StateVector error_scale(const StateVector& x0, const StateVector& x1,
                         const MechanicalLinearization<kNumCoordinates>& lin,
-                        const IntegratorSettings& settings) {
+                        const ContactCounts& touching, const IntegratorSettings& settings) {
   constexpr double kLongestActing_s = 1.0;
   StateVector scale = settings.absolute_tolerance +
                       settings.relative_tolerance * x0.cwiseAbs().cwiseMax(x1.cwiseAbs()).array();
@@ -135,7 +145,39 @@ StateVector error_scale(const StateVector& x0, const StateVector& x1,
     scale[kNumCoordinates + c] +=
         settings.absolute_tolerance * (std::max(omega * kLongestActing_s, 1.0) - 1.0);
   }
+  for (int leg = 0; leg < kNumLegs; ++leg)
+    if (touching[leg] > 0) {
+      scale[coord::spin(leg)] = std::numeric_limits<double>::infinity();
+      scale[kNumCoordinates + coord::spin(leg)] = std::numeric_limits<double>::infinity();
+    }
   return scale;
+}
+
+// Row vectors a_j with a_j . u = the absolute angular rate of wheel j about
+// its spin axis (the axis component of the angular velocities of every joint
+// on the path from the world to the wheel).
+using WheelSpinRows = std::array<Eigen::Matrix<double, 1, kNumCoordinates>, kNumLegs>;
+
+WheelSpinRows wheel_spin_rows(const KinematicTree& tree, const TreeKinematics& kinematics) {
+  WheelSpinRows rows;
+  for (int leg = 0; leg < kNumLegs; ++leg) {
+    const int wheel = node::wheel(leg);
+    const Vec3& axis = kinematics.nodes[wheel].axis;
+    rows[leg].setZero();
+    for (int a = 0; a < tree.path_length[wheel]; ++a) {
+      const int k = tree.path[wheel][a];
+      rows[leg][tree.nodes[k].coordinate] += axis.dot(kinematics.nodes[k].motion_omega);
+    }
+  }
+  return rows;
+}
+
+// Replaces the error of each wheel's relative spin rate by the error of its
+// absolute rate (the top of the file says why).
+void measure_wheel_spins(const WheelSpinRows& rows, const Coordinates& speed_error,
+                         StateVector& error) {
+  for (int leg = 0; leg < kNumLegs; ++leg)
+    error[kNumCoordinates + coord::spin(leg)] = rows[leg].dot(speed_error);
 }
 
 // Infinite for a step that produced NaN or infinities (rejected, not accepted).
@@ -145,16 +187,30 @@ double error_norm(const StateVector& error, const StateVector& scale) {
   return std::isfinite(norm) ? norm : std::numeric_limits<double>::infinity();
 }
 
-// Slip-speed errors at the contacts of the step start: the friction law
-// varies on the speed scale v_s, so a slip-speed error of v_s would change
-// mu by its whole range; the error of the tangential speed of each contact
-// point, (I - n n^T) J_P e_u, is held to kSlipTolerance v_s (+ rtol |v_t|).
+// Slip-speed errors at the contacts of the step start. Per unit of slip-speed
+// error, the friction force -mu(|v_t|) F_n v_t / |v_t| changes by
+// |mu'(|v_t|)| F_n along the slip and turns by mu(|v_t|) / |v_t| across it;
+// near stick both are mu'(0), about mu_s / v_s. Its speed scale
+//   s(v_t) = mu_s / max(|mu'(|v_t|)|, mu(|v_t|) / |v_t|)
+// is the slip-speed change that would change the force by its whole range:
+// about v_s near stick, about |v_t| mu_s / mu_k in gross sliding. The error of
+// the tangential speed of each contact point, (I - n n^T) J_P e_u, is held to
+// kSlipTolerance s(v_t) (+ rtol |v_t|): stick and the Stribeck hump are
+// resolved to 5 % of v_s, a wheel skidding sideways at 0.2 m/s to 1 cm/s.
 constexpr double kSlipTolerance = 0.05;
 
 struct SlipRows {
   Eigen::Matrix<double, 3, kNumCoordinates> tangential_jacobian;  // (I - n n^T) J_P
   double slip_speed_mps = 0.0;
+  double friction_speed_scale_mps = 0.0;  // s(v_t)
 };
+
+double friction_speed_scale(double slip_speed_mps, const FrictionParameters& friction) {
+  const double v = std::abs(slip_speed_mps);
+  const double along = std::abs(makkar_mu_derivative(v, friction.gammas));
+  const double across = v > 0.0 ? makkar_mu(v, friction.gammas) / v : along;
+  return friction.mu_static / std::max(along, across);
+}
 
 std::vector<SlipRows> slip_rows(const RoverModel& model, const Evaluation& e) {
   std::vector<SlipRows> rows;
@@ -163,20 +219,48 @@ std::vector<SlipRows> slip_rows(const RoverModel& model, const Evaluation& e) {
       const ContactPoint& c = e.contacts[leg].points[k];
       if (!(c.normal_force_N > 0.0)) continue;
       const Mat3 tangent = Mat3::Identity() - c.normal * c.normal.transpose();
+      const double slip = c.slip_velocity_mps.norm();
       rows.push_back({tangent * point_jacobian(model.tree, e.kinematics, node::wheel(leg), c.point_m),
-                      c.slip_velocity_mps.norm()});
+                      slip, friction_speed_scale(slip, model.parameters.friction)});
     }
   return rows;
 }
 
 double slip_error_norm(const std::vector<SlipRows>& rows, const Coordinates& speed_error,
-                       double v_static_mps, const IntegratorSettings& settings) {
+                       const IntegratorSettings& settings) {
   double norm = 0.0;
   for (const SlipRows& r : rows)
     norm = std::max(norm, (r.tangential_jacobian * speed_error).norm() /
-                              (kSlipTolerance * v_static_mps +
+                              (kSlipTolerance * r.friction_speed_scale_mps +
                                settings.relative_tolerance * r.slip_speed_mps));
   return std::isfinite(norm) ? norm : std::numeric_limits<double>::infinity();
+}
+
+// The S-structure stiffness in the iteration matrix. A W-method keeps its
+// order with any matrix there; for stability it needs the stiffness the step
+// meets. At f = 1e5 a joint's torque turns from -M0 to +M0 within 1e-5 rad,
+// where its slope 2 M0 f / pi is 1e4 times the slope 1e-3 rad away: a step
+// starting off that kink and crossing it would meet the kink's stiffness
+// explicitly and be rejected, again and again, until it no longer crossed.
+// Each joint instead gets the steepest slope on its path over the step,
+// |b - b0| <= h |db0/dt|, i.e. the slope at the point of that range nearest
+// to b = 0 (the slope of the start if the range does not come closer).
+void stiffen_s_joints_over_step(const RoverParameters& parameters, const ModelInputs& inputs,
+                                const Coordinates& q0, const Coordinates& u0, double h,
+                                MassMatrix& d_force_d_position) {
+  for (int leg = 0; leg < kNumLegs; ++leg)
+    for (int i = 0; i < 2; ++i) {
+      const int c = coord::s_joint(leg, i);
+      const double b = q0[c], reach = h * std::abs(u0[c]);
+      const double nearest = std::abs(b) <= reach ? 0.0 : b - std::copysign(reach, b);
+      if (nearest == b) continue;
+      const auto slope = [&](double angle_rad) {
+        return s_structure_torque(angle_rad, 0.0, inputs.preload_Nm[2 * leg + i], inputs.sharpness_f,
+                                  parameters.s_structure.stiffness_Nm_per_rad, inputs.damping_c_q)
+            .d_angle;
+      };
+      d_force_d_position(c, c) += slope(nearest) - slope(b);
+    }
 }
 
 // Step-size factor from the error of an order-2 embedded solution (local
@@ -216,6 +300,7 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
     const Coordinates q0 = start.x.head<kNumCoordinates>(), u0 = start.x.tail<kNumCoordinates>();
     const ContactCounts start_contacts = active_contacts(start.contacts);
     const std::vector<SlipRows> slips = slip_rows(system.model, start);
+    const WheelSpinRows spins = wheel_spin_rows(system.model.tree, start.kinematics);
     // Try steps until one passes the error test and misses no touchdown.
     double error = 0.0, t1 = 0.0;
     for (;;) {
@@ -232,16 +317,19 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
         keep_maximum(seen, active_contacts(stage.contacts));
         return stage.dx.tail<kNumCoordinates>();
       };
+      MechanicalLinearization<kNumCoordinates> lin_h = lin;
+      stiffen_s_joints_over_step(system.model.parameters, start.inputs, q0, u0, h,
+                                 lin_h.d_force_d_position);
       const RosenbrockWStep<kNumCoordinates> step =
-          ros34pw2_step<kNumCoordinates>(lin, start.t, q0, u0, h, acceleration);
+          ros34pw2_step<kNumCoordinates>(lin_h, start.t, q0, u0, h, acceleration);
       StateVector x1, e;
       x1 << step.q, step.u;
       e << step.error_q, step.error_u;
+      measure_wheel_spins(spins, step.error_u, e);
       error = !x1.allFinite()
                   ? std::numeric_limits<double>::infinity()
-                  : std::max(error_norm(e, error_scale(start.x, x1, lin, settings)),
-                             slip_error_norm(slips, step.error_u,
-                                             system.model.parameters.friction.v_static_mps, settings));
+                  : std::max(error_norm(e, error_scale(start.x, x1, lin, start_contacts, settings)),
+                             slip_error_norm(slips, step.error_u, settings));
       if (error <= 1.0) {
         t1 = last ? t_end : start.t + h;
         evaluate(system, t1, x1, end);
