@@ -29,16 +29,14 @@
 #include "core/force_jacobian.hpp"
 #include "core/simulate.hpp"
 #include "io/scenario_config.hpp"
+#include "drop_fixture.hpp"
 
 namespace {
 
 using namespace rover;
-
-const io::ScenarioSetup& drop_setup() {
-  static const io::ScenarioSetup s =
-      io::load_scenario(ROVER_SOURCE_DIR "/configs/scenarios/drop_horizontal.json");
-  return s;
-}
+using rover::bench::drop_model_inputs;
+using rover::bench::drop_setup;
+using rover::bench::rest_state;
 
 // The model with v_s and v_k scaled by `scale` and the gammas scaled to match.
 RoverModel friction_scaled_model(const RoverModel& base, double scale) {
@@ -125,23 +123,9 @@ void print_obstacle_comparison() {
               cell(ros).c_str(), rms_mm(ros.B_l_z, ref.B_l_z));
 }
 
-// The rover at rest at the end of the drop.
-StateVector rest_state() {
-  static const StateVector x = [] {
-    const io::ScenarioSetup& s = drop_setup();
-    const Trajectory tr = simulate(s.model, s.scenario, s.inputs);
-    StateVector r;
-    r << tr.q.bottomRows<1>().transpose(), tr.u.bottomRows<1>().transpose();
-    return r;
-  }();
-  return x;
-}
-
-ModelInputs model_inputs(const io::ScenarioSetup& s) { return model_inputs_for(s.scenario, s.inputs); }
-
 void BM_RightHandSide(benchmark::State& state) {
   const io::ScenarioSetup& s = drop_setup();
-  const ModelInputs in = model_inputs(s);
+  const ModelInputs in = drop_model_inputs();
   StateVector x = rest_state();
   for (auto _ : state) {
     benchmark::DoNotOptimize(x);
@@ -152,7 +136,7 @@ void BM_RightHandSide(benchmark::State& state) {
 // What the integrator adds per step to its right-hand sides: D and K.
 void BM_StiffForceJacobian(benchmark::State& state) {
   const io::ScenarioSetup& s = drop_setup();
-  const ModelInputs in = model_inputs(s);
+  const ModelInputs in = drop_model_inputs();
   const StateVector x = rest_state();
   const Coordinates q = x.head<kNumCoordinates>(), u = x.tail<kNumCoordinates>();
   const TreeKinematics kin = forward_kinematics(s.model.tree, q, u);

@@ -19,15 +19,14 @@
 #include "core/friction.hpp"
 #include "core/simulate.hpp"
 #include "io/scenario_config.hpp"
+#include "drop_fixture.hpp"
 
 namespace {
 
 using namespace rover;
-
-const io::ScenarioSetup& drop_setup() {
-  static const io::ScenarioSetup s = io::load_scenario(ROVER_SOURCE_DIR "/configs/scenarios/drop_horizontal.json");
-  return s;
-}
+using rover::bench::drop_model_inputs;
+using rover::bench::drop_setup;
+using rover::bench::rest_state;
 
 void report(benchmark::State& state, const Trajectory& tr) {
   state.counters["rhs_evaluations"] = static_cast<double>(tr.rhs_evaluations);
@@ -60,23 +59,9 @@ void BM_DropHorizontal1sVsF(benchmark::State& state) {
   report(state, tr);
 }
 
-// The rover at rest on flat ground: the end of the 1 s drop.
-StateVector rest_state() {
-  static const StateVector x = [] {
-    const io::ScenarioSetup& s = drop_setup();
-    const Trajectory tr = simulate(s.model, s.scenario, s.inputs);
-    StateVector r;
-    r << tr.q.row(tr.q.rows() - 1).transpose(), tr.u.row(tr.u.rows() - 1).transpose();
-    return r;
-  }();
-  return x;
-}
-
-ModelInputs model_inputs(const io::ScenarioSetup& s) { return model_inputs_for(s.scenario, s.inputs); }
-
 void BM_RightHandSideAtRest(benchmark::State& state) {
   const io::ScenarioSetup& s = drop_setup();
-  const ModelInputs in = model_inputs(s);
+  const ModelInputs in = drop_model_inputs();
   StateVector x = rest_state();
   for (auto _ : state) {
     benchmark::DoNotOptimize(x);
@@ -97,7 +82,7 @@ BENCHMARK(BM_RightHandSideAtRest);
 // What limits the step size of the adaptive integrator at rest.
 void print_step_size_analysis() {
   const io::ScenarioSetup& s = drop_setup();
-  const ModelInputs in = model_inputs(s);
+  const ModelInputs in = drop_model_inputs();
   const StateVector x = rest_state();
 
   // Mean step over 0.2 s starting at rest.

@@ -1,0 +1,33 @@
+// Shared by the benchmarks: the 1 s horizontal drop of MODEL.md section 7
+// (configs/scenarios/drop_horizontal.json) and the rover at rest at its end.
+#pragma once
+
+#include "core/simulate.hpp"
+#include "io/scenario_config.hpp"
+
+namespace rover::bench {
+
+inline const io::ScenarioSetup& drop_setup() {
+  static const io::ScenarioSetup s =
+      io::load_scenario(ROVER_SOURCE_DIR "/configs/scenarios/drop_horizontal.json");
+  return s;
+}
+
+// The state at the end of the drop, simulated once with the scenario's settings.
+inline const StateVector& rest_state() {
+  static const StateVector x = [] {
+    const io::ScenarioSetup& s = drop_setup();
+    const Trajectory tr = simulate(s.model, s.scenario, s.inputs);
+    StateVector r;
+    r << tr.q.bottomRows<1>().transpose(), tr.u.bottomRows<1>().transpose();
+    return r;
+  }();
+  return x;
+}
+
+inline ModelInputs drop_model_inputs() {
+  const io::ScenarioSetup& s = drop_setup();
+  return model_inputs_for(s.scenario, s.inputs);
+}
+
+}  // namespace rover::bench
