@@ -157,6 +157,39 @@ Eigen::Matrix<double, 3, kNumCoordinates> point_jacobian(const KinematicTree& tr
   return jacobian;
 }
 
+Eigen::Matrix<double, 3, kNumCoordinates> angular_jacobian(const KinematicTree& tree,
+                                                           const TreeKinematics& kin, int node_index) {
+  Eigen::Matrix<double, 3, kNumCoordinates> jacobian = Eigen::Matrix<double, 3, kNumCoordinates>::Zero();
+  for (int a = 0; a < tree.path_length[node_index]; ++a) {
+    const int k = tree.path[node_index][a];
+    jacobian.col(tree.nodes[k].coordinate) += kin.nodes[k].motion_omega;
+  }
+  return jacobian;
+}
+
+FrameVelocityPositionDerivative frame_velocity_position_derivative(const KinematicTree& tree,
+                                                                   const TreeKinematics& kin,
+                                                                   int node_index) {
+  const NodeKinematics& frame = kin.nodes[node_index];
+  FrameVelocityPositionDerivative d{Eigen::Matrix<double, 3, kNumCoordinates>::Zero(),
+                                    Eigen::Matrix<double, 3, kNumCoordinates>::Zero()};
+  for (int a = 0; a < tree.path_length[node_index]; ++a) {
+    const int k = tree.path[node_index][a];
+    const NodeKinematics& joint = kin.nodes[k];
+    const int c = tree.nodes[k].coordinate;
+    if (tree.nodes[k].type == JointType::kRevolute) {
+      const Vec3& w = joint.motion_omega;
+      const Vec3 r = frame.origin - joint.origin;
+      d.d_origin_velocity.col(c) += w.cross(frame.velocity - joint.velocity - joint.omega.cross(r)) +
+                                    joint.omega.cross(w.cross(r));
+      d.d_omega.col(c) += w.cross(frame.omega - joint.omega);
+    } else {
+      d.d_origin_velocity.col(c) += joint.omega.cross(joint.motion_velocity);
+    }
+  }
+  return d;
+}
+
 void add_point_force(const KinematicTree& tree, const TreeKinematics& kin, int node_index,
                      const Vec3& p, const Vec3& force, Coordinates& generalized_force) {
   const Vec3 moment = (p - kin.reference).cross(force);  // about the reference point

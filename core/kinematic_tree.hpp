@@ -103,6 +103,35 @@ Eigen::Matrix<double, 3, kNumCoordinates> point_jacobian(const KinematicTree& tr
                                                          const TreeKinematics& kin,
                                                          int node_index, const Vec3& p);
 
+// Angular-velocity Jacobian d omega / d u (3 x 23) of the frame of `node`.
+Eigen::Matrix<double, 3, kNumCoordinates> angular_jacobian(const KinematicTree& tree,
+                                                           const TreeKinematics& kin, int node_index);
+
+// How the velocity of a node frame changes with the coordinates at fixed
+// speeds: d v_o / dq and d omega / dq (3 x 23 each), o the node origin.
+// Joint k of the path (unit twist w_k about its origin o_k) turns every frame
+// after it, and moves o under the joints before it and itself:
+//   d v_o / dq_k   = w_k x (v_o - v_k - omega_k x (o - o_k)) + omega_k x (w_k x (o - o_k)),
+//   d omega / dq_k = w_k x (omega - omega_k),
+// with v_k, omega_k the velocity of node k's frame (its own motion included);
+// a translation a_k gives omega_k x a_k and 0. For a point P of the node,
+// v_P = v_o + omega x (P - o) then changes by
+//   d v_o/dq + (d omega/dq) x (P - o) + omega x (dP/dq - do/dq).
+struct FrameVelocityPositionDerivative {
+  Eigen::Matrix<double, 3, kNumCoordinates> d_origin_velocity;  // [m/s per unit q]
+  Eigen::Matrix<double, 3, kNumCoordinates> d_omega;            // [rad/s per unit q]
+};
+FrameVelocityPositionDerivative frame_velocity_position_derivative(const KinematicTree& tree,
+                                                                   const TreeKinematics& kin,
+                                                                   int node_index);
+
+// The matrix [v]x with [v]x w = v x w.
+inline Mat3 cross_matrix(const Vec3& v) {
+  Mat3 m;
+  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
+  return m;
+}
+
 // Adds the generalized force J_P^T force of a force applied at world point p
 // of `node` to `generalized_force` (paper eq. 9).
 void add_point_force(const KinematicTree& tree, const TreeKinematics& kin, int node_index,

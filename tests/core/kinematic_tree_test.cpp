@@ -105,5 +105,43 @@ TEST(KinematicTree, BiasAccelerationIsTheDerivativeOfVelocityAlongTheMotion) {
   }
 }
 
+TEST(KinematicTree, AngularJacobianGivesTheAngularVelocity) {
+  std::mt19937 rng(5);
+  Coordinates q, u;
+  testing::random_state(rng, q, u);
+  const TreeKinematics kin = forward_kinematics(kTree, q, u);
+  for (int n = 0; n < kNumTreeNodes; ++n)
+    EXPECT_LT((angular_jacobian(kTree, kin, n) * u - kin.nodes[n].omega).norm(), 1e-12) << "node " << n;
+}
+
+TEST(KinematicTree, FrameVelocityPositionDerivativeEqualsFiniteDifferences) {
+  // d v_o/dq and d omega/dq at fixed u, through every kind of joint: the
+  // floating base (translations and rotations), the bogie coupling (two
+  // nodes on one coordinate), the legs, the steering and the wheel spin.
+  std::mt19937 rng(17);
+  for (int trial = 0; trial < 4; ++trial) {
+    Coordinates q, u;
+    testing::random_state(rng, q, u);
+    u *= 3.0;
+    const TreeKinematics kin = forward_kinematics(kTree, q, u);
+    for (int n : {node::chassis, node::bogie_left, node::module2(0), node::hub(2), node::wheel(1),
+                  node::wheel(3)}) {
+      const FrameVelocityPositionDerivative d = frame_velocity_position_derivative(kTree, kin, n);
+      for (int k = 0; k < kNumCoordinates; ++k) {
+        const double h = 1e-6;
+        Coordinates qp = q, qm = q;
+        qp[k] += h;
+        qm[k] -= h;
+        const TreeKinematics kp = forward_kinematics(kTree, qp, u), km = forward_kinematics(kTree, qm, u);
+        const Vec3 dv = (kp.nodes[n].velocity - km.nodes[n].velocity) / (2 * h);
+        const Vec3 dw = (kp.nodes[n].omega - km.nodes[n].omega) / (2 * h);
+        EXPECT_LT((d.d_origin_velocity.col(k) - dv).norm(), 1e-7 * (1.0 + dv.norm()))
+            << "node " << n << " coordinate " << k;
+        EXPECT_LT((d.d_omega.col(k) - dw).norm(), 1e-7 * (1.0 + dw.norm())) << "node " << n << " coordinate " << k;
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace rover
