@@ -49,6 +49,16 @@ struct WheelContacts {
 WheelContacts find_wheel_contacts(const Terrain& terrain, const Vec3& wheel_centre_m,
                                   const Vec3& spin_axis, double wheel_radius_m);
 
+// dP/dq (3 x 23) of a contact point P found by find_wheel_contacts(): the rim
+// point at a fixed angle from the lowest rim point, which moves with the
+// wheel centre and turns with the wheel plane but not with the wheel's spin
+// (exact on flat terrain, where P is the lowest point). `centre_jacobian` and
+// `angular_jacobian` are those of the wheel frame (kinematic_tree.hpp).
+Eigen::Matrix<double, 3, kNumCoordinates> contact_point_position_derivative(
+    const Vec3& contact_point_m, const Vec3& wheel_centre_m, const Vec3& spin_axis,
+    const Eigen::Matrix<double, 3, kNumCoordinates>& centre_jacobian,
+    const Eigen::Matrix<double, 3, kNumCoordinates>& angular_jacobian);
+
 // Completes the contacts of one wheel with velocities and forces.
 // `wheel_node` is the node of the wheel body in the kinematic tree.
 void compute_contact_forces(const TreeKinematics& kin, int wheel_node,

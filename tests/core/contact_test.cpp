@@ -415,5 +415,40 @@ TEST(Contact, GeneralizedForceIsTheFiniteDifferenceJacobianTransposed) {
   }
 }
 
+TEST(Contact, ContactPointDerivativeEqualsFiniteDifferencesOnFlatGround) {
+  // P is the lowest rim point: it moves with the wheel centre and the wheel
+  // plane, not with the spin (the rim slides through it).
+  const RoverModel model = make_rover_model(default_rover_parameters());
+  std::mt19937 rng(29);
+  for (int trial = 0; trial < 4; ++trial) {
+    Coordinates q, u;
+    testing::random_state(rng, q, u);
+    for (int i = coord::yaw; i < kNumCoordinates; ++i) q[i] *= 0.02;  // every wheel 2 to 8 mm deep
+    q[coord::z] = 0.2235;  // 5 mm below the wheels' reach at q = 0 (MODEL.md section 3)
+    const TreeKinematics kin = forward_kinematics(model.tree, q, u);
+    const auto contacts = wheel_contacts(model, kin);
+    for (int leg = 0; leg < kNumLegs; ++leg) {
+      ASSERT_EQ(contacts[leg].count, 1) << "trial " << trial << " leg " << leg;
+      const int n = node::wheel(leg);
+      const NodeKinematics& wheel = kin.nodes[n];
+      const auto dP = contact_point_position_derivative(
+          contacts[leg].points[0].point_m, wheel.origin, wheel.rotation.col(1),
+          point_jacobian(model.tree, kin, n, wheel.origin), angular_jacobian(model.tree, kin, n));
+      for (int k = 0; k < kNumCoordinates; ++k) {
+        const double h = 1e-6;
+        Coordinates qp = q, qm = q;
+        qp[k] += h;
+        qm[k] -= h;
+        const Vec3 fd = (wheel_contacts(model, forward_kinematics(model.tree, qp, u))[leg].points[0].point_m -
+                         wheel_contacts(model, forward_kinematics(model.tree, qm, u))[leg].points[0].point_m) /
+                        (2.0 * h);
+        EXPECT_LT((dP.col(k) - fd).norm(), 1e-7) << "trial " << trial << " leg " << leg << " coordinate " << k;
+      }
+      // Unlike the material point, P does not move with the wheel's spin.
+      EXPECT_LT(dP.col(coord::spin(leg)).norm(), 1e-12);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace rover
