@@ -27,6 +27,7 @@
 
 #include "core/equations_of_motion.hpp"
 #include "core/force_jacobian.hpp"
+#include "core/friction_synthesis.hpp"
 #include "core/simulate.hpp"
 #include "io/scenario_config.hpp"
 #include "drop_fixture.hpp"
@@ -41,11 +42,7 @@ using rover::bench::rest_state;
 // The model with v_s and v_k scaled by `scale` and the gammas scaled to match.
 RoverModel friction_scaled_model(const RoverModel& base, double scale) {
   RoverParameters p = base.parameters;
-  p.friction.v_static_mps *= scale;
-  p.friction.v_kinetic_mps *= scale;
-  for (const int g : {1, 2, 4, 5}) p.friction.gammas[g] /= scale;
-  p.friction.gammas_fitted_to = {p.friction.mu_static, p.friction.v_static_mps,
-                                 p.friction.mu_kinetic, p.friction.v_kinetic_mps};
+  p.friction = with_friction_speeds_scaled(p.friction, scale);
   return make_rover_model(p, base.terrain);
 }
 

@@ -271,4 +271,15 @@ MakkarGammas friction_gammas_for(const FrictionParameters& p) {
   return synthesize_friction(p);
 }
 
+FrictionParameters with_friction_speeds_scaled(FrictionParameters p, double scale) {
+  if (!(scale > 0.0) || !std::isfinite(scale))
+    throw std::invalid_argument("friction speed scale must be positive and finite, got " +
+                                std::to_string(scale));
+  p.v_static_mps *= scale;
+  p.v_kinetic_mps *= scale;
+  for (const int g : {1, 2, 4, 5}) p.gammas[static_cast<std::size_t>(g)] /= scale;
+  p.gammas_fitted_to = {p.mu_static, p.v_static_mps, p.mu_kinetic, p.v_kinetic_mps};
+  return p;
+}
+
 }  // namespace rover

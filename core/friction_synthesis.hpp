@@ -67,4 +67,12 @@ MakkarGammas synthesize_friction(const FrictionParameters& p,
 // synthesize_friction(p) with the default options.
 MakkarGammas friction_gammas_for(const FrictionParameters& p);
 
+// The same friction law on a speed axis `scale` times shorter: v_s and v_k
+// times `scale`, g2, g3, g5 and g6 divided by it, so that the new mu(v) is the
+// old mu(v / scale) and the gammas stay fitted to the new engineering
+// parameters (the fit is dimensionless, see synthesize_friction). mu'(0), and
+// with it the stiffness of stuck friction, grows by 1 / scale: the friction
+// sharpness of issue 7. Throws std::invalid_argument unless 0 < scale < inf.
+FrictionParameters with_friction_speeds_scaled(FrictionParameters p, double scale);
+
 }  // namespace rover

@@ -123,6 +123,25 @@ TEST(FrictionSynthesis, ScalesWithTheFrictionLevelAndTheSpeeds) {
   for (int k = 0; k < 6; ++k) EXPECT_EQ(s[k], factor[k] * g[k]) << "gamma " << k + 1;
 }
 
+TEST(FrictionSynthesis, SpeedScaledLawIsTheSameCurveOnAShorterAxis) {
+  const FrictionParameters p;
+  for (const double scale : {0.1, 0.01, 3.0}) {
+    const FrictionParameters s = with_friction_speeds_scaled(p, scale);
+    EXPECT_DOUBLE_EQ(s.v_static_mps, scale * p.v_static_mps);
+    EXPECT_DOUBLE_EQ(s.v_kinetic_mps, scale * p.v_kinetic_mps);
+    for (const double v : {0.0, 1e-4, 5.5e-4, 2e-3, 0.05, 1.0})
+      EXPECT_NEAR(makkar_mu(scale * v, s.gammas), makkar_mu(v, p.gammas), 1e-14) << "scale " << scale << " v " << v;
+    EXPECT_NEAR(makkar_mu_derivative(0.0, s.gammas), makkar_mu_derivative(0.0, p.gammas) / scale,
+                1e-12 * makkar_mu_derivative(0.0, s.gammas));
+    // Still fitted to its engineering parameters: the simulation keeps it.
+    EXPECT_TRUE(friction_fit_quality(s.gammas, s).acceptable) << "scale " << scale;
+    EXPECT_EQ(friction_gammas_for(s), s.gammas) << "scale " << scale;
+  }
+  EXPECT_THROW(with_friction_speeds_scaled(p, 0.0), std::invalid_argument);
+  EXPECT_THROW(with_friction_speeds_scaled(p, -1.0), std::invalid_argument);
+  EXPECT_THROW(with_friction_speeds_scaled(p, NAN), std::invalid_argument);
+}
+
 TEST(FrictionSynthesis, RejectsInconsistentParameters) {
   EXPECT_THROW(synthesize_friction(engineering(0.3, 2e-3, 0.2, 1e-3)), std::invalid_argument);
   EXPECT_THROW(synthesize_friction(engineering(-0.1, 5e-4, 0.2, 2e-3)), std::invalid_argument);
