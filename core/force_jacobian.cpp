@@ -76,20 +76,40 @@ StiffForceJacobian stiff_force_jacobian(const RoverModel& model, const ModelInpu
   const JointForceDerivatives joints = joint_force_derivatives(model.parameters, inputs, q, u);
   jac.d_speed.diagonal() = joints.d_speed;
   jac.d_position.diagonal() = joints.d_position;
-  for (int leg = 0; leg < kNumLegs; ++leg)
-    for (int k = 0; k < contacts[leg].count; ++k) {
-      const ContactPoint& c = contacts[leg].points[k];
+  jac.spring_d_position_diagonal = joints.d_position;
+  using Columns = Eigen::Matrix<double, 3, kNumCoordinates>;
+  for (int leg = 0; leg < kNumLegs; ++leg) {
+    const WheelContacts& at_wheel = contacts[leg];
+    bool pushing = false;
+    for (int k = 0; k < at_wheel.count; ++k) pushing |= at_wheel.points[k].normal_force_N > 0.0;
+    if (!pushing) continue;
+    const int node = node::wheel(leg);
+    const NodeKinematics& wheel = kin.nodes[node];
+    const Columns centre_jacobian = point_jacobian(model.tree, kin, node, wheel.origin);
+    const Columns omega_jacobian = angular_jacobian(model.tree, kin, node);
+    const FrameVelocityPositionDerivative frame = frame_velocity_position_derivative(model.tree, kin, node);
+    for (int k = 0; k < at_wheel.count; ++k) {
+      const ContactPoint& c = at_wheel.points[k];
       if (!(c.normal_force_N > 0.0)) continue;
       const ContactForceDerivatives d =
           contact_force_derivatives(c, model.parameters.contact, model.parameters.friction);
-      const Eigen::Matrix<double, 3, kNumCoordinates> J =
-          point_jacobian(model.tree, kin, node::wheel(leg), c.point_m);
-      const Eigen::Matrix<double, 3, kNumCoordinates> df_du = d.d_force_d_velocity * J;
-      jac.d_speed.noalias() += J.transpose() * df_du;
-      // dp/dq = -n^T J_P.
+      const Vec3 lever = c.point_m - wheel.origin;
+      const Columns J = centre_jacobian - cross_matrix(lever) * omega_jacobian;  // J_P = dv_P/du
+      jac.d_speed.noalias() += J.transpose() * (d.d_force_d_velocity * J);
+      // v_P = J_P u changes with q: the frame turns and P slides over the rim
+      // (contact_point_position_derivative); the penetration follows the
+      // material point (P is the deepest point), dp/dq = -n^T J_P.
+      const Columns dP_dq = contact_point_position_derivative(
+          c.point_m, wheel.origin, wheel.rotation.col(1), centre_jacobian, omega_jacobian);
+      const Columns dv_dq = frame.d_origin_velocity - cross_matrix(lever) * frame.d_omega +
+                            cross_matrix(wheel.omega) * (dP_dq - centre_jacobian);
       const Eigen::Matrix<double, 1, kNumCoordinates> dp_dq = -c.normal.transpose() * J;
-      jac.d_position.noalias() += (J.transpose() * d.d_force_d_penetration) * dp_dq;
+      const Columns df_dq = d.d_force_d_velocity * dv_dq + d.d_force_d_penetration * dp_dq;
+      jac.d_position.noalias() += J.transpose() * df_dq;
+      jac.spring_d_position_diagonal +=
+          (J.transpose() * d.d_force_d_penetration).cwiseProduct(dp_dq.transpose());
     }
+  }
   return jac;
 }
 

@@ -10,11 +10,15 @@
 //     Makkar friction (mu'(0) F_n is about 9e3 N s/m on a loaded wheel).
 //     With f = F_n n + F_t applied at P and Q = J_P(q)^T f:
 //       dQ/du = J_P^T (df/dv_P) J_P                    (exact: v_P = J_P(q) u)
-//       dQ/dq ~ J_P^T (df/dp) (dp/dq),  dp/dq = -n^T J_P,
-//     since dp/dt = -v_P . n (MODEL.md 6.3) and u = dq/dt. Left out of dQ/dq
-//     are the non-stiff terms: the turning of J_P and n with q at a fixed
-//     force (|f| times a lever, ~1 N m/rad against ~1e3 N m/rad) and the
-//     change of v_P = J_P(q) u with q (zero at rest).
+//       dQ/dq ~ J_P^T [(df/dv_P) (dv_P/dq) + (df/dp) (dp/dq)],  dp/dq = -n^T J_P,
+//     since dp/dt = -v_P . n (MODEL.md 6.3) and u = dq/dt. dv_P/dq at fixed u
+//     is how the slip and penetration rates change as the joints turn the
+//     wheel and as P slides over the rim (kinematic_tree.hpp,
+//     contact_point_position_derivative()): a joint moving at 1 rad/s turns
+//     v_P by about 1 m/s per rad, which the stuck friction (mu'(0) F_n) turns
+//     into ~1e4 N/rad, ~1e6 N/rad with v_s a hundred times smaller. Left out of
+//     dQ/dq are the non-stiff terms: the turning of J_P and n with q at a
+//     fixed force (|f| times a lever, ~1 N m/rad against ~1e3 N m/rad).
 // The gravity and the velocity-dependent inertia forces are not stiff and are
 // not differentiated. A W-method (which stays accurate with an approximate
 // Jacobian) is what these derivatives are meant for.
@@ -60,6 +64,12 @@ JointForceDerivatives joint_force_derivatives(const RoverParameters& parameters,
 struct StiffForceJacobian {
   CoordinateMatrix d_speed = CoordinateMatrix::Zero();     // D
   CoordinateMatrix d_position = CoordinateMatrix::Zero();  // K
+  // The diagonal of the springs' part of K alone (S-structures, steering
+  // servos, contact normal springs), without the turning of the slip with q:
+  // sqrt(-k_cc / M_cc) is the frequency at which coordinate c rings on them.
+  // The friction part of K is no spring (it turns a damping force; the
+  // motion it drives is a creep at the rate K/D, not an oscillation).
+  Coordinates spring_d_position_diagonal = Coordinates::Zero();
 };
 
 // `kin` and `contacts` are those of the state (q, u), as computed by

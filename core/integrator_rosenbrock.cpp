@@ -9,11 +9,13 @@
 //  * positions: the max norm of the dopri5 control, e_i / (atol + rtol |x_i|);
 //  * speeds: the same, except that a speed error is measured by the
 //    displacement it makes within the time it acts, min(1 / omega_c, 1 s),
-//    where omega_c = sqrt(-K_cc / M_cc) is the local frequency of coordinate c
+//    where omega_c = sqrt(-k_cc / M_cc) is the local frequency of coordinate c
 //    on its stiff springs (an S-structure in its preload region, a loaded
-//    contact). Non-stiff speeds are held to atol as by dopri5, but a 3 kHz
-//    ringing of an S-structure joint, whose speed is 2e4 times its
-//    displacement, is not followed to the last micro-radian per second;
+//    contact; k is the springs' part of K, without the friction's, which
+//    drives a creep, not an oscillation). Non-stiff speeds are held to atol
+//    as by dopri5, but a 3 kHz ringing of an S-structure joint, whose speed
+//    is 2e4 times its displacement, is not followed to the last
+//    micro-radian per second;
 //  * slip: at every contact of the step start, the error of the slip speed,
 //    (I - n n^T) J_P e_u, is held to 5 % of the speed scale on which the
 //    friction force changes: v_s near stick, about |v_t| in gross sliding
@@ -25,7 +27,7 @@
 //    of the S-joints above it (wheel_spin_rows() below).
 // The third-order solution that is kept is much better than the estimate, so
 // this integrator wants looser tolerances than dopri5 for the same accuracy
-// (default_integrator_settings(): rtol 1e-5, atol 1e-3).
+// (default_integrator_settings(): rtol 1e-5, atol 2e-4).
 //
 // Touchdown: the normal force jumps from 0 to c_g dp/dt when a wheel starts to
 // touch. A step whose stages all miss the contact, but whose end state has it,
@@ -37,8 +39,8 @@
 // gives M0, F0 and the contacts), one assembly of D and K from the contacts'
 // point Jacobians, one 23 x 23 LU, and three right-hand sides for the stages.
 // Every right-hand side is counted in the OdeSystem's counter, and so is each
-// Jacobian assembly, as one evaluation (it costs about half of one right-hand
-// side; bench/integrator_bench.cpp times both).
+// Jacobian assembly, as one evaluation (it costs about as much as one
+// right-hand side; bench/integrator_bench.cpp times both).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -108,17 +110,25 @@ void evaluate(const OdeSystem& system, double t, const StateVector& x, Evaluatio
   e.dx << u, e.mass.llt().solve(e.force);
 }
 
-// M0, F0 and the stiff-force Jacobian at an evaluated step start.
-MechanicalLinearization<kNumCoordinates> linearize(const OdeSystem& system, const Evaluation& e) {
+// M0, F0 and the stiff-force Jacobian at an evaluated step start, and the
+// frequency at which each coordinate rings on its springs, sqrt(-k_cc / M_cc).
+struct Linearization {
+  MechanicalLinearization<kNumCoordinates> system;
+  Coordinates spring_frequency_radps;
+};
+
+Linearization linearize(const OdeSystem& system, const Evaluation& e) {
   ++*system.rhs_evaluations;  // the Jacobian assembly, counted as one evaluation
   const StiffForceJacobian jac =
       stiff_force_jacobian(system.model, e.inputs, e.x.head<kNumCoordinates>(),
                            e.x.tail<kNumCoordinates>(), e.kinematics, e.contacts);
-  MechanicalLinearization<kNumCoordinates> lin;
-  lin.mass = e.mass;
-  lin.force = e.force;
-  lin.d_force_d_speed = jac.d_speed;
-  lin.d_force_d_position = jac.d_position;
+  Linearization lin;
+  lin.system.mass = e.mass;
+  lin.system.force = e.force;
+  lin.system.d_force_d_speed = jac.d_speed;
+  lin.system.d_force_d_position = jac.d_position;
+  lin.spring_frequency_radps =
+      ((-jac.spring_d_position_diagonal).cwiseMax(0.0).array() / e.mass.diagonal().array()).sqrt().matrix();
   return lin;
 }
 
@@ -135,16 +145,14 @@ StateVector hermite(const Evaluation& a, const Evaluation& b, double t) {
 // the spin angle and rate of a wheel touching the ground are left to the slip
 // test (infinite tolerance here).
 StateVector error_scale(const StateVector& x0, const StateVector& x1,
-                        const MechanicalLinearization<kNumCoordinates>& lin,
-                        const ContactCounts& touching, const IntegratorSettings& settings) {
+                        const Coordinates& spring_frequency_radps, const ContactCounts& touching,
+                        const IntegratorSettings& settings) {
   constexpr double kLongestActing_s = 1.0;
   StateVector scale = settings.absolute_tolerance +
                       settings.relative_tolerance * x0.cwiseAbs().cwiseMax(x1.cwiseAbs()).array();
-  for (int c = 0; c < kNumCoordinates; ++c) {
-    const double omega = std::sqrt(std::max(0.0, -lin.d_force_d_position(c, c)) / lin.mass(c, c));
+  for (int c = 0; c < kNumCoordinates; ++c)
     scale[kNumCoordinates + c] +=
-        settings.absolute_tolerance * (std::max(omega * kLongestActing_s, 1.0) - 1.0);
-  }
+        settings.absolute_tolerance * (std::max(spring_frequency_radps[c] * kLongestActing_s, 1.0) - 1.0);
   for (int leg = 0; leg < kNumLegs; ++leg)
     if (touching[leg] > 0) {
       scale[coord::spin(leg)] = std::numeric_limits<double>::infinity();
@@ -162,12 +170,7 @@ WheelSpinRows wheel_spin_rows(const KinematicTree& tree, const TreeKinematics& k
   WheelSpinRows rows;
   for (int leg = 0; leg < kNumLegs; ++leg) {
     const int wheel = node::wheel(leg);
-    const Vec3& axis = kinematics.nodes[wheel].axis;
-    rows[leg].setZero();
-    for (int a = 0; a < tree.path_length[wheel]; ++a) {
-      const int k = tree.path[wheel][a];
-      rows[leg][tree.nodes[k].coordinate] += axis.dot(kinematics.nodes[k].motion_omega);
-    }
+    rows[leg] = kinematics.nodes[wheel].axis.transpose() * angular_jacobian(tree, kinematics, wheel);
   }
   return rows;
 }
@@ -296,7 +299,7 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
   double h = std::clamp(settings.initial_step_s, settings.min_step_s, settings.max_step_s);
   std::size_t next = 1;
   while (next < request.sample_count) {
-    const MechanicalLinearization<kNumCoordinates> lin = linearize(system, start);
+    const Linearization lin = linearize(system, start);
     const Coordinates q0 = start.x.head<kNumCoordinates>(), u0 = start.x.tail<kNumCoordinates>();
     const ContactCounts start_contacts = active_contacts(start.contacts);
     const std::vector<SlipRows> slips = slip_rows(system.model, start);
@@ -317,7 +320,7 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
         keep_maximum(seen, active_contacts(stage.contacts));
         return stage.dx.tail<kNumCoordinates>();
       };
-      MechanicalLinearization<kNumCoordinates> lin_h = lin;
+      MechanicalLinearization<kNumCoordinates> lin_h = lin.system;
       stiffen_s_joints_over_step(system.model.parameters, start.inputs, q0, u0, h,
                                  lin_h.d_force_d_position);
       const RosenbrockWStep<kNumCoordinates> step =
@@ -328,7 +331,8 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
       measure_wheel_spins(spins, step.error_u, e);
       error = !x1.allFinite()
                   ? std::numeric_limits<double>::infinity()
-                  : std::max(error_norm(e, error_scale(start.x, x1, lin, start_contacts, settings)),
+                  : std::max(error_norm(e, error_scale(start.x, x1, lin.spring_frequency_radps,
+                                                      start_contacts, settings)),
                              slip_error_norm(slips, step.error_u, settings));
       if (error <= 1.0) {
         t1 = last ? t_end : start.t + h;

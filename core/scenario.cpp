@@ -25,7 +25,7 @@ IntegratorSettings default_integrator_settings(IntegratorMethod method) {
   s.method = method;
   if (method == IntegratorMethod::kRosenbrockW) {
     s.relative_tolerance = 1e-5;
-    s.absolute_tolerance = 1e-3;
+    s.absolute_tolerance = 2e-4;
   }
   return s;
 }

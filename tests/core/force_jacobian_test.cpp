@@ -7,12 +7,14 @@
 
 #include <cmath>
 #include <random>
+#include <string>
 
 #include <gtest/gtest.h>
 
 #include "core/dynamics.hpp"
 #include "core/equations_of_motion.hpp"
 #include "core/friction.hpp"
+#include "core/friction_synthesis.hpp"
 #include "model_fixtures.hpp"
 
 namespace rover {
@@ -214,35 +216,84 @@ TEST(ForceJacobian, SpeedJacobianIsExact) {
   }
 }
 
+// K at (q, u) against central differences of the stiff forces. What K leaves
+// out, the turning of J_P and n with q under the contact forces, is forces
+// times levers no longer than the rover (0.72 m), and K holds all but a few
+// percent of dF/dq.
+void expect_position_jacobian_has_the_stiff_part(const RoverModel& model, const ModelInputs& in,
+                                                 const Coordinates& q, const Coordinates& u, double h,
+                                                 const std::string& label) {
+  const TreeKinematics kin = forward_kinematics(model.tree, q, u);
+  const auto contacts = wheel_contacts(model, kin);
+  double total_force = 0.0;
+  for (const WheelContacts& w : contacts) total_force += w.total_normal_force_N();
+  const StiffForceJacobian jac = stiff_force_jacobian(model, in, q, u, kin, contacts);
+  CoordinateMatrix fd;
+  for (int i = 0; i < kNumCoordinates; ++i) {
+    Coordinates qp = q, qm = q;
+    qp[i] += h;
+    qm[i] -= h;
+    fd.col(i) = (stiff_forces(model, in, qp, u) - stiff_forces(model, in, qm, u)) / (2.0 * h);
+  }
+  EXPECT_LT((jac.d_position - fd).cwiseAbs().maxCoeff(), total_force * 1.0)
+      << label << ": stiffness " << fd.cwiseAbs().maxCoeff();
+  EXPECT_LT((jac.d_position - fd).norm(), 0.02 * fd.norm()) << label;
+}
+
 TEST(ForceJacobian, PositionJacobianHasTheStiffPartOfTheFiniteDifferences) {
-  // At rest, dF/dq of the stiff forces is K plus what K leaves out: the
-  // turning of J_P and n with q under the contact forces, |f| times a lever,
-  // small against the contact and S-structure stiffness (force_jacobian.hpp).
+  // At rest: K is the contact and S-structure stiffness.
   std::mt19937 rng(12);
   for (const Terrain& terrain : test_terrains()) {
     const RoverModel model = make_rover_model(default_rover_parameters(), terrain);
     const ModelInputs in = nominal_inputs(model.parameters);
     for (int trial = 0; trial < 4; ++trial) {
       const ContactState s = contact_state(rng, 0.0);
-      const TreeKinematics kin = forward_kinematics(model.tree, s.q, s.u);
-      const auto contacts = wheel_contacts(model, kin);
-      double total_force = 0.0;
-      for (const WheelContacts& w : contacts) total_force += w.total_normal_force_N();
-      const StiffForceJacobian jac = stiff_force_jacobian(model, in, s.q, s.u, kin, contacts);
-      CoordinateMatrix fd;
-      const double h = 1e-9;
-      for (int i = 0; i < kNumCoordinates; ++i) {
-        Coordinates qp = s.q, qm = s.q;
-        qp[i] += h;
-        qm[i] -= h;
-        fd.col(i) = (stiff_forces(model, in, qp, s.u) - stiff_forces(model, in, qm, s.u)) / (2.0 * h);
-      }
-      // The left-out terms are forces times levers no longer than the rover
-      // (0.72 m), and K holds all but a few percent of dF/dq.
-      const double left_out_bound = total_force * 1.0;
-      EXPECT_LT((jac.d_position - fd).cwiseAbs().maxCoeff(), left_out_bound)
-          << "trial " << trial << ": stiffness " << fd.cwiseAbs().maxCoeff();
-      EXPECT_LT((jac.d_position - fd).norm(), 0.02 * fd.norm()) << "trial " << trial;
+      expect_position_jacobian_has_the_stiff_part(model, in, s.q, s.u, 1e-9, "trial " + std::to_string(trial));
+    }
+  }
+}
+
+// Speeds of a rover that moves (joints at up to 1 rad/s) while its wheels
+// roll without slipping: u minus its least-norm part that makes the contact
+// points of (q, u) slip.
+Coordinates rolling_speeds(const RoverModel& model, const Coordinates& q, Coordinates u) {
+  const TreeKinematics kin = forward_kinematics(model.tree, q, u);
+  const auto contacts = wheel_contacts(model, kin);
+  Eigen::Matrix<double, Eigen::Dynamic, kNumCoordinates> slip_rows(0, kNumCoordinates);
+  for (int leg = 0; leg < kNumLegs; ++leg)
+    for (int k = 0; k < contacts[leg].count; ++k) {
+      const ContactPoint& c = contacts[leg].points[k];
+      const Eigen::Matrix<double, 3, kNumCoordinates> J =
+          point_jacobian(model.tree, kin, node::wheel(leg), c.point_m);
+      // Two tangent directions.
+      const Vec3 t1 = c.normal.unitOrthogonal(), t2 = c.normal.cross(t1);
+      const Eigen::Index rows = slip_rows.rows();
+      slip_rows.conservativeResize(rows + 2, Eigen::NoChange);
+      slip_rows.row(rows) = t1.transpose() * J;
+      slip_rows.row(rows + 1) = t2.transpose() * J;
+    }
+  return u - slip_rows.transpose() * (slip_rows * slip_rows.transpose()).ldlt().solve(slip_rows * u);
+}
+
+TEST(ForceJacobian, PositionJacobianHasTheStiffPartWhileTheWheelsRoll) {
+  // As q turns a rolling wheel, its slip velocity turns with it, and the
+  // stuck friction (mu'(0) F_n, ~1e4 N s/m, 100 times more with v_s 100 times
+  // smaller) makes that a stiffness of ~mu'(0) F_n |u| per rad that K must
+  // hold (force_jacobian.hpp). On flat ground, where P is exactly the lowest
+  // rim point: on a height grid P snaps to grid lines, which the slip of a
+  // moving wheel would feel in a finite difference.
+  std::mt19937 rng(13);
+  for (const double v_s_scale : {1.0, 0.01}) {
+    RoverParameters p = default_rover_parameters();
+    p.friction = with_friction_speeds_scaled(p.friction, v_s_scale);
+    const RoverModel model = make_rover_model(p, Terrain::flat());
+    const ModelInputs in = nominal_inputs(model.parameters);
+    for (int trial = 0; trial < 4; ++trial) {
+      ContactState s = contact_state(rng, 1.0);
+      s.u = rolling_speeds(model, s.q, s.u);
+      s.u[coord::z] -= 0.002;  // sinking, away from the F_n = 0 clamp
+      expect_position_jacobian_has_the_stiff_part(
+          model, in, s.q, s.u, 1e-10, "v_s x " + std::to_string(v_s_scale) + " trial " + std::to_string(trial));
     }
   }
 }
