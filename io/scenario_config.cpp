@@ -166,10 +166,20 @@ std::string resolve_relative(const std::string& config_path, const std::string& 
 
 IntegratorSettings parse_integrator_settings(const JsonReader& r, IntegratorSettings s) {
   if (r.has("method")) {
+    IntegratorMethod method = s.method;
     try {
-      s.method = integrator_from_name(r.string("method"));
+      method = integrator_from_name(r.string("method"));
     } catch (const std::invalid_argument& e) {
       r.fail("method", e.what());
+    }
+    // Another method comes with its own tolerances (a Rosenbrock run at
+    // dopri5's rtol 1e-6, atol 1e-9 would be slow for nothing); the fields
+    // below still override them.
+    if (method != s.method) {
+      const IntegratorSettings defaults = default_integrator_settings(method);
+      s.method = method;
+      s.relative_tolerance = defaults.relative_tolerance;
+      s.absolute_tolerance = defaults.absolute_tolerance;
     }
   }
   if (r.has("rtol")) s.relative_tolerance = r.positive("rtol");

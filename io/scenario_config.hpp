@@ -14,8 +14,10 @@
 //   "wheel_speed_ref": [0, 0, 0, 0],          // rad/s (overrides forward_speed's)
 //   "steer_ref": [0, 0, 0, 0],                // rad
 //   "output_rate": 1000,                      // Hz
-//   "integrator": {"method": "dopri5" | "rk4", "rtol": 1e-6, "atol": 1e-9,
+//   "integrator": {"method": "dopri5" | "rk4" | "rosenbrock", "rtol": 1e-6, "atol": 1e-9,
 //                  "initial_step": 1e-5, "min_step": 1e-12, "max_step": 0.01, "fixed_step": 1e-5},
+//                                             // a method other than the base's starts from its
+//                                             // own default tolerances (default_integrator_settings)
 //   "wall_time_budget": 3600,                 // s; a longer run stops with a status
 //   "inputs": {"f": 1e4, "c_q": 0.14, "M0": [8]},  // optional overrides of the rover config
 //   "drive": {...}                            // optional, see below

@@ -143,6 +143,22 @@ TEST(ScenarioConfig, OverridesAreRead) {
   EXPECT_EQ(s.scenario.wall_time_budget_s, 12.5);
 }
 
+TEST(ScenarioConfig, AnotherMethodBringsItsOwnTolerances) {
+  // The base scenario runs dopri5 at rtol 1e-6, atol 1e-9; naming rosenbrock
+  // alone gives rosenbrock's defaults, explicit fields still win.
+  Json j = base_scenario();
+  j["integrator"] = {{"method", "rosenbrock"}};
+  const IntegratorSettings rosenbrock = default_integrator_settings(IntegratorMethod::kRosenbrockW);
+  io::ScenarioSetup s = io::load_scenario(write_scenario(j));
+  EXPECT_EQ(s.scenario.integrator.method, IntegratorMethod::kRosenbrockW);
+  EXPECT_EQ(s.scenario.integrator.relative_tolerance, rosenbrock.relative_tolerance);
+  EXPECT_EQ(s.scenario.integrator.absolute_tolerance, rosenbrock.absolute_tolerance);
+  j["integrator"]["atol"] = 2e-4;
+  s = io::load_scenario(write_scenario(j));
+  EXPECT_EQ(s.scenario.integrator.relative_tolerance, rosenbrock.relative_tolerance);
+  EXPECT_EQ(s.scenario.integrator.absolute_tolerance, 2e-4);
+}
+
 TEST(ScenarioConfig, BadFilesNameFileFieldAndValue) {
   const struct {
     const char* name;
