@@ -27,6 +27,8 @@
 #include <boost/math/tools/minima.hpp>
 #include <nlopt.hpp>
 
+#include "core/number_text.hpp"
+
 namespace rover {
 namespace {
 
@@ -274,7 +276,7 @@ MakkarGammas friction_gammas_for(const FrictionParameters& p) {
 FrictionParameters with_friction_speeds_scaled(FrictionParameters p, double scale) {
   if (!(scale > 0.0) || !std::isfinite(scale))
     throw std::invalid_argument("friction speed scale must be positive and finite, got " +
-                                std::to_string(scale));
+                                number_text(scale));
   p.v_static_mps *= scale;
   p.v_kinetic_mps *= scale;
   for (const int g : {1, 2, 4, 5}) p.gammas[static_cast<std::size_t>(g)] /= scale;

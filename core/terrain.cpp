@@ -9,15 +9,10 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/number_text.hpp"
+
 namespace rover {
 namespace {
-
-// Shortest readable form of a number for messages (std::to_string prints 1e-12 as 0.000000).
-std::string number_text(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.10g", v);
-  return text;
-}
 
 // Where a coordinate falls along one grid axis.
 struct AxisLocation {

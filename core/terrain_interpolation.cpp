@@ -11,15 +11,10 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 
+#include "core/number_text.hpp"
+
 namespace rover {
 namespace {
-
-// Shortest readable form of a number for messages (std::to_string prints 1e-12 as 0.000000).
-std::string number_text(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.10g", v);
-  return text;
-}
 
 // phi(r) = r^2 log r, written in r^2 to avoid a square root.
 double thin_plate_kernel(double r2) { return r2 > 0.0 ? 0.5 * r2 * std::log(r2) : 0.0; }
@@ -128,14 +123,8 @@ HeightGrid grid_from_control_points(const std::vector<Eigen::Vector3d>& points,
   if (!std::isfinite(geometry.origin_x_m) || !std::isfinite(geometry.origin_y_m))
     invalid("grid origin must be finite");
   const ThinPlateSpline spline(points);
-  HeightGrid grid;
-  grid.origin_x_m = geometry.origin_x_m;
-  grid.origin_y_m = geometry.origin_y_m;
-  grid.spacing_x_m = geometry.spacing_x_m;
-  grid.spacing_y_m = geometry.spacing_y_m;
-  grid.nx = geometry.nx;
-  grid.ny = geometry.ny;
-  grid.heights_m.resize(static_cast<std::size_t>(grid.nx) * static_cast<std::size_t>(grid.ny));
+  HeightGrid grid = grid_with_heights(
+      geometry, std::vector<double>(static_cast<std::size_t>(geometry.nx) * static_cast<std::size_t>(geometry.ny)));
   for (int iy = 0; iy < grid.ny; ++iy)
     for (int ix = 0; ix < grid.nx; ++ix)
       grid.heights_m[static_cast<std::size_t>(iy) * grid.nx + ix] =

@@ -22,6 +22,7 @@
 // preprocessing step: the simulation only ever sees the resulting grid.
 #pragma once
 
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -36,6 +37,19 @@ struct GridGeometry {
   double origin_x_m = 0, origin_y_m = 0, spacing_x_m = 0, spacing_y_m = 0;
   int nx = 0, ny = 0;
 };
+
+// The height grid of `geometry` with node heights `heights_m` (row-major in y).
+inline HeightGrid grid_with_heights(const GridGeometry& geometry, std::vector<double> heights_m) {
+  HeightGrid grid;
+  grid.origin_x_m = geometry.origin_x_m;
+  grid.origin_y_m = geometry.origin_y_m;
+  grid.spacing_x_m = geometry.spacing_x_m;
+  grid.spacing_y_m = geometry.spacing_y_m;
+  grid.nx = geometry.nx;
+  grid.ny = geometry.ny;
+  grid.heights_m = std::move(heights_m);
+  return grid;
+}
 
 class ThinPlateSpline {
  public:

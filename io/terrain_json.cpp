@@ -101,18 +101,6 @@ std::vector<Eigen::Vector3d> read_points(const JsonReader& r) {
   return points;
 }
 
-HeightGrid make_grid(const GridGeometry& g, std::vector<double> heights) {
-  HeightGrid grid;
-  grid.origin_x_m = g.origin_x_m;
-  grid.origin_y_m = g.origin_y_m;
-  grid.spacing_x_m = g.spacing_x_m;
-  grid.spacing_y_m = g.spacing_y_m;
-  grid.nx = g.nx;
-  grid.ny = g.ny;
-  grid.heights_m = std::move(heights);
-  return grid;
-}
-
 void append_number(std::string& out, double v) {
   char text[32];
   const auto result = std::to_chars(text, text + sizeof text, v);  // shortest exact form
@@ -133,7 +121,7 @@ Terrain load_terrain(const std::string& path) {
       terrain = Terrain::flat(r.number_or("height", 0.0));
     } else if (type == "grid") {
       const GridGeometry geometry = read_geometry(r);
-      terrain = Terrain::from_grid(make_grid(geometry, read_heights(r, geometry)));
+      terrain = Terrain::from_grid(grid_with_heights(geometry, read_heights(r, geometry)));
     } else if (type == "control_points") {
       const std::string method = r.string_or("method", "thin_plate_spline");
       if (method != "thin_plate_spline")

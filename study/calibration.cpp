@@ -293,18 +293,11 @@ std::string run_calibration(const CalibrationStudy& s, const StudyRunControl& co
   h5.write("/fit/t", fit_t);
   h5.write("/fit/z", fit.B_l_z);
   h5.write("/messages", messages);
-  h5.attribute("/", "study", "calibration");
-  h5.attribute("/", "name", s.common.name);
-  h5.attribute("/", "study_file", s.common.path);
-  h5.attribute("/", "study_json", read_text(s.common.path));
+  write_study_provenance(h5, s.common);
   h5.attribute("/", "data_file", s.data_path);
   h5.attribute("/", "algorithm", s.algorithm);
   h5.attribute("/", "max_evaluations", static_cast<long long>(s.max_evaluations));
   h5.attribute("/", "starts", static_cast<long long>(s.starts));
-  h5.attribute("/", "integrator", integrator_name(s.common.setup.scenario.integrator.method));
-  h5.attribute("/", "ranks", static_cast<long long>(world_size()));
-  h5.attribute("/", "fingerprint", s.common.fingerprint);
-  h5.attribute("/", "project_version", ROVER_VERSION);
   h5.commit();
   remove_checkpoint(out);
   std::cerr << "calibrate: " << history.size() / row << " evaluations; best RMS " << best_rms * 1000.0

@@ -118,10 +118,7 @@ std::string run_montecarlo(const MonteCarloStudy& study, const StudyRunControl& 
   h5.write("/samples/status", status);
   h5.write("/samples/message", messages);
   h5.write("/samples/wall_time_s", wall);
-  h5.attribute("/", "study", "montecarlo");
-  h5.attribute("/", "name", study.common.name);
-  h5.attribute("/", "study_file", study.common.path);
-  h5.attribute("/", "study_json", read_text(study.common.path));
+  write_study_provenance(h5, study.common);
   h5.attribute("/", "scenario", sc.name);
   h5.attribute("/", "scenario_file", setup.scenario_path);
   h5.attribute("/", "samples", static_cast<long long>(study.samples));
@@ -136,12 +133,6 @@ std::string run_montecarlo(const MonteCarloStudy& study, const StudyRunControl& 
   const auto& sd = setup.model.parameters.s_structure.preload_sd_Nm;
   h5.attribute("/", "M0_mean", std::vector<double>(mean.begin(), mean.end()));
   h5.attribute("/", "M0_sd", std::vector<double>(sd.begin(), sd.end()));
-  h5.attribute("/", "integrator", integrator_name(sc.integrator.method));
-  h5.attribute("/", "rtol", sc.integrator.relative_tolerance);
-  h5.attribute("/", "atol", sc.integrator.absolute_tolerance);
-  h5.attribute("/", "ranks", static_cast<long long>(world_size()));
-  h5.attribute("/", "fingerprint", study.common.fingerprint);
-  h5.attribute("/", "project_version", ROVER_VERSION);
   h5.commit();
   remove_checkpoint(out);
   std::cerr << "montecarlo: " << study.samples << " samples (" << failed << " failed), wrote " << out << "\n";

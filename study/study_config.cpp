@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "io/checkpoint.hpp"
+#include "study/study_runner.hpp"
 
 namespace rover::study {
 
@@ -12,6 +13,20 @@ std::string read_text(const std::string& path) {
   std::stringstream ss;
   ss << in.rdbuf();
   return ss.str();
+}
+
+void write_study_provenance(io::Hdf5Writer& h5, const StudyCommon& common) {
+  const IntegratorSettings& integrator = common.setup.scenario.integrator;
+  h5.attribute("/", "study", common.type);
+  h5.attribute("/", "name", common.name);
+  h5.attribute("/", "study_file", common.path);
+  h5.attribute("/", "study_json", read_text(common.path));
+  h5.attribute("/", "integrator", integrator_name(integrator.method));
+  h5.attribute("/", "rtol", integrator.relative_tolerance);
+  h5.attribute("/", "atol", integrator.absolute_tolerance);
+  h5.attribute("/", "ranks", static_cast<long long>(world_size()));
+  h5.attribute("/", "fingerprint", common.fingerprint);
+  h5.attribute("/", "project_version", ROVER_VERSION);
 }
 
 StudyCommon parse_study_common(const io::JsonReader& r, const std::string& expected_type) {

@@ -9,6 +9,7 @@
 
 #include <string>
 
+#include "io/hdf5_file.hpp"
 #include "io/json_reader.hpp"
 #include "io/scenario_config.hpp"
 
@@ -25,6 +26,11 @@ StudyCommon parse_study_common(const io::JsonReader& reader, const std::string& 
 
 // The text of a file (for fingerprints and provenance attributes).
 std::string read_text(const std::string& path);
+
+// The attributes on "/" that every study result carries: study (its type),
+// name, study_file, study_json (the file's text), integrator, rtol, atol,
+// ranks, fingerprint, project_version.
+void write_study_provenance(io::Hdf5Writer& h5, const StudyCommon& common);
 
 // Default result path: results/<name>.h5.
 std::string default_results_path(const StudyCommon& common);

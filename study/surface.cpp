@@ -166,20 +166,11 @@ std::string run_surface(const SurfaceStudy& study, const StudyRunControl& contro
     h5.attribute("/sweep", "c_q", study.sweep_c_q);
     h5.attribute("/sweep/regression", "meaning", "t_c = a + b f: [a (s), b (s), r^2]");
   }
-  h5.attribute("/", "study", "surface");
-  h5.attribute("/", "name", study.common.name);
-  h5.attribute("/", "study_file", study.common.path);
-  h5.attribute("/", "study_json", read_text(study.common.path));
+  write_study_provenance(h5, study.common);
   h5.attribute("/", "scenario", setup.scenario.name);
   h5.attribute("/", "reference", study.reference_description);
-  h5.attribute("/", "integrator", integrator_name(integ.method));
-  h5.attribute("/", "rtol", integ.relative_tolerance);
-  h5.attribute("/", "atol", integ.absolute_tolerance);
   h5.attribute("/", "t_c_meaning", "wall time of one simulate() call on one core, seconds");
-  h5.attribute("/", "ranks", static_cast<long long>(world_size()));
   h5.attribute("/", "failed_runs", static_cast<long long>(failed));
-  h5.attribute("/", "fingerprint", study.common.fingerprint);
-  h5.attribute("/", "project_version", ROVER_VERSION);
   h5.commit();
   remove_checkpoint(out);
   std::cerr << "surface: " << tasks << " runs (" << failed << " failed), wrote " << out << "\n";

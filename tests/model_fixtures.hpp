@@ -1,10 +1,12 @@
-// Shared fixtures for the model tests: random states and the default model.
+// Shared fixtures for the model tests: random states, the default model and
+// sampled height grids.
 #pragma once
 
 #include <random>
 
 #include "core/coordinates.hpp"
 #include "core/rover_model.hpp"
+#include "core/terrain.hpp"
 
 namespace rover::testing {
 
@@ -22,6 +24,21 @@ inline void random_state(std::mt19937& rng, Coordinates& q, Coordinates& u) {
 // The default model, with the ground pushed far below so nothing touches it.
 inline RoverModel airborne_model(RoverParameters p = default_rover_parameters()) {
   return make_rover_model(std::move(p), Terrain::flat(-100.0));
+}
+
+// A height grid sampling h(x, y) at its nodes.
+template <class Height>
+HeightGrid sampled_grid(double x0, double y0, double dx, double dy, int nx, int ny, Height h) {
+  HeightGrid g;
+  g.origin_x_m = x0;
+  g.origin_y_m = y0;
+  g.spacing_x_m = dx;
+  g.spacing_y_m = dy;
+  g.nx = nx;
+  g.ny = ny;
+  for (int iy = 0; iy < ny; ++iy)
+    for (int ix = 0; ix < nx; ++ix) g.heights_m.push_back(h(g.node_x(ix), g.node_y(iy)));
+  return g;
 }
 
 }  // namespace rover::testing

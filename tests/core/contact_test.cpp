@@ -57,20 +57,6 @@ void expect_on_rim(const ContactPoint& c, const Vec3& centre, const Vec3& spin, 
   EXPECT_NEAR((c.point_m - centre).dot(spin), 0.0, 1e-12);
 }
 
-template <class Height>
-HeightGrid sampled_grid(double x0, double y0, double dx, double dy, int nx, int ny, Height h) {
-  HeightGrid g;
-  g.origin_x_m = x0;
-  g.origin_y_m = y0;
-  g.spacing_x_m = dx;
-  g.spacing_y_m = dy;
-  g.nx = nx;
-  g.ny = ny;
-  for (int iy = 0; iy < ny; ++iy)
-    for (int ix = 0; ix < nx; ++ix) g.heights_m.push_back(h(g.node_x(ix), g.node_y(iy)));
-  return g;
-}
-
 const Terrain& obstacle_terrain() {
   static const Terrain terrain = Terrain::from_grid(trapezoid_obstacle_grid(TrapezoidObstacle{}));
   return terrain;
@@ -140,7 +126,7 @@ TEST(Contact, TiltedPlaneGridMatchesThePlane) {
   // h = c + a x + b y sampled on a grid: bilinear interpolation is the plane.
   const double a = 0.25, b = -0.15, c0 = 0.01;
   const Terrain plane = Terrain::from_grid(
-      sampled_grid(-0.5, -0.6, 0.013, 0.017, 90, 80, [&](double x, double y) { return c0 + a * x + b * y; }));
+      testing::sampled_grid(-0.5, -0.6, 0.013, 0.017, 90, 80, [&](double x, double y) { return c0 + a * x + b * y; }));
   const Vec3 m(-a, -b, 1.0);  // upward normal, unnormalised
   const Vec3 n = m.normalized();
   std::mt19937 rng(3);
@@ -220,7 +206,7 @@ TEST(Contact, ConvexEdgeOnAGridLineGivesTheMeanSlopeNormal) {
   // itself (neither plane's own optimum lies on its side), so the contact
   // point must sit on the grid line and take the mean-slope normal.
   const double x0 = 0.5, top = 0.05, up = 0.3, down = -0.1;
-  const Terrain ridge = Terrain::from_grid(sampled_grid(0.0, -0.5, 0.01, 0.05, 101, 21, [&](double x, double) {
+  const Terrain ridge = Terrain::from_grid(testing::sampled_grid(0.0, -0.5, 0.01, 0.05, 101, 21, [&](double x, double) {
     return x <= x0 ? top + up * (x - x0) : top + down * (x - x0);
   }));
   ASSERT_DOUBLE_EQ(ridge.height(x0, 0.0), top);
@@ -344,7 +330,7 @@ TEST(Contact, FrictionVanishesAtZeroSlip) {
 // Random states with contacts on flat ground and on a tilted plane grid.
 std::vector<Terrain> test_terrains() {
   return {Terrain::flat(),
-          Terrain::from_grid(sampled_grid(-2.0, -2.0, 0.011, 0.013, 365, 310,
+          Terrain::from_grid(testing::sampled_grid(-2.0, -2.0, 0.011, 0.013, 365, 310,
                                           [](double x, double y) { return 0.02 * x - 0.03 * y; }))};
 }
 

@@ -22,21 +22,10 @@ namespace {
 
 constexpr double kBottomBelowG = 0.2285;  // wheel bottoms below G at q = 0 (MODEL.md section 3)
 
-HeightGrid plane_grid(double slope_x, double slope_y) {
-  HeightGrid g;
-  g.origin_x_m = -2.0;
-  g.origin_y_m = -2.0;
-  g.spacing_x_m = 0.011;
-  g.spacing_y_m = 0.013;
-  g.nx = 365;
-  g.ny = 310;
-  for (int iy = 0; iy < g.ny; ++iy)
-    for (int ix = 0; ix < g.nx; ++ix) g.heights_m.push_back(slope_x * g.node_x(ix) + slope_y * g.node_y(iy));
-  return g;
-}
-
 std::vector<Terrain> test_terrains() {
-  return {Terrain::flat(), Terrain::from_grid(plane_grid(0.003, -0.002))};
+  return {Terrain::flat(), Terrain::from_grid(testing::sampled_grid(
+                              -2.0, -2.0, 0.011, 0.013, 365, 310,
+                              [](double x, double y) { return 0.003 * x - 0.002 * y; }))};
 }
 
 // The force f = F_n n + F_t of contact k of `leg` at (q, u).

@@ -7,30 +7,17 @@
 
 #include <gtest/gtest.h>
 
+#include "model_fixtures.hpp"
+
 namespace rover {
 namespace {
-
-// A grid sampling h(x, y) at its nodes.
-template <class Height>
-HeightGrid sampled_grid(double x0, double y0, double dx, double dy, int nx, int ny, Height h) {
-  HeightGrid g;
-  g.origin_x_m = x0;
-  g.origin_y_m = y0;
-  g.spacing_x_m = dx;
-  g.spacing_y_m = dy;
-  g.nx = nx;
-  g.ny = ny;
-  for (int iy = 0; iy < ny; ++iy)
-    for (int ix = 0; ix < nx; ++ix) g.heights_m.push_back(h(g.node_x(ix), g.node_y(iy)));
-  return g;
-}
 
 // A smooth, non-planar surface: bilinear interpolation of it has slope jumps
 // on every grid line.
 double bumpy(double x, double y) { return 0.05 * std::sin(3.0 * x) * std::cos(2.0 * y) + 0.1 * x * x; }
 
 Terrain bumpy_terrain() {
-  return Terrain::from_grid(sampled_grid(-1.0, -0.5, 0.1, 0.05, 21, 21, bumpy));
+  return Terrain::from_grid(testing::sampled_grid(-1.0, -0.5, 0.1, 0.05, 21, 21, bumpy));
 }
 
 TEST(Terrain, FlatPlaneHasHeightAndVerticalNormalEverywhere) {
@@ -52,7 +39,7 @@ TEST(Terrain, FlatPlaneHasHeightAndVerticalNormalEverywhere) {
 TEST(Terrain, BilinearReproducesATiltedPlaneExactly) {
   const double a = 0.3, b = -0.17, c = 0.02;
   const auto plane = [&](double x, double y) { return c + a * x + b * y; };
-  const Terrain t = Terrain::from_grid(sampled_grid(-0.7, 0.2, 0.013, 0.021, 40, 30, plane));
+  const Terrain t = Terrain::from_grid(testing::sampled_grid(-0.7, 0.2, 0.013, 0.021, 40, 30, plane));
   EXPECT_FALSE(t.is_flat());
   const Eigen::Vector3d expected_normal = Eigen::Vector3d(-a, -b, 1.0).normalized();
   // Interior points, grid lines and nodes alike: the plane has no slope jump.
@@ -145,7 +132,7 @@ TEST(Terrain, OnAGridLineTheSlopeAcrossIsTheMeanOfTheOneSidedSlopes) {
 TEST(Terrain, AtAGridNodeBothComponentsAreMeans) {
   // A single peak at node (2, 2): the one-sided slopes are +-1 in each
   // direction, so the mean is 0 and the normal is vertical at the node.
-  HeightGrid g = sampled_grid(0.0, 0.0, 0.1, 0.1, 5, 5, [](double, double) { return 0.0; });
+  HeightGrid g = testing::sampled_grid(0.0, 0.0, 0.1, 0.1, 5, 5, [](double, double) { return 0.0; });
   g.heights_m[2 * 5 + 2] = 0.1;
   const Terrain peak = Terrain::from_grid(g);
   for (double dx : {0.0, 7e-10, -7e-10})
@@ -208,7 +195,7 @@ TEST(Terrain, NanInGivesNanOut) {
 }
 
 TEST(Terrain, InvalidGridsAreRejectedWithAClearMessage) {
-  const auto ok = [] { return sampled_grid(0, 0, 0.1, 0.1, 3, 4, [](double x, double) { return x; }); };
+  const auto ok = [] { return testing::sampled_grid(0, 0, 0.1, 0.1, 3, 4, [](double x, double) { return x; }); };
   const auto rejects = [](HeightGrid g, const std::string& words) {
     try {
       (void)Terrain::from_grid(std::move(g));
