@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <random>
 #include <sys/wait.h>
+#include <system_error>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -36,6 +38,45 @@ std::string mpiexec() {
   return exe + " --oversubscribe";
 }
 
+namespace {
+// Removes the directories of temp_dir(): a test's own when it passes (a failed
+// test's stay, and their paths are printed, for a look at what it wrote), and
+// those made outside any test (a suite's shared set-up) when the program ends
+// with every test passed.
+class TempDirCleaner : public ::testing::EmptyTestEventListener {
+ public:
+  void add(const std::filesystem::path& dir, bool in_test) { (in_test ? test_dirs_ : program_dirs_).push_back(dir); }
+
+ private:
+  static void remove_or_keep(std::vector<std::filesystem::path>& dirs, bool passed) {
+    for (const auto& dir : dirs) {
+      std::error_code ignored;
+      if (passed)
+        std::filesystem::remove_all(dir, ignored);
+      else
+        std::printf("kept %s\n", dir.c_str());
+    }
+    dirs.clear();
+  }
+  void OnTestEnd(const ::testing::TestInfo& info) override {
+    remove_or_keep(test_dirs_, !info.result()->Failed());
+  }
+  void OnTestProgramEnd(const ::testing::UnitTest& unit) override {
+    remove_or_keep(program_dirs_, unit.Passed());
+  }
+  std::vector<std::filesystem::path> test_dirs_, program_dirs_;
+};
+
+TempDirCleaner& temp_dir_cleaner() {
+  static TempDirCleaner* cleaner = [] {
+    auto* c = new TempDirCleaner;  // owned by gtest's listener list
+    ::testing::UnitTest::GetInstance()->listeners().Append(c);
+    return c;
+  }();
+  return *cleaner;
+}
+}  // namespace
+
 std::string temp_dir() {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
   std::string name = info ? std::string(info->test_suite_name()) + "_" + info->name() : "rover";
@@ -45,6 +86,7 @@ std::string temp_dir() {
   const auto dir = std::filesystem::temp_directory_path() /
                    ("rover_test_" + name + "_" + std::to_string(rd()));
   std::filesystem::create_directories(dir);
+  temp_dir_cleaner().add(dir, info != nullptr);
   return dir.string();
 }
 

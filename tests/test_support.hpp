@@ -9,7 +9,7 @@ namespace rover::testing {
 std::string source_path(const std::string& relative);  // <source dir>/relative
 std::string rover_binary();                              // path of the built `rover`
 std::string mpiexec();                                   // "mpirun --oversubscribe" (root allowed)
-std::string temp_dir();                                  // a fresh directory for this test
+std::string temp_dir();  // a fresh directory for this test, removed if it passes
 // Runs a shell command; returns its exit status and captures stdout+stderr.
 int run_command(const std::string& command, std::string* output = nullptr);
 
