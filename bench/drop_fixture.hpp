@@ -1,7 +1,11 @@
 // Shared by the benchmarks: the 1 s horizontal drop of MODEL.md section 7
-// (configs/scenarios/drop_horizontal.json) and the rover at rest at its end.
+// (configs/scenarios/drop_horizontal.json), the rover at rest at its end, and
+// the benchmark of one right-hand side there.
 #pragma once
 
+#include <benchmark/benchmark.h>
+
+#include "core/equations_of_motion.hpp"
 #include "core/simulate.hpp"
 #include "io/scenario_config.hpp"
 
@@ -28,6 +32,18 @@ inline const StateVector& rest_state() {
 inline ModelInputs drop_model_inputs() {
   const io::ScenarioSetup& s = drop_setup();
   return model_inputs_for(s.scenario, s.inputs);
+}
+
+// One right-hand side of the rover at rest on its wheels (both
+// simulate_bench and integrator_bench report it, as the unit of their costs).
+inline void BM_RightHandSideAtRest(benchmark::State& state) {
+  const io::ScenarioSetup& s = drop_setup();
+  const ModelInputs in = drop_model_inputs();
+  StateVector x = rest_state();
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(x);
+    benchmark::DoNotOptimize(state_derivative(s.model, in, x));
+  }
 }
 
 }  // namespace rover::bench

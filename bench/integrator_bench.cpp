@@ -41,6 +41,7 @@ namespace {
 using namespace rover;
 using rover::bench::drop_model_inputs;
 using rover::bench::drop_setup;
+using rover::bench::BM_RightHandSideAtRest;
 using rover::bench::rest_state;
 
 // The model with v_s and v_k scaled by `scale` and the gammas scaled to match.
@@ -194,16 +195,6 @@ void print_conditioning() {
   std::printf("\n");
 }
 
-void BM_RightHandSide(benchmark::State& state) {
-  const io::ScenarioSetup& s = drop_setup();
-  const ModelInputs in = drop_model_inputs();
-  StateVector x = rest_state();
-  for (auto _ : state) {
-    benchmark::DoNotOptimize(x);
-    benchmark::DoNotOptimize(state_derivative(s.model, in, x));
-  }
-}
-
 // What the integrator adds per step to its right-hand sides: D and K.
 void BM_StiffForceJacobian(benchmark::State& state) {
   const io::ScenarioSetup& s = drop_setup();
@@ -230,7 +221,7 @@ void BM_DropHorizontal1s(benchmark::State& state) {
   state.counters["steps"] = static_cast<double>(tr.steps);
 }
 
-BENCHMARK(BM_RightHandSide);
+BENCHMARK(BM_RightHandSideAtRest);
 BENCHMARK(BM_StiffForceJacobian);
 BENCHMARK(BM_DropHorizontal1s)
     ->Unit(benchmark::kMillisecond)

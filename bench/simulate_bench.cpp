@@ -26,6 +26,7 @@ namespace {
 using namespace rover;
 using rover::bench::drop_model_inputs;
 using rover::bench::drop_setup;
+using rover::bench::BM_RightHandSideAtRest;
 using rover::bench::rest_state;
 
 void report(benchmark::State& state, const Trajectory& tr) {
@@ -57,16 +58,6 @@ void BM_DropHorizontal1sVsF(benchmark::State& state) {
     if (!tr.ok()) state.SkipWithError(tr.message.c_str());
   }
   report(state, tr);
-}
-
-void BM_RightHandSideAtRest(benchmark::State& state) {
-  const io::ScenarioSetup& s = drop_setup();
-  const ModelInputs in = drop_model_inputs();
-  StateVector x = rest_state();
-  for (auto _ : state) {
-    benchmark::DoNotOptimize(x);
-    benchmark::DoNotOptimize(state_derivative(s.model, in, x));
-  }
 }
 
 BENCHMARK(BM_DropHorizontal1s)->Unit(benchmark::kMillisecond)->Iterations(3);

@@ -30,13 +30,19 @@ Coordinates contact_generalized_forces(const RoverModel& model, const TreeKinema
   return Q;
 }
 
+Coordinates forcing_without_contact(const RoverModel& model, const ModelInputs& inputs,
+                                    const TreeKinematics& kin, const Coordinates& q,
+                                    const Coordinates& u) {
+  return gravity_and_inertia_forces(model.tree, kin, model.parameters.gravity_mps2) +
+         joint_forces(model.parameters, inputs, q, u);
+}
+
 EquationsOfMotion evaluate_equations_of_motion(const RoverModel& model, const Coordinates& q,
                                                const Coordinates& u, const ModelInputs& inputs) {
   const TreeKinematics kin = forward_kinematics(model.tree, q, u);
   EquationsOfMotion eom;
   eom.mass_matrix = mass_matrix(model.tree, kin);
-  eom.forcing_no_contact = gravity_and_inertia_forces(model.tree, kin, model.parameters.gravity_mps2) +
-                           joint_forces(model.parameters, inputs, q, u);
+  eom.forcing_no_contact = forcing_without_contact(model, inputs, kin, q, u);
   eom.contacts = wheel_contacts(model, kin);
   eom.forcing = eom.forcing_no_contact + contact_generalized_forces(model, kin, eom.contacts);
   return eom;
@@ -47,9 +53,8 @@ StateVector state_derivative(const RoverModel& model, const ModelInputs& inputs,
   const Coordinates q = x.head<kNumCoordinates>();
   const Coordinates u = x.tail<kNumCoordinates>();
   const TreeKinematics kin = forward_kinematics(model.tree, q, u);
-  Coordinates F = gravity_and_inertia_forces(model.tree, kin, model.parameters.gravity_mps2) +
-                  joint_forces(model.parameters, inputs, q, u);
-  F += contact_generalized_forces(model, kin, wheel_contacts(model, kin));
+  const Coordinates F = forcing_without_contact(model, inputs, kin, q, u) +
+                        contact_generalized_forces(model, kin, wheel_contacts(model, kin));
   StateVector dx;
   dx.head<kNumCoordinates>() = u;
   dx.tail<kNumCoordinates>() = mass_matrix(model.tree, kin).llt().solve(F);

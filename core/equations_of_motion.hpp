@@ -23,6 +23,13 @@ struct EquationsOfMotion {
 EquationsOfMotion evaluate_equations_of_motion(const RoverModel& model, const Coordinates& q,
                                                const Coordinates& u, const ModelInputs& inputs);
 
+// F without the contact forces: gravity, inertia (velocity-product) terms and
+// the joint torques (S-structures, servos, wheel drives). Every evaluation of
+// the equations of motion sums the applied forces through this one function.
+Coordinates forcing_without_contact(const RoverModel& model, const ModelInputs& inputs,
+                                    const TreeKinematics& kin, const Coordinates& q,
+                                    const Coordinates& u);
+
 // Contacts of all four wheels with their forces, at given kinematics.
 std::array<WheelContacts, kNumLegs> wheel_contacts(const RoverModel& model,
                                                    const TreeKinematics& kin);

@@ -82,7 +82,7 @@ bool has_more(const ContactCounts& n, const ContactCounts& seen) {
   return false;
 }
 
-// One right-hand side, with the same sums as state_derivative(), keeping the
+// One right-hand side, as state_derivative() computes it, keeping the
 // kinematics, the contacts and M, F for the Jacobian.
 struct Evaluation {
   double t = 0.0;
@@ -103,9 +103,8 @@ void evaluate(const OdeSystem& system, double t, const StateVector& x, Evaluatio
   const Coordinates q = x.head<kNumCoordinates>(), u = x.tail<kNumCoordinates>();
   e.kinematics = forward_kinematics(model.tree, q, u);
   e.contacts = wheel_contacts(model, e.kinematics);
-  e.force = gravity_and_inertia_forces(model.tree, e.kinematics, model.parameters.gravity_mps2) +
-            joint_forces(model.parameters, e.inputs, q, u);
-  e.force += contact_generalized_forces(model, e.kinematics, e.contacts);
+  e.force = forcing_without_contact(model, e.inputs, e.kinematics, q, u) +
+            contact_generalized_forces(model, e.kinematics, e.contacts);
   e.mass = mass_matrix(model.tree, e.kinematics);
   e.dx << u, e.mass.llt().solve(e.force);
 }

@@ -189,7 +189,7 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
 }
 
 std::string run_calibration(const CalibrationStudy& s, const StudyRunControl& control) {
-  const std::string out = control.results_path.empty() ? default_results_path(s.common) : control.results_path;
+  const std::string out = results_path(s.common, control.results_path);
   const std::size_t p = s.fit.size();
   const std::size_t row = p + 3;  // parameters, offset, rms, status
 

@@ -48,8 +48,7 @@ MonteCarloStudy load_montecarlo_study(const std::string& path) {
 
 std::string run_montecarlo(const MonteCarloStudy& study, const StudyRunControl& control) {
   const io::ScenarioSetup& setup = study.common.setup;
-  const std::string out = control.results_path.empty() ? default_results_path(study.common)
-                                                       : control.results_path;
+  const std::string out = results_path(study.common, control.results_path);
   const auto draw = [&](int i) {
     return sample_preloads(setup.model.parameters.s_structure, study.seed,
                            static_cast<std::uint64_t>(i), study.sd_scale);

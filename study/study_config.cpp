@@ -52,6 +52,8 @@ StudyCommon parse_study_common(const io::JsonReader& r, const std::string& expec
   return c;
 }
 
-std::string default_results_path(const StudyCommon& common) { return "results/" + common.name + ".h5"; }
+std::string results_path(const StudyCommon& common, const std::string& requested) {
+  return requested.empty() ? "results/" + common.name + ".h5" : requested;
+}
 
 }  // namespace rover::study

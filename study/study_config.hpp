@@ -32,7 +32,8 @@ std::string read_text(const std::string& path);
 // ranks, fingerprint, project_version.
 void write_study_provenance(io::Hdf5Writer& h5, const StudyCommon& common);
 
-// Default result path: results/<name>.h5.
-std::string default_results_path(const StudyCommon& common);
+// Where a study writes: the path the user asked for, or results/<name>.h5
+// if that is empty.
+std::string results_path(const StudyCommon& common, const std::string& requested);
 
 }  // namespace rover::study

@@ -100,8 +100,7 @@ SurfaceStudy load_surface_study(const std::string& path) {
 
 std::string run_surface(const SurfaceStudy& study, const StudyRunControl& control) {
   const io::ScenarioSetup& setup = study.common.setup;
-  const std::string out = control.results_path.empty() ? default_results_path(study.common)
-                                                       : control.results_path;
+  const std::string out = results_path(study.common, control.results_path);
   const int nf = static_cast<int>(study.f.size()), nc = static_cast<int>(study.c_q.size());
   const int grid_tasks = nf * nc, tasks = grid_tasks + static_cast<int>(study.sweep_f.size());
   auto compute = [&](int i) {

@@ -334,16 +334,21 @@ std::vector<Terrain> test_terrains() {
                                           [](double x, double y) { return 0.02 * x - 0.03 * y; }))};
 }
 
+// A random state over the middle of the test terrains, low enough that wheels touch.
+void random_state_in_contact(std::mt19937& rng, Coordinates& q, Coordinates& u) {
+  testing::random_state(rng, q, u);
+  q[coord::x] *= 0.5;
+  q[coord::y] *= 0.5;
+  q[coord::z] = 0.21;
+}
+
 TEST(Contact, GeneralizedForceHasTheVirtualPowerOfTheContactForces) {
   std::mt19937 rng(21);
   int contacts_seen = 0;
   for (const Terrain& terrain : test_terrains()) {
     for (int trial = 0; trial < 6; ++trial) {
       Coordinates q, u;
-      testing::random_state(rng, q, u);
-      q[coord::x] *= 0.5;
-      q[coord::y] *= 0.5;
-      q[coord::z] = 0.21;
+      random_state_in_contact(rng, q, u);
       const ForcesAt f = forces_at(q, u, terrain);
       const Coordinates Q = contact_generalized_forces(f.model, f.kin, f.contacts);
       double power = 0.0;
@@ -367,10 +372,7 @@ TEST(Contact, GeneralizedForceIsTheFiniteDifferenceJacobianTransposed) {
   for (const Terrain& terrain : test_terrains()) {
     for (int trial = 0; trial < 4; ++trial) {
       Coordinates q, u;
-      testing::random_state(rng, q, u);
-      q[coord::x] *= 0.5;
-      q[coord::y] *= 0.5;
-      q[coord::z] = 0.21;
+      random_state_in_contact(rng, q, u);
       const ForcesAt f = forces_at(q, u, terrain);
       Coordinates expected = Coordinates::Zero();
       const double h = 1e-6;
