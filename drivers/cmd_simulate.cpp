@@ -77,7 +77,8 @@ const RegisterCommand registration{
       app.add_option("--out", o->out, "HDF5 output (default results/<scenario>.h5)");
       app.add_option("--csv", o->csv, "Also write the same columns as CSV to this file");
       app.add_flag("--no-plot", o->no_plot, "Do not write PNG plots");
-      app.add_option("--integrator", o->integrator, "Override the scenario's integrator, with that method's default tolerances: dopri5 (rtol 1e-6, atol 1e-9), rk4 (step 1e-5 s), rosenbrock (stiff, rtol 1e-5, atol 1e-3)");
+      app.add_option("--integrator", o->integrator, "Override the scenario's integrator, with that method's default tolerances: " +
+                         integrator_choices_text());
       add_input_overrides(app, o->overrides);
       return [o] { return run_simulate(*o); };
     }};

@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "drivers/command_registry.hpp"
+#include "drivers/options.hpp"
 #include "drivers/study_options.hpp"
 #include "study/mpi_session.hpp"
 #include "study/surface.hpp"
@@ -44,7 +45,8 @@ const RegisterCommand registration{
           "  mpirun -np 8 rover surface --study configs/studies/f_cq_surface.json\n\n") + kMpiFooter);
       app.add_option("--study", o->study_path, "Study file (configs/studies/*.json, type surface)")
           ->required()->check(CLI::ExistingFile);
-      app.add_option("--integrator", o->integrator, "Override the integrator, with its default tolerances (dopri5, rk4, rosenbrock)");
+      app.add_option("--integrator", o->integrator, "Override the study's integrator, with that method's default tolerances: " +
+                         integrator_choices_text());
       add_study_control(app, o->control);
       return [o] { return run_surface_command(*o); };
     }};
