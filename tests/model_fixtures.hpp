@@ -7,6 +7,7 @@
 #include "core/coordinates.hpp"
 #include "core/rover_model.hpp"
 #include "core/terrain.hpp"
+#include "core/terrain_interpolation.hpp"
 
 namespace rover::testing {
 
@@ -29,13 +30,7 @@ inline RoverModel airborne_model(RoverParameters p = default_rover_parameters())
 // A height grid sampling h(x, y) at its nodes.
 template <class Height>
 HeightGrid sampled_grid(double x0, double y0, double dx, double dy, int nx, int ny, Height h) {
-  HeightGrid g;
-  g.origin_x_m = x0;
-  g.origin_y_m = y0;
-  g.spacing_x_m = dx;
-  g.spacing_y_m = dy;
-  g.nx = nx;
-  g.ny = ny;
+  HeightGrid g = grid_with_heights(GridGeometry{x0, y0, dx, dy, nx, ny}, {});
   for (int iy = 0; iy < ny; ++iy)
     for (int ix = 0; ix < nx; ++ix) g.heights_m.push_back(h(g.node_x(ix), g.node_y(iy)));
   return g;
