@@ -3,6 +3,10 @@
 // the benchmark of one right-hand side there.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
 #include <benchmark/benchmark.h>
 
 #include "core/equations_of_motion.hpp"
@@ -32,6 +36,16 @@ inline const StateVector& rest_state() {
 inline ModelInputs drop_model_inputs() {
   const io::ScenarioSetup& s = drop_setup();
   return model_inputs_for(s.scenario, s.inputs);
+}
+
+// RMS difference of two sampled curves in mm (of metres), over their common
+// samples; NaN if there are none.
+inline double rms_mm(const std::vector<double>& a, const std::vector<double>& b) {
+  const std::size_t n = std::min(a.size(), b.size());
+  if (n == 0) return NAN;
+  double sum = 0.0;
+  for (std::size_t i = 0; i < n; ++i) sum += (a[i] - b[i]) * (a[i] - b[i]);
+  return 1e3 * std::sqrt(sum / static_cast<double>(n));
 }
 
 // One right-hand side of the rover at rest on its wheels (both

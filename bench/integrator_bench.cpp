@@ -48,20 +48,13 @@ using rover::bench::drop_model_inputs;
 using rover::bench::drop_setup;
 using rover::bench::BM_RightHandSideAtRest;
 using rover::bench::rest_state;
+using rover::bench::rms_mm;
 
 // The model with v_s and v_k scaled by `scale` and the gammas scaled to match.
 RoverModel friction_scaled_model(const RoverModel& base, double scale) {
   RoverParameters p = base.parameters;
   p.friction = with_friction_speeds_scaled(p.friction, scale);
   return make_rover_model(p, base.terrain);
-}
-
-double rms_mm(const std::vector<double>& a, const std::vector<double>& b) {
-  const std::size_t n = std::min(a.size(), b.size());
-  if (n == 0) return NAN;
-  double sum = 0.0;
-  for (std::size_t i = 0; i < n; ++i) sum += (a[i] - b[i]) * (a[i] - b[i]);
-  return 1e3 * std::sqrt(sum / static_cast<double>(n));
 }
 
 std::string cell(const Trajectory& tr) {
