@@ -11,6 +11,9 @@ packages=(
   nlohmann-json3-dev libcli11-dev libgtest-dev libbenchmark-dev
   gnuplot-nox python3-h5py python3-numpy
 )
+# Optional: SUNDIALS for bench/sundials_bench, the comparison with CVODE and
+# ARKODE. Debian's libsundials-dev pulls in PETSc and hypre (about 1 GB).
+if [[ "${ROVER_WITH_SUNDIALS:-0}" == 1 ]]; then packages+=(libsundials-dev); fi
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
