@@ -138,16 +138,16 @@ Run run_sundials(Solver solver, const io::ScenarioSetup& setup, const Simulation
 
   Run run;
   const double period = 1.0 / setup.scenario.output_rate_hz;
-  const auto samples = static_cast<int>(std::floor(setup.scenario.duration_s / period * (1.0 + 1e-12))) + 1;
+  const std::size_t samples = output_sample_count(setup.scenario);
   auto record = [&](const StateVector& x) {
     const TreeKinematics kin =
         forward_kinematics(setup.model.tree, x.head<kNumCoordinates>(), x.tail<kNumCoordinates>());
     run.B_l_z.push_back(kin.nodes[node::bogie_left].origin.z());
   };
   record(x0);
-  for (int k = 1; k < samples; ++k) {
+  for (std::size_t k = 1; k < samples; ++k) {
     double t = 0.0;
-    const double tout = k * period;
+    const double tout = static_cast<double>(k) * period;
     const int flag = solver == Solver::kCvodeBdf ? CVode(memory, tout, y, &t, CV_NORMAL)
                                                  : ARKStepEvolve(memory, tout, y, &t, ARK_NORMAL);
     if (flag < 0) {

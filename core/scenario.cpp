@@ -1,5 +1,6 @@
 #include "core/scenario.hpp"
 
+#include <cmath>
 #include <stdexcept>
 
 namespace rover {
@@ -28,6 +29,11 @@ IntegratorSettings default_integrator_settings(IntegratorMethod method) {
     s.absolute_tolerance = 2e-4;
   }
   return s;
+}
+
+std::size_t output_sample_count(const Scenario& scenario) {
+  const double period = 1.0 / scenario.output_rate_hz;
+  return static_cast<std::size_t>(std::floor(scenario.duration_s / period * (1.0 + 1e-12))) + 1;
 }
 
 }  // namespace rover

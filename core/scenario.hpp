@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -61,5 +62,9 @@ struct Scenario {
   double wall_time_budget_s = 3600.0;  // a run taking longer is stopped and reported
   DriveSchedule drive;                 // optional; overrides the set-points above
 };
+
+// The number of output samples of a scenario, t_k = k / output_rate_hz for
+// k = 0 .. count-1, the last at duration_s (to rounding).
+std::size_t output_sample_count(const Scenario& scenario);
 
 }  // namespace rover

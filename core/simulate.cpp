@@ -96,8 +96,7 @@ Trajectory simulate(const RoverModel& model, const Scenario& scenario,
 
   Trajectory out;
   const double period = 1.0 / scenario.output_rate_hz;
-  const auto samples =
-      static_cast<std::size_t>(std::floor(scenario.duration_s / period * (1.0 + 1e-12))) + 1;
+  const std::size_t samples = output_sample_count(scenario);
   TrajectoryRecorder recorder(model, samples, out);
 
   IntegrationRequest request;

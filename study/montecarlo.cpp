@@ -75,7 +75,7 @@ std::string run_montecarlo(const MonteCarloStudy& study, const StudyRunControl& 
   // Assemble: every curve on the scenario's output grid, NaN where a run stopped early.
   const Scenario& sc = setup.scenario;
   const double period = 1.0 / sc.output_rate_hz;
-  const auto T = static_cast<Eigen::Index>(std::floor(sc.duration_s / period * (1.0 + 1e-12))) + 1;
+  const auto T = static_cast<Eigen::Index>(output_sample_count(sc));
   std::vector<double> t(static_cast<std::size_t>(T));
   for (Eigen::Index k = 0; k < T; ++k) t[static_cast<std::size_t>(k)] = static_cast<double>(k) * period;
   const auto N = static_cast<Eigen::Index>(study.samples);
