@@ -10,7 +10,7 @@
 //   kMartinez        S1_i = corr(f(B), f(A_B^i)),  ST_i = 1 - corr(f(A), f(A_B^i)),
 //                    S2_ij = corr(f(B_A^i), f(A_B^j)) - S1_i - S1_j    (Martinez 2011)
 // The outputs are centred on f0 before the products are formed, which removes
-// the O(f0^2 / V) noise of the uncentred product forms (Saltelli et al. 2010).
+// the O(f0^2 / V) noise of the uncentred product forms (Sobol' 2001).
 //
 // Failed runs: a non-finite output drops its whole group (the A, B and mixed
 // runs share their rows of A and B, so a group is the unit of the estimator);
