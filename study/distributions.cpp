@@ -112,6 +112,20 @@ TruncatedStdNormal standardised_log(const Distribution& d) {
   return standardised(d.a, d.b, log_lower, log_upper);
 }
 
+// log(max / min) of a log-uniform, accurate also when max / min is close to 1.
+double log_ratio(double min, double max) { return std::log1p((max - min) / min); }
+
+// atanh(t) - t = t^3/3 + t^5/5 + ... for |t| < 0.1, summed (no cancellation).
+double atanh_minus_identity_series(double t) {
+  const double t2 = t * t;
+  double term = t * t2, sum = 0.0;
+  for (int k = 3; term != 0.0 && std::abs(term) > 1e-17 * std::abs(sum); k += 2) {
+    sum += term / k;
+    term *= t2;
+  }
+  return sum;
+}
+
 bool untruncated(const Distribution& d) {
   const double lower_end = d.kind == DistributionKind::kLognormal ? 0.0 : -kInf;
   return d.lower <= lower_end && d.upper == kInf;
@@ -179,8 +193,7 @@ double Distribution::quantile(double p) const {
   }
   switch (kind) {
     case DistributionKind::kUniform: return std::clamp(a + p * (b - a), a, b);
-    case DistributionKind::kLogUniform:
-      return std::clamp(std::exp(std::log(a) + p * (std::log(b) - std::log(a))), a, b);
+    case DistributionKind::kLogUniform: return std::clamp(a * std::exp(p * log_ratio(a, b)), a, b);
     case DistributionKind::kNormal:
       return std::clamp(a + b * standardised(a, b, lower, upper).quantile(p), lo, hi);
     case DistributionKind::kLognormal:
@@ -201,7 +214,7 @@ double Distribution::cdf(double x) const {
     case DistributionKind::kLogUniform:
       if (x <= a) return 0.0;
       if (x >= b) return 1.0;
-      return (std::log(x) - std::log(a)) / (std::log(b) - std::log(a));
+      return log_ratio(a, x) / log_ratio(a, b);
     // The ends are compared in x: standardising may round a point just
     // outside onto the bound.
     case DistributionKind::kNormal:
@@ -222,7 +235,7 @@ double Distribution::log_pdf(double x) const {
     case DistributionKind::kFixed: return x == a ? 0.0 : -kInf;
     case DistributionKind::kUniform: return x >= a && x <= b ? -std::log(b - a) : -kInf;
     case DistributionKind::kLogUniform:
-      return x >= a && x <= b ? -std::log(x) - std::log(std::log(b) - std::log(a)) : -kInf;
+      return x >= a && x <= b ? -std::log(x) - std::log(log_ratio(a, b)) : -kInf;
     case DistributionKind::kNormal:
       if (x < lower || x > upper) return -kInf;
       return standardised(a, b, lower, upper).log_pdf((x - a) / b) - std::log(b);
@@ -239,7 +252,7 @@ double Distribution::mean() const {
   switch (kind) {
     case DistributionKind::kFixed: return a;
     case DistributionKind::kUniform: return 0.5 * (a + b);
-    case DistributionKind::kLogUniform: return (b - a) / (std::log(b) - std::log(a));
+    case DistributionKind::kLogUniform: return (b - a) / log_ratio(a, b);
     case DistributionKind::kNormal: return a + b * standardised(a, b, lower, upper).mean();
     case DistributionKind::kLognormal: {
       // E X = exp(mu + sigma^2 / 2) P(alpha - sigma <= Z <= beta - sigma) / P(alpha <= Z <= beta).
@@ -257,10 +270,13 @@ double Distribution::sd() const {
     case DistributionKind::kFixed: return 0.0;
     case DistributionKind::kUniform: return (b - a) / std::sqrt(12.0);
     case DistributionKind::kLogUniform: {
-      const double log_ratio = std::log(b) - std::log(a);
-      const double m = (b - a) / log_ratio;
-      const double second_moment = (b - a) * (b + a) / (2.0 * log_ratio);
-      return std::sqrt(std::max(0.0, second_moment - m * m));
+      // Var X = (b^2 - a^2) / (2 L) - ((b - a) / L)^2 with L = log(b / a)
+      // = 2 atanh(t), t = (b - a) / (b + a); factored as
+      // (b - a) / L * (b + a) / 2 * (atanh(t) - t) / atanh(t), free of
+      // cancellation as b / a -> 1 (where it tends to the uniform's).
+      const double t = (b - a) / (b + a), atanh_t = 0.5 * log_ratio(a, b);
+      const double excess = t < 0.1 ? atanh_minus_identity_series(t) : atanh_t - t;
+      return std::sqrt((b - a) / (2.0 * atanh_t) * 0.5 * (b + a) * excess / atanh_t);
     }
     case DistributionKind::kNormal:
       return b * std::sqrt(standardised(a, b, lower, upper).variance());

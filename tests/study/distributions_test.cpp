@@ -283,6 +283,14 @@ TEST(Distributions, LogUniformIsUniformInTheLogarithm) {
   EXPECT_NEAR(d.quantile(0.5), 1.0, 1e-14);
   EXPECT_NEAR(d.quantile(0.25), std::sqrt(1e-3), 1e-15);
   EXPECT_NEAR(d.cdf(10.0), 4.0 / 6.0, 1e-14);
+  // As max / min -> 1 it tends to the uniform on [min, max]: mean and sd
+  // differ from the uniform's by O(t^2) relatively, t = (max - min) / (max + min).
+  const double a = 1e6, b = 1e6 * (1.0 + 1e-8);
+  const Distribution narrow = log_uniform(a, b);
+  EXPECT_NEAR(narrow.mean(), 0.5 * (a + b), 1e-15 * a);
+  EXPECT_NEAR(narrow.sd(), (b - a) / std::sqrt(12.0), 1e-12 * (b - a));
+  EXPECT_NEAR(narrow.cdf(a + 0.25 * (b - a)), 0.25, 1e-8);
+  EXPECT_NEAR(narrow.quantile(0.25), a + 0.25 * (b - a), 1e-8 * (b - a));
 }
 
 TEST(Distributions, FixedValueIsAPointMass) {
