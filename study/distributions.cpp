@@ -74,11 +74,17 @@ struct TruncatedStdNormal {
 
   // p in [0, 1]; the ends are handled by the caller.
   double quantile(double p) const {
-    // Mirrored: the (1 - p)-quantile of -Z, i.e. Phi(lo) + (1 - p) mass,
-    // written as Phi(hi) - p mass so that a small p is not lost in 1 - p.
-    const double z = mirrored ? -std_normal_quantile(cdf_hi - p * mass)
-                              : std_normal_quantile(cdf_lo + p * mass);
-    return std::clamp(z, alpha, beta);
+    // The target value of Phi on the interval worked on, Phi(lo) + q mass
+    // with q = p (q = 1 - p when mirrored), is measured from the nearer end
+    // so that neither a small p nor a small 1 - p is lost (1 - p is exact
+    // for p >= 1/2).
+    double target;
+    if (!mirrored)
+      target = p <= 0.5 ? cdf_lo + p * mass : cdf_hi - (1.0 - p) * mass;
+    else
+      target = p <= 0.5 ? cdf_hi - p * mass : cdf_lo + (1.0 - p) * mass;
+    const double z = std_normal_quantile(target);
+    return std::clamp(mirrored ? -z : z, alpha, beta);
   }
 
   double log_pdf(double z) const {

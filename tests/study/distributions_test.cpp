@@ -253,6 +253,11 @@ TEST(Distributions, TailTruncationAtSixSigmaKeepsFullPrecision) {
     EXPECT_GT(x, previous) << p;
     previous = x;
   }
+  // The largest p a design produces, 1 - 2^-53, still maps to a finite point.
+  const double p_max = 1.0 - std::ldexp(1.0, -53);
+  EXPECT_TRUE(std::isfinite(d.quantile(p_max)));
+  EXPECT_GT(d.quantile(p_max), d.quantile(1.0 - 1e-12));
+  EXPECT_NEAR(d.cdf(d.quantile(p_max)), p_max, 1e-15);
   // The same on the lower side, and on a scaled variable.
   const Distribution lower_tail = normal(5.0, 0.5, -kInf, 5.0 - 6.0 * 0.5);
   EXPECT_NEAR(lower_tail.quantile(0.5), 5.0 - 0.5 * median, 1e-13 * 5.0);
