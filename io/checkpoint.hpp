@@ -1,21 +1,48 @@
 // Checkpoints of a running study, so that `--resume` recomputes only the
 // tasks that are missing.
 //
-// ResultCheckpoint keeps the records of completed tasks (task index -> status,
-// message, values) and rewrites them all to "<results>.checkpoint" (an HDF5 file,
-// written through Hdf5Writer: temp file + rename, so a crash leaves either the
-// previous checkpoint or the new one) every K records or T seconds. The file
-// carries a fingerprint of the study configuration; load() refuses a checkpoint
-// written for another configuration.
+// ResultCheckpoint appends the record of each completed task (task index,
+// status, message, values) to "<results>.checkpoint" and never rewrites old
+// records: the cost of a write is the size of the new records, whatever the
+// number already saved. Records are buffered and written every K records or
+// T seconds (CheckpointPolicy) and by save(). The object keeps only the set of
+// task indices done and the records not yet written, not the records
+// themselves; load() reads them back once, for a resume.
 //
-// File layout (readable with h5py): /index, /status, /length (ints), /message
-// (strings), /values (the records' values concatenated, record i having
-// length[i] values); root attributes "fingerprint" and "format".
+// Crashes: the file is created with its header through "<file>.partial" and a
+// rename, so it always starts with a complete header. A crash in the middle
+// of an append leaves a torn last record, which load() recognises by its
+// length or checksum and drops (torn_tail_bytes()); the next append truncates
+// it away and continues after the last good record. Appends are write(2)
+// calls without fsync: what was written survives a crash of the process; a
+// power failure can lose the last records, which again shows as a torn tail.
+//
+// Why a plain binary file and not HDF5 with extendable datasets: an HDF5 file
+// modified in place is not crash-safe (HDF5 1.10 without SWMR can leave its
+// metadata unreadable after a crash during a write), so the whole checkpoint
+// would be at risk at every append; a sequence of self-delimiting, checksummed
+// records loses at most the record being written, and appending is one write.
+//
+// File format (all integers little-endian, doubles IEEE-754 binary64 stored
+// as their little-endian bit patterns; CRC-32 is the zlib/PNG polynomial,
+// boost::crc_32_type):
+//   header:  8 bytes  "ROVERCKP"
+//            u32      format version (2)
+//            u32      L, the fingerprint's length in bytes
+//            L bytes  fingerprint (config_fingerprint() text)
+//            u32      CRC-32 of all the header bytes before it
+//   record:  u32      P, the payload's length in bytes (16 + M + 8 V)
+//            payload: i32 task index (>= 0), i32 status,
+//                     u32 M, M bytes message (UTF-8),
+//                     u32 V, V doubles (the values)
+//            u32      CRC-32 of the P field and the payload
+// A task may appear more than once (add() of an index already recorded): the
+// last record counts.
 #pragma once
 
 #include <chrono>
 #include <cstddef>
-#include <map>
+#include <cstdint>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -36,6 +63,7 @@ struct CheckpointPolicy {
   double every_seconds = 60.0;      // ... or when this long has passed since the last write
 };
 
+// Not synchronised: use one object from one thread.
 class ResultCheckpoint {
  public:
   // `results_path` is the study's final result file; the checkpoint lives
@@ -49,27 +77,49 @@ class ResultCheckpoint {
   }
   const std::string& path() const { return path_; }
 
-  // Reads the checkpoint file if there is one and keeps its records (later
-  // writes include them). Returns them sorted by index; none if no file.
-  // Throws std::runtime_error if the file was written with another fingerprint
-  // or is damaged.
+  // Reads the checkpoint file if there is one: returns its records sorted by
+  // index (the last record of an index counts), none if there is no file,
+  // and makes later writes append to it (after the last good record). A torn
+  // last record is dropped (see torn_tail_bytes()). Records added before and
+  // not yet written are written first. Throws std::runtime_error, naming the
+  // file, if it was written for another fingerprint, is of another format or
+  // version, or has a damaged header. Without load(), the first write starts
+  // a new file (replacing an old one).
   std::vector<TaskRecord> load();
 
-  // Adds (or replaces) the record of one task; writes the file when the policy
-  // says so.
+  // Adds the record of one task (index >= 0, else std::invalid_argument); a
+  // record of an index already done replaces it. Writes when the policy says
+  // so; a failed write (e.g. a full disk) throws std::runtime_error naming the
+  // file and keeps the unwritten records for the next attempt.
   void add(const TaskRecord& record);
-  // Writes all records now (if any were added since the last write).
+  // Writes the records added since the last write, if any.
   void save();
-  // Deletes the checkpoint file (call once the final results are committed).
+  // Deletes the checkpoint file (call once the final results are committed)
+  // and forgets everything: indices done and records not yet written.
   void remove();
 
-  std::size_t size() const { return records_.size(); }
+  // Number of distinct task indices recorded (loaded or added).
+  std::size_t size() const { return size_; }
+  // True if task `index` has a record.
+  bool contains(int index) const;
+  // Bytes this object has written to files (headers and records), and the
+  // bytes of a torn tail that the last load() dropped.
+  std::uint64_t bytes_written() const { return bytes_written_; }
+  std::uint64_t torn_tail_bytes() const { return torn_tail_bytes_; }
 
  private:
+  void mark_done(int index);
+  void create_file();
+
   std::string path_, fingerprint_;
   CheckpointPolicy policy_;
-  std::map<int, TaskRecord> records_;
-  std::size_t unsaved_ = 0;
+  std::vector<bool> done_;          // by task index
+  std::size_t size_ = 0;            // count of true entries in done_
+  std::string unsaved_bytes_;       // encoded records not yet written
+  std::size_t unsaved_records_ = 0;
+  bool appending_ = false;          // the file exists and ends (logically) at append_offset_
+  std::uint64_t append_offset_ = 0;
+  std::uint64_t bytes_written_ = 0, torn_tail_bytes_ = 0;
   std::chrono::steady_clock::time_point last_save_;
 };
 

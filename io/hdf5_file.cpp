@@ -4,6 +4,9 @@
 #include <hdf5.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <stdexcept>
 #include <system_error>
@@ -41,15 +44,37 @@ class Handle {
   herr_t (*close_)(hid_t) = nullptr;
 };
 
-void silence_hdf5_error_printing() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+// Called before any other HDF5 call of a reader or writer. Error printing is
+// switched off (errors become exceptions). And the library is told not to
+// close itself at exit: after a failed write (a full disk) H5Fclose fails and
+// leaves the file's identifier pointing at freed memory, which the library's
+// own exit handler would close again and crash on. Files are always closed by
+// their owners, so nothing is left for that handler to do. (H5dont_atexit only
+// acts before the library's first initialisation; later calls are no-ops.)
+void prepare_hdf5_library() {
+  H5dont_atexit();
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+}
 
-// The innermost (most specific) message on HDF5's error stack, which is cleared.
-std::string hdf5_error_detail() {
-  std::string detail;
+// What HDF5's error stack says about the last failure (the stack is cleared):
+// its innermost message, and the errno of a failed system call if one is
+// reported ("errno = 28, ..." in the file driver's message), else 0.
+struct Hdf5ErrorDetail {
+  std::string innermost;
+  int system_error = 0;
+};
+
+Hdf5ErrorDetail hdf5_error_detail() {
+  Hdf5ErrorDetail detail;
   H5Ewalk2(
       H5E_DEFAULT, H5E_WALK_UPWARD,
       [](unsigned n, const H5E_error2_t* error, void* out) -> herr_t {
-        if (n == 0 && error->desc) *static_cast<std::string*>(out) = error->desc;
+        auto& d = *static_cast<Hdf5ErrorDetail*>(out);
+        if (!error->desc) return 0;
+        const std::string desc = error->desc;
+        if (n == 0) d.innermost = desc;
+        if (const std::size_t at = desc.find("errno = "); at != std::string::npos && !d.system_error)
+          d.system_error = std::atoi(desc.c_str() + at + 8);
         return 0;
       },
       &detail);
@@ -57,12 +82,24 @@ std::string hdf5_error_detail() {
   return detail;
 }
 
+// "<file>: <what>: <problem>", with the cause from HDF5's error stack: a full
+// disk said in plain words, else HDF5's innermost message.
+std::string error_message(const std::string& file, const std::string& what,
+                          const std::string& problem) {
+  std::string message = file + ": " + what + ": " + problem;
+  const Hdf5ErrorDetail detail = hdf5_error_detail();
+  const int e = detail.system_error;
+  if (e == ENOSPC || e == EFBIG || e == EDQUOT)
+    message += ": " + std::string(std::strerror(e)) +
+               " (the disk is full or the file size limit is reached)";
+  else if (!detail.innermost.empty())
+    message += " (HDF5: " + detail.innermost + ")";
+  return message;
+}
+
 [[noreturn]] void fail(const std::string& file, const std::string& what,
                        const std::string& problem) {
-  std::string message = file + ": " + what + ": " + problem;
-  const std::string detail = hdf5_error_detail();
-  if (!detail.empty()) message += " (HDF5: " + detail + ")";
-  throw std::runtime_error(message);
+  throw std::runtime_error(error_message(file, what, problem));
 }
 
 std::string dataset_label(const std::string& name) { return "dataset '" + name + "'"; }
@@ -270,7 +307,7 @@ std::vector<std::string> read_string_data(hid_t type, std::size_t count, const s
 // ------------------------------------------------------------------ Hdf5Writer
 
 Hdf5Writer::Hdf5Writer(const std::string& path) : path_(path), partial_path_(path + ".partial") {
-  silence_hdf5_error_printing();
+  prepare_hdf5_library();
   const Handle fcpl = checked_handle(H5Pcreate(H5P_FILE_CREATE), H5Pclose, path_, "file",
                                      "cannot create property list");
   no_time_stamps(fcpl.get(), path_, "file");
@@ -280,10 +317,23 @@ Hdf5Writer::Hdf5Writer(const std::string& path) : path_(path), partial_path_(pat
 
 Hdf5Writer::~Hdf5Writer() {
   if (file_ < 0) return;  // committed, or commit() failed and cleaned up
+  close_row_datasets();
+  // After a failed write this close fails too; the file is gone either way.
   H5Fclose(file_);
   H5Eclear2(H5E_DEFAULT);
   std::error_code ignored;
   std::filesystem::remove(partial_path_, ignored);
+}
+
+std::string Hdf5Writer::close_row_datasets() {
+  std::string first_error;
+  for (const auto& [name, dataset] : row_datasets_)
+    if (H5Dclose(dataset.id) < 0) {
+      const std::string message = error_message(path_, dataset_label(name), "cannot close");
+      if (first_error.empty()) first_error = message;
+    }
+  row_datasets_.clear();
+  return first_error;
 }
 
 void Hdf5Writer::require_open(const std::string& what) const {
@@ -374,26 +424,92 @@ void Hdf5Writer::attribute(const std::string& object, const std::string& name,
                   values.data());
 }
 
+void Hdf5Writer::create_matrix(const std::string& dataset, std::size_t rows, std::size_t cols,
+                               double fill_value) {
+  const std::string what = dataset_label(dataset);
+  require_open(what);
+  const std::string name = join_path(split_path(dataset), split_path(dataset).size());
+  if (split_path(dataset).empty()) fail(path_, what, "empty dataset name");
+  create_groups(file_, path_, name, /*include_last=*/false);
+  if (H5Lexists(file_, name.c_str(), H5P_DEFAULT) > 0) fail(path_, what, "already written");
+  H5Eclear2(H5E_DEFAULT);
+
+  const hsize_t dims[2] = {rows, cols};
+  const Handle space = checked_handle(H5Screate_simple(2, dims, nullptr), H5Sclose, path_, what,
+                                      "cannot create dataspace");
+  const Handle dcpl = checked_handle(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, path_, what,
+                                     "cannot create property list");
+  no_time_stamps(dcpl.get(), path_, what);
+  check(H5Pset_fill_value(dcpl.get(), H5T_NATIVE_DOUBLE, &fill_value), path_, what,
+        "cannot set the fill value");
+  if (rows > 0 && cols > 0) {
+    // Whole rows, about 64 KiB per chunk; unwritten chunks are not stored.
+    constexpr hsize_t kRowChunkBytes = 64 * 1024;
+    const hsize_t chunk[2] = {
+        std::min<hsize_t>(rows, std::max<hsize_t>(1, kRowChunkBytes / (sizeof(double) * cols))),
+        cols};
+    check(H5Pset_chunk(dcpl.get(), 2, chunk), path_, what, "cannot set chunking");
+    if (H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0) {
+      check(H5Pset_shuffle(dcpl.get()), path_, what, "cannot set shuffle filter");
+      check(H5Pset_deflate(dcpl.get(), kDeflateLevel), path_, what, "cannot set deflate filter");
+    }
+  }
+  const hid_t id =
+      H5Dcreate2(file_, name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, dcpl.get(),
+                 H5P_DEFAULT);
+  check(id, path_, what, "cannot create dataset");
+  row_datasets_.emplace(name, RowDataset{id, rows, cols});
+}
+
+void Hdf5Writer::write_row(const std::string& dataset, std::size_t row, const double* values,
+                           std::size_t cols) {
+  const std::string what = dataset_label(dataset);
+  require_open(what);
+  const auto it = row_datasets_.find(join_path(split_path(dataset), split_path(dataset).size()));
+  if (it == row_datasets_.end()) fail(path_, what, "not made by create_matrix()");
+  const RowDataset& target = it->second;
+  if (row >= target.rows || cols != target.cols)
+    throw std::runtime_error(path_ + ": " + what + ": row " + std::to_string(row) + " of " +
+                             std::to_string(cols) + " values for a " +
+                             std::to_string(target.rows) + " x " + std::to_string(target.cols) +
+                             " dataset");
+  if (cols == 0) return;
+  const hsize_t start[2] = {row, 0}, count[2] = {1, cols};
+  const Handle file_space = checked_handle(H5Dget_space(target.id), H5Sclose, path_, what,
+                                           "cannot read the dataspace");
+  check(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, count, nullptr),
+        path_, what, "cannot select the row");
+  const Handle memory_space = checked_handle(H5Screate_simple(2, count, nullptr), H5Sclose, path_,
+                                             what, "cannot create dataspace");
+  check(H5Dwrite(target.id, H5T_NATIVE_DOUBLE, memory_space.get(), file_space.get(), H5P_DEFAULT,
+                 values),
+        path_, what, "cannot write row " + std::to_string(row));
+}
+
 void Hdf5Writer::commit() {
   require_open("commit");
+  std::string error = close_row_datasets();
   const hid_t file = std::exchange(file_, H5I_INVALID_HID);
+  if (H5Fclose(file) < 0 && error.empty())
+    error = error_message(path_, "file", "cannot close '" + partial_path_ + "'");
   std::error_code ignored;
-  if (H5Fclose(file) < 0) {
+  if (!error.empty()) {
     std::filesystem::remove(partial_path_, ignored);
-    fail(path_, "file", "cannot close '" + partial_path_ + "'");
+    throw std::runtime_error(error);
   }
-  std::error_code error;
-  std::filesystem::rename(partial_path_, path_, error);
-  if (error) {
+  std::error_code rename_error;
+  std::filesystem::rename(partial_path_, path_, rename_error);
+  if (rename_error) {
     std::filesystem::remove(partial_path_, ignored);
-    throw std::runtime_error(path_ + ": cannot rename '" + partial_path_ + "': " + error.message());
+    throw std::runtime_error(path_ + ": cannot rename '" + partial_path_ +
+                             "': " + rename_error.message());
   }
 }
 
 // ------------------------------------------------------------------ Hdf5Reader
 
 Hdf5Reader::Hdf5Reader(const std::string& path) : path_(path) {
-  silence_hdf5_error_printing();
+  prepare_hdf5_library();
   std::error_code error;
   if (!std::filesystem::is_regular_file(path_, error))
     throw std::runtime_error(path_ + ": no such file");

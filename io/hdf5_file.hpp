@@ -8,6 +8,19 @@
 // are not recorded, so the same content gives byte-identical files. Large
 // numeric datasets are chunked and compressed (shuffle + deflate).
 //
+// Large matrices that arrive a row at a time (one curve per run of a study)
+// are written with create_matrix() and write_row(): memory is one chunk cache,
+// whatever the number of rows. Rows may come in any order; the bytes of the
+// file depend on that order (chunks are laid out as they fill), so write them
+// in index order (study/ordered_sink.hpp) for files identical on any number
+// of MPI ranks.
+//
+// A full disk (ENOSPC, EDQUOT) or file size limit (EFBIG) makes the failing
+// call throw a std::runtime_error that names the file and says so; the writer
+// can then only be destroyed, which removes "<path>.partial" and does not
+// crash (see prepare_hdf5_library() in hdf5_file.cpp: the HDF5 library is not
+// closed at exit, as its exit handler crashes on a file whose close failed).
+//
 // Every failure is a std::runtime_error naming the file and the object; the
 // HDF5 library's own error stack printing is switched off (H5Eset_auto) and its
 // innermost message is appended to ours.
@@ -19,6 +32,7 @@
 #include <concepts>
 #include <cstddef>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -40,6 +54,17 @@ class Hdf5Writer {
   void write(const std::string& dataset, const Eigen::MatrixXd& matrix);   // 2-D, rows x cols
   void write(const std::string& dataset, const std::vector<int>& values);  // 1-D
   void write(const std::string& dataset, const std::vector<std::string>& values);  // 1-D
+  // A chunked 2-D dataset of rows x cols doubles, every element fill_value
+  // (NaN for curves) until written, then written row by row in any order with
+  // write_row(); memory independent of rows. Chunks hold whole rows,
+  // max(1, 64 KiB / (8 cols)) of them, compressed like the other large
+  // datasets (shuffle + deflate). The dataset stays open until commit().
+  void create_matrix(const std::string& dataset, std::size_t rows, std::size_t cols,
+                     double fill_value);
+  // Writes row `row` (< rows) of a dataset made by create_matrix(); `cols`
+  // must be its column count. A row may be written again (it is replaced).
+  void write_row(const std::string& dataset, std::size_t row, const double* values,
+                 std::size_t cols);
   // Creates an (empty) group, with its intermediate groups; no-op if it exists.
   void create_group(const std::string& group);
 
@@ -62,16 +87,27 @@ class Hdf5Writer {
   }
 
   // Closes the file and renames "<path>.partial" to <path> (replacing an older
-  // file atomically). Nothing can be written afterwards.
+  // file atomically). Nothing can be written afterwards. If closing fails (a
+  // full disk shows here when the data were cached), the partial file is
+  // removed and a std::runtime_error thrown.
   void commit();
 
   const std::string& path() const { return path_; }
 
  private:
   void require_open(const std::string& object) const;
+  // Closes the datasets of create_matrix(); returns the message of the first
+  // failure (empty if none).
+  std::string close_row_datasets();
+
+  struct RowDataset {
+    std::int64_t id;  // hid_t, open until commit() or destruction
+    std::size_t rows, cols;
+  };
 
   std::string path_, partial_path_;
   std::int64_t file_ = -1;  // hid_t
+  std::map<std::string, RowDataset> row_datasets_;  // by normalised name ("/a/b")
 };
 
 class Hdf5Reader {
