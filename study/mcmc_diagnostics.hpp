@@ -34,7 +34,7 @@ double split_rhat(const Eigen::MatrixXd& chain);
 struct ChainDiagnostics {
   double acceptance_fraction = 0;
   Eigen::VectorXd autocorrelation_time, effective_sample_size, split_rhat;  // per parameter
-  bool chain_too_short = false;  // steps < 50 * max autocorrelation time
+  bool chain_too_short = false;  // steps < 50 * max autocorrelation time, or a parameter never moves
   std::string warning;           // human text when too short or R-hat > 1.01 / 1.1; empty if fine
 };
 
