@@ -36,7 +36,7 @@ int run_obstacle(const ObstacleOptions& o) {
               << o.ramp_angle_deg << " deg ramps, top " << obstacle.top_length_m
               << " m, sides y = " << obstacle.y_min_m << " and " << obstacle.y_max_m
               << " m; grid nodes on the foot and on both sides.";
-  const nlohmann::json provenance = {
+  const io::Json provenance = {
       {"description", description.str()},
       {"generator",
        {{"command", "rover terrain obstacle"},

@@ -16,7 +16,8 @@
 
 namespace rover::io {
 
-using Json = nlohmann::json;
+// ordered_json keeps a file's key order: studies list their inputs in the order written.
+using Json = nlohmann::ordered_json;
 
 // A bad input file: the message names the file, the field and the value.
 class ConfigError : public std::runtime_error {

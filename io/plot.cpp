@@ -226,6 +226,10 @@ void write_png(const LinePlot& plot, const std::string& png_path) {
     if (plot.y_range)
       out << "set yrange [" << number(plot.y_range->first) << ":" << number(plot.y_range->second)
           << "]\n";
+    for (const PointLabel& l : plot.labels)
+      if (std::isfinite(l.x) && std::isfinite(l.y))
+        out << "set label " << quoted(l.text) << " at " << number(l.x) << "," << number(l.y)
+            << " offset 0.6,0.6 font ',10'\n";
     std::vector<std::string> items;
     for (std::size_t k = 0; k < plot.bands.size(); ++k) {
       const Band& b = plot.bands[k];
@@ -307,6 +311,59 @@ void write_png(const SurfacePlot& plot, const std::string& png_path) {
     out << "\n";
     return out.str();
   });
+}
+
+void write_png(const BarPlot& plot, const std::string& png_path) {
+  check_canvas(plot.width_px, plot.height_px);
+  const std::size_t n = plot.categories.size();
+  if (n == 0 || plot.groups.empty()) throw std::invalid_argument("plot: nothing to plot for " + png_path);
+  for (const BarGroup& g : plot.groups) {
+    check_size("bar group '" + g.label + "'", g.value.size(), n);
+    check_size("bar group '" + g.label + "' lower", g.lower.size(), n);
+    check_size("bar group '" + g.label + "' upper", g.upper.size(), n);
+  }
+  render(png_path, [&](const std::string& output) {
+    std::ostringstream out;
+    write_common(out, output, plot.width_px, plot.height_px, plot.title, "", plot.y_label, false, false);
+    out << "set grid ytics\nset key top right opaque box\n"
+        << "set style data histograms\nset style histogram errorbars gap 1.5 lw 1.2\n"
+        << "set style fill solid 0.6 border -1\nset boxwidth 0.9\nset xtics rotate by -30\n";
+    if (plot.y_range)
+      out << "set yrange [" << number(plot.y_range->first) << ":" << number(plot.y_range->second) << "]\n";
+    std::vector<std::string> items;
+    for (std::size_t k = 0; k < plot.groups.size(); ++k) {
+      const BarGroup& g = plot.groups[k];
+      const std::string name = "$bars" + std::to_string(k);
+      out << name << " << EOD\n";
+      for (std::size_t i = 0; i < n; ++i) {
+        std::string category = plot.categories[i];
+        for (char& c : category)
+          if (std::isspace(static_cast<unsigned char>(c)) || c == '"') c = '_';
+        const auto value = [](double v) { return std::isfinite(v) ? number(v) : std::string("NaN"); };
+        out << '"' << category << "\" " << value(g.value[i]) << " " << value(g.lower[i]) << " " << value(g.upper[i])
+            << "\n";
+      }
+      out << "EOD\n";
+      items.push_back(name + " using 2:3:4" + (k == 0 ? std::string(":xtic(1)") : std::string()) + " " +
+                      title_spec(g.label));
+    }
+    out << "plot ";
+    for (std::size_t k = 0; k < items.size(); ++k) out << (k ? ", \\\n     " : "") << items[k];
+    out << "\n";
+    return out.str();
+  });
+}
+
+bool write_png_or_warn(const BarPlot& plot, const std::string& png_path, const std::string& label,
+                       std::ostream& log) {
+  try {
+    write_png(plot, png_path);
+    log << label << ": wrote " << png_path << "\n";
+    return true;
+  } catch (const std::exception& e) {
+    log << label << ": warning: no plot (" << e.what() << ")\n";
+    return false;
+  }
 }
 
 bool write_png_or_warn(const LinePlot& plot, const std::string& png_path, const std::string& label,

@@ -47,10 +47,17 @@ struct Band {
 
 using AxisRange = std::pair<double, double>;
 
+// A text at a data point (e.g. the input names in a Morris mu*-sigma plane).
+struct PointLabel {
+  double x = 0.0, y = 0.0;
+  std::string text{};
+};
+
 struct LinePlot {
   std::string title{}, x_label{}, y_label{};
   std::vector<Series> series{};
   std::vector<Band> bands{};
+  std::vector<PointLabel> labels{};
   bool log_x = false, log_y = false;
   std::optional<AxisRange> x_range{}, y_range{};  // automatic when empty
   int width_px = 1000, height_px = 650;
@@ -71,13 +78,30 @@ struct SurfacePlot {
 // Write the plot to `png_path` (replacing it). Throws std::invalid_argument on
 // inconsistent data (sizes, unusable colour, empty plot) and PlotError when
 // gnuplot is missing or fails or the file cannot be written.
+// Grouped bars with interval whiskers: for every category (x tick), one bar
+// per group (e.g. S1 and ST of each input, with their confidence intervals).
+struct BarGroup {
+  std::string label{};
+  std::vector<double> value{}, lower{}, upper{};  // one per category
+};
+struct BarPlot {
+  std::string title{}, y_label{};
+  std::vector<std::string> categories{};
+  std::vector<BarGroup> groups{};
+  std::optional<AxisRange> y_range{};
+  int width_px = 1000, height_px = 650;
+};
+
 void write_png(const LinePlot& plot, const std::string& png_path);
+void write_png(const BarPlot& plot, const std::string& png_path);
 void write_png(const SurfacePlot& plot, const std::string& png_path);
 
 // For callers whose numbers are already saved: writes the plot and logs
 // "<label>: wrote <path>", or logs "<label>: warning: no plot (<why>)" instead
 // of throwing, so a missing gnuplot never costs a result. Returns success.
 bool write_png_or_warn(const LinePlot& plot, const std::string& png_path, const std::string& label,
+                       std::ostream& log);
+bool write_png_or_warn(const BarPlot& plot, const std::string& png_path, const std::string& label,
                        std::ostream& log);
 
 }  // namespace rover::io

@@ -10,6 +10,8 @@
 
 #include "core/kinematic_tree.hpp"
 #include "io/model_config.hpp"
+#include "io/rover_config.hpp"
+#include "io/terrain_json.hpp"
 
 namespace rover::io {
 namespace {
@@ -200,21 +202,42 @@ SimulationInputs parse_simulation_inputs(const JsonReader& r, SimulationInputs i
   return in;
 }
 
+ScenarioSources read_scenario_sources(const std::string& path) {
+  ScenarioSources sources;
+  sources.scenario = read_json_file(path);
+  sources.scenario_path = path;
+  const JsonReader r(sources.scenario, path);
+  sources.rover_path = resolve_relative(path, r.string("rover"));
+  if (!std::filesystem::exists(sources.rover_path))
+    r.fail("rover", "file not found: " + sources.rover_path);
+  if (r.has("terrain")) {
+    sources.terrain_path = resolve_relative(path, r.string("terrain"));
+    if (!std::filesystem::exists(sources.terrain_path))
+      r.fail("terrain", "file not found: " + sources.terrain_path);
+    sources.terrain = load_terrain(sources.terrain_path);
+  }
+  sources.rover = read_json_file(sources.rover_path);
+  return sources;
+}
+
 ScenarioSetup load_scenario(const std::string& path) {
-  const Json json = read_json_file(path);
-  const JsonReader r(json, path);
+  return build_scenario(read_scenario_sources(path));
+}
+
+ScenarioSetup build_scenario(const ScenarioSources& sources) {
+  const std::string& path = sources.scenario_path;
+  const JsonReader r(sources.scenario, path);
   ScenarioSetup setup;
   setup.scenario_path = path;
   Scenario& s = setup.scenario;
   s.name = r.string_or("name", std::filesystem::path(path).stem().string());
   r.string_or("description", "");
-  setup.rover_path = resolve_relative(path, r.string("rover"));
-  if (r.has("terrain")) setup.terrain_path = resolve_relative(path, r.string("terrain"));
-  if (!std::filesystem::exists(setup.rover_path))
-    r.fail("rover", "file not found: " + setup.rover_path);
-  if (!setup.terrain_path.empty() && !std::filesystem::exists(setup.terrain_path))
-    r.fail("terrain", "file not found: " + setup.terrain_path);
-  setup.model = load_rover_model(setup.rover_path, setup.terrain_path);
+  r.string("rover");
+  if (r.has("terrain")) r.string("terrain");
+  setup.rover_path = sources.rover_path;
+  setup.terrain_path = sources.terrain_path;
+  setup.model = make_rover_model(parse_rover_parameters(sources.rover, sources.rover_path),
+                                 sources.terrain);
   const double R = setup.model.parameters.geometry.wheel_radius_m;
 
   // A drive schedule replaces the constant set-points; its command at t = 0

@@ -92,6 +92,21 @@ struct ScenarioSetup {
 
 ScenarioSetup load_scenario(const std::string& path);
 
+// The files a scenario is made of, read once: its JSON, the rover JSON it
+// names and the terrain. A study varies the two JSON documents in memory and
+// builds the scenario of each run from them (build_scenario), so every sample
+// passes the same validation as a file would, without touching the disk; the
+// terrain grid is shared, not copied.
+struct ScenarioSources {
+  Json scenario, rover;
+  std::string scenario_path, rover_path, terrain_path;  // for messages and provenance
+  Terrain terrain = Terrain::flat();
+};
+ScenarioSources read_scenario_sources(const std::string& path);
+// load_scenario(path) == build_scenario(read_scenario_sources(path)).
+// Throws ConfigError naming the file (scenario or rover) and the field.
+ScenarioSetup build_scenario(const ScenarioSources& sources);
+
 // The "drive" block (see above) for a rover with these driving kinematics.
 struct DriveConfig {
   DriveSchedule schedule;

@@ -27,7 +27,7 @@
 
 #include <string>
 
-#include <nlohmann/json.hpp>
+#include "io/json_reader.hpp"
 
 #include "core/terrain.hpp"
 
@@ -45,6 +45,6 @@ Terrain load_terrain(const std::string& path);
 // Throws std::invalid_argument for an invalid grid or provenance and
 // std::runtime_error if the file cannot be written.
 void save_terrain_grid(const HeightGrid& grid, const std::string& path,
-                       const nlohmann::json& provenance = nullptr);
+                       const Json& provenance = nullptr);
 
 }  // namespace rover::io
