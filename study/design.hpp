@@ -31,12 +31,12 @@
 
 #include <Eigen/Core>
 
+#include "study/design_matrix.hpp"
 #include "study/distributions.hpp"
 
 namespace rover::study {
 
 // One row per sample, one column per dimension (input).
-using DesignMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 enum class DesignType { kMonteCarlo, kLatinHypercube, kSobol, kGrid };
 

@@ -6,7 +6,10 @@
 
 #include <mpi.h>
 
+#include <csignal>
+
 #include "io/checkpoint.hpp"
+#include "study/ordered_sink.hpp"
 
 namespace rover::study {
 
@@ -62,6 +65,87 @@ std::vector<TaskResult> run_study_tasks(int task_count,
   out.reserve(all.size());
   for (auto& [index, r] : all) out.push_back(std::move(r));
   return out;
+}
+
+namespace {
+
+// The one piece of process-wide state: a signal handler can only reach a
+// static. Set by SIGINT/SIGTERM while an InterruptGuard is alive.
+std::atomic<bool> g_interrupted{false};
+using Handler = void (*)(int);
+Handler g_previous_int = SIG_DFL, g_previous_term = SIG_DFL;
+
+extern "C" void on_interrupt(int signal_number) {
+  g_interrupted.store(true);
+  // A second signal of the same kind kills as usual.
+  std::signal(signal_number, signal_number == SIGINT ? g_previous_int : g_previous_term);
+}
+
+}  // namespace
+
+InterruptGuard::InterruptGuard() {
+  g_interrupted.store(false);
+  g_previous_int = std::signal(SIGINT, on_interrupt);
+  g_previous_term = std::signal(SIGTERM, on_interrupt);
+}
+
+InterruptGuard::~InterruptGuard() {
+  std::signal(SIGINT, g_previous_int == SIG_ERR ? SIG_DFL : g_previous_int);
+  std::signal(SIGTERM, g_previous_term == SIG_ERR ? SIG_DFL : g_previous_term);
+}
+
+const std::atomic<bool>& InterruptGuard::flag() { return g_interrupted; }
+
+void stream_study_tasks(int task_count, const std::function<TaskResult(int)>& compute,
+                        const std::function<void(TaskResult&&)>& consume,
+                        const StudyRunOptions& options) {
+  const bool root = world_rank() == 0;
+  std::unique_ptr<io::ResultCheckpoint> checkpoint;
+  OrderedSink<TaskResult> sink([&](int, TaskResult&& r) { consume(std::move(r)); });
+  std::vector<int> todo;
+  if (root) {
+    if (const auto dir = std::filesystem::path(options.results_path).parent_path(); !dir.empty())
+      std::filesystem::create_directories(dir);
+    checkpoint = std::make_unique<io::ResultCheckpoint>(options.results_path, options.fingerprint,
+                                                        options.checkpoint);
+    std::vector<TaskResult> done;
+    if (options.resume) {
+      done = checkpoint->load();
+      std::cerr << options.label << ": resuming, " << done.size() << " of " << task_count
+                << " runs already done (" << checkpoint->path() << ")\n";
+    } else if (std::filesystem::exists(checkpoint->path())) {
+      std::cerr << options.label << ": starting afresh; the old checkpoint " << checkpoint->path()
+                << " is replaced (use --resume to continue it)\n";
+      checkpoint->remove();
+    }
+    todo = io::missing_indices(task_count, done);
+    for (TaskResult& r : done)
+      if (r.index >= 0 && r.index < task_count) sink.push(r.index, std::move(r));
+  }
+  TaskFarmOptions farm;
+  farm.label = options.label;
+  farm.progress_interval_s = options.progress_interval_s;
+  farm.keep_results = false;
+  farm.stop = &g_interrupted;
+  run_task_farm(
+      todo, compute,
+      [&](const TaskResult& r) {
+        checkpoint->add(r);
+        sink.push(r.index, TaskResult(r));
+      },
+      farm);
+  if (!root) return;
+  checkpoint->save();
+  if (g_interrupted.load()) {
+    throw StudyInterrupted(options.label + ": interrupted; " + std::to_string(checkpoint->size()) + " of " +
+                           std::to_string(task_count) + " runs are saved in " + checkpoint->path() +
+                           ". Continue with:\n  " +
+                           (options.resume_command.empty() ? std::string("the same command with --resume")
+                                                           : options.resume_command));
+  }
+  if (sink.buffered() != 0)
+    throw std::logic_error(options.label + ": " + std::to_string(sink.buffered()) +
+                           " results wait for a missing run");
 }
 
 void remove_checkpoint(const std::string& results_path) {

@@ -184,23 +184,27 @@ class Progress {
 // What rank 0's two threads share: the task queue and the results received
 // from workers, waiting for the main thread.
 struct Rank0State {
-  explicit Rank0State(const std::vector<int>& task_list) : tasks(task_list) {}
+  Rank0State(const std::vector<int>& task_list, const std::atomic<bool>* stop_flag)
+      : tasks(task_list), stop(stop_flag) {}
 
   std::optional<int> take() {
     const std::lock_guard lock(mutex);
-    if (cancelled || next == tasks.size()) return std::nullopt;
+    if (halted() || next == tasks.size()) return std::nullopt;
     return tasks[next++];
   }
   std::size_t remaining() {
     const std::lock_guard lock(mutex);
-    return cancelled ? 0 : tasks.size() - next;
+    return halted() ? 0 : tasks.size() - next;
   }
+  // Cancelled, or asked to stop handing out work (a signal).
+  bool halted() const { return cancelled || (stop != nullptr && stop->load()); }
   void cancel() {
     const std::lock_guard lock(mutex);
     cancelled = true;
   }
 
   const std::vector<int>& tasks;
+  const std::atomic<bool>* stop;
   std::mutex mutex;
   std::condition_variable changed;  // inbox filled or master finished
   std::size_t next = 0;
@@ -331,10 +335,11 @@ std::vector<TaskResult> run_serial(const std::vector<int>& tasks,
   std::vector<TaskResult> results;
   results.reserve(tasks.size());
   for (const int index : tasks) {
+    if (options.stop != nullptr && options.stop->load()) break;
     TaskResult result = run_one(compute, index);
     progress.record(result);
     if (on_result) on_result(result);
-    results.push_back(std::move(result));
+    if (options.keep_results) results.push_back(std::move(result));
     progress.maybe_report();
   }
   progress.final_report();
@@ -346,7 +351,7 @@ std::vector<TaskResult> run_rank0(MPI_Comm comm, int size, const std::vector<int
                                   const std::function<TaskResult(int)>& compute,
                                   const std::function<void(const TaskResult&)>& on_result,
                                   const TaskFarmOptions& options) {
-  Rank0State state(tasks);
+  Rank0State state(tasks, options.stop);
   std::exception_ptr invalid;
   try {
     validate_tasks(tasks);
@@ -358,10 +363,12 @@ std::vector<TaskResult> run_rank0(MPI_Comm comm, int size, const std::vector<int
   std::thread master(master_loop, comm, size, std::ref(state), std::ref(progress));
 
   std::vector<TaskResult> results;
-  results.reserve(tasks.size());
+  std::size_t delivered = 0;
+  if (options.keep_results) results.reserve(tasks.size());
   const auto deliver = [&](TaskResult&& result) {
     if (on_result) on_result(result);
-    results.push_back(std::move(result));
+    ++delivered;
+    if (options.keep_results) results.push_back(std::move(result));
   };
   const auto take_inbox = [&](std::unique_lock<std::mutex>& lock) {
     std::deque<TaskResult> batch = std::move(state.inbox);
@@ -392,8 +399,8 @@ std::vector<TaskResult> run_rank0(MPI_Comm comm, int size, const std::vector<int
   }
   master.join();
   if (state.master_error) std::rethrow_exception(state.master_error);
-  if (results.size() != tasks.size())
-    throw std::logic_error("run_task_farm: " + std::to_string(results.size()) + " results for " +
+  if (delivered != tasks.size() && !state.halted())
+    throw std::logic_error("run_task_farm: " + std::to_string(delivered) + " results for " +
                            std::to_string(tasks.size()) + " tasks");
   progress.final_report();
   sort_by_index(results);

@@ -15,6 +15,7 @@
 // in a plain loop.
 #pragma once
 
+#include <atomic>
 #include <functional>
 #include <iostream>
 #include <string>
@@ -35,6 +36,13 @@ struct TaskFarmOptions {
   int progress_interval_s = 5;          // <= 0: the summary line only
   std::string label = "tasks";          // lines start with "<label>: "
   std::ostream* progress = &std::cerr;  // nullptr: silent
+  // false: results go to on_result only and the returned vector is empty
+  // (memory independent of the number of tasks).
+  bool keep_results = true;
+  // When it becomes true (e.g. set by a signal handler), no further task is
+  // handed out; the tasks in progress finish and are delivered, and the farm
+  // returns with fewer results than tasks.
+  const std::atomic<bool>* stop = nullptr;
 };
 
 // Runs compute(i) for every i in `tasks` (distinct, non-negative indices; only

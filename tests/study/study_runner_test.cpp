@@ -24,7 +24,12 @@ TEST(StudyRunner, ResumeComputesOnlyWhatIsMissing) {
     computed.push_back(i);
     return TaskResult{i, 0, "", {10.0 * i}};
   };
-  StudyRunOptions options{results, "fp-1", /*resume=*/true, "test", 0};
+  StudyRunOptions options;
+  options.results_path = results;
+  options.fingerprint = "fp-1";
+  options.resume = true;
+  options.label = "test";
+  options.progress_interval_s = 0;
   const auto all = run_study_tasks(8, compute, options);
   EXPECT_EQ(computed, (std::vector<int>{1, 2, 3, 5, 6}));
   ASSERT_EQ(all.size(), 8u);
@@ -47,7 +52,12 @@ TEST(StudyRunner, ResumeRefusesACheckpointOfAnotherConfiguration) {
     checkpoint.add({0, 0, "", {1.0}});
     checkpoint.save();
   }
-  StudyRunOptions options{results, "fp-new", true, "test", 0};
+  StudyRunOptions options;
+  options.results_path = results;
+  options.fingerprint = "fp-new";
+  options.resume = true;
+  options.label = "test";
+  options.progress_interval_s = 0;
   EXPECT_THROW(run_study_tasks(2, [](int i) { return TaskResult{i, 0, "", {}}; }, options),
                std::runtime_error);
 }
@@ -60,7 +70,12 @@ TEST(StudyRunner, WithoutResumeEverythingIsComputedAgain) {
     checkpoint.save();
   }
   int calls = 0;
-  StudyRunOptions options{results, "fp", false, "test", 0};
+  StudyRunOptions options;
+  options.results_path = results;
+  options.fingerprint = "fp";
+  options.resume = false;
+  options.label = "test";
+  options.progress_interval_s = 0;
   run_study_tasks(3, [&](int i) { ++calls; return TaskResult{i, 0, "", {}}; }, options);
   EXPECT_EQ(calls, 3);
 }

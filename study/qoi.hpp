@@ -1,0 +1,67 @@
+// Quantities of interest (QoIs): named scalars computed from one simulated
+// trajectory (docs/model.md §8 gives its outputs), and output channels (curves
+// on the output time grid). One piece of code shared by every study.
+//
+// With z = B_l z(t) (the world height of the left bogie pin) on t_0 .. t_end:
+//   B_l_z_min      [m]   min_t z
+//   t_min          [s]   the first time z reaches that minimum
+//   at_rest        [m]   z(t_end)
+//   deflection     [m]   z(t_end) - min_t z           (numerator of paper eq. 10)
+//   rebound_peak   [m]   max of z over t > t_min       (the rebound after the compression)
+//   settling_time  [s]   the last time z is outside [z(t_end) - band, z(t_end) + band]
+//                        (t_0 if never; band default 0.5 mm, "band" in the spec)
+//   max_abs_pitch  [rad] max_t |chi|, max_abs_roll [rad] max_t |psi|
+//   max_wheel_load [N]   max over t and the four wheels of the total normal force
+//   B_r_rise       [m]   max_t B_r z - B_r z(t_0); G_rise [m] likewise for the chassis CoM G
+//   lateral_drift  [m]   y(t_end) - y(t_0);   yaw_drift [rad] theta(t_end) - theta(t_0)
+//   rms_vs         [m]   RMS of (channel - reference) over the common interval, the reference
+//                        (a measured t,z CSV or an HDF5 trajectory) shifted by its time offset
+//                        and interpolated linearly (docs/model.md §8)
+// Channels: B_l_z, B_r_z, G_z [m], pitch, roll [rad], Fn_1 .. Fn_4 [N].
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/simulate.hpp"
+
+namespace rover::study {
+
+enum class Channel { kBlz, kBrz, kGz, kPitch, kRoll, kFn1, kFn2, kFn3, kFn4 };
+const std::vector<std::string>& channel_names();
+Channel channel_from_name(const std::string& name);  // throws std::invalid_argument listing them
+const char* channel_name(Channel channel);
+const char* channel_unit(Channel channel);
+std::vector<double> channel_values(const Trajectory& trajectory, Channel channel);
+
+enum class QoiKind {
+  kBlzMin, kTMin, kAtRest, kDeflection, kReboundPeak, kSettlingTime, kMaxAbsPitch, kMaxAbsRoll,
+  kMaxWheelLoad, kBrRise, kGRise, kLateralDrift, kYawDrift, kRmsVs
+};
+
+// A measured or reference curve for rms_vs, on its own clock.
+struct ReferenceCurve {
+  std::string path;
+  std::vector<double> t, value;
+  double time_offset_s = 0.0;  // reference time = simulation time + offset
+};
+
+struct QoiSpec {
+  std::string name;           // as written in the study (unique within it)
+  QoiKind kind = QoiKind::kBlzMin;
+  double settling_band = 5e-4;                      // settling_time [channel units]
+  Channel channel = Channel::kBlz;                  // rms_vs
+  std::shared_ptr<const ReferenceCurve> reference;  // rms_vs
+};
+
+const std::vector<std::string>& qoi_kind_names();
+QoiKind qoi_kind_from_name(const std::string& name);  // throws std::invalid_argument listing them
+const char* qoi_unit(const QoiSpec& spec);
+std::string qoi_description(const QoiSpec& spec);
+
+// The QoI of a trajectory with at least one sample. A trajectory that ended
+// early (failed run) still has values, but studies do not use them.
+double compute_qoi(const QoiSpec& spec, const Trajectory& trajectory);
+
+}  // namespace rover::study

@@ -1,0 +1,75 @@
+// See study_output.hpp.
+#include "study/study_output.hpp"
+
+#include <filesystem>
+#include <stdexcept>
+
+#include "study/study_runner.hpp"
+
+namespace rover::study {
+
+std::string checked_results_path(const std::string& name, const std::string& requested) {
+  const std::string path = requested.empty() ? "results/" + name + ".h5" : requested;
+  const std::filesystem::path p(path);
+  if (std::filesystem::is_directory(p))
+    throw std::invalid_argument("--out '" + path + "' is a directory; give a file name ending in .h5");
+  if (p.extension() != ".h5")
+    throw std::invalid_argument("--out '" + path + "' must end in .h5 (an HDF5 file)");
+  if (const auto dir = p.parent_path(); !dir.empty()) {
+    std::error_code error;
+    std::filesystem::create_directories(dir, error);
+    if (error || !std::filesystem::is_directory(dir))
+      throw std::invalid_argument("cannot create the directory '" + dir.string() + "' for '" + path +
+                                  "': " + error.message());
+  }
+  return path;
+}
+
+std::string sibling_path(const std::string& results_path, const std::string& suffix) {
+  std::filesystem::path p(results_path);
+  const std::string stem = p.stem().string();
+  return (p.parent_path() / (stem + suffix)).string();
+}
+
+void write_study_provenance(io::Hdf5Writer& h5, const StudySpec& spec, const std::string& fingerprint) {
+  h5.attribute("/", "study", spec.type);
+  h5.attribute("/", "name", spec.name);
+  h5.attribute("/", "description", spec.description);
+  h5.attribute("/", "study_file", spec.path);
+  h5.attribute("/", "study_json", file_text(spec.path));
+  if (spec.rover) {
+    const auto& setup = spec.rover->nominal();
+    const IntegratorSettings& integrator = setup.scenario.integrator;
+    h5.attribute("/", "scenario", setup.scenario.name);
+    h5.attribute("/", "scenario_file", setup.scenario_path);
+    h5.attribute("/", "rover_file", setup.rover_path);
+    h5.attribute("/", "terrain_file", setup.terrain_path);
+    h5.attribute("/", "integrator", integrator_name(integrator.method));
+    h5.attribute("/", "rtol", integrator.relative_tolerance);
+    h5.attribute("/", "atol", integrator.absolute_tolerance);
+  } else {
+    h5.attribute("/", "model", spec.model->describe());
+  }
+  h5.attribute("/", "design", design_type_name(spec.design.type));
+  h5.attribute("/", "seed", static_cast<long long>(spec.design.seed));
+  h5.attribute("/", "samples", static_cast<long long>(spec.design.samples));
+  h5.attribute("/", "ranks", static_cast<long long>(world_size()));
+  h5.attribute("/", "fingerprint", fingerprint);
+  h5.attribute("/", "project_version", ROVER_VERSION);
+}
+
+void write_study_inputs(io::Hdf5Writer& h5, const StudySpec& spec, const DesignMatrix& x) {
+  std::vector<std::string> names, labels, distributions;
+  for (const UncertainInput& in : spec.inputs) {
+    names.push_back(in.name);
+    labels.push_back(in.label);
+    distributions.push_back(in.distribution.describe());
+  }
+  if (names.empty()) return;
+  h5.write("/inputs/names", names);
+  h5.write("/inputs/labels", labels);
+  h5.write("/inputs/distributions", distributions);
+  h5.write("/inputs/values", Eigen::MatrixXd(x));
+}
+
+}  // namespace rover::study
