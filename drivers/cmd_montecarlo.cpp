@@ -1,45 +1,68 @@
-// `rover montecarlo`: 3-sigma bands of the drop response over the uncertain
-// preloads (paper Fig. 13d). See study/montecarlo.hpp for the formats.
+// `rover montecarlo`: Monte Carlo over any uncertain parameters of the rover
+// and scenario (the preloads of paper Fig. 13d by default): bands of the output
+// channels and summaries of the QoIs. See study/montecarlo.hpp for the formats.
 #include <iostream>
 
 #include "drivers/command_registry.hpp"
 #include "drivers/study_options.hpp"
 #include "study/montecarlo.hpp"
 #include "study/mpi_session.hpp"
+#include "study/study_runner.hpp"
 
 namespace rover::cli {
 namespace {
 
 struct MonteCarloOptions {
   std::string study_path;
-  std::optional<int> samples;
-  std::optional<long long> seed;
+  std::optional<long long> samples, seed;
   study::StudyRunControl control;
 };
 
-int run_montecarlo_command(const MonteCarloOptions& o) {
+int run_montecarlo_command(MonteCarloOptions& o) {
   study::MpiSession mpi(nullptr, nullptr);
   study::MonteCarloStudy s = study::load_montecarlo_study(o.study_path);
+  std::string changed;
   if (o.samples) {
-    if (*o.samples <= 0) throw std::invalid_argument("--samples must be positive");
-    s.samples = *o.samples;
+    if (*o.samples < 1 || *o.samples > 100'000'000)
+      throw std::invalid_argument("--samples must be from 1 to 1e8, got " + std::to_string(*o.samples));
+    if (s.spec.design.type == study::DesignType::kGrid)
+      throw std::invalid_argument("--samples does not apply to a grid design (its size is the product of its levels)");
+    s.spec.design.samples = static_cast<int>(*o.samples);
+    changed += " --samples " + std::to_string(*o.samples);
   }
-  if (o.seed) s.seed = static_cast<std::uint64_t>(*o.seed);
+  if (o.seed) {
+    if (*o.seed < 0) throw std::invalid_argument("--seed must not be negative, got " + std::to_string(*o.seed));
+    s.spec.design.seed = static_cast<std::uint64_t>(*o.seed);
+    changed += " --seed " + std::to_string(*o.seed);
+  }
+  // Options that change results are part of the checkpoint's fingerprint.
+  s.spec.fingerprint = study::extend_fingerprint(
+      s.spec.fingerprint, "samples " + std::to_string(s.spec.design.samples) + " seed " + std::to_string(s.spec.design.seed));
+  o.control.resume_command = "rover montecarlo --study " + o.study_path + changed +
+                             (o.control.results_path.empty() ? "" : " --out " + o.control.results_path) + " --resume";
+  if (o.control.progress_interval_s < 1)
+    throw std::invalid_argument("--progress-interval must be at least 1 s, got " +
+                                std::to_string(o.control.progress_interval_s));
   if (mpi.rank() == 0)
-    std::cerr << "montecarlo: " << s.samples << " samples of " << s.common.setup.scenario.name
-              << " on " << mpi.size() << " rank(s), seed " << s.seed << "\n";
+    std::cerr << "montecarlo: " << s.spec.design.samples << " runs of " << s.spec.model->describe() << " over "
+              << s.spec.inputs.size() << " inputs (" << study::design_type_name(s.spec.design.type) << ", seed "
+              << s.spec.design.seed << ") on " << mpi.size() << " rank(s)\n";
+  const study::InterruptGuard interrupts;
   study::run_montecarlo(s, o.control);
   return 0;
 }
 
 const RegisterCommand registration{
-    50, "montecarlo", "Monte Carlo over the 8 uncertain preloads M0: 3-sigma band of B_l z(t) (Fig. 13d)",
+    50, "montecarlo", "Monte Carlo over uncertain parameters: bands of output channels, QoI summaries (Fig. 13d)",
     [](CLI::App& app) -> std::function<int()> {
       auto o = std::make_shared<MonteCarloOptions>();
       app.footer(std::string(
-          "Draws M0 ~ Normal(mean, sd) (configs/rover.json) for each sample; sample i depends only\n"
-          "on (seed, i). Writes /samples/M0, /t, /curves/B_l_z, /band/{mean,std,lower,upper,p00135,\n"
-          "p99865}, per-sample deflection, at-rest value and status, and a PNG of the band.\n\n"
+          "The study file names the uncertain parameters and their distributions, the design\n"
+          "(monte_carlo, latin_hypercube, sobol, grid), the QoIs and the channels (README,\n"
+          "\"Studies\"). Sample i depends only on (seed, i). Writes /inputs, /qoi/<name>,\n"
+          "/summary/<qoi> (mean, sd and quantiles with confidence intervals), /curves/<channel>,\n"
+          "/bands/<channel>/{mean,std,lower,upper,p00135,p99865}, /samples/{status,message}, and PNGs\n"
+          "of the bands, the QoI histograms and the convergence of mean and sd.\n\n"
           "Examples:\n"
           "  rover montecarlo --study configs/studies/preload_mc.json --samples 200\n"
           "  mpirun -np 4 rover montecarlo --study configs/studies/preload_mc.json --out results/mc.h5\n"

@@ -6,6 +6,7 @@
 #include "drivers/options.hpp"
 #include "drivers/study_options.hpp"
 #include "study/mpi_session.hpp"
+#include "study/study_runner.hpp"
 #include "study/surface.hpp"
 
 namespace rover::cli {
@@ -16,16 +17,20 @@ struct SurfaceOptions {
   study::StudyRunControl control;
 };
 
-int run_surface_command(const SurfaceOptions& o) {
+int run_surface_command(SurfaceOptions& o) {
   study::MpiSession mpi(nullptr, nullptr);
   study::SurfaceStudy s = study::load_surface_study(o.study_path);
-  if (!o.integrator.empty())
-    s.common.setup.scenario.integrator = default_integrator_settings(integrator_from_name(o.integrator));
+  if (!o.integrator.empty()) {
+    s.integrator = default_integrator_settings(integrator_from_name(o.integrator));
+    s.fingerprint = study::extend_fingerprint(s.fingerprint, "integrator " + o.integrator);
+  }
+  o.control.resume_command = "rover surface --study " + o.study_path +
+                             (o.integrator.empty() ? "" : " --integrator " + o.integrator) +
+                             (o.control.results_path.empty() ? "" : " --out " + o.control.results_path) + " --resume";
   if (mpi.rank() == 0)
     std::cerr << "surface: " << s.f.size() << " x " << s.c_q.size() << " grid + " << s.sweep_f.size()
-              << " sweep runs of " << s.common.setup.scenario.name << " on " << mpi.size()
-              << " rank(s), integrator " << integrator_name(s.common.setup.scenario.integrator.method)
-              << "\n";
+              << " sweep runs of " << s.sources.scenario_path << " on " << mpi.size() << " rank(s)\n";
+  const study::InterruptGuard interrupts;
   study::run_surface(s, o.control);
   return 0;
 }

@@ -17,7 +17,10 @@ inline void add_study_control(CLI::App& app, study::StudyRunControl& c) {
                "missing runs are computed");
   app.add_flag("!--no-plot", c.plot, "Do not write PNG plots");
   app.add_option("--progress-interval", c.progress_interval_s, "Seconds between progress lines")
-      ->capture_default_str();
+      ->capture_default_str()->check(CLI::Range(1, 86400));
+  app.add_option("--checkpoint-every", c.checkpoint.every_records,
+                 "Flush finished runs to <out>.checkpoint after this many (or every 60 s)")
+      ->capture_default_str()->check(CLI::Range(1, 1000000));
 }
 
 inline constexpr const char* kMpiFooter =

@@ -246,7 +246,9 @@ std::string run_calibration(const CalibrationStudy& s, const StudyRunControl& co
     result.values = std::move(history);
     return result;
   };
-  StudyRunOptions options{out, s.common.fingerprint, control.resume, "calibrate", control.progress_interval_s};
+  StudyRunOptions options{.results_path = out, .fingerprint = s.common.fingerprint, .resume = control.resume,
+                          .label = "calibrate", .progress_interval_s = control.progress_interval_s,
+                          .resume_command = control.resume_command, .checkpoint = control.checkpoint};
   const std::vector<TaskResult> results = run_study_tasks(s.starts, compute, options);
   if (world_rank() != 0) return out;
 

@@ -4,7 +4,9 @@
 #include <cmath>
 #include <iostream>
 
+#include "core/number_text.hpp"
 #include "core/simulate.hpp"
+#include "study/study_output.hpp"
 #include "io/hdf5_file.hpp"
 #include "io/plot.hpp"
 #include "io/trajectory_io.hpp"
@@ -29,8 +31,6 @@ std::vector<double> parse_axis(const io::JsonReader& parent, const std::string& 
   return v;
 }
 
-// Values of one run: rms, t_c, right-hand sides, steps.
-enum { kRms = 0, kTc = 1, kRhs = 2, kSteps = 3 };
 
 }  // namespace
 
@@ -58,15 +58,34 @@ SurfaceStudy load_surface_study(const std::string& path) {
   const io::Json json = io::read_json_file(path);
   const io::JsonReader r(json, path);
   SurfaceStudy s;
-  s.common = parse_study_common(r, "surface");
+  s.path = path;
+  if (r.string("type") != "surface") r.fail("type", "this command runs 'surface' studies");
+  s.name = r.string("name");
+  if (s.name.empty() || s.name.find_first_of("/\\") != std::string::npos || s.name == "." || s.name == "..")
+    r.fail("name", "must be a plain file name (results go to results/<name>.h5)");
+  r.string_or("description", "");
+  const std::string scenario = io::resolve_relative(path, r.string("scenario"));
+  IntegratorSettings scenario_integrator;
+  io::ScenarioSetup nominal;
+  try {
+    s.sources = io::read_scenario_sources(scenario);
+    nominal = io::build_scenario(s.sources);
+  } catch (const io::ConfigError& e) {
+    r.fail("scenario", e.what());
+  }
+  if (r.has("integrator"))
+    s.integrator = io::parse_integrator_settings(r.child("integrator"), nominal.scenario.integrator);
   s.f = parse_axis(r, "f");
   s.c_q = parse_axis(r, "c_q");
+  if (static_cast<double>(s.f.size()) * static_cast<double>(s.c_q.size()) > 1e6)
+    r.fail("f", "the grid would have more than 1e6 points");
   if (r.has("sweep")) {
     const io::JsonReader sw = r.child("sweep");
     s.sweep_f = parse_axis(sw, "f");
     s.sweep_c_q = sw.non_negative("c_q");
     sw.finish();
   }
+  std::string reference_text;
   const io::JsonReader ref = r.child("reference");
   if (ref.has("file") == ref.has("simulate"))
     ref.fail("file", "give exactly one of 'file' (a measured or simulated curve) and 'simulate'");
@@ -78,78 +97,109 @@ SurfaceStudy load_surface_study(const std::string& path) {
     } catch (const std::exception& e) {
       ref.fail("file", e.what());
     }
+    if (c.t.size() < 3) ref.fail("file", file + ": a reference curve needs at least 3 samples, got " + std::to_string(c.t.size()));
+    for (std::size_t i = 1; i < c.t.size(); ++i)
+      if (!(c.t[i] > c.t[i - 1]))
+        ref.fail("file", file + ": times must increase strictly (sample " + std::to_string(i + 1) + ": " +
+                             std::to_string(c.t[i]) + " after " + std::to_string(c.t[i - 1]) + ")");
+    for (double z : c.y)
+      if (!std::isfinite(z) || std::abs(z) > 1e3) ref.fail("file", file + ": values must be finite heights in metres");
     const double offset = ref.number_or("time_offset", 0.0);
     for (double& t : c.t) t -= offset;
     s.reference_t = c.t;
     s.reference_z = c.y;
     s.reference_description = "file " + file;
+    reference_text = file_text(file) + "|offset " + std::to_string(offset);
   } else {
     const io::JsonReader sim = ref.child("simulate");
-    SimulationInputs in = io::parse_simulation_inputs(sim, s.common.setup.inputs);
-    const Trajectory tr = simulate(s.common.setup.model, s.common.setup.scenario, in);
-    if (!tr.ok()) ref.fail("simulate", "the reference run failed: " + tr.message);
-    s.reference_t = tr.t;
-    s.reference_z = tr.B_l_z;
+    const SimulationInputs in = io::parse_simulation_inputs(sim, nominal.inputs);
+    s.simulate_reference = true;
+    s.reference_f = in.sharpness_f;
+    s.reference_c_q = in.damping_c_q;
     s.reference_description = "simulated at f = " + std::to_string(in.sharpness_f) +
                               ", c_q = " + std::to_string(in.damping_c_q);
+    reference_text = s.reference_description;
   }
   ref.finish();
   r.finish();
+  s.fingerprint = io::config_fingerprint(file_text(path) + file_text(scenario) + file_text(s.sources.rover_path) +
+                                         file_text(s.sources.terrain_path) + reference_text);
   return s;
 }
 
 std::string run_surface(const SurfaceStudy& study, const StudyRunControl& control) {
-  const io::ScenarioSetup& setup = study.common.setup;
-  const std::string out = results_path(study.common, control.results_path);
+  const std::string out = checked_results_path(study.name, control.results_path);
+  const std::vector<std::string> inputs{"s_structure.f", "s_structure.c_q"};
+  auto reference = std::make_shared<ReferenceCurve>();
+  reference->path = study.reference_description;
+  if (study.simulate_reference) {
+    const RoverStudyModel reference_model(study.sources, inputs, {}, {Channel::kBlz}, study.integrator);
+    const double point[2] = {study.reference_f, study.reference_c_q};
+    RunRecord failure;
+    const std::optional<Trajectory> tr = reference_model.simulate_at(point, &failure);
+    if (!tr || !tr->ok())
+      throw std::runtime_error(study.path + ": field 'reference.simulate': the reference run failed: " +
+                               (tr ? tr->message : failure.message));
+    reference->t = tr->t;
+    reference->value = tr->B_l_z;
+  } else {
+    reference->t = study.reference_t;
+    reference->value = study.reference_z;
+  }
+  QoiSpec rms;
+  rms.name = "rms";
+  rms.kind = QoiKind::kRmsVs;
+  rms.reference = reference;
+  const RoverStudyModel model(study.sources, inputs, {rms}, {}, study.integrator);
+  const IntegratorSettings& integ = model.nominal().scenario.integrator;
+
   const int nf = static_cast<int>(study.f.size()), nc = static_cast<int>(study.c_q.size());
   const int grid_tasks = nf * nc, tasks = grid_tasks + static_cast<int>(study.sweep_f.size());
-  auto compute = [&](int i) {
-    SimulationInputs in = setup.inputs;
-    if (i < grid_tasks) {
-      in.sharpness_f = study.f[static_cast<std::size_t>(i / nc)];
-      in.damping_c_q = study.c_q[static_cast<std::size_t>(i % nc)];
-    } else {
-      in.sharpness_f = study.sweep_f[static_cast<std::size_t>(i - grid_tasks)];
-      in.damping_c_q = study.sweep_c_q;
-    }
-    const Trajectory tr = simulate(setup.model, setup.scenario, in);
-    const double rms = tr.ok() ? rms_difference(tr.t, tr.B_l_z, study.reference_t, study.reference_z)
-                               : std::nan("");
-    return TaskResult{i, static_cast<int>(tr.status), tr.message,
-                      {rms, tr.wall_time_s, static_cast<double>(tr.rhs_evaluations),
-                       static_cast<double>(tr.steps)}};
-  };
-  StudyRunOptions options{out, study.common.fingerprint, control.resume, "surface",
-                          control.progress_interval_s};
-  const std::vector<TaskResult> results = run_study_tasks(tasks, compute, options);
-  if (world_rank() != 0) return out;
+  DesignMatrix x(tasks, 2);
+  for (int i = 0; i < grid_tasks; ++i) x.row(i) << study.f[static_cast<std::size_t>(i / nc)], study.c_q[static_cast<std::size_t>(i % nc)];
+  for (int i = grid_tasks; i < tasks; ++i) x.row(i) << study.sweep_f[static_cast<std::size_t>(i - grid_tasks)], study.sweep_c_q;
 
   const double nan = std::nan("");
-  Eigen::MatrixXd rms = Eigen::MatrixXd::Constant(nf, nc, nan), tc = rms, rhs = rms;
+  Eigen::MatrixXd rms_grid = Eigen::MatrixXd::Constant(nf, nc, nan), tc = rms_grid, rhs = rms_grid;
   std::vector<int> status(static_cast<std::size_t>(grid_tasks), 0);
+  std::vector<std::string> messages(static_cast<std::size_t>(grid_tasks));
   std::vector<double> sweep_tc(study.sweep_f.size(), nan), sweep_rhs(study.sweep_f.size(), nan);
-  std::vector<std::string> messages(static_cast<std::size_t>(tasks));
   int failed = 0;
-  for (const TaskResult& r : results) {
-    messages[static_cast<std::size_t>(r.index)] = r.message;
-    failed += r.status != 0;
-    if (r.index < grid_tasks) {
-      status[static_cast<std::size_t>(r.index)] = r.status;
-      rms(r.index / nc, r.index % nc) = r.values[kRms];
-      tc(r.index / nc, r.index % nc) = r.values[kTc];
-      rhs(r.index / nc, r.index % nc) = r.values[kRhs];
-    } else {
-      sweep_tc[static_cast<std::size_t>(r.index - grid_tasks)] = r.values[kTc];
-      sweep_rhs[static_cast<std::size_t>(r.index - grid_tasks)] = r.values[kRhs];
+  const RecordLayout layout = model.layout();
+  auto compute = [&](int i) { return encode_record(i, model.run(x.row(i).data())); };
+  auto consume = [&](TaskResult&& task) {
+    const int i = task.index;
+    const RunRecord r = decode_record(layout, std::move(task));
+    failed += r.ok() ? 0 : 1;
+    if (i < grid_tasks) {
+      status[static_cast<std::size_t>(i)] = r.status;
+      messages[static_cast<std::size_t>(i)] = r.message;
+      if (!r.ok()) return;
+      rms_grid(i / nc, i % nc) = r.qoi[0];
+      tc(i / nc, i % nc) = r.wall_time_s;
+      rhs(i / nc, i % nc) = r.rhs_evaluations;
+    } else if (r.ok()) {
+      sweep_tc[static_cast<std::size_t>(i - grid_tasks)] = r.wall_time_s;
+      sweep_rhs[static_cast<std::size_t>(i - grid_tasks)] = r.rhs_evaluations;
     }
-  }
-  const auto regression = linear_regression(study.sweep_f, sweep_tc);
-  const auto& integ = setup.scenario.integrator;
+  };
+  StudyRunOptions options{out, study.fingerprint, control.resume, "surface", control.progress_interval_s,
+                          control.resume_command, control.checkpoint};
+  stream_study_tasks(tasks, compute, consume, options);
+  if (world_rank() != 0) return out;
+
+  std::vector<double> fit_f, fit_tc;
+  for (std::size_t k = 0; k < study.sweep_f.size(); ++k)
+    if (std::isfinite(sweep_tc[k])) {
+      fit_f.push_back(study.sweep_f[k]);
+      fit_tc.push_back(sweep_tc[k]);
+    }
+  const std::array<double, 3> regression = linear_regression(fit_f, fit_tc);
 
   io::Hdf5Writer h5(out);
   h5.write("/f", study.f);
   h5.write("/c_q", study.c_q);
-  h5.write("/rms", rms);
+  h5.write("/rms", rms_grid);
   h5.write("/t_c", tc);
   h5.write("/rhs_evaluations", rhs);
   h5.write("/status", std::vector<double>(status.begin(), status.end()),
@@ -165,8 +215,17 @@ std::string run_surface(const SurfaceStudy& study, const StudyRunControl& contro
     h5.attribute("/sweep", "c_q", study.sweep_c_q);
     h5.attribute("/sweep/regression", "meaning", "t_c = a + b f: [a (s), b (s), r^2]");
   }
-  write_study_provenance(h5, study.common);
-  h5.attribute("/", "scenario", setup.scenario.name);
+  h5.attribute("/", "study", "surface");
+  h5.attribute("/", "name", study.name);
+  h5.attribute("/", "study_file", study.path);
+  h5.attribute("/", "study_json", file_text(study.path));
+  h5.attribute("/", "integrator", integrator_name(integ.method));
+  h5.attribute("/", "rtol", integ.relative_tolerance);
+  h5.attribute("/", "atol", integ.absolute_tolerance);
+  h5.attribute("/", "ranks", static_cast<long long>(world_size()));
+  h5.attribute("/", "fingerprint", study.fingerprint);
+  h5.attribute("/", "project_version", ROVER_VERSION);
+  h5.attribute("/", "scenario", model.nominal().scenario.name);
   h5.attribute("/", "reference", study.reference_description);
   h5.attribute("/", "t_c_meaning", "wall time of one simulate() call on one core, seconds");
   h5.attribute("/", "failed_runs", static_cast<long long>(failed));
@@ -175,11 +234,11 @@ std::string run_surface(const SurfaceStudy& study, const StudyRunControl& contro
   std::cerr << "surface: " << tasks << " runs (" << failed << " failed), wrote " << out << "\n";
 
   if (control.plot) {
-    const std::string stem = out.substr(0, out.size() - 3);
+    const auto png = [&](const std::string& suffix) { return sibling_path(out, suffix); };
     auto surface_png = [&](const Eigen::MatrixXd& z, double scale, const std::string& label,
                            const std::string& suffix) {
       io::SurfacePlot p;
-      p.title = study.common.name + ": " + label + " (" + integrator_name(integ.method) + ")";
+      p.title = study.name + ": " + label + " (" + integrator_name(integ.method) + ")";
       p.x_label = "f [1/rad]";
       p.y_label = "c_q [N m s/rad]";
       p.z_label = label;
@@ -188,17 +247,17 @@ std::string run_surface(const SurfaceStudy& study, const StudyRunControl& contro
       p.log_x = true;
       for (int j = 0; j < nc; ++j)
         for (int i = 0; i < nf; ++i) p.z.push_back(scale * z(i, j));
-      io::write_png(p, stem + suffix);
-      std::cerr << "surface: wrote " << stem + suffix << "\n";
+      io::write_png(p, png(suffix));
+      std::cerr << "surface: wrote " << png(suffix) << "\n";
     };
     try {
       if (nf > 1 && nc > 1) {
-        surface_png(rms, 1000.0, "RMS of B_l z [mm]", "_rms.png");
+        surface_png(rms_grid, 1000.0, "RMS of B_l z [mm]", "_rms.png");
         surface_png(tc, 1.0, "t_c [s]", "_tc.png");
       }
       if (study.sweep_f.size() > 1) {
         io::LinePlot p;
-        p.title = study.common.name + ": t_c over f (" + integrator_name(integ.method) + ")";
+        p.title = study.name + ": t_c over f (" + integrator_name(integ.method) + ")";
         p.x_label = "f [1/rad]";
         p.y_label = "t_c [s]";
         io::Series pts;
@@ -207,14 +266,14 @@ std::string run_surface(const SurfaceStudy& study, const StudyRunControl& contro
         pts.y = sweep_tc;
         pts.style = io::SeriesStyle::points;
         io::Series fit;
-        fit.label = "t_c = a + b f (r^2 = " + std::to_string(regression[2]).substr(0, 5) + ")";
+        fit.label = "t_c = a + b f (r^2 = " + number_text(regression[2]) + ")";
         for (double f : study.sweep_f) {
           fit.x.push_back(f);
           fit.y.push_back(regression[0] + regression[1] * f);
         }
         p.series = {pts, fit};
-        io::write_png(p, stem + "_sweep.png");
-        std::cerr << "surface: wrote " << stem + "_sweep.png" << "\n";
+        io::write_png(p, png("_sweep.png"));
+        std::cerr << "surface: wrote " << png("_sweep.png") << "\n";
       }
     } catch (const std::exception& e) {
       std::cerr << "surface: warning: no plot (" << e.what() << ")\n";

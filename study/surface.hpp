@@ -14,6 +14,11 @@
 // A reference file is CSV "t,z" or an HDF5 trajectory; time_offset is
 // subtracted from its times (measured curves rarely start at the release).
 //
+// Config -> compute -> output: load_surface_study() only reads (a simulated
+// reference is run by run_surface()); the runs are a grid design of the study
+// core (study/study_model.hpp) with the rms_vs QoI, over the MPI farm with
+// checkpoint and --resume.
+//
 // HDF5 result: /f (nf), /c_q (nc), /rms (nf x nc, m), /t_c (nf x nc, s),
 // /status (nf x nc), /rhs_evaluations (nf x nc), /reference/t, /reference/z,
 // /sweep/f, /sweep/t_c, /sweep/rhs_evaluations, /sweep/regression
@@ -26,16 +31,22 @@
 
 #include "core/metrics.hpp"
 #include "study/montecarlo.hpp"
-#include "study/study_config.hpp"
+#include "study/study_spec.hpp"
 
 namespace rover::study {
 
 struct SurfaceStudy {
-  StudyCommon common;
+  std::string path, name, fingerprint;
+  io::ScenarioSources sources;
+  std::optional<IntegratorSettings> integrator;
   std::vector<double> f, c_q;        // the grid
   std::vector<double> sweep_f;       // the 1-D sweep (may be empty)
   double sweep_c_q = 0.14;
+  // The reference: a curve read from a file (time offset applied), or the
+  // run at (reference_f, reference_c_q) when simulate_reference.
   std::vector<double> reference_t, reference_z;
+  bool simulate_reference = false;
+  double reference_f = 0.0, reference_c_q = 0.0;
   std::string reference_description;
 };
 

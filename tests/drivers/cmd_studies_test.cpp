@@ -27,35 +27,109 @@ std::string short_drop(const std::string& dir) {
   return path;
 }
 
-std::string mc_study(const std::string& dir, double sd_scale, int samples = 6) {
-  const std::string path = dir + "/mc_" + std::to_string(sd_scale) + ".json";
+// A Monte Carlo over the preloads (sd_scale times their sds) and, with
+// `four_inputs`, c_q, f and the drop height too, on a design of `design` type.
+std::string mc_study(const std::string& dir, double sd_scale, int samples = 6, bool four_inputs = false,
+                     const std::string& design = "monte_carlo") {
+  const std::string path = dir + "/mc_" + std::to_string(sd_scale) + design + ".json";
+  const std::string parameters =
+      four_inputs ? R"("c_q": {"distribution": "uniform", "min": 0.1, "max": 0.3},
+                       "f": {"distribution": "log_uniform", "min": 1e3, "max": 1e5},
+                       "contact.k_g": {"distribution": "normal", "sd_percent": 5},
+                       "scenario.initial_q.z": {"distribution": "uniform", "min": 0.275, "max": 0.29})"
+                  : R"("M0": {"distribution": "normal", "from_config": true, "sd_scale": )" +
+                        std::to_string(sd_scale) + "}";
   write_file(path, R"({"type": "montecarlo", "name": "mc", "scenario": ")" + short_drop(dir) +
-                       R"(", "samples": )" + std::to_string(samples) +
-                       R"(, "seed": 99, "sd_scale": )" + std::to_string(sd_scale) + "}");
+                       R"(", "integrator": {"method": "rosenbrock"}, "parameters": {)" + parameters +
+                       R"(}, "design": {"type": ")" + design + R"(", "samples": )" + std::to_string(samples) +
+                       R"(, "seed": 99}, "qoi": ["B_l_z_min", "t_min", "deflection", "at_rest"],
+                       "channels": ["B_l_z", "G_z"]})");
   return path;
 }
 
-TEST(CmdStudies, MonteCarloIsIdenticalOnOneAndTwoRanks) {
+const std::vector<std::string> kMonteCarloDatasets{
+    "/inputs/values", "/curves/B_l_z", "/curves/G_z", "/bands/B_l_z/mean", "/bands/B_l_z/std",
+    "/bands/B_l_z/lower", "/bands/B_l_z/upper", "/bands/B_l_z/p00135", "/bands/B_l_z/p99865",
+    "/bands/G_z/mean", "/qoi/B_l_z_min", "/qoi/t_min", "/qoi/deflection", "/qoi/at_rest",
+    "/summary/deflection/mean", "/summary/deflection/sd", "/t"};
+
+TEST(CmdStudies, MonteCarloOfFourInputsIsIdenticalOnOneTwoAndThreeRanks) {
   const std::string dir = rover::testing::temp_dir();
-  const std::string study = mc_study(dir, 1.0);
+  const std::string study = mc_study(dir, 1.0, 7, true, "sobol");
   std::string log;
-  ASSERT_EQ(run_command(mpiexec() + " -np 1 " + rover_binary() + " montecarlo --study " + study +
-                            " --no-plot --out " + dir + "/np1.h5", &log), 0) << log;
-  ASSERT_EQ(run_command(mpiexec() + " -np 2 " + rover_binary() + " montecarlo --study " + study +
-                            " --no-plot --out " + dir + "/np2.h5", &log), 0) << log;
-  const io::Hdf5Reader a(dir + "/np1.h5"), b(dir + "/np2.h5");
-  for (const char* name : {"/samples/M0", "/curves/B_l_z", "/band/mean", "/band/std", "/band/lower",
-                           "/band/upper", "/band/p00135", "/band/p99865", "/samples/deflection",
-                           "/samples/at_rest", "/t"})
-    EXPECT_EQ(a.read_doubles(name), b.read_doubles(name)) << name;
-  EXPECT_EQ(a.shape("/curves/B_l_z"), (std::vector<std::size_t>{6, 51}));
-  const auto mean = a.read_doubles("/band/mean"), lower = a.read_doubles("/band/lower"),
-             upper = a.read_doubles("/band/upper");
+  ASSERT_EQ(run_command(rover_binary() + " montecarlo --study " + study + " --no-plot --out " + dir + "/np1.h5", &log), 0)
+      << log;
+  for (const char* np : {"2", "3"}) {
+    ASSERT_EQ(run_command(mpiexec() + " -np " + np + " " + rover_binary() + " montecarlo --study " + study +
+                              " --no-plot --out " + dir + "/np" + np + ".h5", &log), 0) << log;
+    const io::Hdf5Reader a(dir + "/np1.h5"), b(dir + "/np" + np + ".h5");
+    for (const std::string& name : kMonteCarloDatasets) EXPECT_EQ(a.read_doubles(name), b.read_doubles(name)) << name;
+  }
+  const io::Hdf5Reader a(dir + "/np1.h5");
+  EXPECT_EQ(a.shape("/curves/B_l_z"), (std::vector<std::size_t>{7, 51}));
+  EXPECT_EQ(a.shape("/inputs/values"), (std::vector<std::size_t>{7, 4}));
+  EXPECT_EQ(a.read_strings("/inputs/names"),
+            (std::vector<std::string>{"s_structure.c_q", "s_structure.f", "contact.k_g", "scenario.initial_q.z"}));
+  // Each run's drop height is its input: a higher drop starts higher.
+  const Eigen::MatrixXd x = a.read_matrix("/inputs/values");
+  const Eigen::MatrixXd g = a.read_matrix("/curves/G_z");
+  for (Eigen::Index i = 0; i < x.rows(); ++i) EXPECT_NEAR(g(i, 0), x(i, 3), 1e-12);
+  const auto mean = a.read_doubles("/bands/B_l_z/mean"), lower = a.read_doubles("/bands/B_l_z/lower"),
+             upper = a.read_doubles("/bands/B_l_z/upper");
   for (std::size_t t = 0; t < mean.size(); ++t) {
     EXPECT_LE(lower[t], mean[t]);
     EXPECT_LE(mean[t], upper[t]);
   }
-  EXPECT_GT(a.read_doubles("/band/std").back(), 0.0);  // preloads really vary the response
+  // The QoIs are those of the stored curves.
+  const Eigen::MatrixXd z = a.read_matrix("/curves/B_l_z");
+  const auto z_min = a.read_doubles("/qoi/B_l_z_min"), rest = a.read_doubles("/qoi/at_rest");
+  for (Eigen::Index i = 0; i < z.rows(); ++i) {
+    EXPECT_EQ(z_min[static_cast<std::size_t>(i)], z.row(i).minCoeff());
+    EXPECT_EQ(rest[static_cast<std::size_t>(i)], z(i, z.cols() - 1));
+  }
+}
+
+TEST(CmdStudies, MonteCarloResumedAfterAKillRecomputesOnlyWhatIsMissing) {
+  const std::string dir = rover::testing::temp_dir();
+  const std::string study = mc_study(dir, 1.0, 40);
+  std::string log;
+  ASSERT_EQ(run_command(rover_binary() + " montecarlo --study " + study + " --no-plot --out " + dir + "/whole.h5", &log), 0)
+      << log;
+  // Killed (SIGKILL) once part of the runs is checkpointed: the checkpoint is
+  // written every record here (--checkpoint-every 1).
+  run_command("cd " + dir + " && (" + rover_binary() + " montecarlo --study " + study +
+                  " --checkpoint-every 1 --no-plot --out " + dir + "/part.h5 & pid=$!; for i in $(seq 200); do "
+                  "[ -s " + dir + "/part.h5.checkpoint ] && break; sleep 0.05; done; sleep 0.3; kill -9 $pid; wait $pid)",
+              &log);
+  ASSERT_FALSE(std::ifstream(dir + "/part.h5").good()) << "the killed run must not leave a result file";
+  ASSERT_TRUE(std::ifstream(dir + "/part.h5.checkpoint").good()) << log;
+  ASSERT_EQ(run_command(rover_binary() + " montecarlo --study " + study + " --no-plot --resume --out " + dir +
+                            "/part.h5", &log), 0) << log;
+  const std::size_t pos = log.find("resuming, ");
+  ASSERT_NE(pos, std::string::npos) << log;
+  const int reused = std::stoi(log.substr(pos + 10));
+  EXPECT_GT(reused, 0) << log;
+  EXPECT_LT(reused, 40) << log;
+  const io::Hdf5Reader a(dir + "/whole.h5"), b(dir + "/part.h5");
+  for (const std::string& name : kMonteCarloDatasets) {
+    if (name.find("G_z") == std::string::npos) {
+      EXPECT_EQ(a.read_doubles(name), b.read_doubles(name)) << name;
+    }
+  }
+}
+
+TEST(CmdStudies, MonteCarloResumeRefusesChangedOptions) {
+  const std::string dir = rover::testing::temp_dir();
+  const std::string study = mc_study(dir, 1.0, 3);
+  std::string log;
+  // Leave a checkpoint behind: interrupt right away.
+  run_command("cd " + dir + " && (" + rover_binary() + " montecarlo --study " + study +
+                  " --checkpoint-every 1 --no-plot --out " + dir + "/r.h5 & pid=$!; for i in $(seq 200); do "
+                  "[ -s " + dir + "/r.h5.checkpoint ] && break; sleep 0.02; done; kill -9 $pid; wait $pid)", &log);
+  if (!std::ifstream(dir + "/r.h5.checkpoint").good()) GTEST_SKIP() << "the study finished before the kill";
+  EXPECT_NE(run_command(rover_binary() + " montecarlo --study " + study + " --seed 5 --no-plot --resume --out " +
+                            dir + "/r.h5", &log), 0);
+  EXPECT_NE(log.find("fingerprint"), std::string::npos) << log;
 }
 
 TEST(CmdStudies, BandCollapsesWhenEveryStandardDeviationIsZero) {
@@ -64,13 +138,38 @@ TEST(CmdStudies, BandCollapsesWhenEveryStandardDeviationIsZero) {
   ASSERT_EQ(run_command(rover_binary() + " montecarlo --study " + mc_study(dir, 0.0, 3) +
                             " --no-plot --out " + dir + "/mc0.h5", &log), 0) << log;
   const io::Hdf5Reader h5(dir + "/mc0.h5");
-  const auto mean = h5.read_doubles("/band/mean"), lower = h5.read_doubles("/band/lower"),
-             upper = h5.read_doubles("/band/upper"), sd = h5.read_doubles("/band/std");
+  const auto mean = h5.read_doubles("/bands/B_l_z/mean"), lower = h5.read_doubles("/bands/B_l_z/lower"),
+             upper = h5.read_doubles("/bands/B_l_z/upper"), sd = h5.read_doubles("/bands/B_l_z/std");
   for (std::size_t t = 0; t < mean.size(); ++t) {
     EXPECT_EQ(sd[t], 0.0);
     EXPECT_EQ(lower[t], mean[t]);
     EXPECT_EQ(upper[t], mean[t]);
   }
+}
+
+TEST(CmdStudies, RejectedSamplesAreRecordedNeverRun) {
+  // A preload sd 15 times the configured one draws negative preloads, which
+  // the rover file's validation refuses: those runs are recorded as rejected
+  // with the reason, the rest run.
+  const std::string dir = rover::testing::temp_dir();
+  std::string log;
+  ASSERT_EQ(run_command(rover_binary() + " montecarlo --study " + mc_study(dir, 15.0, 12) + " --no-plot --out " +
+                            dir + "/wide.h5", &log), 0) << log;
+  const io::Hdf5Reader h5(dir + "/wide.h5");
+  const auto status = h5.read_ints("/samples/status");
+  const auto messages = h5.read_strings("/samples/message");
+  const Eigen::MatrixXd x = h5.read_matrix("/inputs/values");
+  int rejected = 0;
+  for (std::size_t i = 0; i < status.size(); ++i) {
+    const bool negative = x.row(static_cast<Eigen::Index>(i)).minCoeff() < 0.0;
+    EXPECT_EQ(status[i] == 10, negative) << i << ": " << messages[i];
+    if (negative) {
+      ++rejected;
+      EXPECT_NE(messages[i].find("preload"), std::string::npos) << messages[i];
+    }
+  }
+  EXPECT_GT(rejected, 0);
+  EXPECT_LT(rejected, 12);
 }
 
 TEST(CmdStudies, SurfaceOnTwoRanksHasTheGridShapes) {
@@ -114,8 +213,14 @@ TEST(CmdStudies, BadStudyConfigsNameTheField) {
   const std::string scenario = short_drop(dir);
   struct Case { std::string command, json, expected; };
   const std::vector<Case> cases{
-      {"montecarlo", R"({"type": "montecarlo", "name": "m", "scenario": ")" + scenario + R"(", "samples": 0, "seed": 1})", "samples"},
-      {"montecarlo", R"({"type": "montecarlo", "name": "m", "scenario": ")" + scenario + R"(", "samples": 3, "seed": 1, "sampels": 2})", "sampels"},
+      {"montecarlo", R"({"type": "montecarlo", "name": "m", "scenario": ")" + scenario + R"(", "parameters": {"c_q": {"distribution": "uniform", "min": 0.1, "max": 0.2}}, "qoi": ["t_min"], "design": {"type": "sobol", "samples": 0, "seed": 1}})", "design.samples"},
+      {"montecarlo", R"({"type": "montecarlo", "name": "m", "scenario": ")" + scenario + R"(", "parameters": {"c_q": {"distribution": "uniform", "min": 0.1, "max": 0.2}}, "qoi": ["t_min"], "design": {"type": "sobol", "samples": 4294967298, "seed": 1}})", "design.samples"},
+      {"montecarlo", R"({"type": "montecarlo", "name": "m", "scenario": ")" + scenario + R"(", "parameters": {"c_q": {"distribution": "uniform", "min": 0.1, "max": 0.2}}, "qoi": ["t_min"], "design": {"type": "sobol", "samples": 3, "seed": 1}, "sampels": 2})", "sampels"},
+      {"montecarlo", R"({"type": "montecarlo", "name": "m", "scenario": ")" + scenario + R"(", "parameters": {"c_qq": {"distribution": "uniform", "min": 0.1, "max": 0.2}}, "qoi": ["t_min"], "design": {"type": "sobol", "samples": 3}})", "parameters.c_qq"},
+      {"montecarlo", R"({"type": "montecarlo", "name": "m", "scenario": ")" + scenario + R"(", "parameters": {"c_q": {"distribution": "uniform", "min": 0.3, "max": 0.2}}, "qoi": ["t_min"], "design": {"type": "sobol", "samples": 3}})", "parameters.c_q.max"},
+      {"montecarlo", R"({"type": "montecarlo", "name": "m", "scenario": ")" + scenario + R"(", "parameters": {"c_q": {"distribution": "gaussian", "mean": 0.2, "sd": 0.01}}, "qoi": ["t_min"], "design": {"type": "sobol", "samples": 3}})", "parameters.c_q.distribution"},
+      {"montecarlo", R"({"type": "montecarlo", "name": "m", "scenario": ")" + scenario + R"(", "parameters": {"c_q": {"distribution": "uniform", "min": 0.1, "max": 0.2}}, "qoi": ["t_minimum"], "design": {"type": "sobol", "samples": 3}})", "qoi[0]"},
+      {"montecarlo", R"({"type": "montecarlo", "name": "../m", "scenario": ")" + scenario + R"(", "parameters": {"c_q": {"distribution": "uniform", "min": 0.1, "max": 0.2}}, "qoi": ["t_min"], "design": {"type": "sobol", "samples": 3}})", "name"},
       {"surface", R"({"type": "surface", "name": "s", "scenario": ")" + scenario + R"(", "reference": {"simulate": {}},
           "f": {"min": 1e3, "max": 1e4, "count": 0}, "c_q": {"min": 0.1, "max": 0.2, "count": 2}})", "f.count"},
       {"surface", R"({"type": "surface", "name": "s", "scenario": ")" + scenario + R"(", "reference": {"simulate": {}},
