@@ -1,9 +1,13 @@
 // `rover compare A B`: the metrics of MODEL.md section 8 between two curves.
+// Measured CSV curves t,z go through io::read_measured_curve's checks; a metric
+// that is not finite (a flat reference makes eq. 10 divide by zero) is an
+// error naming it, not JSON null.
 #include <iomanip>
 #include <iostream>
 
 #include "core/metrics.hpp"
 #include "drivers/command_registry.hpp"
+#include "drivers/options.hpp"
 #include "io/json_reader.hpp"
 #include "io/trajectory_io.hpp"
 
@@ -17,6 +21,10 @@ struct CompareOptions {
 };
 
 int run_compare(const CompareOptions& o) {
+  FlagChecks checks;
+  checks.finite("--rest-time", o.rest_time_s);
+  checks.finite("--time-offset", o.time_offset_s);
+  checks.throw_if_any();
   const io::Curve a = io::read_curve(o.first, o.column);
   io::Curve b = io::read_curve(o.second, o.column);
   for (double& t : b.t) t -= o.time_offset_s;  // B's clock -> A's clock
@@ -35,6 +43,7 @@ int run_compare(const CompareOptions& o) {
   out["at_rest_error"] = at_rest_error(a.t, a.y, b.t, b.y, o.rest_time_s);
   out["rest_time_s"] = o.rest_time_s;
   out["time_offset_s"] = o.time_offset_s;
+  require_finite_output(out);
   std::cout << std::setw(2) << out << "\n";
   return 0;
 }

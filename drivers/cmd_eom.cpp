@@ -1,9 +1,12 @@
 // `rover eom`: prints the equations of motion M(q), F(q, u) at one state, with
 // the world positions of B_l, B_r, G and the wheel centres and the contacts.
+// A state at which any printed number is not finite (NaN or an overflow) is
+// an error naming the quantity, not JSON null.
 #include <iostream>
 
 #include "core/equations_of_motion.hpp"
 #include "drivers/command_registry.hpp"
+#include "drivers/options.hpp"
 #include "io/json_reader.hpp"
 #include "io/model_config.hpp"
 
@@ -21,14 +24,18 @@ Coordinates read_coordinates(const io::JsonReader& r, const std::string& key) {
   return Eigen::Map<const Coordinates>(values.data());
 }
 
+constexpr const char* kDefaultConfig = "configs/rover.json";
+
 struct EomOptions {
-  std::string config = "configs/rover.json";
+  std::string config = kDefaultConfig;
   std::string terrain;
   std::string state;
+  CLI::Option* config_option = nullptr;
 };
 
 int run_eom(const EomOptions& o) {
-  const RoverModel model = io::load_rover_model(o.config, o.terrain);
+  const RoverModel model =
+      io::load_rover_model(path_option(o.config_option, o.config, kDefaultConfig), o.terrain);
   const io::Json state_json = io::read_json_file(o.state);
   const io::JsonReader state(state_json, o.state);
   const Coordinates q = read_coordinates(state, "q");
@@ -63,6 +70,7 @@ int run_eom(const EomOptions& o) {
     }
     out["contacts"].push_back(wheel);
   }
+  require_finite_output(out);
   std::cout << out.dump() << "\n";
   return 0;
 }
@@ -79,7 +87,11 @@ const RegisterCommand registration{
           "{\"B_l\", \"B_r\", \"G\", \"wheel_centres\"}, \"contacts\": [per wheel: [{point, normal, "
           "penetration, Fn, Ft}]]}.\n\nExample:\n  rover eom --state state.json --terrain "
           "configs/terrains/obstacle.json");
-      app.add_option("--config", o->config, "Rover parameters (JSON)")->capture_default_str()->check(CLI::ExistingFile);
+      o->config_option = app.add_option("--config", o->config,
+                                        "Rover parameters (JSON); by default configs/rover.json "
+                                        "of the working directory, else of this program's repository")
+                             ->capture_default_str()
+                             ->check(CLI::ExistingFile);
       app.add_option("--terrain", o->terrain, "Terrain file (JSON); default: flat ground z = 0")->check(CLI::ExistingFile);
       app.add_option("--state", o->state, "State file (JSON), see below")->required()->check(CLI::ExistingFile);
       return [o] { return run_eom(*o); };

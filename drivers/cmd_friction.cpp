@@ -8,9 +8,11 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "core/friction_synthesis.hpp"
 #include "drivers/command_registry.hpp"
+#include "drivers/options.hpp"
 #include "io/json_reader.hpp"
 #include "io/plot.hpp"
 #include "io/rover_config.hpp"
@@ -18,14 +20,14 @@
 namespace rover::cli {
 namespace {
 
+constexpr const char* kDefaultConfig = "configs/rover.json";
+
 struct FrictionOptions {
-  std::string config = "configs/rover.json";
-  double mu_static = std::nan("");  // NaN: keep the config's value
-  double v_static_mps = std::nan("");
-  double mu_kinetic = std::nan("");
-  double v_kinetic_mps = std::nan("");
+  std::string config = kDefaultConfig;
+  std::optional<double> mu_static, v_static_mps, mu_kinetic, v_kinetic_mps;  // empty: the config's
   bool synthesize = false;
   std::string png;
+  CLI::Option* config_option = nullptr;
 };
 
 void write_friction_png(const FrictionParameters& p, const MakkarGammas& gammas,
@@ -61,11 +63,21 @@ void write_friction_png(const FrictionParameters& p, const MakkarGammas& gammas,
 }
 
 int run_friction(const FrictionOptions& o) {
-  FrictionParameters p = io::load_rover_parameters(o.config).friction;
-  if (std::isfinite(o.mu_static)) p.mu_static = o.mu_static;
-  if (std::isfinite(o.v_static_mps)) p.v_static_mps = o.v_static_mps;
-  if (std::isfinite(o.mu_kinetic)) p.mu_kinetic = o.mu_kinetic;
-  if (std::isfinite(o.v_kinetic_mps)) p.v_kinetic_mps = o.v_kinetic_mps;
+  // The ranges of rover.json's friction section.
+  FlagChecks checks;
+  if (o.mu_static) checks.non_negative("--mu-s", *o.mu_static);
+  if (o.v_static_mps) checks.positive("--v-s", *o.v_static_mps);
+  if (o.mu_kinetic) checks.non_negative("--mu-k", *o.mu_kinetic);
+  if (o.v_kinetic_mps) checks.positive("--v-k", *o.v_kinetic_mps);
+  checks.output_file("--png", o.png);
+  checks.throw_if_any();
+
+  const std::string config = path_option(o.config_option, o.config, kDefaultConfig);
+  FrictionParameters p = io::load_rover_parameters(config).friction;
+  if (o.mu_static) p.mu_static = *o.mu_static;
+  if (o.v_static_mps) p.v_static_mps = *o.v_static_mps;
+  if (o.mu_kinetic) p.mu_kinetic = *o.mu_kinetic;
+  if (o.v_kinetic_mps) p.v_kinetic_mps = *o.v_kinetic_mps;
 
   const auto start = std::chrono::steady_clock::now();
   const MakkarGammas gammas = o.synthesize ? synthesize_friction(p) : friction_gammas_for(p);
@@ -86,6 +98,7 @@ int run_friction(const FrictionOptions& o) {
                     {"peak_speed_mps", quality.peak_speed_mps},
                     {"acceptable", quality.acceptable}};
   if (!o.png.empty()) out["png"] = o.png;
+  require_finite_output(out);
   std::cout << out.dump(2) << "\n";
   if (!from_config) std::cerr << "synthesized the gammas in " << seconds << " s\n";
   if (!quality.acceptable)
@@ -120,17 +133,13 @@ const RegisterCommand registration{
           "Examples:\n"
           "  rover friction --png results/friction.png\n"
           "  rover friction --mu-s 0.5 --v-s 1e-3 --mu-k 0.35 --v-k 4e-3 --png results/f.png");
-      app.add_option("--config", o->config, "Rover parameters (JSON)")
-          ->capture_default_str()
-          ->check(CLI::ExistingFile);
-      app.add_option("--mu-s", o->mu_static, "Static friction coefficient mu_s [-]")
-          ->check(CLI::NonNegativeNumber);
-      app.add_option("--v-s", o->v_static_mps, "Stiction transition speed v_s [m/s]")
-          ->check(CLI::PositiveNumber);
-      app.add_option("--mu-k", o->mu_kinetic, "Kinetic friction coefficient mu_k [-]")
-          ->check(CLI::NonNegativeNumber);
-      app.add_option("--v-k", o->v_kinetic_mps, "Kinetic transition speed v_k [m/s] (> v_s)")
-          ->check(CLI::PositiveNumber);
+      o->config_option = app.add_option("--config", o->config, "Rover parameters (JSON)")
+                             ->capture_default_str()
+                             ->check(CLI::ExistingFile);
+      app.add_option("--mu-s", o->mu_static, "Static friction coefficient mu_s [-] (>= 0)");
+      app.add_option("--v-s", o->v_static_mps, "Stiction transition speed v_s [m/s] (> 0)");
+      app.add_option("--mu-k", o->mu_kinetic, "Kinetic friction coefficient mu_k [-] (>= 0)");
+      app.add_option("--v-k", o->v_kinetic_mps, "Kinetic transition speed v_k [m/s] (> v_s)");
       app.add_flag("--synthesize", o->synthesize,
                    "Fit the gammas even if the configured ones pass the quality bar");
       app.add_option("--png", o->png, "Write mu(v) and the target to this PNG");

@@ -16,6 +16,7 @@
 
 #include "core/drive_kinematics.hpp"
 #include "drivers/command_registry.hpp"
+#include "drivers/options.hpp"
 #include "io/json_reader.hpp"
 #include "io/rover_config.hpp"
 
@@ -24,8 +25,11 @@ namespace {
 
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 
+constexpr const char* kDefaultConfig = "configs/rover.json";
+
 struct KinematicsOptions {
-  std::string config = "configs/rover.json";
+  std::string config = kDefaultConfig;
+  CLI::Option* config_option = nullptr;
   std::string mode;
   double speed_mps = 0.0;
   double radius_m = std::numeric_limits<double>::infinity();
@@ -108,9 +112,18 @@ DriveCommand command_from_options(const KinematicsOptions& o, const DriveKinemat
 }
 
 int run_kinematics(const KinematicsOptions& o) {
+  FlagChecks checks;
+  const std::vector<std::pair<const CLI::Option*, double>> numbers = {
+      {o.speed, o.speed_mps}, {o.radius, o.radius_m}, {o.icr_x, o.icr_x_m},
+      {o.icr_y, o.icr_y_m},   {o.crab, o.crab_deg},   {o.yaw_rate, o.yaw_rate_radps},
+      {o.vx, o.vx_mps},       {o.vy, o.vy_mps}};
+  for (const auto& [option, value] : numbers)
+    if (given(option)) checks.finite(option->get_name(), value);
+  checks.throw_if_any();
   const std::optional<DriveMode> mode = drive_mode_from_keyword(o.mode);
   if (!mode) throw std::invalid_argument("unknown mode '" + o.mode + "'");
-  const DriveKinematics kin = make_drive_kinematics(io::load_rover_parameters(o.config));
+  const std::string config = path_option(o.config_option, o.config, kDefaultConfig);
+  const DriveKinematics kin = make_drive_kinematics(io::load_rover_parameters(config));
   WheelCommandOptions wheel_options;
   wheel_options.allow_flip = !o.no_flip;
   const DriveCommand command = command_from_options(o, kin, *mode, wheel_options);
@@ -121,7 +134,7 @@ int run_kinematics(const KinematicsOptions& o) {
   if (o.json) {
     io::Json out;
     out["mode"] = std::string(drive_mode_keyword(*mode));
-    out["config"] = o.config;
+    out["config"] = config;
     out["steering_limit_rad"] = kin.steering_limit_rad;
     out["wheel_radius_m"] = kin.wheel_radius_m;
     out["body_velocity"] = {{"forward_mps", body.forward_mps},
@@ -140,13 +153,14 @@ int run_kinematics(const KinematicsOptions& o) {
            {"ground_speed_mps", wheels.wheel_speed_radps[leg] * kin.wheel_radius_m},
            {"flipped", wheels.flipped[leg]}});
     }
+    require_finite_output(out);
     std::cout << out.dump(2) << "\n";
     return 0;
   }
 
   std::ostringstream s;
   s << std::fixed << std::setprecision(4);
-  s << drive_mode_name(*mode) << " mode (" << o.config << "; steering limit +-"
+  s << drive_mode_name(*mode) << " mode (" << config << "; steering limit +-"
     << std::setprecision(1) << kin.steering_limit_rad * kDegPerRad << " deg, wheel radius "
     << std::setprecision(4) << kin.wheel_radius_m << " m)\n";
   s << "body velocity at G: v_x " << body.forward_mps << " m/s, v_y " << body.lateral_mps
@@ -197,15 +211,15 @@ const RegisterCommand registration{
           "  rover kinematics --mode ackermann --v 0.5 --radius 1.0\n"
           "  rover kinematics --mode rotation --yaw-rate 0.5 --json\n"
           "  rover kinematics --mode general-ackermann --vx 0.3 --vy 0.1 --yaw-rate 0.2");
-      app.add_option("--config", o->config, "Rover parameters (JSON)")
-          ->capture_default_str()
-          ->check(CLI::ExistingFile);
+      o->config_option = app.add_option("--config", o->config, "Rover parameters (JSON)")
+                             ->capture_default_str()
+                             ->check(CLI::ExistingFile);
       std::vector<std::string> keywords;
       for (const DriveMode m : kAllDriveModes) keywords.emplace_back(drive_mode_keyword(m));
       app.add_option("--mode", o->mode, "Driving mode")->required()->check(CLI::IsMember(keywords));
       o->speed = app.add_option("--v", o->speed_mps, "Speed [m/s] (negative = reversing)");
       o->radius = app.add_option("--radius", o->radius_m,
-                                 "Turning radius [m], + = ICR on the left (car, ackermann)");
+                                 "Turning radius [m], + = ICR on the left (car, ackermann); omit to drive straight");
       o->icr_x = app.add_option("--icr-x", o->icr_x_m, "ICR x in the chassis frame [m]");
       o->icr_y = app.add_option("--icr-y", o->icr_y_m, "ICR y in the chassis frame [m]");
       o->crab = app.add_option("--crab-deg", o->crab_deg, "Crab angle [deg], + = left (parallel)");

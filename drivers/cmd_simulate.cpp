@@ -1,8 +1,15 @@
 // `rover simulate`: one scenario, written as HDF5 (+ optional CSV) and PNG plots.
+//
+// Flags are checked before the scenario is loaded. Two kinds of silent
+// trouble get a warning on stderr: friction gammas that miss the fit quality
+// bar of MODEL.md section 6 (also recorded in the file, see
+// io/trajectory_io.hpp), and a result whose chassis origin G ends below the
+// terrain (the wheels went through the ground, e.g. after a drop from metres).
 #include <filesystem>
 #include <iostream>
 #include <sstream>
 
+#include "core/friction_synthesis.hpp"
 #include "drivers/command_registry.hpp"
 #include "drivers/options.hpp"
 #include "io/trajectory_io.hpp"
@@ -19,13 +26,56 @@ struct SimulateOptions {
   std::string integrator;
 };
 
+// Warns when the chassis origin G is below the terrain at the end of the run.
+void warn_if_chassis_below_ground(const Trajectory& tr, const Terrain& terrain) {
+  if (tr.t.empty()) return;
+  const Eigen::Index last = tr.q.rows() - 1;
+  const double ground_m = terrain.height(tr.q(last, coord::x), tr.q(last, coord::y));
+  const double depth_m = ground_m - tr.G_z.back();
+  if (!(depth_m > 0.0)) return;
+  std::size_t first = 0;
+  while (first < tr.t.size() &&
+         !(tr.G_z[first] < terrain.height(tr.q(static_cast<Eigen::Index>(first), coord::x),
+                                          tr.q(static_cast<Eigen::Index>(first), coord::y))))
+    ++first;
+  std::cerr << "simulate: warning: the chassis origin G ends " << depth_m
+            << " m below the ground (below it from t = " << tr.t[std::min(first, tr.t.size() - 1)]
+            << " s): the wheels went through the terrain; the result is not physical (a softer "
+               "landing, a stiffer contact k_g or a smaller drop height)\n";
+}
+
 int run_simulate(const SimulateOptions& o) {
+  FlagChecks checks;
+  check_overrides(o.overrides, checks);
+  if (!o.integrator.empty()) {
+    try {
+      integrator_from_name(o.integrator);
+    } catch (const std::invalid_argument& e) {
+      checks.add(std::string("--integrator: ") + e.what());
+    }
+  }
+  checks.output_file("--out", o.out, /*regular_only=*/true);
+  checks.output_file("--csv", o.csv);
+  checks.throw_if_any();
+
   io::ScenarioSetup setup = io::load_scenario(o.scenario);
   // A different method comes with its own default tolerances (see default_integrator_settings).
   if (!o.integrator.empty()) setup.scenario.integrator = default_integrator_settings(integrator_from_name(o.integrator));
   const SimulationInputs inputs = apply_overrides(o.overrides, setup.inputs);
   const std::string out =
       o.out.empty() ? "results/" + setup.scenario.name + ".h5" : o.out;
+  if (o.out.empty()) {
+    FlagChecks default_out;
+    default_out.output_file("--out (default)", out, /*regular_only=*/true);
+    default_out.throw_if_any();
+  }
+  const FrictionParameters& friction = setup.model.parameters.friction;
+  if (const FrictionFitQuality fit = friction_fit_quality(friction.gammas, friction); !fit.acceptable)
+    std::cerr << "simulate: warning: the friction gammas miss the fit quality bar (RMS " << fit.rms
+              << " against < " << kFrictionMaxRms << ", peak mu " << fit.peak_mu << " against mu_s "
+              << friction.mu_static << " within " << 100 * kFrictionMaxPeakError
+              << " %); check `rover friction` for these mu_s, v_s, mu_k, v_k (recorded as "
+                 "friction_fit_acceptable = 0 in the file)\n";
   if (const auto dir = std::filesystem::path(out).parent_path(); !dir.empty())
     std::filesystem::create_directories(dir);
 
@@ -37,6 +87,7 @@ int run_simulate(const SimulateOptions& o) {
     std::cerr << "  t = " << t << " / " << setup.scenario.duration_s << " s\n";
   };
   const Trajectory tr = simulate(setup.model, setup.scenario, inputs, observer);
+  warn_if_chassis_below_ground(tr, setup.model.terrain);
   io::write_trajectory_hdf5(out, tr, setup, inputs);
   std::cerr << "simulate: " << (tr.ok() ? "ok" : tr.message) << "; wall " << tr.wall_time_s
             << " s, " << tr.rhs_evaluations << " right-hand sides, " << tr.steps << " steps; wrote "

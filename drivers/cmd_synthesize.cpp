@@ -1,6 +1,8 @@
 // `rover synthesize`: a synthetic "measured" drop curve (t,z CSV) made by the
 // model at known parameters, with Gaussian measurement noise and an unknown
 // time offset, for testing calibrations. Clearly labelled SYNTHETIC.
+// Every bad flag is reported before the simulation, and a sample count whose
+// file would be absurdly large is refused with its size.
 #include <iostream>
 #include <sstream>
 
@@ -16,22 +18,43 @@
 namespace rover::cli {
 namespace {
 
+constexpr const char* kDefaultScenario = "configs/scenarios/drop_horizontal.json";
+// A line "t,z\n" of two shortest round-trip doubles: at most 2 x 24 + 2 bytes.
+constexpr double kBytesPerLine = 50.0;
+// A synthetic curve beyond 1 GB (2e7 points, 1 MHz over 20 s) is a mistake.
+constexpr double kMaxCurveBytes = 1e9;
+
 struct SynthesizeOptions {
-  std::string scenario = "configs/scenarios/drop_horizontal.json";
+  std::string scenario = kDefaultScenario;
   std::string out;
   InputOverrides overrides;
   double noise_m = 1e-4, offset_s = 0.05, rate_hz = 500.0;
-  long long seed = 7;
+  std::string seed = "7";
+  CLI::Option* scenario_option = nullptr;
 };
 
 int run_synthesize(const SynthesizeOptions& o) {
-  if (o.out.empty()) throw std::invalid_argument("--out is required");
-  if (!(o.rate_hz > 0) || !(o.noise_m >= 0)) throw std::invalid_argument("--rate must be positive and --noise not negative");
-  const io::ScenarioSetup setup = io::load_scenario(o.scenario);
+  FlagChecks checks;
+  checks.output_file("--out", o.out);
+  checks.non_negative("--noise", o.noise_m);
+  checks.finite("--offset", o.offset_s);
+  checks.positive("--rate", o.rate_hz);
+  const std::uint64_t seed = checks.seed("--seed", o.seed);
+  check_overrides(o.overrides, checks);
+  checks.throw_if_any();
+
+  const std::string scenario_path = path_option(o.scenario_option, o.scenario, kDefaultScenario);
+  const io::ScenarioSetup setup = io::load_scenario(scenario_path);
+  if (const std::string problem = io::recording_size_problem(
+          io::recorded_sample_count(setup.scenario.duration_s, o.rate_hz), kBytesPerLine, kMaxCurveBytes);
+      !problem.empty())
+    throw CommandLineError({"--rate " + number_text(o.rate_hz) + " over the " +
+                            number_text(setup.scenario.duration_s) + " s of " + scenario_path +
+                            ": " + problem + "; reduce --rate"});
   const SimulationInputs in = apply_overrides(o.overrides, setup.inputs);
   const Trajectory tr = simulate(setup.model, setup.scenario, in);
   if (!tr.ok()) throw std::runtime_error("the simulation failed: " + tr.message);
-  boost::random::mt19937_64 engine(static_cast<std::uint64_t>(o.seed));
+  boost::random::mt19937_64 engine(seed);
   boost::random::normal_distribution<double> noise(0.0, o.noise_m);
   // Data clock: t_d = t_sim + offset, from 0 to the end of the run; before the
   // release the rover hangs at its initial height.
@@ -45,10 +68,10 @@ int run_synthesize(const SynthesizeOptions& o) {
   }
   std::ostringstream comment;
   comment << "SYNTHETIC measured drop curve, NOT experimental data.\n"
-          << "Made by `rover synthesize` from " << o.scenario << " at f = " << in.sharpness_f
+          << "Made by `rover synthesize` from " << scenario_path << " at f = " << in.sharpness_f
           << ", c_q = " << in.damping_c_q << ", M0 = [";
   for (int j = 0; j < kNumSJoints; ++j) comment << (j ? ", " : "") << in.preload_Nm[j];
-  comment << "],\nGaussian noise sd " << o.noise_m << " m (seed " << o.seed << "), time offset "
+  comment << "],\nGaussian noise sd " << o.noise_m << " m (seed " << seed << "), time offset "
           << o.offset_s << " s (t_data = t_release + offset), " << o.rate_hz << " Hz.\n"
           << "Columns: t [s], z [m] = world z of the left bogie pin B_l.";
   io::write_csv(o.out, {"t", "z"}, {t, z}, comment.str());
@@ -66,13 +89,16 @@ const RegisterCommand registration{
           "Example (the shipped configs/data/drop_horizontal_synthetic.csv):\n"
           "  rover synthesize --scenario configs/scenarios/drop_horizontal.json --cq 0.25 \\\n"
           "      --noise 1e-4 --offset 0.05 --rate 500 --seed 7 --out configs/data/drop_horizontal_synthetic.csv");
-      app.add_option("--scenario", o->scenario, "Scenario file")->capture_default_str()->check(CLI::ExistingFile);
+      o->scenario_option = app.add_option("--scenario", o->scenario, "Scenario file")
+                               ->capture_default_str()
+                               ->check(CLI::ExistingFile);
       app.add_option("--out", o->out, "CSV file to write")->required();
       add_input_overrides(app, o->overrides);
       app.add_option("--noise", o->noise_m, "Measurement noise standard deviation [m]")->capture_default_str();
       app.add_option("--offset", o->offset_s, "Time of the release on the data clock [s]")->capture_default_str();
       app.add_option("--rate", o->rate_hz, "Sample rate of the data [Hz]")->capture_default_str();
-      app.add_option("--seed", o->seed, "Noise seed")->capture_default_str();
+      app.add_option("--seed", o->seed, "Noise seed, an integer from 0 to 2^64 - 1")
+          ->capture_default_str();
       return [o] { return run_synthesize(*o); };
     }};
 

@@ -10,6 +10,7 @@
 
 #include "core/obstacle.hpp"
 #include "drivers/command_registry.hpp"
+#include "drivers/options.hpp"
 #include "io/plot.hpp"
 #include "io/terrain_json.hpp"
 
@@ -26,6 +27,23 @@ struct ObstacleOptions {
 };
 
 int run_obstacle(const ObstacleOptions& o) {
+  // Each flag by name (core/obstacle checks the same ranges by field name).
+  FlagChecks checks;
+  checks.output_file("--out", o.out);
+  checks.output_file("--png", o.png);
+  checks.positive("--spacing", o.spacing_m);
+  checks.non_negative("--margin", o.margin_m);
+  checks.finite("--foot-x", o.obstacle.foot_x_m);
+  checks.positive("--height", o.obstacle.height_m);
+  if (!(o.ramp_angle_deg > 0.0 && o.ramp_angle_deg < 90.0))
+    checks.add("--ramp-angle-deg must lie in (0, 90), got " + number_text(o.ramp_angle_deg));
+  checks.non_negative("--top-length", o.obstacle.top_length_m);
+  checks.finite("--y-min", o.obstacle.y_min_m);
+  checks.finite("--y-max", o.obstacle.y_max_m);
+  if (!(o.obstacle.y_min_m < o.obstacle.y_max_m))
+    checks.add("--y-min (" + number_text(o.obstacle.y_min_m) + ") must be below --y-max (" +
+               number_text(o.obstacle.y_max_m) + ")");
+  checks.throw_if_any();
   TrapezoidObstacle obstacle = o.obstacle;
   obstacle.ramp_angle_rad = o.ramp_angle_deg * std::numbers::pi / 180.0;
   const HeightGrid grid = trapezoid_obstacle_grid(obstacle, o.spacing_m, o.margin_m);

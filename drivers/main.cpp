@@ -1,16 +1,67 @@
 // The `rover` command-line program: one subcommand per task (see --help).
+//
+// A mistyped subcommand gets the nearest known name by the optimal string
+// alignment distance (Levenshtein distance with adjacent transpositions,
+// Damerau 1964): "rover simulat" -> did you mean 'simulate'? Whatever a
+// subcommand printed on stdout is flushed and checked before the exit status
+// is returned, so a full disk or a closed pipe is an error, not a success.
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <exception>
 #include <iostream>
 #include <map>
+#include <string_view>
+#include <vector>
 
 #include "drivers/command_registry.hpp"
+#include "drivers/options.hpp"
 
 namespace rover::cli {
 std::vector<CommandEntry>& command_registry() {
   static std::vector<CommandEntry> registry;
   return registry;
 }
+namespace {
+
+// Optimal string alignment distance: insertions, deletions, substitutions and
+// transpositions of adjacent characters, each costing 1.
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t substitution = a[i - 1] == b[j - 1] ? 0 : 1;
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + substitution});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  }
+  return d[a.size()][b.size()];
+}
+
+// "unknown subcommand 'simulat'; did you mean 'simulate'?" (or the list of
+// subcommands when none is near).
+std::string unknown_subcommand_message(const std::string& typed,
+                                       const std::vector<CommandEntry>& registry) {
+  std::string nearest, names;
+  std::size_t best = std::string::npos;
+  for (const CommandEntry& entry : registry) {
+    names += (names.empty() ? "" : ", ") + entry.name;
+    const std::size_t distance = edit_distance(typed, entry.name);
+    if (distance < best) {
+      best = distance;
+      nearest = entry.name;
+    }
+  }
+  std::string message = "rover: unknown subcommand '" + typed + "'";
+  // Near: at most 2 edits, or a third of the name for long names.
+  if (best <= std::max<std::size_t>(2, nearest.size() / 3)) return message + "; did you mean '" + nearest + "'?";
+  return message + " (subcommands: " + names + ")";
+}
+
+}  // namespace
 }  // namespace rover::cli
 
 int main(int argc, char** argv) {
@@ -29,20 +80,36 @@ int main(int argc, char** argv) {
     CLI::App* sub = app.add_subcommand(entry.name, entry.description);
     runners[sub] = entry.setup(*sub);
   }
+  if (argc > 1 && argv[1][0] != '-' &&
+      std::none_of(registry.begin(), registry.end(),
+                   [&](const CommandEntry& entry) { return entry.name == argv[1]; })) {
+    std::cerr << unknown_subcommand_message(argv[1], registry) << "\nRun 'rover --help' for the list.\n";
+    return static_cast<int>(CLI::ExitCodes::ExtrasError);
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
   for (auto& [sub, run] : runners) {
-    if (sub->parsed()) {
-      try {
-        return run();
-      } catch (const std::exception& e) {
-        std::cerr << "rover " << sub->get_name() << ": error: " << e.what() << "\n";
-        return 1;
-      }
+    if (!sub->parsed()) continue;
+    const std::string prefix = "rover " + sub->get_name() + ": error: ";
+    int status = 1;
+    try {
+      status = run();
+    } catch (const CommandLineError& e) {
+      for (const std::string& problem : e.problems()) std::cerr << prefix << problem << "\n";
+      return 1;
+    } catch (const std::exception& e) {
+      std::cerr << prefix << e.what() << "\n";
+      return 1;
     }
+    std::cout.flush();
+    if (!std::cout) {
+      std::cerr << prefix << "cannot write to standard output" << (errno ? std::string(" (") + std::strerror(errno) + ")" : "") << "\n";
+      return 1;
+    }
+    return status;
   }
   return 1;
 }

@@ -1,19 +1,107 @@
 // Command-line options shared by several subcommands: overrides of the study
-// inputs (f, c_q, the 8 preloads M0), and the help of --integrator.
+// inputs (f, c_q, the 8 preloads M0), the help of --integrator, and the checks
+// every subcommand runs on its flags before any work:
+//   * numbers must be finite and in range, judged as the JSON configs judge
+//     the same quantities (a negative preload is refused as rover.json
+//     refuses it); every bad flag is reported, not just the first;
+//   * seeds are read as JSON seeds are (io::exact_unsigned_integer): -1 or
+//     2^64 + 5 are errors, never 2^64 - 1 or 4;
+//   * an output path that is a directory is refused;
+//   * a default config path ("configs/rover.json") that does not exist from
+//     the working directory is looked up in the repository the program
+//     belongs to (build/drivers/rover -> ../../configs/rover.json);
+//   * JSON printed on stdout must hold finite numbers only (nlohmann would
+//     print NaN as null).
 #pragma once
 
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <system_error>
+#include <utility>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
 #include "core/number_text.hpp"
 #include "core/scenario.hpp"
 #include "core/simulate.hpp"
+#include "io/json_reader.hpp"
 
 namespace rover::cli {
+
+// One or more bad command-line flags; main() prints one line per problem.
+class CommandLineError : public std::invalid_argument {
+ public:
+  explicit CommandLineError(std::vector<std::string> problems)
+      : std::invalid_argument(joined(problems)), problems_(std::move(problems)) {}
+  const std::vector<std::string>& problems() const { return problems_; }
+
+ private:
+  static std::string joined(const std::vector<std::string>& problems) {
+    std::string text;
+    for (const std::string& p : problems) text += (text.empty() ? "" : "; ") + p;
+    return text;
+  }
+  std::vector<std::string> problems_;
+};
+
+// Collects the problems of a command line; throw_if_any() reports them all.
+class FlagChecks {
+ public:
+  void add(std::string problem) { problems_.push_back(std::move(problem)); }
+
+  void finite(const std::string& flag, double value) {
+    if (!std::isfinite(value)) add(flag + " must be a finite number, got " + number_text(value));
+  }
+  void positive(const std::string& flag, double value) {
+    if (!(std::isfinite(value) && value > 0.0))
+      add(flag + " must be a positive finite number, got " + number_text(value));
+  }
+  void non_negative(const std::string& flag, double value) {
+    if (!(std::isfinite(value) && value >= 0.0))
+      add(flag + " must be a finite number >= 0, got " + number_text(value));
+  }
+  // An output file: not a directory; with `regular_only`, also not a device
+  // or a pipe (HDF5 needs a file it can seek in and rename into place).
+  void output_file(const std::string& flag, const std::string& path, bool regular_only = false) {
+    if (path.empty()) return;
+    std::error_code error;
+    const std::filesystem::file_status status = std::filesystem::status(path, error);
+    if (std::filesystem::is_directory(status)) {
+      add(flag + " '" + path + "' is a directory; give a file name");
+    } else if (regular_only && std::filesystem::exists(status) &&
+               !std::filesystem::is_regular_file(status)) {
+      add(flag + " '" + path + "' is not a regular file (a device or a pipe); give a file name");
+    }
+  }
+
+  // A seed flag, read as the JSON configs read "seed".
+  std::uint64_t seed(const std::string& flag, const std::string& text) {
+    std::optional<std::uint64_t> value;
+    try {
+      value = io::exact_unsigned_integer(io::parse_json_text(text, flag));
+    } catch (const io::ConfigError&) {
+    }
+    if (!value) {
+      add(flag + " must be an integer from 0 to 18446744073709551615, got '" + text + "'");
+      return 0;
+    }
+    return *value;
+  }
+
+  void throw_if_any() const {
+    if (!problems_.empty()) throw CommandLineError(problems_);
+  }
+
+ private:
+  std::vector<std::string> problems_;
+};
 
 struct InputOverrides {
   std::optional<double> f, c_q;
@@ -23,7 +111,8 @@ struct InputOverrides {
 inline void add_input_overrides(CLI::App& app, InputOverrides& o) {
   app.add_option("--f", o.f, "S-structure sharpness f [1/rad] (default: the rover config)");
   app.add_option("--cq", o.c_q, "S-structure damping c_q [N m s/rad] (default: the rover config)");
-  app.add_option("--M0", o.M0, "The 8 preloads M0 [N m], comma-separated, order 11,12,21,22,31,32,41,42");
+  app.add_option("--M0", o.M0,
+                 "The 8 preloads M0 [N m] (>= 0), comma-separated, order 11,12,21,22,31,32,41,42");
 }
 
 // "dopri5 (rtol 1e-06, atol 1e-09), rk4 (step 1e-05 s), rosenbrock (...)": the
@@ -39,32 +128,121 @@ inline std::string integrator_choices_text() {
          number_text(rosenbrock.absolute_tolerance) + ")";
 }
 
-inline SimulationInputs apply_overrides(const InputOverrides& o, SimulationInputs in) {
-  if (o.f) {
-    if (!(*o.f > 0.0)) throw std::invalid_argument("--f must be positive, got " + std::to_string(*o.f));
-    in.sharpness_f = *o.f;
-  }
-  if (o.c_q) {
-    if (!(*o.c_q >= 0.0)) throw std::invalid_argument("--cq must not be negative, got " + std::to_string(*o.c_q));
-    in.damping_c_q = *o.c_q;
-  }
-  if (!o.M0.empty()) {
-    std::stringstream ss(o.M0);
-    std::string item;
-    std::size_t n = 0;
-    while (std::getline(ss, item, ',')) {
-      if (n == in.preload_Nm.size())
-        throw std::invalid_argument("--M0 takes 8 values, got more: '" + o.M0 + "'");
-      try {
-        in.preload_Nm[n++] = std::stod(item);
-      } catch (const std::exception&) {
-        throw std::invalid_argument("--M0: '" + item + "' is not a number");
-      }
+// The 8 preloads of --M0, or the problems with them added to `checks`.
+inline std::optional<std::array<double, kNumSJoints>> parse_preloads(const std::string& text,
+                                                                      FlagChecks& checks) {
+  std::array<double, kNumSJoints> preloads{};
+  std::stringstream ss(text);
+  std::size_t n = 0;
+  bool ok = true;
+  for (std::string item; std::getline(ss, item, ',');) {
+    if (n == preloads.size()) {
+      checks.add("--M0 takes 8 values, got more: '" + text + "'");
+      return std::nullopt;
     }
-    if (n != in.preload_Nm.size())
-      throw std::invalid_argument("--M0 takes 8 values, got " + std::to_string(n));
+    const std::size_t index = n++;
+    try {
+      std::size_t used = 0;
+      preloads[index] = std::stod(item, &used);
+      if (item.find_first_not_of(" \t", used) != std::string::npos) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      checks.add("--M0: '" + item + "' is not a number");
+      ok = false;
+      continue;
+    }
+    if (!(std::isfinite(preloads[index]) && preloads[index] >= 0.0)) {
+      checks.add("--M0: value " + std::to_string(index + 1) + " must be a finite preload >= 0 N m (as in rover.json), got " +
+                 number_text(preloads[index]));
+      ok = false;
+    }
   }
+  if (n != preloads.size()) {
+    checks.add("--M0 takes 8 values, got " + std::to_string(n));
+    return std::nullopt;
+  }
+  if (!ok) return std::nullopt;
+  return preloads;
+}
+
+// Checks the overrides (adding each problem to `checks`); call before any work.
+inline void check_overrides(const InputOverrides& o, FlagChecks& checks) {
+  if (o.f) checks.positive("--f", *o.f);
+  if (o.c_q) checks.non_negative("--cq", *o.c_q);
+  if (!o.M0.empty()) parse_preloads(o.M0, checks);
+}
+
+// The inputs with the overrides applied; throws CommandLineError if any is bad.
+inline SimulationInputs apply_overrides(const InputOverrides& o, SimulationInputs in) {
+  FlagChecks checks;
+  check_overrides(o, checks);
+  checks.throw_if_any();
+  if (o.f) in.sharpness_f = *o.f;
+  if (o.c_q) in.damping_c_q = *o.c_q;
+  if (!o.M0.empty()) in.preload_Nm = *parse_preloads(o.M0, checks);
   return in;
+}
+
+// The file a default path names. `relative` is relative to the repository
+// root ("configs/rover.json"); when it does not exist from the working
+// directory, the repository the running program belongs to is searched: the
+// directories above the executable (build/drivers/rover -> ../../). Throws
+// std::invalid_argument saying how to pass the file when neither exists.
+inline std::string resolve_default_path(const std::string& relative, const std::string& flag) {
+  namespace fs = std::filesystem;
+  if (fs::exists(relative)) return relative;
+  std::error_code error;
+  const fs::path executable = fs::read_symlink("/proc/self/exe", error);
+  if (!error) {
+    constexpr int kLevelsAbove = 4;  // build/drivers/rover and deeper build trees
+    fs::path dir = executable.parent_path();
+    for (int level = 0; level < kLevelsAbove && !dir.empty(); ++level, dir = dir.parent_path()) {
+      const fs::path candidate = dir / relative;
+      if (fs::is_regular_file(candidate, error)) return candidate.lexically_normal().string();
+      if (dir == dir.root_path()) break;
+    }
+  }
+  throw std::invalid_argument("the default " + flag + " " + relative +
+                              " exists neither in the working directory (" +
+                              fs::current_path(error).string() +
+                              ") nor in the repository of this program (" +
+                              executable.string() + "); run from the repository root or pass " +
+                              flag + " FILE");
+}
+
+// The value of a path option: as given, or the resolved default when not given.
+inline std::string path_option(const CLI::Option* option, const std::string& value,
+                               const std::string& default_relative) {
+  if (option != nullptr && option->count() > 0) return value;
+  return resolve_default_path(default_relative, option != nullptr ? option->get_name() : "path");
+}
+
+// The first non-finite number in `value` and where it is: "F[3]",
+// "points.B_l[2]"; empty if there is none.
+struct NonFiniteEntry {
+  std::string where;
+  double value;
+};
+inline std::optional<NonFiniteEntry> first_non_finite(const io::Json& value,
+                                                      const std::string& path = "") {
+  if (value.is_number_float() && !std::isfinite(value.get<double>()))
+    return NonFiniteEntry{path, value.get<double>()};
+  if (value.is_array()) {
+    for (std::size_t i = 0; i < value.size(); ++i)
+      if (auto entry = first_non_finite(value[i], path + "[" + std::to_string(i) + "]")) return entry;
+  } else if (value.is_object()) {
+    for (auto it = value.begin(); it != value.end(); ++it)
+      if (auto entry = first_non_finite(it.value(), path.empty() ? it.key() : path + "." + it.key()))
+        return entry;
+  }
+  return std::nullopt;
+}
+
+// Throws std::runtime_error naming the first non-finite quantity of `out`
+// (which would print as null).
+inline void require_finite_output(const io::Json& out) {
+  if (const std::optional<NonFiniteEntry> entry = first_non_finite(out))
+    throw std::runtime_error(entry->where + " is " + number_text(entry->value) +
+                             ", not a finite number; nothing printed");
 }
 
 }  // namespace rover::cli

@@ -3,8 +3,10 @@
 
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -42,24 +44,68 @@ std::string join(const std::vector<std::string>& names) {
   return out;
 }
 
+// The shortest text that reads back as x.
+std::string shortest_text(double x) {
+  std::array<char, 32> buffer{};
+  const auto result = std::to_chars(buffer.data(), buffer.data() + buffer.size(), x);
+  return std::string(buffer.data(), result.ptr);
+}
+
+constexpr std::string_view kUtf8ByteOrderMark = "\xEF\xBB\xBF";
+
+// Writes header and rows to `out`; false if any write or the close failed.
+bool write_table(std::ofstream& out, const std::vector<std::string>& header,
+                 const std::vector<std::vector<double>>& columns, std::size_t rows,
+                 const std::string& comment) {
+  std::istringstream comment_lines(comment);
+  for (std::string line; std::getline(comment_lines, line);) out << "# " << line << '\n';
+  for (std::size_t j = 0; j < header.size(); ++j) out << (j ? "," : "") << header[j];
+  out << '\n';
+  std::array<char, 32> buffer{};
+  for (std::size_t i = 0; i < rows && out; ++i) {
+    for (std::size_t j = 0; j < columns.size(); ++j) {
+      const auto result = std::to_chars(buffer.data(), buffer.data() + buffer.size(), columns[j][i]);
+      if (j) out << ',';
+      out.write(buffer.data(), result.ptr - buffer.data());
+    }
+    out << '\n';
+  }
+  out.flush();
+  const bool written = static_cast<bool>(out);
+  out.close();
+  return written && static_cast<bool>(out);
+}
+
 }  // namespace
 
 const std::vector<double>& CsvTable::column(const std::string& name) const {
   const auto it = std::find(header.begin(), header.end(), name);
   if (it == header.end())
-    throw std::runtime_error("CSV table: no column '" + name + "' (columns: " + join(header) + ")");
+    throw ConfigError((path.empty() ? std::string("CSV table") : path) + ": no column '" + name +
+                      "' (columns: " + join(header) + ")");
   return columns[static_cast<std::size_t>(it - header.begin())];
 }
 
+std::string CsvTable::where(std::size_t row) const {
+  return path + ":" + (row < line_numbers.size() ? std::to_string(line_numbers[row]) : "?");
+}
+
 CsvTable read_csv(const std::string& path, const std::vector<std::string>& required_columns) {
-  std::ifstream in(path);
+  std::error_code status_error;
+  const std::filesystem::file_status status = std::filesystem::status(path, status_error);
+  if (std::filesystem::is_directory(status)) throw ConfigError(path + ": is a directory, not a CSV file");
+  if (!std::filesystem::exists(status)) throw ConfigError(path + ": no such file");
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw ConfigError(path + ": cannot open file");
   CsvTable table;
+  table.path = path;
   std::size_t header_line = 0, line_number = 0;
   std::string line;
   while (std::getline(in, line)) {
     ++line_number;
     std::string_view content(line);
+    if (line_number == 1 && content.substr(0, kUtf8ByteOrderMark.size()) == kUtf8ByteOrderMark)
+      content.remove_prefix(kUtf8ByteOrderMark.size());
     content = trim(content.substr(0, content.find('#')));
     if (content.empty()) continue;
     const std::string where = path + ":" + std::to_string(line_number) + ": ";
@@ -104,6 +150,7 @@ CsvTable read_csv(const std::string& path, const std::vector<std::string>& requi
         throw ConfigError(where + column + "'" + std::string(field) + "' is not a finite number");
       table.columns[j].push_back(value);
     }
+    table.line_numbers.push_back(line_number);
   }
   if (in.bad()) throw ConfigError(path + ": read error");
   if (header_line == 0) throw ConfigError(path + ": empty file (no header line)");
@@ -128,38 +175,66 @@ void write_csv(const std::string& path, const std::vector<std::string>& header,
                                   std::to_string(columns[j].size()) + " values, column '" +
                                   header[0] + "' has " + std::to_string(rows));
 
+  namespace fs = std::filesystem;
+  std::error_code status_error;
+  const fs::file_status status = fs::status(path, status_error);
+  if (fs::is_directory(status))
+    throw std::runtime_error(path + ": is a directory; give a file name to write the CSV to");
+  const auto system_reason = [] { return errno != 0 ? std::string(" (") + std::strerror(errno) + ")" : ""; };
+  if (fs::exists(status) && !fs::is_regular_file(status)) {
+    // A device or a pipe: no temporary file next to it, and no rename over it.
+    errno = 0;
+    std::ofstream out(path, std::ios::out);
+    if (!out) throw std::runtime_error(path + ": cannot open for writing" + system_reason());
+    if (!write_table(out, header, columns, rows, comment))
+      throw std::runtime_error(path + ": cannot write" + system_reason());
+    return;
+  }
+
   const std::string partial = path + ".partial";
-  {
-    std::ofstream out(partial, std::ios::trunc);
-    if (!out) throw std::runtime_error(path + ": cannot create '" + partial + "'");
-    std::istringstream comment_lines(comment);
-    for (std::string line; std::getline(comment_lines, line);) out << "# " << line << '\n';
-    for (std::size_t j = 0; j < header.size(); ++j) out << (j ? "," : "") << header[j];
-    out << '\n';
-    std::array<char, 32> buffer{};
-    for (std::size_t i = 0; i < rows; ++i) {
-      for (std::size_t j = 0; j < columns.size(); ++j) {
-        const auto result =
-            std::to_chars(buffer.data(), buffer.data() + buffer.size(), columns[j][i]);
-        if (j) out << ',';
-        out.write(buffer.data(), result.ptr - buffer.data());
-      }
-      out << '\n';
-    }
-    out.close();
-    if (!out) {
-      std::error_code ignored;
-      std::filesystem::remove(partial, ignored);
-      throw std::runtime_error(path + ": cannot write '" + partial + "'");
-    }
+  errno = 0;
+  std::ofstream out(partial, std::ios::trunc);
+  if (!out) throw std::runtime_error(path + ": cannot create '" + partial + "'" + system_reason());
+  if (!write_table(out, header, columns, rows, comment)) {
+    const std::string reason = system_reason();
+    std::error_code ignored;
+    fs::remove(partial, ignored);
+    throw std::runtime_error(path + ": cannot write '" + partial + "'" + reason);
   }
   std::error_code error;
-  std::filesystem::rename(partial, path, error);
+  fs::rename(partial, path, error);
   if (error) {
     std::error_code ignored;
-    std::filesystem::remove(partial, ignored);
+    fs::remove(partial, ignored);
     throw std::runtime_error(path + ": cannot rename '" + partial + "': " + error.message());
   }
+}
+
+MeasuredCurve curve_from_table(const CsvTable& table, const std::string& value_column,
+                               double max_abs_value) {
+  const std::vector<double>& t = table.column("t");
+  const std::vector<double>& value = table.column(value_column);
+  if (table.rows() < kMeasuredCurveMinRows)
+    throw ConfigError(table.path + ": " + std::to_string(table.rows()) +
+                      " data row(s); a curve needs at least " +
+                      std::to_string(kMeasuredCurveMinRows));
+  for (std::size_t row = 0; row < table.rows(); ++row) {
+    // read_csv has refused non-finite values already.
+    if (!(std::abs(value[row]) < max_abs_value))
+      throw ConfigError(table.where(row) + ": column '" + value_column + "': " +
+                        shortest_text(value[row]) + " is beyond the bound |" + value_column +
+                        "| < " + shortest_text(max_abs_value) + " (metres expected)");
+    if (row > 0 && !(t[row] > t[row - 1]))
+      throw ConfigError(table.where(row) + ": column 't': " + shortest_text(t[row]) +
+                        " does not follow " + shortest_text(t[row - 1]) + " (line " +
+                        std::to_string(table.line_numbers[row - 1]) +
+                        "); times must increase strictly");
+  }
+  return {t, value};
+}
+
+MeasuredCurve read_measured_curve(const std::string& path) {
+  return curve_from_table(read_csv(path, {"t", "z"}), "z", kMeasuredCurveMaxAbsHeight_m);
 }
 
 }  // namespace rover::io

@@ -3,9 +3,14 @@
 //
 // Format read: a header line of column names, then one line of numbers per row,
 // comma-separated; blank lines and '#' comments (whole-line or trailing) are
-// ignored; surrounding spaces and Windows line ends are accepted. Every value
-// must be a finite number. Errors name the file and the line:
+// ignored; surrounding spaces, Windows line ends and a UTF-8 byte-order mark
+// (as spreadsheet programs write) are accepted. Every value must be a finite
+// number. Errors name the file and the line (never a row index):
 // "data.csv:17: expected 2 values, got 3".
+//
+// Measured curves t,z (drop tests: time [s], height [m] of the left bogie pin)
+// are read by read_measured_curve(), the one check shared by every command
+// that takes such data.
 #pragma once
 
 #include <cstddef>
@@ -15,21 +20,51 @@
 namespace rover::io {
 
 struct CsvTable {
+  std::string path;                          // the file read, for messages
   std::vector<std::string> header;           // column names, in file order
   std::vector<std::vector<double>> columns;  // columns[j][row] belongs to header[j]
+  std::vector<std::size_t> line_numbers;     // line_numbers[row]: its line in the file (1-based)
 
   std::size_t rows() const { return columns.empty() ? 0 : columns.front().size(); }
-  // The column named `name`; throws std::runtime_error listing the columns if absent.
+  // The column named `name`; throws ConfigError naming the file and listing
+  // the columns if absent.
   const std::vector<double>& column(const std::string& name) const;
+  // "path:line" of a data row, the prefix of messages about it.
+  std::string where(std::size_t row) const;
 };
 
-// Reads a CSV file; throws ConfigError (io/json_reader.hpp) on a missing file, an
-// empty file, a malformed line, a header without one of `required_columns`, or
-// a file without data rows.
+// Reads a CSV file; throws ConfigError (io/json_reader.hpp) on a missing file, a
+// directory, an empty file, a malformed line, a header without one of
+// `required_columns`, or a file without data rows.
 CsvTable read_csv(const std::string& path, const std::vector<std::string>& required_columns = {});
 
+// A sampled curve: strictly increasing times and finite values.
+struct MeasuredCurve {
+  std::vector<double> t_s;
+  std::vector<double> z_m;
+};
+
+inline constexpr std::size_t kMeasuredCurveMinRows = 3;
+// |z| of a measured height above this is a unit or column mistake (mm for m).
+inline constexpr double kMeasuredCurveMaxAbsHeight_m = 1e3;
+
+// Reads a measured curve: a CSV file with columns "t" [s] and "z" [m] (others
+// are ignored) holding at least kMeasuredCurveMinRows rows, strictly
+// increasing times and |z| < kMeasuredCurveMaxAbsHeight_m. Throws ConfigError
+// naming the file, the line and the value otherwise.
+MeasuredCurve read_measured_curve(const std::string& path);
+
+// The checks of read_measured_curve() on columns "t" and `value_column` of a
+// table, with |value| < max_abs_value (infinity: no bound); read_measured_curve
+// is curve_from_table(read_csv(path, {"t", "z"}), "z", kMeasuredCurveMaxAbsHeight_m).
+MeasuredCurve curve_from_table(const CsvTable& table, const std::string& value_column,
+                               double max_abs_value);
+
 // Writes columns (all of one length) under `header`, atomically (temp file +
-// rename). Values are written in the shortest form that reads back exactly
+// rename) to a regular file; a destination that exists and is not a regular
+// file (a device such as /dev/stdout, a pipe) is written in place. Every write
+// and the close are checked: a full disk throws std::runtime_error naming the
+// file, and leaves no partial file. Values are written in the shortest form that reads back exactly
 // (non-finite values as nan/inf, which read_csv refuses). A nonempty `comment`
 // is written first, each of its lines prefixed with "# ".
 void write_csv(const std::string& path, const std::vector<std::string>& header,

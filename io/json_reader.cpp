@@ -1,20 +1,195 @@
 // See json_reader.hpp.
 #include "io/json_reader.hpp"
 
+#include <climits>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 namespace rover::io {
+namespace {
+
+// The largest integer below which every integer is a double (2^53): an
+// integral double beyond it need not be the integer that was written.
+constexpr double kLargestExactInteger = 9007199254740992.0;
+
+std::string shortened_dump(const Json& value) {
+  std::string text = value.dump();
+  if (text.size() > 80) text = text.substr(0, 77) + "...";
+  return text;
+}
+
+// "line:column" (1-based) of byte `offset` of `text`.
+std::string line_and_column(const std::string& text, std::size_t offset) {
+  offset = std::min(offset, text.size());
+  std::size_t line = 1, line_start = 0;
+  for (std::size_t i = 0; i < offset; ++i)
+    if (text[i] == '\n') {
+      ++line;
+      line_start = i + 1;
+    }
+  return std::to_string(line) + ":" + std::to_string(offset - line_start + 1);
+}
+
+// Builds the DOM from nlohmann's SAX events, refusing a key repeated within
+// one object (nlohmann's own parser keeps the last value silently). Each
+// open object or array is kept with its dotted field path for the messages.
+class StrictDomBuilder final : public nlohmann::json_sax<Json> {
+ public:
+  StrictDomBuilder(const std::string& text, const std::string& source)
+      : text_(text), source_(source) {}
+
+  Json& result() { return root_; }
+  const std::string& error() const { return error_; }
+
+  bool null() override { return add(Json(nullptr)); }
+  bool boolean(bool value) override { return add(Json(value)); }
+  bool number_integer(number_integer_t value) override { return add(Json(value)); }
+  bool number_unsigned(number_unsigned_t value) override { return add(Json(value)); }
+  bool number_float(number_float_t value, const string_t& /*text*/) override {
+    return add(Json(value));
+  }
+  bool string(string_t& value) override { return add(Json(std::move(value))); }
+  bool binary(binary_t& value) override { return add(Json::binary(std::move(value))); }
+
+  bool start_object(std::size_t /*elements*/) override { return open(Json::object()); }
+  bool start_array(std::size_t /*elements*/) override { return open(Json::array()); }
+  bool end_object() override { return close(); }
+  bool end_array() override { return close(); }
+
+  bool key(string_t& name) override {
+    Level& object = open_.back();
+    if (object.value->contains(name)) {
+      error_ = source_ + ": field '" + child_path(object.path, name) +
+               "': key given twice in one object (first value " +
+               shortened_dump(object.value->at(name)) + "); keep one";
+      return false;
+    }
+    object.key = name;
+    return true;
+  }
+
+  bool parse_error(std::size_t position, const std::string& last_token,
+                   const Json::exception& problem) override {
+    constexpr int kNumberOverflow = 406;  // nlohmann's out_of_range.406
+    const bool overflow = problem.id == kNumberOverflow;
+    // `position` is just past the offending character; an overflowing
+    // number is reported at its first digit.
+    const std::size_t offending = overflow ? position - std::min(position, last_token.size())
+                                           : position - std::min<std::size_t>(position, 1);
+    std::string where = source_ + ":" + line_and_column(text_, offending) + ": ";
+    if (!open_.empty()) {
+      const Level& level = open_.back();
+      const std::string field =
+          level.value->is_object() ? child_path(level.path, level.key) : level.path;
+      if (!field.empty()) where += "field '" + field + "': ";
+    }
+    if (overflow) {
+      error_ = where + "number " + last_token +
+               " is beyond the range of a double (largest magnitude about 1.8e308)";
+      return false;
+    }
+    // nlohmann's message after its "[json.exception...] ... column N: " prefix.
+    std::string reason = problem.what();
+    if (const std::size_t column = reason.find("column "); column != std::string::npos)
+      if (const std::size_t colon = reason.find(": ", column); colon != std::string::npos)
+        reason = reason.substr(colon + 2);
+    error_ = where + "invalid JSON: " + reason;
+    return false;
+  }
+
+ private:
+  struct Level {
+    Json* value;       // the open object or array
+    std::string path;  // its field path ("" for the top level)
+    std::string key;   // objects: the key whose value comes next
+  };
+
+  static std::string child_path(const std::string& path, const std::string& key) {
+    return path.empty() ? key : path + "." + key;
+  }
+
+  // Stores `value` where the next value goes; returns its slot and path.
+  std::pair<Json*, std::string> place(Json value) {
+    if (open_.empty()) {
+      root_ = std::move(value);
+      return {&root_, ""};
+    }
+    Level& parent = open_.back();
+    if (parent.value->is_array()) {
+      const std::string path = parent.path + "[" + std::to_string(parent.value->size()) + "]";
+      parent.value->push_back(std::move(value));
+      return {&parent.value->back(), path};
+    }
+    Json& slot = (*parent.value)[parent.key];
+    slot = std::move(value);
+    return {&slot, child_path(parent.path, parent.key)};
+  }
+
+  bool add(Json value) {
+    place(std::move(value));
+    return true;
+  }
+  bool open(Json container) {
+    auto [slot, path] = place(std::move(container));
+    open_.push_back({slot, std::move(path), ""});
+    return true;
+  }
+  bool close() {
+    open_.pop_back();
+    return true;
+  }
+
+  const std::string& text_;
+  const std::string& source_;
+  Json root_;
+  std::vector<Level> open_;  // pointers into root_: map nodes and the last array element stay put
+  std::string error_;
+};
+
+}  // namespace
+
+Json parse_json_text(const std::string& text, const std::string& source) {
+  StrictDomBuilder builder(text, source);
+  const bool ok = Json::sax_parse(text, &builder, Json::input_format_t::json, /*strict=*/true,
+                                  /*ignore_comments=*/true);
+  if (!ok) {
+    if (!builder.error().empty()) throw ConfigError(builder.error());
+    throw ConfigError(source + ": invalid JSON");
+  }
+  return std::move(builder.result());
+}
 
 Json read_json_file(const std::string& path) {
-  std::ifstream in(path);
+  namespace fs = std::filesystem;
+  std::error_code error;
+  const fs::file_status status = fs::status(path, error);
+  if (fs::is_directory(status)) throw ConfigError(path + ": is a directory, not a JSON file");
+  if (!fs::exists(status)) throw ConfigError(path + ": no such file");
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw ConfigError(path + ": cannot open file");
-  try {
-    return Json::parse(in, nullptr, true, /*ignore_comments=*/true);
-  } catch (const Json::parse_error& e) {
-    throw ConfigError(path + ": invalid JSON: " + e.what());
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw ConfigError(path + ": read error");
+  return parse_json_text(text, path);
+}
+
+std::optional<std::uint64_t> exact_unsigned_integer(const Json& value) {
+  if (value.is_number_unsigned()) return value.get<std::uint64_t>();
+  if (value.is_number_integer()) {
+    const std::int64_t signed_value = value.get<std::int64_t>();
+    if (signed_value < 0) return std::nullopt;
+    return static_cast<std::uint64_t>(signed_value);
   }
+  if (value.is_number_float()) {
+    const double x = value.get<double>();
+    if (std::isfinite(x) && x >= 0.0 && x <= kLargestExactInteger && std::floor(x) == x)
+      return static_cast<std::uint64_t>(x);
+  }
+  return std::nullopt;
 }
 
 JsonReader::JsonReader(const Json& object, std::string file, std::string path)
@@ -30,11 +205,7 @@ std::string JsonReader::field(const std::string& key) const {
 
 void JsonReader::fail(const std::string& key, const std::string& problem) const {
   std::string value;
-  if (object_.contains(key)) {
-    value = object_.at(key).dump();
-    if (value.size() > 80) value = value.substr(0, 77) + "...";
-    value = " (value " + value + ")";
-  }
+  if (object_.contains(key)) value = " (value " + shortened_dump(object_.at(key)) + ")";
   throw ConfigError(file_ + ": field '" + field(key) + "'" + value + ": " + problem);
 }
 
@@ -59,8 +230,31 @@ double JsonReader::number(const std::string& key) const {
 
 int JsonReader::integer(const std::string& key) const {
   const Json& v = raw(key);
-  if (!v.is_number_integer()) fail(key, "expected an integer");
-  return v.get<int>();
+  const std::string expected =
+      "expected an integer from " + std::to_string(INT_MIN) + " to " + std::to_string(INT_MAX);
+  if (v.is_number_unsigned()) {
+    const std::uint64_t u = v.get<std::uint64_t>();
+    if (u <= static_cast<std::uint64_t>(INT_MAX)) return static_cast<int>(u);
+  } else if (v.is_number_integer()) {
+    const std::int64_t i = v.get<std::int64_t>();
+    if (i >= INT_MIN && i <= INT_MAX) return static_cast<int>(i);
+  } else if (v.is_number_float()) {
+    const double x = v.get<double>();
+    if (std::floor(x) == x && x >= INT_MIN && x <= INT_MAX) return static_cast<int>(x);
+  }
+  fail(key, expected);
+}
+
+std::uint64_t JsonReader::count(const std::string& key) const {
+  const std::optional<std::uint64_t> n = exact_unsigned_integer(raw(key));
+  if (!n) fail(key, "expected a count, an integer from 0 to 18446744073709551615");
+  return *n;
+}
+
+std::uint64_t JsonReader::seed(const std::string& key) const {
+  const std::optional<std::uint64_t> n = exact_unsigned_integer(raw(key));
+  if (!n) fail(key, "expected a seed, an integer from 0 to 18446744073709551615");
+  return *n;
 }
 
 std::string JsonReader::string(const std::string& key) const {
@@ -119,6 +313,12 @@ double JsonReader::number_or(const std::string& key, double fallback) const {
 int JsonReader::integer_or(const std::string& key, int fallback) const {
   return has(key) ? integer(key) : fallback;
 }
+std::uint64_t JsonReader::count_or(const std::string& key, std::uint64_t fallback) const {
+  return has(key) ? count(key) : fallback;
+}
+std::uint64_t JsonReader::seed_or(const std::string& key, std::uint64_t fallback) const {
+  return has(key) ? seed(key) : fallback;
+}
 std::string JsonReader::string_or(const std::string& key, const std::string& fallback) const {
   return has(key) ? string(key) : fallback;
 }
@@ -143,9 +343,8 @@ void JsonReader::finish() const {
     if (!used_.count(it.key())) {
       std::ostringstream known;
       for (const auto& k : used_) known << (known.tellp() > 0 ? ", " : "") << k;
-      std::string value = it.value().dump();
-      if (value.size() > 80) value = value.substr(0, 77) + "...";
-      throw ConfigError(file_ + ": field '" + field(it.key()) + "': unknown key (value " + value +
+      throw ConfigError(file_ + ": field '" + field(it.key()) + "': unknown key (value " +
+                        shortened_dump(it.value()) +
                         "; known keys here: " + known.str() + ")");
     }
   }

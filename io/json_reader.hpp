@@ -3,9 +3,17 @@
 // JsonReader wraps one JSON object together with the file it came from and
 // its dotted path ("bodies.wheel"). Every accessor records the keys it read,
 // so finish() can reject unknown (typically misspelt) keys.
+//
+// Parsing is stricter than RFC 8259 requires, where the RFC leaves the
+// choice to the reader: a key repeated in one object is an error (RFC 8259
+// section 4 only says such names "SHOULD be unique"), and so is a number
+// beyond the range of a double (section 6). Integers never wrap: integer(),
+// count() and seed() accept exactly the values of their type.
 #pragma once
 
 #include <array>
+#include <cstdint>
+#include <optional>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -25,8 +33,21 @@ class ConfigError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Parses a JSON file; a missing file or a syntax error becomes a ConfigError.
+// Parses a JSON file (comments allowed); a missing file, a directory, a syntax
+// error, a number out of the range of a double or a key repeated within one
+// object becomes a ConfigError naming the file and the line and column, or
+// the field ("path: field 'bodies.wheel.mass': key given twice ...").
 Json read_json_file(const std::string& path);
+
+// The same for JSON text; `source` names it in messages (a file name).
+Json parse_json_text(const std::string& text, const std::string& source);
+
+// The value of a JSON number as an unsigned 64-bit integer, if it is one
+// exactly: a JSON integer in [0, 2^64 - 1], or an integral floating-point
+// number (1e3) up to 2^53, beyond which a double need not hold the integer
+// that was written. Empty for anything else (negative, fractional, 2^64 + 5,
+// not a number).
+std::optional<std::uint64_t> exact_unsigned_integer(const Json& value);
 
 class JsonReader {
  public:
@@ -35,7 +56,14 @@ class JsonReader {
   bool has(const std::string& key) const;
   // Required values.
   double number(const std::string& key) const;
+  // An int: a JSON integer (or an integral number up to 2^53) within the
+  // range of int; 2.5, 4294967298 and 1e999 are refused, never rounded or wrapped.
   int integer(const std::string& key) const;
+  // A non-negative 64-bit count (samples, evaluations) and a 64-bit seed:
+  // exact_unsigned_integer() of the value, refused otherwise ("samples":
+  // 4294967298 stays 4294967298; -1 and 2^64 + 5 are errors).
+  std::uint64_t count(const std::string& key) const;
+  std::uint64_t seed(const std::string& key) const;
   std::string string(const std::string& key) const;
   bool boolean(const std::string& key) const;
   std::vector<double> numbers(const std::string& key) const;
@@ -45,6 +73,8 @@ class JsonReader {
   // Optional values: the fallback when the key is absent.
   double number_or(const std::string& key, double fallback) const;
   int integer_or(const std::string& key, int fallback) const;
+  std::uint64_t count_or(const std::string& key, std::uint64_t fallback) const;
+  std::uint64_t seed_or(const std::string& key, std::uint64_t fallback) const;
   std::string string_or(const std::string& key, const std::string& fallback) const;
   bool boolean_or(const std::string& key, bool fallback) const;
   template <std::size_t N>

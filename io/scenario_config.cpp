@@ -1,14 +1,18 @@
 // See scenario_config.hpp.
 #include "io/scenario_config.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <optional>
 #include <stdexcept>
 #include <utility>
 
+#include "core/contact.hpp"
 #include "core/kinematic_tree.hpp"
+#include "core/number_text.hpp"
 #include "io/model_config.hpp"
 #include "io/rover_config.hpp"
 #include "io/terrain_json.hpp"
@@ -160,6 +164,51 @@ DriveConfig parse_drive(const JsonReader& r, const DriveKinematics& kinematics) 
   return config;
 }
 
+double recorded_sample_count(double duration_s, double rate_hz) {
+  return std::floor(duration_s * rate_hz * (1.0 + 1e-12)) + 1.0;
+}
+
+std::string recording_size_problem(double samples, double bytes_per_sample, double max_bytes) {
+  const double bytes = samples * bytes_per_sample;
+  if (bytes <= max_bytes) return "";
+  constexpr std::array<const char*, 7> kUnits{"B", "kB", "MB", "GB", "TB", "PB", "EB"};
+  double amount = bytes;
+  std::size_t unit = 0;
+  while (amount >= 1000.0 && unit + 1 < kUnits.size()) {
+    amount /= 1000.0;
+    ++unit;
+  }
+  char text[120];
+  std::snprintf(text, sizeof text, "would record %.1e samples (%.3g %s, more than the %.3g GB allowed)",
+                samples, amount, kUnits[unit], max_bytes / 1e9);
+  return text;
+}
+
+double initial_penetration_tolerance_m(const RoverModel& model) {
+  const RoverParameters& p = model.parameters;
+  const double weight_N = model.tree.total_mass_kg * p.gravity_mps2;
+  const double one_wheel_m =
+      std::pow(weight_N / p.contact.stiffness_k_g, 1.0 / p.contact.exponent_sigma);
+  return std::max(1e-3, one_wheel_m);
+}
+
+WheelPenetration deepest_wheel_penetration(const RoverModel& model, const Coordinates& q) {
+  const TreeKinematics kin = forward_kinematics(model.tree, q, Coordinates::Zero());
+  WheelPenetration deepest;
+  for (int leg = 0; leg < kNumLegs; ++leg) {
+    const NodeKinematics& wheel = kin.nodes[node::wheel(leg)];
+    const WheelContacts contacts = find_wheel_contacts(model.terrain, wheel.origin, wheel.rotation.col(1),
+                                                       model.parameters.geometry.wheel_radius_m);
+    for (int k = 0; k < contacts.count; ++k) {
+      if (contacts.points[k].depth_m > deepest.depth_m) {
+        deepest.depth_m = contacts.points[k].depth_m;
+        deepest.leg = leg;
+      }
+    }
+  }
+  return deepest;
+}
+
 std::string resolve_relative(const std::string& config_path, const std::string& path) {
   const std::filesystem::path p(path);
   if (p.is_absolute()) return path;
@@ -288,8 +337,29 @@ ScenarioSetup build_scenario(const ScenarioSources& sources) {
     s.duration_s = distance / r.number("forward_speed");
   }
   s.output_rate_hz = r.has("output_rate") ? r.positive("output_rate") : 1000.0;
+  if (const std::string problem = recording_size_problem(
+          recorded_sample_count(s.duration_s, s.output_rate_hz), kTrajectoryBytesPerSample);
+      !problem.empty()) {
+    r.fail(r.has("duration") ? "duration" : "travel_distance",
+           problem + " at " + number_text(s.output_rate_hz) + " Hz; reduce duration or output_rate");
+  }
   if (r.has("integrator")) s.integrator = parse_integrator_settings(r.child("integrator"), s.integrator);
   if (r.has("wall_time_budget")) s.wall_time_budget_s = r.positive("wall_time_budget");
+
+  // A wheel deep in the ground would start with a contact force far beyond
+  // the rover's weight: a typo in z, not a drop test.
+  const WheelPenetration start = deepest_wheel_penetration(setup.model, s.initial_q);
+  if (const double tolerance = initial_penetration_tolerance_m(setup.model); start.depth_m > tolerance) {
+    char depth[160];
+    std::snprintf(depth, sizeof depth,
+                  "wheel %s starts %.4g m below the ground (tolerance %.3g m, the depth at which "
+                  "one wheel carries the rover's weight)",
+                  kWheelNames[static_cast<std::size_t>(start.leg)], start.depth_m, tolerance);
+    if (r.has("initial_ground_clearance"))
+      r.fail("initial_ground_clearance", std::string(depth) + "; raise it (it is measured from z = 0, "
+                                         "not from the terrain under the wheels)");
+    r.fail("initial_q", std::string(depth) + "; raise initial_q.z or give initial_ground_clearance");
+  }
 
   setup.inputs = nominal_simulation_inputs(setup.model.parameters);
   if (r.has("inputs")) setup.inputs = parse_simulation_inputs(r.child("inputs"), setup.inputs);

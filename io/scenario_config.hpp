@@ -72,10 +72,21 @@
 // starts at 0 (begin the schedule with a zero-speed segment and a ramp_time
 // to accelerate smoothly). Entries of "initial_q" and "initial_u" override
 // these values.
+//
+// Validation at load, besides the ranges of each field:
+//   * the recording must fit in memory: duration x output_rate samples of
+//     kTrajectoryBytesPerSample each, at most kMaxRecordingBytes, so an absurd
+//     request ("duration": 1e12) is refused with its size instead of failing
+//     in the allocator;
+//   * no wheel may start deeper in the terrain than
+//     initial_penetration_tolerance_m(): beyond it the first contact force
+//     would be larger than the rover's weight carried by one wheel, a start
+//     in the ground rather than on it. Starting high above it is allowed.
 #pragma once
 
 #include <string>
 
+#include "core/coordinates.hpp"
 #include "core/rover_model.hpp"
 #include "core/scenario.hpp"
 #include "core/simulate.hpp"
@@ -106,6 +117,35 @@ ScenarioSources read_scenario_sources(const std::string& path);
 // load_scenario(path) == build_scenario(read_scenario_sources(path)).
 // Throws ConfigError naming the file (scenario or rover) and the field.
 ScenarioSetup build_scenario(const ScenarioSources& sources);
+
+// Bytes a Trajectory holds per output sample: t, B_l_z, B_r_z, G_z, pitch,
+// roll, q and u (23 each) and the 4 normal forces, as doubles.
+inline constexpr double kTrajectoryBytesPerSample = 8.0 * (6 + 2 * kNumCoordinates + kNumLegs);
+// The largest recording a run may ask for (8 GiB).
+inline constexpr double kMaxRecordingBytes = 8.0 * 1024.0 * 1024.0 * 1024.0;
+
+// The number of output samples over [0, duration_s] at rate_hz (as
+// output_sample_count), in floating point so absurd requests do not overflow.
+double recorded_sample_count(double duration_s, double rate_hz);
+
+// Empty when `samples` of `bytes_per_sample` fit in `max_bytes`; otherwise
+// "would record 1.0e+15 samples (448 PB, more than the 8.59 GB allowed)" for
+// the caller to extend with the remedy.
+std::string recording_size_problem(double samples, double bytes_per_sample,
+                                   double max_bytes = kMaxRecordingBytes);
+
+// Deepest start of a wheel in the terrain that load_scenario accepts: the
+// penetration at which the contact law k_g p^sigma carries the whole weight
+// of the rover on one wheel, and at least 1 mm.
+double initial_penetration_tolerance_m(const RoverModel& model);
+
+// The deepest penetration of any wheel into the terrain at pose q (0 if all
+// are clear), and which wheel (0..3; -1 if none touches).
+struct WheelPenetration {
+  double depth_m = 0.0;
+  int leg = -1;
+};
+WheelPenetration deepest_wheel_penetration(const RoverModel& model, const Coordinates& q);
 
 // The "drive" block (see above) for a rover with these driving kinematics.
 struct DriveConfig {

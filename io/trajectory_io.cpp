@@ -2,11 +2,14 @@
 #include "io/trajectory_io.hpp"
 
 #include <algorithm>
-#include <numbers>
+#include <cmath>
 #include <fstream>
+#include <limits>
+#include <numbers>
 #include <sstream>
 
 #include "core/coordinates.hpp"
+#include "core/friction_synthesis.hpp"
 #include "io/csv.hpp"
 #include "io/hdf5_file.hpp"
 #include "io/plot.hpp"
@@ -57,6 +60,10 @@ void write_trajectory_hdf5(const std::string& path, const Trajectory& tr, const 
   h5.attribute("/", "M0", std::vector<double>(inputs.preload_Nm.begin(), inputs.preload_Nm.end()));
   const auto& g = setup.model.parameters.friction.gammas;
   h5.attribute("/", "friction_gammas", std::vector<double>(g.begin(), g.end()));
+  const FrictionFitQuality fit = friction_fit_quality(g, setup.model.parameters.friction);
+  h5.attribute("/", "friction_fit_rms", fit.rms);
+  h5.attribute("/", "friction_fit_peak_mu", fit.peak_mu);
+  h5.attribute("/", "friction_fit_acceptable", static_cast<long long>(fit.acceptable ? 1 : 0));
   h5.attribute("/", "duration_s", s.duration_s);
   h5.attribute("/", "output_rate_hz", s.output_rate_hz);
   h5.attribute("/", "integrator", integrator_name(integ.method));
@@ -140,17 +147,42 @@ std::vector<std::string> write_trajectory_plots(const std::string& png_stem, con
 Curve read_curve(const std::string& path, const std::string& column) {
   Curve c;
   if (ends_with(path, ".csv")) {
-    // Simulated trajectories have the column; measured drop data has t,z.
+    // Simulated trajectories have the column; measured drop data has t,z
+    // and goes through the measured-curve checks.
     const CsvTable table = read_csv(path, {"t"});
     const auto& h = table.header;
-    const bool has_column = std::find(h.begin(), h.end(), column) != h.end();
-    c.t = table.column("t");
-    c.y = table.column(has_column ? column : "z");
+    MeasuredCurve curve;
+    if (std::find(h.begin(), h.end(), column) != h.end()) {
+      curve = curve_from_table(table, column, std::numeric_limits<double>::infinity());
+    } else {
+      if (std::find(h.begin(), h.end(), "z") == h.end())
+        throw ConfigError(path + ": no column '" + column + "', nor 'z' of measured data");
+      curve = curve_from_table(table, "z", kMeasuredCurveMaxAbsHeight_m);
+    }
+    c.t = std::move(curve.t_s);
+    c.y = std::move(curve.z_m);
     return c;
   }
   const Hdf5Reader h5(path);
   c.t = h5.read_doubles("/t");
   c.y = h5.read_doubles("/" + column);
+  const auto refuse = [&](const auto&... parts) {
+    std::ostringstream message;
+    message << path << ": ";
+    (message << ... << parts);
+    throw ConfigError(message.str());
+  };
+  if (c.t.size() != c.y.size())
+    refuse("/t has ", c.t.size(), " values, /", column, " has ", c.y.size());
+  if (c.t.size() < kMeasuredCurveMinRows)
+    refuse("/t has ", c.t.size(), " sample(s); a curve needs at least ", kMeasuredCurveMinRows);
+  for (std::size_t i = 0; i < c.t.size(); ++i) {
+    if (!std::isfinite(c.t[i]) || !std::isfinite(c.y[i]))
+      refuse("sample ", i, ": t = ", c.t[i], ", ", column, " = ", c.y[i], " is not finite");
+    if (i > 0 && !(c.t[i] > c.t[i - 1]))
+      refuse("/t[", i, "] = ", c.t[i], " does not follow /t[", i - 1, "] = ", c.t[i - 1],
+             "; times must increase strictly");
+  }
   return c;
 }
 

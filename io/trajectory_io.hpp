@@ -1,9 +1,10 @@
 // Trajectory files: HDF5 (datasets /t, /B_l_z, /B_r_z, /G_z, /pitch, /roll,
 // /q (T x 23), /u (T x 23), /Fn (T x 4), with attributes recording every
 // parameter, the integrator and its settings, wall time, right-hand-side
-// evaluations and the project version), the same columns as CSV, and PNG
-// plots (paper Fig. 11). Also reading a curve back for `rover compare` and
-// calibration data.
+// evaluations, the project version, and the quality of the friction gammas
+// used: friction_fit_rms, friction_fit_peak_mu, friction_fit_acceptable 0/1),
+// the same columns as CSV, and PNG plots (paper Fig. 11). Also reading a curve
+// back for `rover compare` and calibration data.
 #pragma once
 
 #include <string>
@@ -25,7 +26,10 @@ std::vector<std::string> write_trajectory_plots(const std::string& png_stem,
                                                 const std::string& title, bool obstacle_run);
 
 // A named curve (t, y) from a trajectory file: HDF5 (/t and /<column>) or CSV
-// with a header (column "t" and the named one, or "z" for measured drop data).
+// with a header (column "t" and the named one, or "z" for measured drop data,
+// read by read_measured_curve with its bound on |z|). Times must increase
+// strictly over at least 3 samples and every value be finite; throws
+// ConfigError naming the file and the line (CSV) or the sample (HDF5).
 struct Curve {
   std::vector<double> t, y;
 };

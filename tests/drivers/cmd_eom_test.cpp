@@ -3,9 +3,11 @@
 // "params" overrides act on the right entries of F only, and a bad state file
 // fails with a message naming the file and the field.
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <random>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -221,6 +223,60 @@ TEST(CmdEom, BadStateFilesNameFileAndField) {
   std::string out;
   run_command(rover_binary() + " eom --config " + source_path("configs/rover.json") + " --state " + path, &out);
   EXPECT_NE(out.find("expected 23 numbers, got 22"), std::string::npos) << out;
+}
+
+TEST(CmdEom, NonFiniteResultsAreErrorsNamingTheQuantity) {
+  const std::string dir = testing::temp_dir();
+  Coordinates q, u;
+  ground_state(q, u, 5);
+  for (const double speed : {1e200, -1e160}) {
+    Coordinates fast = u;
+    fast.setConstant(speed);
+    std::string out;
+    EXPECT_EQ(run_command(rover_binary() + " eom --config " + source_path("configs/rover.json") + " --state " +
+                              write_state(dir, {{"q", to_json(q)}, {"u", to_json(fast)}}),
+                          &out),
+              1)
+        << out;
+    EXPECT_NE(out.find("rover eom: error: F"), std::string::npos) << out;
+    EXPECT_NE(out.find("not a finite number"), std::string::npos) << out;
+    EXPECT_EQ(out.find("null"), std::string::npos) << out;
+  }
+}
+
+TEST(CmdEom, DefaultConfigIsFoundFromAnotherDirectoryOrExplained) {
+  const std::string dir = testing::temp_dir();
+  Coordinates q, u;
+  ground_state(q, u, 7);
+  const std::string state = write_state(dir, {{"q", to_json(q)}, {"u", to_json(u)}});
+  std::string out;
+  // From another directory: the repository of the binary supplies configs/rover.json.
+  ASSERT_EQ(run_command("cd " + dir + " && " + rover_binary() + " eom --state " + state, &out), 0) << out;
+  const json printed = json::parse(out);
+  const json reference = run_eom(state);  // with --config given
+  EXPECT_EQ(printed.at("F"), reference.at("F"));
+  // A copy of the program outside any repository: the message says how to pass the file.
+  const std::string copy = dir + "/rover";
+  std::filesystem::copy_file(rover_binary(), copy);
+  std::filesystem::permissions(copy, std::filesystem::perms::owner_exec, std::filesystem::perm_options::add);
+  for (const std::string& command : std::vector<std::string>{"eom --state " + state, "friction",
+                                                            "kinematics --mode rotation --yaw-rate 1"}) {
+    EXPECT_EQ(run_command("cd " + dir + " && (./rover " + command + " > /dev/null)", &out), 1) << command;
+    EXPECT_NE(out.find("the default --config configs/rover.json exists neither"), std::string::npos) << out;
+    EXPECT_NE(out.find("pass --config FILE"), std::string::npos) << out;
+  }
+}
+
+TEST(CmdEom, OutputToAFullDeviceFails) {
+  const std::string dir = testing::temp_dir();
+  Coordinates q, u;
+  ground_state(q, u, 3);
+  const std::string command = rover_binary() + " eom --config " + source_path("configs/rover.json") +
+                              " --state " + write_state(dir, {{"q", to_json(q)}, {"u", to_json(u)}});
+  std::string out;
+  EXPECT_EQ(run_command(command + " > /dev/null", &out), 0) << out;
+  EXPECT_EQ(run_command("(" + command + " > /dev/full)", &out), 1);  // stderr still captured
+  EXPECT_NE(out.find("rover eom: error: cannot write to standard output"), std::string::npos) << out;
 }
 
 }  // namespace

@@ -3,6 +3,8 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -56,6 +58,25 @@ TEST(CmdFriction, RejectsKineticSpeedBelowStaticSpeed) {
                               testing::source_path("configs/rover.json") + " --v-k 1e-4";
   EXPECT_NE(testing::run_command(command, &log), 0);
   EXPECT_NE(log.find("v_k"), std::string::npos) << log;
+}
+
+TEST(CmdFriction, NonFiniteAndOutOfRangeFlagsAreEachReported) {
+  const std::vector<std::pair<std::string, std::vector<std::string>>> cases = {
+      {"--mu-s nan", {"--mu-s must be a finite number >= 0, got nan"}},
+      {"--mu-s inf --v-s -1", {"--mu-s must be", "--v-s must be a positive finite number, got -1"}},
+      {"--mu-k -0.1 --v-k 0", {"--mu-k must be", "--v-k must be a positive finite number, got 0"}},
+      {"--v-s nan --v-k inf", {"--v-s must be", "--v-k must be"}},
+  };
+  for (const auto& [flags, expected] : cases) {
+    std::string out;
+    EXPECT_EQ(testing::run_command(testing::rover_binary() + " friction --config " +
+                                       testing::source_path("configs/rover.json") + " " + flags,
+                                   &out),
+              1)
+        << flags;
+    for (const std::string& e : expected) EXPECT_NE(out.find(e), std::string::npos) << flags << "\n" << out;
+    EXPECT_EQ(out.find("\"gammas\""), std::string::npos) << "printed a result: " << out;
+  }
 }
 
 }  // namespace

@@ -81,5 +81,20 @@ TEST(CmdKinematics, BadCommandsFailWithAMessage) {
   }
 }
 
+TEST(CmdKinematics, NonFiniteNumbersAreRefusedByFlag) {
+  for (const std::string flags :
+       {"--mode car --v inf", "--mode ackermann --v 0.5 --radius nan", "--mode parallel --v 0.2 --crab-deg inf",
+        "--mode rotation --yaw-rate -inf", "--mode general-ackermann --v 0.1 --icr-x nan --icr-y 1",
+        "--mode lateral --vy nan"}) {
+    std::string out;
+    EXPECT_EQ(testing::run_command(testing::rover_binary() + " kinematics --config " +
+                                       testing::source_path("configs/rover.json") + " " + flags,
+                                   &out),
+              1)
+        << flags;
+    EXPECT_NE(out.find("must be a finite number"), std::string::npos) << flags << "\n" << out;
+  }
+}
+
 }  // namespace
 }  // namespace rover

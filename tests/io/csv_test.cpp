@@ -1,6 +1,7 @@
 // Tests of io/csv: exact round trips, the accepted syntax (comments, spaces,
-// Windows line ends), and an error naming the file and the line for each kind
-// of malformed input.
+// Windows line ends, a UTF-8 byte-order mark), an error naming the file and
+// the line for each kind of malformed input, the measured-curve checks of
+// read_measured_curve, and checked writes (a full device is an error).
 #include "io/csv.hpp"
 
 #include <gtest/gtest.h>
@@ -9,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <random>
 #include <stdexcept>
 
 #include "io/json_reader.hpp"
@@ -108,7 +110,114 @@ TEST(Csv, EmptyFilesAndMissingFilesAreRefused) {
   const std::string header_only = write_text("header_only.csv", "\nf,c_q\n# no rows\n");
   EXPECT_EQ(read_error(header_only), header_only + ":2: no data rows after the header");
   const std::string absent = testing::temp_dir() + "/absent.csv";
-  EXPECT_EQ(read_error(absent), absent + ": cannot open file");
+  EXPECT_EQ(read_error(absent), absent + ": no such file");
+  const std::string dir = testing::temp_dir();
+  EXPECT_EQ(read_error(dir), dir + ": is a directory, not a CSV file");
+}
+
+TEST(Csv, Utf8ByteOrderMarkIsAccepted) {
+  const std::string bom = "\xEF\xBB\xBF";
+  const std::vector<std::string> bodies = {"t,z\n0,1\n", "t,z\r\n0,1\r\n", "\"t\",z\n0,1\n",
+                                           " t , z\n0,1\n", "# comment\nt,z\n0,1\n",
+                                           "\nt,z\n0,1\n"};
+  for (const std::string& body : bodies) {
+    const CsvTable table = read_csv(write_text("bom.csv", bom + body), {"t", "z"});
+    EXPECT_EQ(table.header, (std::vector<std::string>{"t", "z"})) << body;
+    EXPECT_EQ(table.column("t"), std::vector<double>{0.0});
+  }
+  // Only at the start of the file: elsewhere it is not a number.
+  const std::string inside = write_text("bom_inside.csv", "t,z\n0," + bom + "1\n");
+  EXPECT_NE(read_error(inside).find(":2: column 'z'"), std::string::npos);
+}
+
+TEST(Csv, RowsKnowTheirLinesAndMissingColumnsNameTheFile) {
+  const std::string path = write_text("lines.csv", "# c\nt,z\n\n0,1\n# gap\n1,2\n");
+  const CsvTable table = read_csv(path);
+  EXPECT_EQ(table.line_numbers, (std::vector<std::size_t>{4, 6}));
+  EXPECT_EQ(table.where(1), path + ":6");
+  try {
+    table.column("slip");
+    ADD_FAILURE() << "no error";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()), path + ": no column 'slip' (columns: t, z)");
+  }
+}
+
+// The message of the ConfigError that read_measured_curve throws.
+std::string curve_error(const std::string& path) {
+  try {
+    read_measured_curve(path);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << path << " was read without error";
+  return "";
+}
+
+TEST(MeasuredCurve, GoodCurveIsReadWithItsValues) {
+  const std::string path = write_text("good.csv", "# SYNTHETIC\nt,z,extra\n0,0.2,9\n0.002,0.199,9\n0.004,-0.1,9\n");
+  const MeasuredCurve curve = read_measured_curve(path);
+  EXPECT_EQ(curve.t_s, (std::vector<double>{0.0, 0.002, 0.004}));
+  EXPECT_EQ(curve.z_m, (std::vector<double>{0.2, 0.199, -0.1}));
+  // The shipped synthetic drop passes.
+  EXPECT_GT(read_measured_curve(testing::source_path("configs/data/drop_horizontal_synthetic.csv")).t_s.size(), 100u);
+}
+
+TEST(MeasuredCurve, TimesThatDoNotIncreaseAreNamedByTheirLine) {
+  std::mt19937 rng(3);
+  for (int trial = 0; trial < 8; ++trial) {
+    const int rows = 5 + static_cast<int>(rng() % 20);
+    const int bad_row = 1 + static_cast<int>(rng() % static_cast<unsigned>(rows - 1));
+    const bool equal = trial % 2 == 0;  // repeated time, or one going back
+    std::string text = "t,z\n";
+    for (int i = 0; i < rows; ++i) {
+      const double t = i == bad_row ? (equal ? 0.01 * (i - 1) : 0.01 * (i - 1) - 0.005) : 0.01 * i;
+      text += std::to_string(t) + ",0.2\n";
+    }
+    const std::string path = write_text("times.csv", text);
+    const std::string message = curve_error(path);
+    // Row i is on line i + 2 (after the header).
+    EXPECT_NE(message.find(path + ":" + std::to_string(bad_row + 2) + ": column 't'"), std::string::npos)
+        << message;
+    EXPECT_NE(message.find("(line " + std::to_string(bad_row + 1) + ")"), std::string::npos) << message;
+    EXPECT_NE(message.find("increase strictly"), std::string::npos) << message;
+  }
+}
+
+TEST(MeasuredCurve, TooFewRowsHugeHeightsAndMissingColumnsAreRefused) {
+  for (const std::string rows : {"0,0.2\n", "0,0.2\n1,0.1\n"}) {
+    const std::string path = write_text("short.csv", "t,z\n" + rows);
+    EXPECT_NE(curve_error(path).find("a curve needs at least 3"), std::string::npos);
+  }
+  for (const std::string z : {"1000", "-1000", "1e5", "196.6e3"}) {
+    const std::string path = write_text("huge.csv", "t,z\n0,0.2\n# mm?\n1," + z + "\n2,0.2\n");
+    const std::string message = curve_error(path);
+    EXPECT_NE(message.find(path + ":4: column 'z': "), std::string::npos) << message;
+    EXPECT_NE(message.find("|z| < 1000"), std::string::npos) << message;
+  }
+  EXPECT_NE(curve_error(write_text("time.csv", "time,z\n0,1\n1,1\n2,1\n")).find("missing column 't'"),
+            std::string::npos);
+  EXPECT_NE(curve_error(write_text("nan.csv", "t,z\n0,1\n1,nan\n2,1\n")).find(":3: column 'z'"),
+            std::string::npos);
+}
+
+TEST(Csv, WriteToAFullDeviceFailsAndLeavesTheDevice) {
+  ASSERT_TRUE(fs::is_character_file("/dev/full"));
+  try {
+    write_csv("/dev/full", {"t", "z"}, {std::vector<double>(10000, 0.5), std::vector<double>(10000, 0.25)});
+    ADD_FAILURE() << "no error writing to /dev/full";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("/dev/full: cannot write"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(fs::is_character_file("/dev/full"));
+  EXPECT_FALSE(fs::exists("/dev/full.partial"));
+  // A device that takes the data is written in place.
+  EXPECT_NO_THROW(write_csv("/dev/null", {"t"}, {{1.0}}));
+  EXPECT_TRUE(fs::is_character_file("/dev/null"));
+  // A directory is refused by name.
+  const std::string dir = testing::temp_dir();
+  EXPECT_THROW(write_csv(dir, {"t"}, {{1.0}}), std::runtime_error);
+  EXPECT_TRUE(fs::is_directory(dir));
 }
 
 TEST(Csv, WriteRefusesInconsistentColumnsAndLeavesNothing) {

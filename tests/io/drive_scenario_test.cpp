@@ -1,7 +1,8 @@
 // Scenarios with a "drive" block (issue 6; io/scenario_config.hpp): the
 // schedule is parsed in either command form, the initial state rolls without
 // slip, a simulated Ackermann turn follows its radius, an in-place rotation
-// turns about G, and a bad block is rejected naming the file and the field.
+// turns about G, a bad block is rejected naming the file and the field, and
+// the README's example block parses as written.
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -14,6 +15,7 @@
 #include "core/drive_kinematics.hpp"
 #include "core/kinematic_tree.hpp"
 #include "core/simulate.hpp"
+#include "io/rover_config.hpp"
 #include "io/scenario_config.hpp"
 #include "test_support.hpp"
 
@@ -218,6 +220,44 @@ TEST(DriveScenario, BadDriveBlockNamesFileAndField) {
                       "drive.segments[0].icr", "unknown key");
   expect_config_error(R"({"segments": [{"mode": "car", "speed": 0.3}]})", "forward_speed",
                       "conflicts with 'drive'", R"("forward_speed": 0.3, )");
+}
+
+// The ```json block after "**Driving commands.**" in README.md, as written.
+std::string readme_drive_block() {
+  std::ifstream in(testing::source_path("README.md"));
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string readme = text.str();
+  const std::size_t section = readme.find("**Driving commands.**");
+  const std::size_t fence = readme.find("```json\n", section);
+  const std::size_t begin = fence + 8;
+  const std::size_t end = readme.find("```", begin);
+  if (section == std::string::npos || fence == std::string::npos || end == std::string::npos)
+    return "";
+  return readme.substr(begin, end - begin);
+}
+
+TEST(DriveScenario, ReadmeExampleParsesAsWritten) {
+  const std::string block = readme_drive_block();
+  ASSERT_NE(block.find("\"drive\""), std::string::npos) << "no drive example in README.md";
+  // As it appears in a scenario: a member of the top-level object.
+  const io::Json scenario = io::parse_json_text("{" + block + "}", "README.md");
+  const io::JsonReader top(scenario, "README.md");
+  const DriveKinematics kinematics =
+      make_drive_kinematics(io::load_rover_parameters(testing::source_path("configs/rover.json")));
+  const io::DriveConfig drive = io::parse_drive(top.child("drive"), kinematics);
+  top.finish();
+  EXPECT_TRUE(drive.start_at_rest);
+  EXPECT_EQ(drive.schedule.options.ramp_time_s, 0.3);
+  ASSERT_EQ(drive.schedule.segments.size(), 5u);
+  EXPECT_EQ(drive.schedule.segments[1].mode, DriveMode::kSymmetricAckermann);
+  // ackermann at 0.3 m/s on a 1 m radius turns at 0.3 rad/s.
+  EXPECT_NEAR(drive.schedule.segments[1].command.yaw_rate_radps, 0.3, 1e-12);
+  EXPECT_EQ(drive.schedule.segments[4].mode, DriveMode::kInPlaceRotation);
+  EXPECT_EQ(drive.schedule.segments[4].start_time_s, 4.0);
+  // And in a whole scenario file.
+  const std::string path = write_drive_scenario(block.substr(block.find('{')));
+  EXPECT_NO_THROW(load_scenario(path));
 }
 
 }  // namespace

@@ -1,7 +1,8 @@
 // Scenario files (io/scenario_config.cpp; MODEL.md section 7): the shipped
 // scenarios load with the initial states of Table 2 and the obstacle runs'
 // speeds, durations and ground clearance; bad files are refused with a
-// ConfigError naming the file, the field and the value.
+// ConfigError naming the file, the field and the value; recordings too large
+// for memory and starts with a wheel deep in the ground are refused at load.
 #include "io/scenario_config.hpp"
 
 #include <cmath>
@@ -230,6 +231,118 @@ TEST(ScenarioConfig, ErrorsInTheRoverFileNameThatFile) {
   } catch (const io::ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find(dir + "/rover.json"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("'drive.tau_max'"), std::string::npos) << e.what();
+  }
+}
+
+// The ConfigError message of loading `j` (fails the test if it loads).
+std::string load_error(const Json& j) {
+  const std::string path = write_scenario(j);
+  try {
+    io::load_scenario(path);
+  } catch (const io::ConfigError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "loaded:\n" << j.dump(2);
+  return "";
+}
+
+TEST(ScenarioConfig, RecordingSizeEstimateIsTheClosedForm) {
+  // 1e12 s at 1 kHz: 1e15 + 1 samples of 56 doubles (448 bytes) = 448 PB.
+  EXPECT_EQ(io::kTrajectoryBytesPerSample, 448.0);
+  EXPECT_EQ(io::recorded_sample_count(3600.0, 1e3), 3600001.0);
+  EXPECT_EQ(io::recorded_sample_count(0.2, 1e3), 201.0);  // as output_sample_count
+  const std::string problem = io::recording_size_problem(1e15, io::kTrajectoryBytesPerSample);
+  EXPECT_NE(problem.find("would record 1.0e+15 samples (448 PB"), std::string::npos) << problem;
+  // The bound: 8 GiB exactly is allowed, one sample more is not.
+  const double samples_at_bound = io::kMaxRecordingBytes / io::kTrajectoryBytesPerSample;
+  EXPECT_EQ(io::recording_size_problem(std::floor(samples_at_bound), io::kTrajectoryBytesPerSample), "");
+  EXPECT_NE(io::recording_size_problem(std::floor(samples_at_bound) + 1.0, io::kTrajectoryBytesPerSample), "");
+}
+
+TEST(ScenarioConfig, AbsurdRecordingsAreRefusedWithTheirSize) {
+  const struct {
+    std::function<void(Json&)> edit;
+    std::string field, samples;
+  } cases[] = {
+      {[](Json& j) { j["duration"] = 1e12; }, "duration", "1.0e+15 samples"},
+      {[](Json& j) { j["output_rate"] = 1e9; }, "duration", "1.0e+09 samples"},
+      {[](Json& j) {
+         j["duration"] = 3600.0 * 24 * 365;
+         j["output_rate"] = 100;
+       },
+       "duration", "3.2e+09 samples"},
+      {[](Json& j) {
+         j.erase("duration");
+         j["forward_speed"] = 1e-9;
+         j["travel_distance"] = 1.0;
+       },
+       "travel_distance", "1.0e+12 samples"},
+  };
+  for (const auto& c : cases) {
+    Json j = base_scenario();
+    c.edit(j);
+    const std::string message = load_error(j);
+    EXPECT_NE(message.find("'" + c.field + "'"), std::string::npos) << message;
+    EXPECT_NE(message.find("would record " + c.samples), std::string::npos) << message;
+    EXPECT_NE(message.find("reduce duration or output_rate"), std::string::npos) << message;
+  }
+  // An hour at 1 kHz (1.6 GB) is allowed.
+  Json hour = base_scenario();
+  hour["duration"] = 3600.0;
+  EXPECT_NO_THROW(io::load_scenario(write_scenario(hour)));
+}
+
+TEST(ScenarioConfig, PenetrationToleranceCarriesTheWeightOnOneWheel) {
+  const io::ScenarioSetup s = io::load_scenario(write_scenario(base_scenario()));
+  const RoverParameters& p = s.model.parameters;
+  const double tolerance = io::initial_penetration_tolerance_m(s.model);
+  // k_g p^sigma = m g at the tolerance.
+  EXPECT_NEAR(p.contact.stiffness_k_g * std::pow(tolerance, p.contact.exponent_sigma),
+              s.model.tree.total_mass_kg * p.gravity_mps2, 1e-9);
+  EXPECT_GT(tolerance, 1e-3);
+  EXPECT_LT(tolerance, 1e-2);
+  // initial_ground_clearance c < 0 puts the lowest wheel exactly -c into flat ground.
+  for (const double clearance : {-0.0005, -0.002, -0.03, -0.15}) {
+    SCOPED_TRACE(clearance);
+    Json j = base_scenario();
+    j.erase("initial_q");
+    j["initial_ground_clearance"] = clearance;
+    const std::string path = write_scenario(j);
+    if (-clearance <= tolerance) {
+      const io::ScenarioSetup ok = io::load_scenario(path);
+      EXPECT_NEAR(io::deepest_wheel_penetration(ok.model, ok.scenario.initial_q).depth_m, -clearance, 1e-12);
+      continue;
+    }
+    const std::string message = load_error(j);
+    EXPECT_NE(message.find("'initial_ground_clearance'"), std::string::npos) << message;
+    EXPECT_NE(message.find("below the ground"), std::string::npos) << message;
+  }
+}
+
+TEST(ScenarioConfig, StartsWithAWheelInTheGroundAreRefusedByField) {
+  for (const double z : {0.0, 0.1, 0.15, -2.0}) {
+    SCOPED_TRACE(z);
+    Json j = base_scenario();
+    j["initial_q"]["z"] = z;
+    const std::string message = load_error(j);
+    EXPECT_NE(message.find("'initial_q'"), std::string::npos) << message;
+    EXPECT_NE(message.find("starts"), std::string::npos) << message;
+    EXPECT_NE(message.find("below the ground"), std::string::npos) << message;
+  }
+  // A steep pitch puts one axle's wheels into the ground.
+  Json pitched = base_scenario();
+  pitched["initial_q"]["chi"] = 0.6;
+  EXPECT_NE(load_error(pitched).find("below the ground"), std::string::npos);
+  // Dropping from 10 m is allowed (the result is judged after the run).
+  Json high = base_scenario();
+  high["initial_q"]["z"] = 10.0;
+  EXPECT_NO_THROW(io::load_scenario(write_scenario(high)));
+  // Every shipped scenario starts above or on the ground.
+  for (const auto& entry : std::filesystem::directory_iterator(source_path("configs/scenarios"))) {
+    const io::ScenarioSetup s = io::load_scenario(entry.path().string());
+    EXPECT_LE(io::deepest_wheel_penetration(s.model, s.scenario.initial_q).depth_m,
+              io::initial_penetration_tolerance_m(s.model))
+        << entry.path();
   }
 }
 
