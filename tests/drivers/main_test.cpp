@@ -50,7 +50,9 @@ TEST(RoverMain, OutputToAFullDeviceFails) {
     // Control: the same command succeeds when stdout can take it.
     EXPECT_EQ(run_command(rover_binary() + command + " > /dev/null", &out), 0) << command << out;
     // (stdout to the device inside the subshell; its stderr is captured)
-    EXPECT_NE(run_command("(" + rover_binary() + command + " > /dev/full)", &out), 0) << command;
+    std::string to_full = "(";
+    to_full += rover_binary() + command + " > /dev/full)";
+    EXPECT_NE(run_command(to_full, &out), 0) << command;
     EXPECT_NE(out.find("cannot write to standard output"), std::string::npos) << command << out;
   }
 }
