@@ -16,6 +16,7 @@
 
 #include "drivers/command_registry.hpp"
 #include "drivers/options.hpp"
+#include "study/study_runner.hpp"
 
 namespace rover::cli {
 std::vector<CommandEntry>& command_registry() {
@@ -100,6 +101,9 @@ int main(int argc, char** argv) {
     } catch (const CommandLineError& e) {
       for (const std::string& problem : e.problems()) std::cerr << prefix << problem << "\n";
       return 1;
+    } catch (const rover::study::StudyInterrupted& e) {
+      std::cerr << "rover " << sub->get_name() << ": " << e.what() << "\n";
+      return rover::study::StudyInterrupted::kExitCode;
     } catch (const std::exception& e) {
       std::cerr << prefix << e.what() << "\n";
       return 1;

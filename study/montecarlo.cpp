@@ -179,9 +179,12 @@ std::string run_montecarlo(const MonteCarloStudy& study, const StudyRunControl& 
   const StudyModel& model = *spec.model;
   const bool root = world_rank() == 0;
   const std::string out = checked_results_path(spec.name, control.results_path);
-  const DesignMatrix x = study_design(spec);
   const RecordLayout layout = model.layout();
   const int N = spec.design.samples;
+  // The design on every rank; the QoIs, statuses and band heaps on rank 0.
+  require_memory("design and per-run results (N = " + std::to_string(N) + ")",
+                 8.0 * N * (static_cast<double>(spec.inputs.size()) + layout.qoi_count + 4));
+  const DesignMatrix x = study_design(spec);
   const auto T = static_cast<std::size_t>(layout.time_samples);
 
   std::unique_ptr<io::Hdf5Writer> h5;

@@ -313,8 +313,13 @@ std::string run_sensitivity(const SensitivityStudy& study, const StudyRunControl
   const StudyModel& model = *spec.model;
   const bool root = world_rank() == 0;
   const std::string out = checked_results_path(spec.name, control.results_path);
-  const DesignMatrix x = sensitivity_design(study);
   const RecordLayout layout = model.layout();
+  // Every run's record (QoIs and curves) is held until the indices are estimated.
+  require_memory("run records (" + std::to_string(spec.design.samples) + " runs with " +
+                     std::to_string(layout.channel_count) + " curves of " + std::to_string(layout.time_samples) +
+                     " samples)",
+                 8.0 * spec.design.samples * static_cast<double>(layout.value_count() + spec.inputs.size()) * 1.2);
+  const DesignMatrix x = sensitivity_design(study);
   std::vector<RunRecord> records;
   if (root) records.reserve(static_cast<std::size_t>(x.rows()));
   auto compute = [&](int i) { return encode_record(i, model.run(x.row(i).data())); };

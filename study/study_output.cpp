@@ -1,7 +1,11 @@
 // See study_output.hpp.
 #include "study/study_output.hpp"
 
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <stdexcept>
 
 #include "study/study_runner.hpp"
@@ -22,7 +26,20 @@ std::string checked_results_path(const std::string& name, const std::string& req
       throw std::invalid_argument("cannot create the directory '" + dir.string() + "' for '" + path +
                                   "': " + error.message());
   }
+  // Can a file be created there? (Found now, not after the study ran.)
+  const std::string probe = path + ".probe";
+  if (!std::ofstream(probe, std::ios::binary | std::ios::trunc))
+    throw std::invalid_argument("cannot write '" + path + "': " + std::strerror(errno));
+  std::filesystem::remove(probe);
   return path;
+}
+
+void require_memory(const std::string& what, double bytes, double max_bytes) {
+  if (bytes <= max_bytes) return;
+  char text[160];
+  std::snprintf(text, sizeof text, "would hold %.3g GB of %s in memory, more than the %.3g GB allowed", bytes / 1e9,
+                what.c_str(), max_bytes / 1e9);
+  throw std::invalid_argument(text);
 }
 
 std::string sibling_path(const std::string& results_path, const std::string& suffix) {

@@ -15,6 +15,11 @@ namespace rover::study {
 // in .h5, or its directory cannot be created.
 std::string checked_results_path(const std::string& name, const std::string& requested);
 
+// Refuses up front, with the estimate, a study whose rank-0 working set would
+// exceed max_bytes (8 GiB): "sensitivity would hold 12.3 GB of run records
+// (...)". `what` says what the bytes are.
+void require_memory(const std::string& what, double bytes, double max_bytes = 8.0 * 1024 * 1024 * 1024);
+
 // "results/x.h5" + "_band_B_l_z.png" -> "results/x_band_B_l_z.png".
 std::string sibling_path(const std::string& results_path, const std::string& suffix);
 

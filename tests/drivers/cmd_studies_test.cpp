@@ -132,6 +132,50 @@ TEST(CmdStudies, MonteCarloResumeRefusesChangedOptions) {
   EXPECT_NE(log.find("fingerprint"), std::string::npos) << log;
 }
 
+TEST(CmdStudies, InterruptSavesTheCheckpointAndTellsHowToResume) {
+  const std::string dir = rover::testing::temp_dir();
+  const std::string study = mc_study(dir, 1.0, 400);
+  for (const char* sig : {"INT", "TERM"}) {
+    std::string log;
+    const std::string out = dir + "/int_" + sig + ".h5";
+    const int status = run_command(
+        "cd " + dir + " && (" + rover_binary() + " montecarlo --study " + study + " --checkpoint-every 1 --no-plot --out " +
+            out + " & pid=$!; for i in $(seq 400); do [ -s " + out + ".checkpoint ] && break; sleep 0.02; done; kill -" +
+            sig + " $pid; wait $pid)",
+        &log);
+    EXPECT_EQ(status, 130) << log;
+    EXPECT_NE(log.find("interrupted"), std::string::npos) << log;
+    EXPECT_NE(log.find("montecarlo --study " + study + " --out " + out + " --resume"), std::string::npos) << log;
+    EXPECT_FALSE(std::ifstream(out).good()) << "no result file after an interrupt";
+    EXPECT_TRUE(std::ifstream(out + ".checkpoint").good());
+  }
+}
+
+TEST(CmdStudies, AnOutputPathThatCannotBeWrittenIsRefusedBeforeAnyRun) {
+  const std::string dir = rover::testing::temp_dir();
+  const std::string study = mc_study(dir, 1.0, 3);
+  for (const std::string& out : {dir, dir + "/x.txt", std::string("/proc/rover_cannot/x.h5")}) {
+    std::string log;
+    EXPECT_NE(run_command(rover_binary() + " montecarlo --study " + study + " --no-plot --out " + out, &log), 0) << out;
+    EXPECT_NE(log.find(out), std::string::npos) << log;
+    EXPECT_EQ(log.find("montecarlo: 0/"), std::string::npos) << "no run may start: " << log;
+  }
+}
+
+TEST(CmdStudies, EveryRunFailingIsAnErrorButTheResultsAreKept) {
+  // Every drop starts 0.5 m below the ground: every sample is rejected.
+  const std::string dir = rover::testing::temp_dir();
+  const std::string path = dir + "/all_fail.json";
+  write_file(path, R"({"type": "montecarlo", "name": "f", "scenario": ")" + short_drop(dir) + R"(",
+      "parameters": {"scenario.initial_q.z": {"distribution": "uniform", "min": -0.6, "max": -0.5}},
+      "design": {"type": "monte_carlo", "samples": 3}, "qoi": ["t_min"]})");
+  std::string log;
+  EXPECT_EQ(run_command(rover_binary() + " montecarlo --study " + path + " --no-plot --out " + dir + "/f.h5", &log), 1) << log;
+  EXPECT_NE(log.find("every run failed"), std::string::npos) << log;
+  const io::Hdf5Reader h5(dir + "/f.h5");
+  EXPECT_EQ(h5.read_ints("/samples/status"), (std::vector<int>{10, 10, 10}));
+}
+
 TEST(CmdStudies, BandCollapsesWhenEveryStandardDeviationIsZero) {
   const std::string dir = rover::testing::temp_dir();
   std::string log;
