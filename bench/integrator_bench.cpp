@@ -270,9 +270,10 @@ void BM_StiffForceJacobian(benchmark::State& state) {
   const ModelInputs in = drop_model_inputs();
   const StateVector x = rest_state();
   const Coordinates q = x.head<kNumCoordinates>(), u = x.tail<kNumCoordinates>();
-  const TreeKinematics kin = forward_kinematics(s.model.tree, q, u);
-  const auto contacts = wheel_contacts(s.model, kin);
-  for (auto _ : state) benchmark::DoNotOptimize(stiff_force_jacobian(s.model, in, q, u, kin, contacts));
+  DynamicsWorkspace workspace;
+  compute_kinematics(s.model, workspace, q, u);
+  compute_contacts(s.model, workspace);
+  for (auto _ : state) benchmark::DoNotOptimize(stiff_force_jacobian(s.model, workspace, in, q, u));
 }
 
 void BM_DropHorizontal1s(benchmark::State& state) {

@@ -86,12 +86,13 @@ void print_step_size_analysis() {
 
   // Fastest eigenvalue of the Jacobian of the right-hand side (central differences).
   Eigen::Matrix<double, kStateSize, kStateSize> J;
+  DynamicsWorkspace workspace;
   for (int j = 0; j < kStateSize; ++j) {
     const double h = 1e-7 * std::max(1.0, std::abs(x[j]));
     StateVector xp = x, xm = x;
     xp[j] += h;
     xm[j] -= h;
-    J.col(j) = (state_derivative(s.model, in, xp) - state_derivative(s.model, in, xm)) / (2.0 * h);
+    J.col(j) = (state_derivative(s.model, workspace, in, xp) - state_derivative(s.model, workspace, in, xm)) / (2.0 * h);
   }
   const Eigen::EigenSolver<Eigen::Matrix<double, kStateSize, kStateSize>> eig(J);
   Eigen::Index fastest = 0;

@@ -30,10 +30,10 @@ ModelInputs OdeSystem::inputs_at(double t) const {
   return in;
 }
 
-StateVector OdeSystem::derivative(double t, const StateVector& x) const {
-  ++*rhs_evaluations;
-  if (drive_schedule == nullptr) return state_derivative(model, inputs, x);
-  return state_derivative(model, inputs_at(t), x);
+StateVector ode_derivative(const OdeSystem& system, DynamicsWorkspace& workspace, double t,
+                           const StateVector& x) {
+  if (system.drive_schedule == nullptr) return state_derivative(system.model, workspace, system.inputs, x);
+  return state_derivative(system.model, workspace, system.inputs_at(t), x);
 }
 
 namespace {
@@ -78,7 +78,11 @@ IntegrationReport integrate_dormand_prince(const OdeSystem& system, StateVector 
   IntegrationReport report;
   request.record(0.0, x);
   if (request.sample_count < 2) return report;
-  auto rhs = [&](const StateVector& s, StateVector& ds, double t) { ds = system.derivative(t, s); };
+  DynamicsWorkspace workspace;
+  auto rhs = [&](const StateVector& s, StateVector& ds, double t) {
+    ++report.rhs_evaluations;
+    ds = ode_derivative(system, workspace, t, s);
+  };
   Dense stepper(Controlled(Checker(settings.absolute_tolerance, settings.relative_tolerance, 1.0, 0.0),
                            Adjuster(settings.max_step_s)));
   stepper.initialize(x, 0.0, settings.initial_step_s);
@@ -113,12 +117,16 @@ IntegrationReport integrate_dormand_prince(const OdeSystem& system, StateVector 
 IntegrationReport integrate_rk4(const OdeSystem& system, StateVector x,
                                 const IntegratorSettings& settings, const IntegrationRequest& request) {
   odeint::runge_kutta4<StateVector, double, StateVector, double, odeint::vector_space_algebra> stepper;
-  auto rhs = [&](const StateVector& s, StateVector& ds, double t) { ds = system.derivative(t, s); };
+  IntegrationReport report;
+  DynamicsWorkspace workspace;
+  auto rhs = [&](const StateVector& s, StateVector& ds, double t) {
+    ++report.rhs_evaluations;
+    ds = ode_derivative(system, workspace, t, s);
+  };
   // Sub-steps of equal length that divide the sample period.
   const int substeps = std::max(
       1, static_cast<int>(std::ceil(request.sample_period_s / settings.fixed_step_s - 1e-9)));
   const double h = request.sample_period_s / substeps;
-  IntegrationReport report;
   request.record(0.0, x);
   for (std::size_t k = 1; k < request.sample_count; ++k) {
     const double t_start = sample_time(request, k - 1);

@@ -9,24 +9,28 @@
 #include <vector>
 
 #include "core/coordinates.hpp"
+#include "core/equations_of_motion.hpp"
 #include "core/model_inputs.hpp"
 #include "core/rover_model.hpp"
 #include "core/scenario.hpp"
 
 namespace rover {
 
-// The system being integrated: the model, its inputs (with the actuator
-// set-points of a drive schedule at time t, if the scenario has one), and a
-// counter of right-hand-side evaluations (owned by the caller, not shared).
+// The system being integrated: the model and its inputs, with the actuator
+// set-points of a drive schedule at time t if the scenario has one. Read-only;
+// each integrator evaluates it in its own DynamicsWorkspace and counts the
+// evaluations in its own report.
 struct OdeSystem {
   const RoverModel& model;
   const ModelInputs& inputs;
-  const DriveSchedule* drive_schedule;  // nullptr: constant set-points of `inputs`
-  long* rhs_evaluations;
+  const DriveSchedule* drive_schedule = nullptr;  // nullptr: constant set-points of `inputs`
   // The model inputs in force at time t.
   ModelInputs inputs_at(double t) const;
-  StateVector derivative(double t, const StateVector& x) const;
 };
+
+// dx/dt of `system` at (t, x), computed in `workspace` (all five stages).
+StateVector ode_derivative(const OdeSystem& system, DynamicsWorkspace& workspace, double t,
+                           const StateVector& x);
 
 struct IntegrationRequest {
   double sample_period_s = 1e-3;
@@ -43,6 +47,7 @@ struct IntegrationReport {
   double failed_at_s = 0.0;
   std::string detail;
   long steps = 0;
+  long rhs_evaluations = 0;  // right-hand sides (and, for rosenbrock, Jacobian assemblies)
   double min_step_s = 0.0, max_step_s = 0.0;
 };
 

@@ -51,8 +51,9 @@ class TrajectoryRecorder {
 
   void record(double t, const StateVector& x) {
     const Coordinates q = x.head<kNumCoordinates>(), u = x.tail<kNumCoordinates>();
-    const TreeKinematics kin = forward_kinematics(model_.tree, q, u);
-    const auto contacts = wheel_contacts(model_, kin);
+    compute_kinematics(model_, workspace_, q, u);
+    compute_contacts(model_, workspace_);
+    const TreeKinematics& kin = workspace_.kinematics;
     out_.t.push_back(t);
     q_rows_.push_back(q);
     u_rows_.push_back(u);
@@ -62,7 +63,7 @@ class TrajectoryRecorder {
     out_.pitch.push_back(q[coord::pitch]);
     out_.roll.push_back(q[coord::roll]);
     Eigen::Vector4d fn;
-    for (int leg = 0; leg < kNumLegs; ++leg) fn[leg] = contacts[leg].total_normal_force_N();
+    for (int leg = 0; leg < kNumLegs; ++leg) fn[leg] = workspace_.contacts[leg].total_normal_force_N();
     fn_rows_.push_back(fn);
   }
 
@@ -80,6 +81,7 @@ class TrajectoryRecorder {
 
  private:
   const RoverModel& model_;
+  DynamicsWorkspace workspace_;  // stages 1 and 2 only
   Trajectory& out_;
   std::vector<Coordinates> q_rows_, u_rows_;
   std::vector<Eigen::Vector4d> fn_rows_;
@@ -113,9 +115,8 @@ Trajectory simulate(const RoverModel& model, const Scenario& scenario,
       }
     };
 
-  long evaluations = 0;
   const OdeSystem system{model, model_inputs,
-                         scenario.drive.segments.empty() ? nullptr : &scenario.drive, &evaluations};
+                         scenario.drive.segments.empty() ? nullptr : &scenario.drive};
   StateVector x0;
   x0 << scenario.initial_q, scenario.initial_u;
   const IntegrationReport report = integrate(system, x0, scenario.integrator, request);
@@ -125,7 +126,7 @@ Trajectory simulate(const RoverModel& model, const Scenario& scenario,
   if (!out.ok())
     out.message = std::string(status_name(out.status)) + " at t = " +
                   std::to_string(report.failed_at_s) + " s: " + report.detail;
-  out.rhs_evaluations = evaluations;
+  out.rhs_evaluations = report.rhs_evaluations;
   out.steps = report.steps;
   out.min_step_s = report.min_step_s;
   out.max_step_s = report.max_step_s;
