@@ -21,10 +21,9 @@ namespace rover {
 namespace odeint = boost::numeric::odeint;
 
 ModelInputs OdeSystem::inputs_at(double t) const {
-  if (drive_schedule == nullptr || drive_schedule->segments.empty()) return inputs;
+  if (drive_schedule == nullptr) return inputs;
   ModelInputs in = inputs;
-  const WheelCommands w = wheel_commands_at(drive_schedule->kinematics, drive_schedule->segments, t,
-                                            drive_schedule->options);
+  const WheelCommands w = drive_schedule->at(t);
   in.steer_ref_rad = w.steer_rad;
   in.wheel_speed_ref_radps = w.wheel_speed_radps;
   return in;

@@ -23,7 +23,7 @@ namespace rover {
 struct OdeSystem {
   const RoverModel& model;
   const ModelInputs& inputs;
-  const DriveSchedule* drive_schedule = nullptr;  // nullptr: constant set-points of `inputs`
+  const CompiledDriveSchedule* drive_schedule = nullptr;  // nullptr: constant set-points of `inputs`
   // The model inputs in force at time t.
   ModelInputs inputs_at(double t) const;
 };

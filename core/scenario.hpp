@@ -42,10 +42,12 @@ struct IntegratorSettings {
 // (README, "Stiff integration"). See core/integrator_rosenbrock.cpp.
 IntegratorSettings default_integrator_settings(IntegratorMethod method);
 
-// A time-varying driving command (issue 6): piecewise body-velocity commands
-// in a driving mode, turned into d_ref and w_ref by core/drive_kinematics.
+// A time-varying driving command: piecewise body-velocity commands in a
+// driving mode, turned into d_ref and w_ref by core/drive_kinematics. Only the
+// commands: simulate() compiles them (CompiledDriveSchedule) against the drive
+// kinematics of the model it runs, so a study that changes the rover (the
+// wheel radius, say) gets wheel commands for that rover.
 struct DriveSchedule {
-  DriveKinematics kinematics;
   std::vector<DriveCommandSegment> segments;  // empty: constant set-points
   DriveScheduleOptions options;
 };

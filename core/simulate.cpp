@@ -4,6 +4,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <optional>
+#include <stdexcept>
 
 #include "core/equations_of_motion.hpp"
 #include "core/integrators.hpp"
@@ -30,6 +32,7 @@ const char* status_name(SimulationStatus status) {
     case SimulationStatus::kNonFinite: return "non-finite state";
     case SimulationStatus::kStepSizeUnderflow: return "step size underflow";
     case SimulationStatus::kTimeBudgetExceeded: return "time budget exceeded";
+    case SimulationStatus::kInvalidScenario: return "invalid scenario";
   }
   return "unknown";
 }
@@ -115,8 +118,21 @@ Trajectory simulate(const RoverModel& model, const Scenario& scenario,
       }
     };
 
-  const OdeSystem system{model, model_inputs,
-                         scenario.drive.segments.empty() ? nullptr : &scenario.drive};
+  // The drive schedule, compiled against this model's drive kinematics.
+  std::optional<CompiledDriveSchedule> schedule;
+  if (!scenario.drive.segments.empty()) {
+    try {
+      schedule.emplace(make_drive_kinematics(model.parameters), scenario.drive.segments,
+                       scenario.drive.options);
+    } catch (const std::invalid_argument& e) {
+      recorder.finish();
+      out.status = SimulationStatus::kInvalidScenario;
+      out.message = std::string(status_name(out.status)) + ": " + e.what();
+      out.wall_time_s = elapsed();
+      return out;
+    }
+  }
+  const OdeSystem system{model, model_inputs, schedule ? &*schedule : nullptr};
   StateVector x0;
   x0 << scenario.initial_q, scenario.initial_u;
   const IntegrationReport report = integrate(system, x0, scenario.integrator, request);

@@ -34,7 +34,15 @@ SimulationInputs nominal_simulation_inputs(const RoverParameters& parameters);
 ModelInputs model_inputs_for(const Scenario& scenario, const SimulationInputs& inputs);
 
 // Same values as IntegrationStatus (core/integrators.hpp).
-enum class SimulationStatus { kOk = 0, kNonFinite = 1, kStepSizeUnderflow = 2, kTimeBudgetExceeded = 3 };
+// kInvalidScenario: the scenario cannot run on this model (a drive schedule
+// a mode cannot serve, ...); nothing was integrated.
+enum class SimulationStatus {
+  kOk = 0,
+  kNonFinite = 1,
+  kStepSizeUnderflow = 2,
+  kTimeBudgetExceeded = 3,
+  kInvalidScenario = 4
+};
 const char* status_name(SimulationStatus status);
 
 using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;

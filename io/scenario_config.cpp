@@ -133,7 +133,6 @@ Coordinates commanded_speeds(const BodyVelocityCommand& v, const WheelCommands& 
 DriveConfig parse_drive(const JsonReader& r, const DriveKinematics& kinematics) {
   DriveConfig config;
   DriveSchedule& drive = config.schedule;
-  drive.kinematics = kinematics;
   if (r.has("ramp_time")) drive.options.ramp_time_s = r.non_negative("ramp_time");
   drive.options.wheel.allow_flip = r.boolean_or("allow_flip", true);
   const std::string initial = r.string_or("initial_motion", "commanded");
@@ -150,7 +149,7 @@ DriveConfig parse_drive(const JsonReader& r, const DriveKinematics& kinematics) 
                                                  kinematics, drive.options.wheel, i == 0));
   }
   try {
-    validate_drive_schedule(kinematics, drive.segments, drive.options);
+    config.commands_at_start = CompiledDriveSchedule(kinematics, drive.segments, drive.options).at(0.0);
   } catch (const std::invalid_argument& e) {
     r.fail("segments", e.what());
   }
@@ -228,8 +227,7 @@ ScenarioSetup load_scenario(const std::string& path) {
     }
     DriveConfig drive = parse_drive(r.child("drive"), make_drive_kinematics(setup.model.parameters));
     s.drive = std::move(drive.schedule);
-    const WheelCommands w0 =
-        wheel_commands_at(s.drive.kinematics, s.drive.segments, 0.0, s.drive.options);
+    const WheelCommands w0 = drive.commands_at_start;
     s.steer_ref_rad = w0.steer_rad;
     s.wheel_speed_ref_radps = w0.wheel_speed_radps;
     for (int leg = 0; leg < kNumLegs; ++leg) s.initial_q[coord::steer(leg)] = w0.steer_rad[leg];

@@ -92,10 +92,12 @@ struct ScenarioSetup {
 
 ScenarioSetup load_scenario(const std::string& path);
 
-// The "drive" block (see above) for a rover with these driving kinematics.
+// The "drive" block (see above) for a rover with these driving kinematics,
+// validated by compiling it against them (CompiledDriveSchedule).
 struct DriveConfig {
   DriveSchedule schedule;
-  bool start_at_rest = false;  // "initial_motion": "rest"
+  WheelCommands commands_at_start;  // the compiled schedule's commands at t = 0
+  bool start_at_rest = false;       // "initial_motion": "rest"
 };
 DriveConfig parse_drive(const JsonReader& r, const DriveKinematics& kinematics);
 

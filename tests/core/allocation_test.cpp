@@ -9,7 +9,9 @@
 #include <new>
 #include <vector>
 
+#include "core/drive_kinematics.hpp"
 #include "core/equations_of_motion.hpp"
+#include "core/integrators.hpp"
 #include "model_fixtures.hpp"
 
 namespace {
@@ -80,6 +82,31 @@ TEST(Allocation, RightHandSideOnAHeightGridAllocatesNothing) {
   for (const WheelContacts& w : workspace.contacts) touching += w.count;
   EXPECT_GT(touching, 0);
   EXPECT_TRUE(dx.allFinite());
+}
+
+// With a drive schedule (three segments, ramps between them, a mode change),
+// in a steady stretch and inside both ramps.
+TEST(Allocation, RightHandSideWithADriveScheduleAllocatesNothing) {
+  const RoverModel model = make_rover_model(default_rover_parameters());
+  const ModelInputs inputs = nominal_inputs(model.parameters);
+  DriveScheduleOptions options;
+  options.ramp_time_s = 0.2;
+  const CompiledDriveSchedule schedule(make_drive_kinematics(model.parameters),
+                                       {{0.0, DriveMode::kSymmetricAckermann, {0.3, 0.0, 0.0}},
+                                        {1.0, DriveMode::kSymmetricAckermann, {0.3, 0.0, 0.4}},
+                                        {2.0, DriveMode::kParallel, {0.2, 0.1, 0.0}}},
+                                       options);
+  const OdeSystem system{model, inputs, &schedule};
+  const StateVector x = touching_state(3, 0.21);
+  DynamicsWorkspace workspace;
+  for (const double t : {0.5, 1.1, 2.05, 2.5}) {
+    StateVector dx = StateVector::Zero();
+    EXPECT_EQ(allocations_of([&] { dx = ode_derivative(system, workspace, t, x); }), 0) << "t " << t;
+    EXPECT_TRUE(dx.allFinite());
+  }
+  // The schedule is in force: the set-points differ between the stretches.
+  EXPECT_NE(system.inputs_at(0.5).wheel_speed_ref_radps, system.inputs_at(2.5).wheel_speed_ref_radps);
+  EXPECT_NE(system.inputs_at(1.1).steer_ref_rad, system.inputs_at(1.5).steer_ref_rad);
 }
 
 }  // namespace

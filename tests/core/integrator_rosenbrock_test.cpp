@@ -187,7 +187,6 @@ TEST(IntegratorRosenbrock, FollowsTimeDependentSetPoints) {
   s.initial_q[coord::z] = 0.2285 + 0.001;
   s.duration_s = 0.4;
   s.output_rate_hz = 200.0;
-  s.drive.kinematics = make_drive_kinematics(model.parameters);
   s.drive.segments = {{0.0, DriveMode::kParallel, {0.0, 0.0, 0.0}},
                       {0.2, DriveMode::kParallel, {0.3, 0.0, 0.0}}};
   s.drive.options.ramp_time_s = 0.05;

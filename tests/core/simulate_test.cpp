@@ -273,5 +273,24 @@ TEST(Simulate, AbsurdInputsFailWithAStatusNotACrashOrHang) {
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 30.0);
 }
 
+// The drive schedule is compiled against the model that runs it, not the one
+// the scenario was loaded with: the same turn on a rover whose steering stops
+// at 10 deg cannot be served, and the run says so instead of throwing.
+TEST(Simulate, ADriveTheModelCannotServeIsAnInvalidScenario) {
+  io::ScenarioSetup setup = shipped("turn_ackermann");
+  setup.scenario.duration_s = 0.05;
+  ASSERT_FALSE(setup.scenario.drive.segments.empty());
+  const Trajectory served = simulate(setup.model, setup.scenario, setup.inputs);
+  ASSERT_TRUE(served.ok()) << served.message;
+  RoverParameters narrow = setup.model.parameters;
+  narrow.steering.limit_rad = 10.0 * std::numbers::pi / 180.0;
+  const RoverModel model = make_rover_model(narrow, setup.model.terrain);
+  const Trajectory tr = simulate(model, setup.scenario, setup.inputs);
+  EXPECT_EQ(tr.status, SimulationStatus::kInvalidScenario);
+  EXPECT_NE(tr.message.find("end-stop"), std::string::npos) << tr.message;
+  EXPECT_TRUE(tr.t.empty());
+  EXPECT_EQ(tr.rhs_evaluations, 0);
+}
+
 }  // namespace
 }  // namespace rover
