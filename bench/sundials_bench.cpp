@@ -70,7 +70,7 @@ int sundials_jacobian(double /*t*/, N_Vector y, N_Vector /*fy*/, SUNMatrix jacob
   const Coordinates q = x.head<kNumCoordinates>(), u = x.tail<kNumCoordinates>();
   compute_dynamics(p.model, p.workspace, p.inputs, q, u);
   const StiffForceJacobian stiff = stiff_force_jacobian(p.model, p.workspace, p.inputs, q, u);
-  const Eigen::LLT<MassMatrix>& mass = p.workspace.mass_factorization;
+  const Eigen::LLT<CoordinateMatrix>& mass = p.workspace.mass_factorization;
   // SUNDIALS dense matrices are column-major, as Eigen's.
   Eigen::Map<Eigen::Matrix<double, kStateSize, kStateSize>> J(SM_DATA_D(jacobian));
   J.setZero();
@@ -93,7 +93,7 @@ struct Run {
 // rate by the solver's own interpolation.
 enum class Solver { kCvodeBdf, kArkodeDirk };
 
-Run run_sundials(Solver solver, const io::ScenarioSetup& setup, const SimulationInputs& in, double rtol,
+Run run_sundials(Solver solver, const io::ScenarioSetup& setup, const ModelInputs& in, double rtol,
                  double atol) {
   const auto start = Clock::now();
   const ModelInputs inputs = model_inputs_for(setup.scenario, in);
@@ -198,7 +198,7 @@ int main() {
     rosenbrock.integrator = default_integrator_settings(IntegratorMethod::kRosenbrockW);
     double wall_rosenbrock[std::size(fs)] = {}, wall[std::size(solvers)][std::size(tolerances)][std::size(fs)] = {};
     for (std::size_t fi = 0; fi < std::size(fs); ++fi) {
-      SimulationInputs in = setup.inputs;
+      ModelInputs in = setup.inputs;
       in.sharpness_f = fs[fi];
       const std::vector<double> truth = simulate(setup.model, reference, in).B_l_z;
       const Trajectory ros = simulate(setup.model, rosenbrock, in);

@@ -33,14 +33,14 @@ struct DynamicsWorkspace {
   // and friction forces (up to kMaxContactsPerWheel points each).
   std::array<WheelContacts, kNumLegs> contacts;
   // Stage 3, compute_mass_matrix(): M(q), 23 x 23, symmetric positive definite.
-  MassMatrix mass_matrix;
+  CoordinateMatrix mass_matrix;
   // Stage 4, compute_forcing(): F (23) without the contact forces (gravity,
   // velocity-product inertia terms, joint torques), then F with them.
   Coordinates forcing_without_contact;
   Coordinates forcing;
   // Stage 5, compute_acceleration(): the Cholesky factor L L^T = M (23 x 23)
   // and du/dt = M^{-1} F (23).
-  Eigen::LLT<MassMatrix> mass_factorization;
+  Eigen::LLT<CoordinateMatrix> mass_factorization;
   Coordinates acceleration;
 };
 

@@ -34,8 +34,6 @@
 
 namespace rover {
 
-using CoordinateMatrix = Eigen::Matrix<double, kNumCoordinates, kNumCoordinates>;
-
 // Derivatives of the force f = F_n n + F_t that one contact applies to the
 // wheel (MODEL.md 6.4-6.5), at fixed normal n.
 struct ContactForceDerivatives {

@@ -241,7 +241,7 @@ double slip_error_norm(const std::vector<SlipRows>& rows, const Coordinates& spe
 // to b = 0 (the slope of the start if the range does not come closer).
 void stiffen_s_joints_over_step(const RoverParameters& parameters, const ModelInputs& inputs,
                                 const Coordinates& q0, const Coordinates& u0, double h,
-                                MassMatrix& d_force_d_position) {
+                                CoordinateMatrix& d_force_d_position) {
   for (int leg = 0; leg < kNumLegs; ++leg)
     for (int i = 0; i < 2; ++i) {
       const int c = coord::s_joint(leg, i);
@@ -278,7 +278,7 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
   const double t_end = static_cast<double>(request.sample_count - 1) * request.sample_period_s;
   auto sample_time = [&](std::size_t k) { return static_cast<double>(k) * request.sample_period_s; };
   auto underflow = [&](double t, double h, const std::string& why) {
-    report.status = IntegrationStatus::kStepSizeUnderflow;
+    report.status = SimulationStatus::kStepSizeUnderflow;
     report.failed_at_s = t;
     report.detail = "step " + std::to_string(h) + " s is below min_step " +
                     std::to_string(settings.min_step_s) + " s (" + why + ")";

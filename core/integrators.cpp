@@ -35,6 +35,17 @@ StateVector ode_derivative(const OdeSystem& system, DynamicsWorkspace& workspace
   return state_derivative(system.model, workspace, system.inputs_at(t), x);
 }
 
+const char* status_name(SimulationStatus status) {
+  switch (status) {
+    case SimulationStatus::kOk: return "ok";
+    case SimulationStatus::kNonFinite: return "non-finite state";
+    case SimulationStatus::kStepSizeUnderflow: return "step size underflow";
+    case SimulationStatus::kTimeBudgetExceeded: return "time budget exceeded";
+    case SimulationStatus::kInvalidScenario: return "invalid scenario";
+  }
+  return "unknown";
+}
+
 namespace {
 
 double sample_time(const IntegrationRequest& r, std::size_t k) {
@@ -49,13 +60,13 @@ bool step_is_bad(IntegrationReport& report, double t, double h, const StateVecto
   report.min_step_s = report.steps == 1 ? h : std::min(report.min_step_s, h);
   report.max_step_s = std::max(report.max_step_s, h);
   if (!x.allFinite()) {
-    report.status = IntegrationStatus::kNonFinite;
+    report.status = SimulationStatus::kNonFinite;
     report.failed_at_s = t;
     report.detail = "the state has NaN or infinite entries";
     return true;
   }
   if (request.out_of_time && request.out_of_time()) {
-    report.status = IntegrationStatus::kTimeBudgetExceeded;
+    report.status = SimulationStatus::kTimeBudgetExceeded;
     report.failed_at_s = t;
     report.detail = "wall-time budget used up";
     return true;
@@ -97,7 +108,7 @@ IntegrationReport integrate_dormand_prince(const OdeSystem& system, StateVector 
         ++next;
       }
       if (next < request.sample_count && stepper.current_time_step() < settings.min_step_s) {
-        report.status = IntegrationStatus::kStepSizeUnderflow;
+        report.status = SimulationStatus::kStepSizeUnderflow;
         report.failed_at_s = t1;
         report.detail = "step " + std::to_string(stepper.current_time_step()) +
                         " s is below min_step " + std::to_string(settings.min_step_s) + " s";
@@ -106,7 +117,7 @@ IntegrationReport integrate_dormand_prince(const OdeSystem& system, StateVector 
       if (request.progress) request.progress(t1);
     }
   } catch (const odeint::step_adjustment_error& e) {
-    report.status = IntegrationStatus::kStepSizeUnderflow;
+    report.status = SimulationStatus::kStepSizeUnderflow;
     report.failed_at_s = stepper.current_time();
     report.detail = e.what();
   }

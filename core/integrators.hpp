@@ -40,10 +40,20 @@ struct IntegrationRequest {
   std::function<void(double t)> progress;       // optional, called now and then
 };
 
-enum class IntegrationStatus { kOk = 0, kNonFinite = 1, kStepSizeUnderflow = 2, kTimeBudgetExceeded = 3 };
+// How a run ended; simulate() reports the integrator's status as it is.
+// kInvalidScenario: the scenario cannot run on this model (a drive schedule a
+// mode cannot serve, invalid integrator settings); nothing was integrated.
+enum class SimulationStatus {
+  kOk = 0,
+  kNonFinite = 1,
+  kStepSizeUnderflow = 2,
+  kTimeBudgetExceeded = 3,
+  kInvalidScenario = 4
+};
+const char* status_name(SimulationStatus status);
 
 struct IntegrationReport {
-  IntegrationStatus status = IntegrationStatus::kOk;
+  SimulationStatus status = SimulationStatus::kOk;
   double failed_at_s = 0.0;
   std::string detail;
   long steps = 0;

@@ -12,29 +12,11 @@
 
 namespace rover {
 
-SimulationInputs nominal_simulation_inputs(const RoverParameters& p) {
-  return {p.s_structure.sharpness_f, p.s_structure.damping_Nms_per_rad, p.s_structure.preload_mean_Nm};
-}
-
-ModelInputs model_inputs_for(const Scenario& scenario, const SimulationInputs& inputs) {
-  ModelInputs in;
-  in.sharpness_f = inputs.sharpness_f;
-  in.damping_c_q = inputs.damping_c_q;
-  in.preload_Nm = inputs.preload_Nm;
+ModelInputs model_inputs_for(const Scenario& scenario, const ModelInputs& inputs) {
+  ModelInputs in = inputs;
   in.wheel_speed_ref_radps = scenario.wheel_speed_ref_radps;
   in.steer_ref_rad = scenario.steer_ref_rad;
   return in;
-}
-
-const char* status_name(SimulationStatus status) {
-  switch (status) {
-    case SimulationStatus::kOk: return "ok";
-    case SimulationStatus::kNonFinite: return "non-finite state";
-    case SimulationStatus::kStepSizeUnderflow: return "step size underflow";
-    case SimulationStatus::kTimeBudgetExceeded: return "time budget exceeded";
-    case SimulationStatus::kInvalidScenario: return "invalid scenario";
-  }
-  return "unknown";
 }
 
 namespace {
@@ -93,7 +75,7 @@ class TrajectoryRecorder {
 }  // namespace
 
 Trajectory simulate(const RoverModel& model, const Scenario& scenario,
-                    const SimulationInputs& inputs, const SimulationObserver& observer) {
+                    const ModelInputs& inputs, const SimulationObserver& observer) {
   const auto wall_start = Clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - wall_start).count(); };
 
@@ -138,7 +120,7 @@ Trajectory simulate(const RoverModel& model, const Scenario& scenario,
   const IntegrationReport report = integrate(system, x0, scenario.integrator, request);
 
   recorder.finish();
-  out.status = static_cast<SimulationStatus>(report.status);
+  out.status = report.status;
   if (!out.ok())
     out.message = std::string(status_name(out.status)) + " at t = " +
                   std::to_string(report.failed_at_s) + " s: " + report.detail;

@@ -28,7 +28,7 @@ int run_synthesize(const SynthesizeOptions& o) {
   if (o.out.empty()) throw std::invalid_argument("--out is required");
   if (!(o.rate_hz > 0) || !(o.noise_m >= 0)) throw std::invalid_argument("--rate must be positive and --noise not negative");
   const io::ScenarioSetup setup = io::load_scenario(o.scenario);
-  const SimulationInputs in = apply_overrides(o.overrides, setup.inputs);
+  const ModelInputs in = apply_overrides(o.overrides, setup.inputs);
   const Trajectory tr = simulate(setup.model, setup.scenario, in);
   if (!tr.ok()) throw std::runtime_error("the simulation failed: " + tr.message);
   boost::random::mt19937_64 engine(static_cast<std::uint64_t>(o.seed));

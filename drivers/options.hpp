@@ -39,7 +39,7 @@ inline std::string integrator_choices_text() {
          number_text(rosenbrock.absolute_tolerance) + ")";
 }
 
-inline SimulationInputs apply_overrides(const InputOverrides& o, SimulationInputs in) {
+inline ModelInputs apply_overrides(const InputOverrides& o, ModelInputs in) {
   if (o.f) {
     if (!(*o.f > 0.0)) throw std::invalid_argument("--f must be positive, got " + std::to_string(*o.f));
     in.sharpness_f = *o.f;

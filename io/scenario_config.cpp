@@ -191,7 +191,7 @@ IntegratorSettings parse_integrator_settings(const JsonReader& r, IntegratorSett
   return s;
 }
 
-SimulationInputs parse_simulation_inputs(const JsonReader& r, SimulationInputs in) {
+ModelInputs parse_simulation_inputs(const JsonReader& r, ModelInputs in) {
   if (r.has("f")) in.sharpness_f = r.positive("f");
   if (r.has("c_q")) in.damping_c_q = r.non_negative("c_q");
   if (r.has("M0")) in.preload_Nm = r.fixed_numbers<kNumSJoints>("M0");
@@ -266,7 +266,7 @@ ScenarioSetup load_scenario(const std::string& path) {
   if (r.has("integrator")) s.integrator = parse_integrator_settings(r.child("integrator"), s.integrator);
   if (r.has("wall_time_budget")) s.wall_time_budget_s = r.positive("wall_time_budget");
 
-  setup.inputs = nominal_simulation_inputs(setup.model.parameters);
+  setup.inputs = nominal_inputs(setup.model.parameters);
   if (r.has("inputs")) setup.inputs = parse_simulation_inputs(r.child("inputs"), setup.inputs);
   r.finish();
   return setup;

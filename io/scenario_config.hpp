@@ -86,7 +86,7 @@ namespace rover::io {
 struct ScenarioSetup {
   Scenario scenario;
   RoverModel model;
-  SimulationInputs inputs;  // rover config defaults with the scenario's overrides
+  ModelInputs inputs;  // rover config defaults with the scenario's overrides
   std::string scenario_path, rover_path, terrain_path;
 };
 
@@ -105,7 +105,7 @@ DriveConfig parse_drive(const JsonReader& r, const DriveKinematics& kinematics);
 IntegratorSettings parse_integrator_settings(const JsonReader& r, IntegratorSettings base);
 
 // Parses {"f", "c_q", "M0": [8]} over `base`.
-SimulationInputs parse_simulation_inputs(const JsonReader& r, SimulationInputs base);
+ModelInputs parse_simulation_inputs(const JsonReader& r, ModelInputs base);
 
 // Resolves a path written in a config file relative to that file's directory.
 std::string resolve_relative(const std::string& config_path, const std::string& path);

@@ -54,7 +54,7 @@ std::string run_montecarlo(const MonteCarloStudy& study, const StudyRunControl& 
                            static_cast<std::uint64_t>(i), study.sd_scale);
   };
   auto compute = [&](int i) {
-    SimulationInputs inputs = setup.inputs;
+    ModelInputs inputs = setup.inputs;
     inputs.preload_Nm = draw(i);
     const Trajectory tr = simulate(setup.model, setup.scenario, inputs);
     TaskResult r{i, static_cast<int>(tr.status), tr.message, {}};

@@ -85,7 +85,7 @@ SurfaceStudy load_surface_study(const std::string& path) {
     s.reference_description = "file " + file;
   } else {
     const io::JsonReader sim = ref.child("simulate");
-    SimulationInputs in = io::parse_simulation_inputs(sim, s.common.setup.inputs);
+    ModelInputs in = io::parse_simulation_inputs(sim, s.common.setup.inputs);
     const Trajectory tr = simulate(s.common.setup.model, s.common.setup.scenario, in);
     if (!tr.ok()) ref.fail("simulate", "the reference run failed: " + tr.message);
     s.reference_t = tr.t;
@@ -104,7 +104,7 @@ std::string run_surface(const SurfaceStudy& study, const StudyRunControl& contro
   const int nf = static_cast<int>(study.f.size()), nc = static_cast<int>(study.c_q.size());
   const int grid_tasks = nf * nc, tasks = grid_tasks + static_cast<int>(study.sweep_f.size());
   auto compute = [&](int i) {
-    SimulationInputs in = setup.inputs;
+    ModelInputs in = setup.inputs;
     if (i < grid_tasks) {
       in.sharpness_f = study.f[static_cast<std::size_t>(i / nc)];
       in.damping_c_q = study.c_q[static_cast<std::size_t>(i % nc)];

@@ -20,7 +20,7 @@ namespace {
 // Conservative rover: no S-structure damping, no servo damping, no drive.
 RoverParameters conservative_parameters() {
   RoverParameters p = default_rover_parameters();
-  p.s_structure.damping_Nms_per_rad = 0.0;
+  p.s_structure.damping_c_q = 0.0;
   p.steering.damping_Nms_per_rad = 0.0;
   p.drive.gain_Nms_per_rad = 0.0;
   return p;

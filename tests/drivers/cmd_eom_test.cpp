@@ -157,7 +157,7 @@ TEST(CmdEom, ParamsOverridesChangeOnlyTheirEntries) {
     return F;
   };
   const Coordinates F0 = F_of(base, "F"), F0_nc = F_of(base, "F_nocontact");
-  const double c_q0 = default_rover_parameters().s_structure.damping_Nms_per_rad, c_q1 = 0.5;
+  const double c_q0 = default_rover_parameters().s_structure.damping_c_q, c_q1 = 0.5;
 
   // c_q: only the S-joint entries change, by -(c_q1 - c_q0) * rate.
   const json damped = run_eom(

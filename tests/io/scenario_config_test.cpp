@@ -58,7 +58,7 @@ TEST(ScenarioConfig, DropScenariosHaveTheInitialStatesOfTable2) {
     EXPECT_EQ(s.model.terrain.flat_height(), 0.0);
     // The inputs are the rover config's nominal values.
     EXPECT_EQ(s.inputs.sharpness_f, s.model.parameters.s_structure.sharpness_f);
-    EXPECT_EQ(s.inputs.damping_c_q, s.model.parameters.s_structure.damping_Nms_per_rad);
+    EXPECT_EQ(s.inputs.damping_c_q, s.model.parameters.s_structure.damping_c_q);
     EXPECT_EQ(s.inputs.preload_Nm, s.model.parameters.s_structure.preload_mean_Nm);
     // Released above the ground.
     for (double b : wheel_bottoms(s.model, s.scenario.initial_q)) EXPECT_GT(b, 0.0);
