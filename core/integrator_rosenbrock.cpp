@@ -55,6 +55,7 @@
 #include "core/force_jacobian.hpp"
 #include "core/friction.hpp"
 #include "core/integrators.hpp"
+#include "core/number_text.hpp"
 #include "core/rosenbrock_w.hpp"
 #include "core/s_structure.hpp"
 
@@ -280,11 +281,12 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
   auto underflow = [&](double t, double h, const std::string& why) {
     report.status = SimulationStatus::kStepSizeUnderflow;
     report.failed_at_s = t;
-    report.detail = "step " + std::to_string(h) + " s is below min_step " +
-                    std::to_string(settings.min_step_s) + " s (" + why + ")";
+    report.detail = "step " + number_text(h) + " s is below min_step " +
+                    number_text(settings.min_step_s) + " s (" + why + ")";
     return report;
   };
 
+  StallWatch stall;
   StepPoint start, end, stage;
   evaluate(system, 0.0, x, start, report);
   double h = std::clamp(settings.initial_step_s, settings.min_step_s, settings.max_step_s);
@@ -335,11 +337,11 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
       }
       h *= step_factor(error, 1.0);
       if (h < settings.min_step_s)
-        return underflow(start.t, h, "error estimate " + std::to_string(error));
+        return underflow(start.t, h, "error estimate " + number_text(error));
     }
 
     const double taken = t1 - start.t;
-    if (step_is_bad(report, t1, taken, end.x, request)) return report;
+    if (step_is_bad(report, stall, t1, taken, end.x, request)) return report;
     while (next < request.sample_count && sample_time(next) <= t1) {
       const double ts = sample_time(next);
       request.record(ts, ts >= t1 ? end.x : hermite(start, end, ts));

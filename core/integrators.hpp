@@ -48,7 +48,8 @@ enum class SimulationStatus {
   kNonFinite = 1,
   kStepSizeUnderflow = 2,
   kTimeBudgetExceeded = 3,
-  kInvalidScenario = 4
+  kInvalidScenario = 4,
+  kStepSizeCollapsed = 5  // the run could not progress (see StallWatch)
 };
 const char* status_name(SimulationStatus status);
 
@@ -61,12 +62,28 @@ struct IntegrationReport {
   double min_step_s = 0.0, max_step_s = 0.0;
 };
 
+// Detects a run whose step size has collapsed, which would otherwise crawl
+// until its wall-time budget is gone. A run has collapsed when
+//  * kWindowSteps accepted steps advanced the time by less than
+//    kWindowFraction of the duration (at that pace the run would need more
+//    than kWindowSteps / kWindowFraction = 1e9 steps), or
+//  * a step is shorter than kRoundingUnits rounding units of the time,
+//    kRoundingUnits eps max(t, duration), where t + h hardly differs from t.
+// The window belongs to one integration (one per run, not shared).
+struct StallWatch {
+  static constexpr long kWindowSteps = 100000;
+  static constexpr double kWindowFraction = 1e-4;
+  static constexpr double kRoundingUnits = 64.0;
+  long window_start_step = 0;
+  double window_start_t_s = 0.0;
+};
+
 // Bookkeeping shared by every integrator after an accepted step of length h
 // ending at t: counts it, tracks the extreme step sizes, and returns true (with
-// the status filled in) if the state is not finite or the wall-time budget is
-// used up.
-bool step_is_bad(IntegrationReport& report, double t, double h, const StateVector& x,
-                 const IntegrationRequest& request);
+// the status filled in) if the state is not finite, the step size has
+// collapsed (`stall`) or the wall-time budget is used up.
+bool step_is_bad(IntegrationReport& report, StallWatch& stall, double t, double h,
+                 const StateVector& x, const IntegrationRequest& request);
 
 IntegrationReport integrate_dormand_prince(const OdeSystem& system, StateVector x,
                                            const IntegratorSettings& settings,

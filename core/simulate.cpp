@@ -9,6 +9,7 @@
 
 #include "core/equations_of_motion.hpp"
 #include "core/integrators.hpp"
+#include "core/number_text.hpp"
 
 namespace rover {
 
@@ -82,6 +83,29 @@ Trajectory simulate(const RoverModel& model, const Scenario& scenario,
   const ModelInputs model_inputs = model_inputs_for(scenario, inputs);
 
   Trajectory out;
+  // A scenario that cannot run: no samples, the reason in the message.
+  auto invalid = [&](const std::string& why) {
+    out.status = SimulationStatus::kInvalidScenario;
+    out.message = std::string(status_name(out.status)) + ": " + why;
+    out.q.resize(0, kNumCoordinates);
+    out.u.resize(0, kNumCoordinates);
+    out.normal_force_N.resize(0, kNumLegs);
+    out.wall_time_s = elapsed();
+    return out;
+  };
+  if (std::string why; !scenario_is_valid(scenario, &why)) return invalid(why);
+
+  // The drive schedule, compiled against this model's drive kinematics.
+  std::optional<CompiledDriveSchedule> schedule;
+  if (!scenario.drive.segments.empty()) {
+    try {
+      schedule.emplace(make_drive_kinematics(model.parameters), scenario.drive.segments,
+                       scenario.drive.options);
+    } catch (const std::invalid_argument& e) {
+      return invalid(e.what());
+    }
+  }
+
   const double period = 1.0 / scenario.output_rate_hz;
   const std::size_t samples = output_sample_count(scenario);
   TrajectoryRecorder recorder(model, samples, out);
@@ -100,20 +124,6 @@ Trajectory simulate(const RoverModel& model, const Scenario& scenario,
       }
     };
 
-  // The drive schedule, compiled against this model's drive kinematics.
-  std::optional<CompiledDriveSchedule> schedule;
-  if (!scenario.drive.segments.empty()) {
-    try {
-      schedule.emplace(make_drive_kinematics(model.parameters), scenario.drive.segments,
-                       scenario.drive.options);
-    } catch (const std::invalid_argument& e) {
-      recorder.finish();
-      out.status = SimulationStatus::kInvalidScenario;
-      out.message = std::string(status_name(out.status)) + ": " + e.what();
-      out.wall_time_s = elapsed();
-      return out;
-    }
-  }
   const OdeSystem system{model, model_inputs, schedule ? &*schedule : nullptr};
   StateVector x0;
   x0 << scenario.initial_q, scenario.initial_u;
@@ -123,7 +133,7 @@ Trajectory simulate(const RoverModel& model, const Scenario& scenario,
   out.status = report.status;
   if (!out.ok())
     out.message = std::string(status_name(out.status)) + " at t = " +
-                  std::to_string(report.failed_at_s) + " s: " + report.detail;
+                  number_text(report.failed_at_s) + " s: " + report.detail;
   out.rhs_evaluations = report.rhs_evaluations;
   out.steps = report.steps;
   out.min_step_s = report.min_step_s;

@@ -4,8 +4,10 @@
 //
 // simulate() has no side effects and shares nothing mutable: many threads may
 // call it at once with the same RoverModel. A run that blows up (non-finite
-// state, step size underflow, wall-time budget exceeded) returns a status and
-// a message; it never throws for numerical trouble, and never hangs.
+// state, step size underflow or collapse, wall-time budget exceeded) or cannot
+// start (scenario_is_valid() fails, a drive schedule the model cannot serve)
+// returns a status and a message; it never throws for numerical trouble, and
+// never hangs.
 #pragma once
 
 #include <functional>

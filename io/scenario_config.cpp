@@ -188,6 +188,12 @@ IntegratorSettings parse_integrator_settings(const JsonReader& r, IntegratorSett
   if (r.has("max_step")) s.max_step_s = r.positive("max_step");
   if (r.has("fixed_step")) s.fixed_step_s = r.positive("fixed_step");
   r.finish();
+  if (std::string why; !s.IsValid(&why)) {
+    const char* key = s.method == IntegratorMethod::kRungeKutta4 ? "fixed_step"
+                      : !(s.min_step_s <= s.max_step_s)        ? "min_step"
+                                                                : "initial_step";
+    r.fail(key, why);
+  }
   return s;
 }
 
@@ -265,6 +271,7 @@ ScenarioSetup load_scenario(const std::string& path) {
   s.output_rate_hz = r.has("output_rate") ? r.positive("output_rate") : 1000.0;
   if (r.has("integrator")) s.integrator = parse_integrator_settings(r.child("integrator"), s.integrator);
   if (r.has("wall_time_budget")) s.wall_time_budget_s = r.positive("wall_time_budget");
+  if (std::string why; !scenario_is_valid(s, &why)) r.fail("integrator", why);
 
   setup.inputs = nominal_inputs(setup.model.parameters);
   if (r.has("inputs")) setup.inputs = parse_simulation_inputs(r.child("inputs"), setup.inputs);

@@ -215,6 +215,7 @@ TEST(IntegratorRosenbrock, ReportsRunsThatFail) {
   {  // Touchdown needs steps far below 0.1 ms.
     Scenario s = rosenbrock_scenario(drop(0.281, 0.039, 0.0042));
     s.integrator.min_step_s = 1e-4;
+    s.integrator.initial_step_s = 1e-4;
     const Trajectory tr = simulate(model, s, inputs);
     EXPECT_EQ(tr.status, SimulationStatus::kStepSizeUnderflow);
     EXPECT_NE(tr.message.find("min_step"), std::string::npos) << tr.message;

@@ -292,5 +292,44 @@ TEST(Simulate, ADriveTheModelCannotServeIsAnInvalidScenario) {
   EXPECT_EQ(tr.rhs_evaluations, 0);
 }
 
+// Settings that cannot work fail at once with a status, not after a run at
+// another step (RK4) or a hang.
+TEST(Simulate, InvalidSettingsAreAnInvalidScenario) {
+  io::ScenarioSetup setup = shipped("drop_horizontal");
+  setup.scenario.integrator = default_integrator_settings(IntegratorMethod::kRungeKutta4);
+  setup.scenario.integrator.fixed_step_s = 0.5;  // the output period is 1 ms
+  Trajectory tr = simulate(setup.model, setup.scenario, setup.inputs);
+  EXPECT_EQ(tr.status, SimulationStatus::kInvalidScenario);
+  EXPECT_NE(tr.message.find("fixed_step 0.5 s"), std::string::npos) << tr.message;
+  EXPECT_EQ(tr.rhs_evaluations, 0);
+  setup.scenario.integrator = default_integrator_settings(IntegratorMethod::kDormandPrince45);
+  setup.scenario.integrator.min_step_s = 1e-3;  // above initial_step
+  tr = simulate(setup.model, setup.scenario, setup.inputs);
+  EXPECT_EQ(tr.status, SimulationStatus::kInvalidScenario);
+  EXPECT_NE(tr.message.find("min_step <= initial_step"), std::string::npos) << tr.message;
+}
+
+// A run whose steps cannot advance the time stops with its own status: a
+// step at round-off of the time (RK4 at 1e-16 s), and steps of 1e-10 s that
+// would take 1e10 of them for one second (caught after 1e5 steps).
+TEST(Simulate, ACollapsedStepSizeStopsTheRun) {
+  io::ScenarioSetup setup = shipped("drop_horizontal");
+  setup.scenario.integrator = default_integrator_settings(IntegratorMethod::kRungeKutta4);
+  setup.scenario.integrator.fixed_step_s = 1e-16;
+  Trajectory tr = simulate(setup.model, setup.scenario, setup.inputs);
+  EXPECT_EQ(tr.status, SimulationStatus::kStepSizeCollapsed) << tr.message;
+  EXPECT_NE(tr.message.find("rounding units"), std::string::npos) << tr.message;
+  EXPECT_EQ(tr.steps, 1);
+
+  setup.scenario.integrator = default_integrator_settings(IntegratorMethod::kDormandPrince45);
+  setup.scenario.integrator.initial_step_s = 1e-11;
+  setup.scenario.integrator.max_step_s = 1e-10;
+  tr = simulate(setup.model, setup.scenario, setup.inputs);
+  EXPECT_EQ(tr.status, SimulationStatus::kStepSizeCollapsed) << tr.message;
+  EXPECT_EQ(tr.steps, StallWatch::kWindowSteps);
+  EXPECT_NE(tr.message.find("advanced the time by"), std::string::npos) << tr.message;
+  EXPECT_LT(tr.t.back(), 1e-5);
+}
+
 }  // namespace
 }  // namespace rover

@@ -123,6 +123,27 @@ std::string write_scenario(const Json& j) {
   return path;
 }
 
+// Integrator settings that cannot work are refused when the file is read,
+// naming the field and the numbers as written.
+TEST(ScenarioConfig, InvalidIntegratorSettingsAreRefused) {
+  auto error_of = [](const Json& integrator) -> std::string {
+    Json j = base_scenario();
+    j["integrator"] = integrator;
+    try {
+      io::load_scenario(write_scenario(j));
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  const std::string steps = error_of({{"min_step", 1e-3}});  // above initial_step 1e-5
+  EXPECT_NE(steps.find("min_step"), std::string::npos) << steps;
+  EXPECT_NE(steps.find("0.001 <= 1e-05"), std::string::npos) << steps;
+  const std::string rk4 = error_of({{"method", "rk4"}, {"fixed_step", 0.5}});  // 1 kHz output
+  EXPECT_NE(rk4.find("does not divide the output period"), std::string::npos) << rk4;
+  EXPECT_EQ(error_of({{"method", "rk4"}, {"fixed_step", 2e-5}}), "accepted");
+}
+
 TEST(ScenarioConfig, OverridesAreRead) {
   Json j = base_scenario();
   j["inputs"] = {{"f", 1e3}, {"c_q", 0.3}, {"M0", {1, 2, 3, 4, 5, 6, 7, 8}}};
