@@ -3,9 +3,10 @@
 
 namespace rover {
 
-std::array<WheelContacts, kNumLegs> wheel_contacts(const RoverModel& model,
-                                                   const TreeKinematics& kin) {
-  std::array<WheelContacts, kNumLegs> contacts;
+namespace {
+
+void fill_wheel_contacts(const RoverModel& model, const TreeKinematics& kin,
+                         std::array<WheelContacts, kNumLegs>& contacts) {
   for (int leg = 0; leg < kNumLegs; ++leg) {
     const NodeKinematics& wheel = kin.nodes[node::wheel(leg)];
     contacts[leg] = find_wheel_contacts(model.terrain, wheel.origin, wheel.rotation.col(1),
@@ -13,6 +14,14 @@ std::array<WheelContacts, kNumLegs> wheel_contacts(const RoverModel& model,
     compute_contact_forces(kin, node::wheel(leg), model.parameters.contact,
                            model.parameters.friction, contacts[leg]);
   }
+}
+
+}  // namespace
+
+std::array<WheelContacts, kNumLegs> wheel_contacts(const RoverModel& model,
+                                                   const TreeKinematics& kin) {
+  std::array<WheelContacts, kNumLegs> contacts;
+  fill_wheel_contacts(model, kin, contacts);
   return contacts;
 }
 
@@ -30,11 +39,11 @@ Coordinates contact_generalized_forces(const RoverModel& model, const TreeKinema
 
 void compute_kinematics(const RoverModel& model, DynamicsWorkspace& workspace,
                         const Coordinates& q, const Coordinates& u) {
-  workspace.kinematics = forward_kinematics(model.tree, q, u);
+  forward_kinematics(model.tree, q, u, workspace.kinematics);
 }
 
 void compute_contacts(const RoverModel& model, DynamicsWorkspace& workspace) {
-  workspace.contacts = wheel_contacts(model, workspace.kinematics);
+  fill_wheel_contacts(model, workspace.kinematics, workspace.contacts);
 }
 
 void compute_mass_matrix(const RoverModel& model, DynamicsWorkspace& workspace) {
