@@ -54,9 +54,10 @@ inline void BM_RightHandSideAtRest(benchmark::State& state) {
   const io::ScenarioSetup& s = drop_setup();
   const ModelInputs in = drop_model_inputs();
   StateVector x = rest_state();
+  DynamicsWorkspace workspace;
   for (auto _ : state) {
     benchmark::DoNotOptimize(x);
-    benchmark::DoNotOptimize(state_derivative(s.model, in, x));
+    benchmark::DoNotOptimize(state_derivative(s.model, workspace, in, x));
   }
 }
 

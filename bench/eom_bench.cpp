@@ -61,16 +61,21 @@ void BM_EvaluateEquationsOfMotion(benchmark::State& state) {
   const ModelInputs in = nominal_inputs(model.parameters);
   const StateVector x = flat_state();
   const Coordinates q = x.head<kNumCoordinates>(), u = x.tail<kNumCoordinates>();
-  for (auto _ : state) benchmark::DoNotOptimize(evaluate_equations_of_motion(model, q, u, in));
+  DynamicsWorkspace workspace;
+  for (auto _ : state) {
+    compute_dynamics(model, workspace, in, q, u);
+    benchmark::DoNotOptimize(workspace);
+  }
 }
 
 void BM_StateDerivativeFlat(benchmark::State& state) {
   const RoverModel& model = flat_model();
   const ModelInputs in = nominal_inputs(model.parameters);
   StateVector x = flat_state();
+  DynamicsWorkspace workspace;
   for (auto _ : state) {
     benchmark::DoNotOptimize(x);
-    benchmark::DoNotOptimize(state_derivative(model, in, x));
+    benchmark::DoNotOptimize(state_derivative(model, workspace, in, x));
   }
 }
 
@@ -84,9 +89,10 @@ void BM_StateDerivativeObstacleRamp(benchmark::State& state) {
     for (const WheelContacts& w : wheel_contacts(model, kin)) contacts += w.count;
   }
   if (contacts != 1) state.SkipWithError("the ramp state should have exactly one contact");
+  DynamicsWorkspace workspace;
   for (auto _ : state) {
     benchmark::DoNotOptimize(x);
-    benchmark::DoNotOptimize(state_derivative(model, in, x));
+    benchmark::DoNotOptimize(state_derivative(model, workspace, in, x));
   }
   state.counters["contacts"] = contacts;
 }
@@ -109,7 +115,8 @@ void BM_LltSolve(benchmark::State& state) {
   const RoverModel& model = flat_model();
   const StateVector x = flat_state();
   const Coordinates q = x.head<kNumCoordinates>(), u = x.tail<kNumCoordinates>();
-  const EquationsOfMotion eom = evaluate_equations_of_motion(model, q, u, nominal_inputs(model.parameters));
+  DynamicsWorkspace eom;
+  compute_dynamics(model, eom, nominal_inputs(model.parameters), q, u);
   for (auto _ : state) benchmark::DoNotOptimize(Coordinates(eom.mass_matrix.llt().solve(eom.forcing)));
 }
 

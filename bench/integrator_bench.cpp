@@ -88,7 +88,7 @@ int kink_traversals(const Trajectory& tr, double sharpness_f) {
 
 // The kink traversals of the drop's dopri5 run at the scenario's rtol, sampled
 // at 100 kHz (the bounces of a joint at f = 1e5 are a few kHz).
-int drop_kink_traversals(const RoverModel& model, const SimulationInputs& inputs) {
+int drop_kink_traversals(const RoverModel& model, const ModelInputs& inputs) {
   Scenario dense = drop_setup().scenario;
   dense.output_rate_hz = 1e5;
   return kink_traversals(simulate(model, dense, inputs), inputs.sharpness_f);
@@ -110,7 +110,7 @@ void print_drop_table(double budget_s) {
   long soft_steps = 0;  // rosenbrock at the first row, f = 1e2
   for (const Row& r : rows) {
     const RoverModel model = friction_scaled_model(setup.model, r.vs_scale);
-    SimulationInputs inputs = setup.inputs;
+    ModelInputs inputs = setup.inputs;
     inputs.sharpness_f = r.f;
     Scenario explicit_run = setup.scenario;
     explicit_run.wall_time_budget_s = budget_s;
@@ -173,7 +173,7 @@ void print_conditioning() {
     const io::ScenarioSetup setup =
         io::load_scenario(std::string(ROVER_SOURCE_DIR "/configs/scenarios/") + name + ".json");
     for (const double f : {1e4, 1e5}) {
-      SimulationInputs inputs = setup.inputs;
+      ModelInputs inputs = setup.inputs;
       inputs.sharpness_f = f;
       Scenario reference = setup.scenario;
       reference.integrator.relative_tolerance = 1e-8;
@@ -195,9 +195,9 @@ void print_conditioning() {
 
 // The preload sets of the tolerance sweep: the means of MODEL.md Table 1 and
 // the first `draws` Monte Carlo samples of seed 1 (study::sample_preloads).
-std::vector<SimulationInputs> preload_sets(const SimulationInputs& nominal, const RoverParameters& p,
+std::vector<ModelInputs> preload_sets(const ModelInputs& nominal, const RoverParameters& p,
                                            int draws) {
-  std::vector<SimulationInputs> sets{nominal};
+  std::vector<ModelInputs> sets{nominal};
   for (int k = 0; k < draws; ++k) {
     sets.push_back(nominal);
     sets.back().preload_Nm = study::sample_preloads(p.s_structure, 1, static_cast<std::uint64_t>(k));
@@ -215,7 +215,7 @@ void print_tolerance_sweep() {
   const double fs[] = {1e2, 1e4, 1e5};
   struct Reference {
     std::string drop;
-    SimulationInputs inputs;
+    ModelInputs inputs;
     std::vector<double> B_l_z;
   };
   std::vector<io::ScenarioSetup> setups;
@@ -227,9 +227,9 @@ void print_tolerance_sweep() {
     reference.integrator.relative_tolerance = 1e-8;
     reference.integrator.absolute_tolerance = 1e-11;
     for (const double f : fs) {
-      SimulationInputs nominal = setup.inputs;
+      ModelInputs nominal = setup.inputs;
       nominal.sharpness_f = f;
-      for (const SimulationInputs& in : preload_sets(nominal, setup.model.parameters, 5))
+      for (const ModelInputs& in : preload_sets(nominal, setup.model.parameters, 5))
         references.push_back({name, in, simulate(setup.model, reference, in).B_l_z});
     }
   }
@@ -270,9 +270,10 @@ void BM_StiffForceJacobian(benchmark::State& state) {
   const ModelInputs in = drop_model_inputs();
   const StateVector x = rest_state();
   const Coordinates q = x.head<kNumCoordinates>(), u = x.tail<kNumCoordinates>();
-  const TreeKinematics kin = forward_kinematics(s.model.tree, q, u);
-  const auto contacts = wheel_contacts(s.model, kin);
-  for (auto _ : state) benchmark::DoNotOptimize(stiff_force_jacobian(s.model, in, q, u, kin, contacts));
+  DynamicsWorkspace workspace;
+  compute_kinematics(s.model, workspace, q, u);
+  compute_contacts(s.model, workspace);
+  for (auto _ : state) benchmark::DoNotOptimize(stiff_force_jacobian(s.model, workspace, in, q, u));
 }
 
 void BM_DropHorizontal1s(benchmark::State& state) {

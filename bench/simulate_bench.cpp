@@ -50,7 +50,7 @@ void BM_DropHorizontal1s(benchmark::State& state) {
 
 void BM_DropHorizontal1sVsF(benchmark::State& state) {
   const io::ScenarioSetup& s = drop_setup();
-  SimulationInputs in = s.inputs;
+  ModelInputs in = s.inputs;
   in.sharpness_f = static_cast<double>(state.range(0));
   Trajectory tr;
   for (auto _ : state) {
@@ -86,12 +86,13 @@ void print_step_size_analysis() {
 
   // Fastest eigenvalue of the Jacobian of the right-hand side (central differences).
   Eigen::Matrix<double, kStateSize, kStateSize> J;
+  DynamicsWorkspace workspace;
   for (int j = 0; j < kStateSize; ++j) {
     const double h = 1e-7 * std::max(1.0, std::abs(x[j]));
     StateVector xp = x, xm = x;
     xp[j] += h;
     xm[j] -= h;
-    J.col(j) = (state_derivative(s.model, in, xp) - state_derivative(s.model, in, xm)) / (2.0 * h);
+    J.col(j) = (state_derivative(s.model, workspace, in, xp) - state_derivative(s.model, workspace, in, xm)) / (2.0 * h);
   }
   const Eigen::EigenSolver<Eigen::Matrix<double, kStateSize, kStateSize>> eig(J);
   Eigen::Index fastest = 0;
@@ -107,8 +108,8 @@ void print_step_size_analysis() {
   const Coordinates q = x.head<kNumCoordinates>(), u = x.tail<kNumCoordinates>();
   const TreeKinematics kin = forward_kinematics(s.model.tree, q, u);
   const auto contacts = wheel_contacts(s.model, kin);
-  const MassMatrix M = mass_matrix(s.model.tree, kin);
-  const Eigen::LLT<MassMatrix> llt(M);
+  const CoordinateMatrix M = mass_matrix(s.model.tree, kin);
+  const Eigen::LLT<CoordinateMatrix> llt(M);
   const double slope = makkar_mu_derivative(0.0, s.model.parameters.friction.gammas);
   double friction_lambda = 0.0;
   for (int leg = 0; leg < kNumLegs; ++leg)

@@ -2,7 +2,7 @@
 // against the one taken: SUNDIALS' CVODE (variable-order BDF 1-5) and ARKODE
 // (its default L-stable SDIRK of order 4, the whole right-hand side implicit),
 // each with a Newton iteration on a dense LU of I - gamma J, on the same
-// right-hand side (state_derivative(), MODEL.md section 9) and the same
+// right-hand side (state_derivative(), docs/model.md §9) and the same
 // analytic Jacobian as the Rosenbrock-W integrator,
 //   J = [0, I; M^{-1} K, M^{-1} D],  D, K from core/force_jacobian.hpp,
 // on both drop tests (MODEL.md section 7, mean preloads) at f = 1e2, 1e4 and
@@ -49,6 +49,7 @@ constexpr int kStateSize = 2 * kNumCoordinates;
 struct SundialsProblem {
   const RoverModel& model;
   const ModelInputs& inputs;
+  DynamicsWorkspace workspace{};
   long rhs_evaluations = 0;
   long jacobian_evaluations = 0;
 };
@@ -57,7 +58,7 @@ int sundials_rhs(double /*t*/, N_Vector y, N_Vector ydot, void* user_data) {
   auto& p = *static_cast<SundialsProblem*>(user_data);
   ++p.rhs_evaluations;
   Eigen::Map<StateVector> dx(N_VGetArrayPointer(ydot));
-  dx = state_derivative(p.model, p.inputs, Eigen::Map<const StateVector>(N_VGetArrayPointer(y)));
+  dx = state_derivative(p.model, p.workspace, p.inputs, Eigen::Map<const StateVector>(N_VGetArrayPointer(y)));
   return dx.allFinite() ? 0 : 1;  // > 0: recoverable, the solver retries with a smaller step
 }
 
@@ -67,10 +68,9 @@ int sundials_jacobian(double /*t*/, N_Vector y, N_Vector /*fy*/, SUNMatrix jacob
   ++p.jacobian_evaluations;
   const Eigen::Map<const StateVector> x(N_VGetArrayPointer(y));
   const Coordinates q = x.head<kNumCoordinates>(), u = x.tail<kNumCoordinates>();
-  const TreeKinematics kin = forward_kinematics(p.model.tree, q, u);
-  const auto contacts = wheel_contacts(p.model, kin);
-  const StiffForceJacobian stiff = stiff_force_jacobian(p.model, p.inputs, q, u, kin, contacts);
-  const Eigen::LLT<MassMatrix> mass(mass_matrix(p.model.tree, kin));
+  compute_dynamics(p.model, p.workspace, p.inputs, q, u);
+  const StiffForceJacobian stiff = stiff_force_jacobian(p.model, p.workspace, p.inputs, q, u);
+  const Eigen::LLT<CoordinateMatrix>& mass = p.workspace.mass_factorization;
   // SUNDIALS dense matrices are column-major, as Eigen's.
   Eigen::Map<Eigen::Matrix<double, kStateSize, kStateSize>> J(SM_DATA_D(jacobian));
   J.setZero();
@@ -93,7 +93,7 @@ struct Run {
 // rate by the solver's own interpolation.
 enum class Solver { kCvodeBdf, kArkodeDirk };
 
-Run run_sundials(Solver solver, const io::ScenarioSetup& setup, const SimulationInputs& in, double rtol,
+Run run_sundials(Solver solver, const io::ScenarioSetup& setup, const ModelInputs& in, double rtol,
                  double atol) {
   const auto start = Clock::now();
   const ModelInputs inputs = model_inputs_for(setup.scenario, in);
@@ -198,7 +198,7 @@ int main() {
     rosenbrock.integrator = default_integrator_settings(IntegratorMethod::kRosenbrockW);
     double wall_rosenbrock[std::size(fs)] = {}, wall[std::size(solvers)][std::size(tolerances)][std::size(fs)] = {};
     for (std::size_t fi = 0; fi < std::size(fs); ++fi) {
-      SimulationInputs in = setup.inputs;
+      ModelInputs in = setup.inputs;
       in.sharpness_f = fs[fi];
       const std::vector<double> truth = simulate(setup.model, reference, in).B_l_z;
       const Trajectory ros = simulate(setup.model, rosenbrock, in);

@@ -11,7 +11,8 @@ inline constexpr int kNumCoordinates = 23;
 inline constexpr int kStateSize = 2 * kNumCoordinates;
 
 using Coordinates = Eigen::Matrix<double, kNumCoordinates, 1>;
-using MassMatrix = Eigen::Matrix<double, kNumCoordinates, kNumCoordinates>;
+// Any 23 x 23 matrix over the coordinates: M, dF/du, dF/dq.
+using CoordinateMatrix = Eigen::Matrix<double, kNumCoordinates, kNumCoordinates>;
 using StateVector = Eigen::Matrix<double, kStateSize, 1>;
 
 namespace coord {

@@ -9,6 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace rover {
 namespace {
@@ -127,7 +128,7 @@ PlanarMotion ackermann_motion_from_body(const Vec2& reference, const BodyVelocit
 }
 
 void require_small(DriveMode mode, const BodyVelocityCommand& c, double value, double tolerance,
-                   const std::string& what) {
+                   const char* what) {
   if (std::abs(value) > tolerance) {
     std::ostringstream s;
     s << "cannot serve the body velocity " << body_text(c) << ": " << what << " is " << value
@@ -430,6 +431,23 @@ void check_schedule_shape(const std::vector<DriveCommandSegment>& segments, doub
   }
 }
 
+// The commands at blend fraction a in [0, 1) of the ramp from segment `from`
+// into segment `to` (DriveScheduleOptions); `options` hold the steering of
+// `from`.
+WheelCommands ramp_wheel_commands(const DriveKinematics& k, const DriveCommandSegment& from_segment,
+                                  const DriveCommandSegment& to_segment, double a,
+                                  const WheelCommandOptions& options) {
+  const BodyVelocityCommand& from = from_segment.command;
+  const BodyVelocityCommand& to = to_segment.command;
+  const double s = a * a * (3.0 - 2.0 * a);
+  const BodyVelocityCommand blend{from.forward_mps + s * (to.forward_mps - from.forward_mps),
+                                  from.lateral_mps + s * (to.lateral_mps - from.lateral_mps),
+                                  from.yaw_rate_radps + s * (to.yaw_rate_radps - from.yaw_rate_radps)};
+  const DriveMode mode =
+      from_segment.mode == to_segment.mode ? to_segment.mode : DriveMode::kGeneralAckermann;
+  return wheel_commands(k, mode, blend, options);
+}
+
 // Steady wheel commands of segments 0..last; a wheel with a free heading holds
 // where the previous segment left it.
 WheelCommands steady_commands(const DriveKinematics& k,
@@ -477,22 +495,68 @@ WheelCommands wheel_commands_at(const DriveKinematics& k,
   const WheelCommands steady = steady_commands(k, segments, index, options.wheel, &hold);
   if (index == 0 || since_start_s >= options.ramp_time_s) return steady;
 
-  const BodyVelocityCommand& from = segments[index - 1].command;
-  const BodyVelocityCommand& to = current.command;
-  const double a = since_start_s / options.ramp_time_s;
-  const double s = a * a * (3.0 - 2.0 * a);
-  const BodyVelocityCommand blend{from.forward_mps + s * (to.forward_mps - from.forward_mps),
-                                  from.lateral_mps + s * (to.lateral_mps - from.lateral_mps),
-                                  from.yaw_rate_radps + s * (to.yaw_rate_radps - from.yaw_rate_radps)};
-  const DriveMode mode =
-      segments[index - 1].mode == current.mode ? current.mode : DriveMode::kGeneralAckermann;
   WheelCommandOptions ramp_options = options.wheel;
   ramp_options.hold_steer_rad = hold;
   try {
-    return wheel_commands(k, mode, blend, ramp_options);
+    return ramp_wheel_commands(k, segments[index - 1], current, since_start_s / options.ramp_time_s,
+                               ramp_options);
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument("drive schedule: ramp into segment " + std::to_string(index) +
                                 " at t = " + std::to_string(t_s) + " s: " + e.what());
+  }
+}
+
+CompiledDriveSchedule::CompiledDriveSchedule(const DriveKinematics& kinematics,
+                                             std::vector<DriveCommandSegment> segments,
+                                             const DriveScheduleOptions& options)
+    : kinematics_(kinematics), segments_(std::move(segments)), options_(options) {
+  check_schedule_shape(segments_, options_.ramp_time_s);
+  const std::size_t n = segments_.size();
+  WheelCommandOptions wheel = options_.wheel;
+  for (std::size_t i = 0; i < n; ++i) {
+    start_times_s_.push_back(segments_[i].start_time_s);
+    try {
+      steady_.push_back(wheel_commands(kinematics_, segments_[i].mode, segments_[i].command, wheel));
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument("drive schedule segment " + std::to_string(i) + " (from " +
+                                  std::to_string(segments_[i].start_time_s) + " s): " + e.what());
+    }
+    wheel.hold_steer_rad = steady_.back().steer_rad;
+  }
+  if (options_.ramp_time_s > 0.0) {
+    ramp_checks_.resize(n);
+    for (std::size_t i = 1; i < n; ++i)
+      for (int c = 0; c <= kRampChecks; ++c) {
+        const double a = static_cast<double>(c) / kRampChecks;
+        try {
+          ramp_checks_[i][static_cast<std::size_t>(c)] = ramp_commands(i, a);
+        } catch (const std::invalid_argument& e) {
+          throw std::invalid_argument("drive schedule: ramp into segment " + std::to_string(i) +
+                                      " at " + std::to_string(segments_[i].start_time_s + a * options_.ramp_time_s) +
+                                      " s: " + e.what());
+        }
+      }
+  }
+}
+
+WheelCommands CompiledDriveSchedule::ramp_commands(std::size_t index, double blend_fraction) const {
+  WheelCommandOptions ramp_options = options_.wheel;
+  ramp_options.hold_steer_rad = steady_[index - 1].steer_rad;
+  return ramp_wheel_commands(kinematics_, segments_[index - 1], segments_[index], blend_fraction,
+                             ramp_options);
+}
+
+WheelCommands CompiledDriveSchedule::at(double t_s) const noexcept {
+  const auto after = std::upper_bound(start_times_s_.begin(), start_times_s_.end(), t_s);
+  if (after == start_times_s_.begin()) return steady_.front();
+  const std::size_t index = static_cast<std::size_t>(after - start_times_s_.begin()) - 1;
+  const double since_start_s = t_s - start_times_s_[index];
+  if (index == 0 || !(since_start_s < options_.ramp_time_s)) return steady_[index];
+  const double a = since_start_s / options_.ramp_time_s;
+  try {
+    return ramp_commands(index, a);
+  } catch (...) {
+    return ramp_checks_[index][static_cast<std::size_t>(std::lround(a * kRampChecks))];
   }
 }
 

@@ -234,4 +234,40 @@ WheelCommands wheel_commands_at(const DriveKinematics& kinematics,
                                 const std::vector<DriveCommandSegment>& segments, double t_s,
                                 const DriveScheduleOptions& options = {});
 
+// A schedule compiled once against one rover's drive kinematics, for the
+// right-hand side: the steady wheel commands of every segment are computed up
+// front, and every ramp is checked at kRampChecks + 1 evenly spaced blend
+// fractions (its commands there are kept). Looking up the commands at a time
+// then allocates nothing and throws nothing:
+//   * before the first segment's start: the first segment's commands;
+//   * in a steady stretch: the stored commands of its segment;
+//   * in a ramp: the commands of the blended body velocity, computed as
+//     wheel_commands_at() computes them (bit-identical); should a blend
+//     between two checked fractions not be servable (a heading crossing the
+//     end-stop between them), the commands of the nearest checked fraction.
+class CompiledDriveSchedule {
+ public:
+  static constexpr int kRampChecks = 64;
+
+  // Checks the schedule as validate_drive_schedule() does, and every ramp at
+  // the checked fractions; throws std::invalid_argument naming the segment.
+  CompiledDriveSchedule(const DriveKinematics& kinematics, std::vector<DriveCommandSegment> segments,
+                        const DriveScheduleOptions& options = {});
+
+  WheelCommands at(double t_s) const noexcept;
+
+  const std::vector<DriveCommandSegment>& segments() const { return segments_; }
+
+ private:
+  WheelCommands ramp_commands(std::size_t index, double blend_fraction) const;
+
+  DriveKinematics kinematics_;
+  std::vector<DriveCommandSegment> segments_;
+  DriveScheduleOptions options_;
+  std::vector<double> start_times_s_;
+  std::vector<WheelCommands> steady_;  // per segment
+  // Per segment i > 0 with a ramp: the commands at blend fractions k / kRampChecks.
+  std::vector<std::array<WheelCommands, kRampChecks + 1>> ramp_checks_;
+};
+
 }  // namespace rover

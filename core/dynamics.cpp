@@ -31,7 +31,7 @@ SpatialInertia body_inertia_at_reference(const RigidBodyParameters& body,
 
 }  // namespace
 
-MassMatrix mass_matrix(const KinematicTree& tree, const TreeKinematics& kin) {
+CoordinateMatrix mass_matrix(const KinematicTree& tree, const TreeKinematics& kin) {
   // Composite inertias of every subtree, leaves first.
   std::array<SpatialInertia, kNumTreeNodes> composite;
   for (int i = 0; i < kNumTreeNodes; ++i)
@@ -46,7 +46,7 @@ MassMatrix mass_matrix(const KinematicTree& tree, const TreeKinematics& kin) {
     composite[parent].rotational += composite[i].rotational;
   }
 
-  MassMatrix M = MassMatrix::Zero();
+  CoordinateMatrix M = CoordinateMatrix::Zero();
   for (int i = 0; i < kNumTreeNodes; ++i) {
     const SpatialInertia& c = composite[i];
     const NodeKinematics& n = kin.nodes[i];

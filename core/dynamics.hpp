@@ -16,7 +16,7 @@
 namespace rover {
 
 // M(q): sum over bodies of m J_v^T J_v + J_w^T I J_w (symmetric positive definite).
-MassMatrix mass_matrix(const KinematicTree& tree, const TreeKinematics& kin);
+CoordinateMatrix mass_matrix(const KinematicTree& tree, const TreeKinematics& kin);
 
 // Gravity plus the velocity-dependent inertia forces (F_r* at du/dt = 0).
 Coordinates gravity_and_inertia_forces(const KinematicTree& tree, const TreeKinematics& kin,

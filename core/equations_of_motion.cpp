@@ -1,13 +1,12 @@
-// See equations_of_motion.hpp.
+// The stages of the equations of motion (see equations_of_motion.hpp).
 #include "core/equations_of_motion.hpp"
-
-#include <Eigen/Cholesky>
 
 namespace rover {
 
-std::array<WheelContacts, kNumLegs> wheel_contacts(const RoverModel& model,
-                                                   const TreeKinematics& kin) {
-  std::array<WheelContacts, kNumLegs> contacts;
+namespace {
+
+void fill_wheel_contacts(const RoverModel& model, const TreeKinematics& kin,
+                         std::array<WheelContacts, kNumLegs>& contacts) {
   for (int leg = 0; leg < kNumLegs; ++leg) {
     const NodeKinematics& wheel = kin.nodes[node::wheel(leg)];
     contacts[leg] = find_wheel_contacts(model.terrain, wheel.origin, wheel.rotation.col(1),
@@ -15,6 +14,14 @@ std::array<WheelContacts, kNumLegs> wheel_contacts(const RoverModel& model,
     compute_contact_forces(kin, node::wheel(leg), model.parameters.contact,
                            model.parameters.friction, contacts[leg]);
   }
+}
+
+}  // namespace
+
+std::array<WheelContacts, kNumLegs> wheel_contacts(const RoverModel& model,
+                                                   const TreeKinematics& kin) {
+  std::array<WheelContacts, kNumLegs> contacts;
+  fill_wheel_contacts(model, kin, contacts);
   return contacts;
 }
 
@@ -30,42 +37,57 @@ Coordinates contact_generalized_forces(const RoverModel& model, const TreeKinema
   return Q;
 }
 
-Coordinates forcing_without_contact(const RoverModel& model, const ModelInputs& inputs,
-                                    const TreeKinematics& kin, const Coordinates& q,
-                                    const Coordinates& u) {
-  return gravity_and_inertia_forces(model.tree, kin, model.parameters.gravity_mps2) +
-         joint_forces(model.parameters, inputs, q, u);
+void compute_kinematics(const RoverModel& model, DynamicsWorkspace& workspace,
+                        const Coordinates& q, const Coordinates& u) {
+  forward_kinematics(model.tree, q, u, workspace.kinematics);
 }
 
-EquationsOfMotion evaluate_equations_of_motion(const RoverModel& model, const Coordinates& q,
-                                               const Coordinates& u, const ModelInputs& inputs) {
-  const TreeKinematics kin = forward_kinematics(model.tree, q, u);
-  EquationsOfMotion eom;
-  eom.mass_matrix = mass_matrix(model.tree, kin);
-  eom.forcing_no_contact = forcing_without_contact(model, inputs, kin, q, u);
-  eom.contacts = wheel_contacts(model, kin);
-  eom.forcing = eom.forcing_no_contact + contact_generalized_forces(model, kin, eom.contacts);
-  return eom;
+void compute_contacts(const RoverModel& model, DynamicsWorkspace& workspace) {
+  fill_wheel_contacts(model, workspace.kinematics, workspace.contacts);
 }
 
-StateVector state_derivative(const RoverModel& model, const ModelInputs& inputs,
-                             const StateVector& x) {
+void compute_mass_matrix(const RoverModel& model, DynamicsWorkspace& workspace) {
+  workspace.mass_matrix = mass_matrix(model.tree, workspace.kinematics);
+}
+
+void compute_forcing(const RoverModel& model, DynamicsWorkspace& workspace,
+                     const ModelInputs& inputs, const Coordinates& q, const Coordinates& u) {
+  workspace.forcing_without_contact =
+      gravity_and_inertia_forces(model.tree, workspace.kinematics, model.parameters.gravity_mps2) +
+      joint_forces(model.parameters, inputs, q, u);
+  workspace.forcing = workspace.forcing_without_contact +
+                      contact_generalized_forces(model, workspace.kinematics, workspace.contacts);
+}
+
+void compute_acceleration(DynamicsWorkspace& workspace) {
+  workspace.mass_factorization.compute(workspace.mass_matrix);
+  workspace.acceleration = workspace.mass_factorization.solve(workspace.forcing);
+}
+
+void compute_dynamics(const RoverModel& model, DynamicsWorkspace& workspace,
+                      const ModelInputs& inputs, const Coordinates& q, const Coordinates& u) {
+  compute_kinematics(model, workspace, q, u);
+  compute_contacts(model, workspace);
+  compute_mass_matrix(model, workspace);
+  compute_forcing(model, workspace, inputs, q, u);
+  compute_acceleration(workspace);
+}
+
+StateVector state_derivative(const RoverModel& model, DynamicsWorkspace& workspace,
+                             const ModelInputs& inputs, const StateVector& x) {
   const Coordinates q = x.head<kNumCoordinates>();
   const Coordinates u = x.tail<kNumCoordinates>();
-  const TreeKinematics kin = forward_kinematics(model.tree, q, u);
-  const Coordinates F = forcing_without_contact(model, inputs, kin, q, u) +
-                        contact_generalized_forces(model, kin, wheel_contacts(model, kin));
+  compute_dynamics(model, workspace, inputs, q, u);
   StateVector dx;
-  dx.head<kNumCoordinates>() = u;
-  dx.tail<kNumCoordinates>() = mass_matrix(model.tree, kin).llt().solve(F);
+  dx << u, workspace.acceleration;
   return dx;
 }
 
-double mechanical_energy(const RoverModel& model, const ModelInputs& inputs, const Coordinates& q,
-                         const Coordinates& u) {
-  const TreeKinematics kin = forward_kinematics(model.tree, q, u);
-  return kinetic_energy(model.tree, kin) +
-         gravity_potential_energy(model.tree, kin, model.parameters.gravity_mps2) +
+double mechanical_energy(const RoverModel& model, DynamicsWorkspace& workspace,
+                         const ModelInputs& inputs, const Coordinates& q, const Coordinates& u) {
+  compute_kinematics(model, workspace, q, u);
+  return kinetic_energy(model.tree, workspace.kinematics) +
+         gravity_potential_energy(model.tree, workspace.kinematics, model.parameters.gravity_mps2) +
          joint_potential_energy(model.parameters, inputs, q);
 }
 

@@ -68,10 +68,11 @@ JointForceDerivatives joint_force_derivatives(const RoverParameters& p, const Mo
   return d;
 }
 
-StiffForceJacobian stiff_force_jacobian(const RoverModel& model, const ModelInputs& inputs,
-                                        const Coordinates& q, const Coordinates& u,
-                                        const TreeKinematics& kin,
-                                        const std::array<WheelContacts, kNumLegs>& contacts) {
+StiffForceJacobian stiff_force_jacobian(const RoverModel& model, const DynamicsWorkspace& workspace,
+                                        const ModelInputs& inputs, const Coordinates& q,
+                                        const Coordinates& u) {
+  const TreeKinematics& kin = workspace.kinematics;
+  const std::array<WheelContacts, kNumLegs>& contacts = workspace.contacts;
   StiffForceJacobian jac;
   const JointForceDerivatives joints = joint_force_derivatives(model.parameters, inputs, q, u);
   jac.d_speed.diagonal() = joints.d_speed;

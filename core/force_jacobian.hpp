@@ -28,12 +28,11 @@
 
 #include "core/contact.hpp"
 #include "core/coordinates.hpp"
+#include "core/equations_of_motion.hpp"
 #include "core/model_inputs.hpp"
 #include "core/rover_model.hpp"
 
 namespace rover {
-
-using CoordinateMatrix = Eigen::Matrix<double, kNumCoordinates, kNumCoordinates>;
 
 // Derivatives of the force f = F_n n + F_t that one contact applies to the
 // wheel (MODEL.md 6.4-6.5), at fixed normal n.
@@ -72,11 +71,10 @@ struct StiffForceJacobian {
   Coordinates spring_d_position_diagonal = Coordinates::Zero();
 };
 
-// `kin` and `contacts` are those of the state (q, u), as computed by
-// forward_kinematics() and wheel_contacts() (core/equations_of_motion.hpp).
-StiffForceJacobian stiff_force_jacobian(const RoverModel& model, const ModelInputs& inputs,
-                                        const Coordinates& q, const Coordinates& u,
-                                        const TreeKinematics& kin,
-                                        const std::array<WheelContacts, kNumLegs>& contacts);
+// Reads stages 1 and 2 (kinematics, contacts) of `workspace`, which must have
+// been filled at the same (q, u) (core/equations_of_motion.hpp).
+StiffForceJacobian stiff_force_jacobian(const RoverModel& model, const DynamicsWorkspace& workspace,
+                                        const ModelInputs& inputs, const Coordinates& q,
+                                        const Coordinates& u);
 
 }  // namespace rover

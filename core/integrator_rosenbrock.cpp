@@ -38,8 +38,8 @@
 // Work per accepted step: the right-hand side at the step start (which also
 // gives M0, F0 and the contacts), one assembly of D and K from the contacts'
 // point Jacobians, one 23 x 23 LU, and three right-hand sides for the stages.
-// Every right-hand side is counted in the OdeSystem's counter, and so is each
-// Jacobian assembly, as one evaluation (it costs about as much as one
+// Every right-hand side is counted in the report's rhs_evaluations, and so is
+// each Jacobian assembly, as one evaluation (it costs about as much as one
 // right-hand side; bench/integrator_bench.cpp times both).
 #include <algorithm>
 #include <array>
@@ -55,6 +55,7 @@
 #include "core/force_jacobian.hpp"
 #include "core/friction.hpp"
 #include "core/integrators.hpp"
+#include "core/number_text.hpp"
 #include "core/rosenbrock_w.hpp"
 #include "core/s_structure.hpp"
 
@@ -82,31 +83,22 @@ bool has_more(const ContactCounts& n, const ContactCounts& seen) {
   return false;
 }
 
-// One right-hand side, as state_derivative() computes it, keeping the
-// kinematics, the contacts and M, F for the Jacobian.
-struct Evaluation {
+// The state at one time with its right-hand side, keeping the workspace
+// (kinematics, contacts, M, F) for the Jacobian and the error control.
+struct StepPoint {
   double t = 0.0;
   StateVector x, dx;
-  TreeKinematics kinematics;
-  std::array<WheelContacts, kNumLegs> contacts;
   ModelInputs inputs;
-  MassMatrix mass;
-  Coordinates force;
+  DynamicsWorkspace dynamics;
 };
 
-void evaluate(const OdeSystem& system, double t, const StateVector& x, Evaluation& e) {
-  ++*system.rhs_evaluations;
-  const RoverModel& model = system.model;
-  e.t = t;
-  e.x = x;
-  e.inputs = system.inputs_at(t);
-  const Coordinates q = x.head<kNumCoordinates>(), u = x.tail<kNumCoordinates>();
-  e.kinematics = forward_kinematics(model.tree, q, u);
-  e.contacts = wheel_contacts(model, e.kinematics);
-  e.force = forcing_without_contact(model, e.inputs, e.kinematics, q, u) +
-            contact_generalized_forces(model, e.kinematics, e.contacts);
-  e.mass = mass_matrix(model.tree, e.kinematics);
-  e.dx << u, e.mass.llt().solve(e.force);
+void evaluate(const OdeSystem& system, double t, const StateVector& x, StepPoint& point,
+              IntegrationReport& report) {
+  ++report.rhs_evaluations;
+  point.t = t;
+  point.x = x;
+  point.inputs = system.inputs_at(t);
+  point.dx = state_derivative(system.model, point.dynamics, point.inputs, x);
 }
 
 // M0, F0 and the stiff-force Jacobian at an evaluated step start, and the
@@ -116,23 +108,23 @@ struct Linearization {
   Coordinates spring_frequency_radps;
 };
 
-Linearization linearize(const OdeSystem& system, const Evaluation& e) {
-  ++*system.rhs_evaluations;  // the Jacobian assembly, counted as one evaluation
+Linearization linearize(const OdeSystem& system, const StepPoint& e, IntegrationReport& report) {
+  ++report.rhs_evaluations;  // the Jacobian assembly, counted as one evaluation
   const StiffForceJacobian jac =
-      stiff_force_jacobian(system.model, e.inputs, e.x.head<kNumCoordinates>(),
-                           e.x.tail<kNumCoordinates>(), e.kinematics, e.contacts);
+      stiff_force_jacobian(system.model, e.dynamics, e.inputs, e.x.head<kNumCoordinates>(),
+                           e.x.tail<kNumCoordinates>());
   Linearization lin;
-  lin.system.mass = e.mass;
-  lin.system.force = e.force;
+  lin.system.mass = e.dynamics.mass_matrix;
+  lin.system.force = e.dynamics.forcing;
   lin.system.d_force_d_speed = jac.d_speed;
   lin.system.d_force_d_position = jac.d_position;
   lin.spring_frequency_radps =
-      ((-jac.spring_d_position_diagonal).cwiseMax(0.0).array() / e.mass.diagonal().array()).sqrt().matrix();
+      ((-jac.spring_d_position_diagonal).cwiseMax(0.0).array() / e.dynamics.mass_matrix.diagonal().array()).sqrt().matrix();
   return lin;
 }
 
 // Cubic Hermite interpolation between two step ends, at t in [a.t, b.t].
-StateVector hermite(const Evaluation& a, const Evaluation& b, double t) {
+StateVector hermite(const StepPoint& a, const StepPoint& b, double t) {
   const double h = b.t - a.t;
   const double s = (t - a.t) / h;
   const double s2 = s * s, s3 = s2 * s;
@@ -214,15 +206,16 @@ double friction_speed_scale(double slip_speed_mps, const FrictionParameters& fri
   return friction.mu_static / std::max(along, across);
 }
 
-std::vector<SlipRows> slip_rows(const RoverModel& model, const Evaluation& e) {
+std::vector<SlipRows> slip_rows(const RoverModel& model, const StepPoint& e) {
   std::vector<SlipRows> rows;
+  const std::array<WheelContacts, kNumLegs>& contacts = e.dynamics.contacts;
   for (int leg = 0; leg < kNumLegs; ++leg)
-    for (int k = 0; k < e.contacts[leg].count; ++k) {
-      const ContactPoint& c = e.contacts[leg].points[k];
+    for (int k = 0; k < contacts[leg].count; ++k) {
+      const ContactPoint& c = contacts[leg].points[k];
       if (!(c.normal_force_N > 0.0)) continue;
       const Mat3 tangent = Mat3::Identity() - c.normal * c.normal.transpose();
       const double slip = c.slip_velocity_mps.norm();
-      rows.push_back({tangent * point_jacobian(model.tree, e.kinematics, node::wheel(leg), c.point_m),
+      rows.push_back({tangent * point_jacobian(model.tree, e.dynamics.kinematics, node::wheel(leg), c.point_m),
                       slip, friction_speed_scale(slip, model.parameters.friction)});
     }
   return rows;
@@ -249,7 +242,7 @@ double slip_error_norm(const std::vector<SlipRows>& rows, const Coordinates& spe
 // to b = 0 (the slope of the start if the range does not come closer).
 void stiffen_s_joints_over_step(const RoverParameters& parameters, const ModelInputs& inputs,
                                 const Coordinates& q0, const Coordinates& u0, double h,
-                                MassMatrix& d_force_d_position) {
+                                CoordinateMatrix& d_force_d_position) {
   for (int leg = 0; leg < kNumLegs; ++leg)
     for (int i = 0; i < 2; ++i) {
       const int c = coord::s_joint(leg, i);
@@ -286,23 +279,24 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
   const double t_end = static_cast<double>(request.sample_count - 1) * request.sample_period_s;
   auto sample_time = [&](std::size_t k) { return static_cast<double>(k) * request.sample_period_s; };
   auto underflow = [&](double t, double h, const std::string& why) {
-    report.status = IntegrationStatus::kStepSizeUnderflow;
+    report.status = SimulationStatus::kStepSizeUnderflow;
     report.failed_at_s = t;
-    report.detail = "step " + std::to_string(h) + " s is below min_step " +
-                    std::to_string(settings.min_step_s) + " s (" + why + ")";
+    report.detail = "step " + number_text(h) + " s is below min_step " +
+                    number_text(settings.min_step_s) + " s (" + why + ")";
     return report;
   };
 
-  Evaluation start, end, stage;
-  evaluate(system, 0.0, x, start);
+  StallWatch stall;
+  StepPoint start, end, stage;
+  evaluate(system, 0.0, x, start, report);
   double h = std::clamp(settings.initial_step_s, settings.min_step_s, settings.max_step_s);
   std::size_t next = 1;
   while (next < request.sample_count) {
-    const Linearization lin = linearize(system, start);
+    const Linearization lin = linearize(system, start, report);
     const Coordinates q0 = start.x.head<kNumCoordinates>(), u0 = start.x.tail<kNumCoordinates>();
-    const ContactCounts start_contacts = active_contacts(start.contacts);
+    const ContactCounts start_contacts = active_contacts(start.dynamics.contacts);
     const std::vector<SlipRows> slips = slip_rows(system.model, start);
-    const WheelSpinRows spins = wheel_spin_rows(system.model.tree, start.kinematics);
+    const WheelSpinRows spins = wheel_spin_rows(system.model.tree, start.dynamics.kinematics);
     // Try steps until one passes the error test and misses no touchdown.
     double error = 0.0, t1 = 0.0;
     for (;;) {
@@ -315,8 +309,8 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
       auto acceleration = [&](double t, const Coordinates& q, const Coordinates& u) -> Coordinates {
         StateVector s;
         s << q, u;
-        evaluate(system, t, s, stage);
-        keep_maximum(seen, active_contacts(stage.contacts));
+        evaluate(system, t, s, stage, report);
+        keep_maximum(seen, active_contacts(stage.dynamics.contacts));
         return stage.dx.tail<kNumCoordinates>();
       };
       MechanicalLinearization<kNumCoordinates> lin_h = lin.system;
@@ -335,19 +329,19 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
                              slip_error_norm(slips, step.error_u, settings));
       if (error <= 1.0) {
         t1 = last ? t_end : start.t + h;
-        evaluate(system, t1, x1, end);
-        if (!has_more(active_contacts(end.contacts), seen)) break;
+        evaluate(system, t1, x1, end, report);
+        if (!has_more(active_contacts(end.dynamics.contacts), seen)) break;
         h *= kOnsetShrink;  // a touchdown inside the step that no stage saw
         if (h < settings.min_step_s) return underflow(start.t, h, "touchdown");
         continue;
       }
       h *= step_factor(error, 1.0);
       if (h < settings.min_step_s)
-        return underflow(start.t, h, "error estimate " + std::to_string(error));
+        return underflow(start.t, h, "error estimate " + number_text(error));
     }
 
     const double taken = t1 - start.t;
-    if (step_is_bad(report, t1, taken, end.x, request)) return report;
+    if (step_is_bad(report, stall, t1, taken, end.x, request)) return report;
     while (next < request.sample_count && sample_time(next) <= t1) {
       const double ts = sample_time(next);
       request.record(ts, ts >= t1 ? end.x : hermite(start, end, ts));

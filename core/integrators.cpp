@@ -16,24 +16,36 @@
 #pragma GCC diagnostic pop
 
 #include "core/equations_of_motion.hpp"
+#include "core/number_text.hpp"
 
 namespace rover {
 namespace odeint = boost::numeric::odeint;
 
 ModelInputs OdeSystem::inputs_at(double t) const {
-  if (drive_schedule == nullptr || drive_schedule->segments.empty()) return inputs;
+  if (drive_schedule == nullptr) return inputs;
   ModelInputs in = inputs;
-  const WheelCommands w = wheel_commands_at(drive_schedule->kinematics, drive_schedule->segments, t,
-                                            drive_schedule->options);
+  const WheelCommands w = drive_schedule->at(t);
   in.steer_ref_rad = w.steer_rad;
   in.wheel_speed_ref_radps = w.wheel_speed_radps;
   return in;
 }
 
-StateVector OdeSystem::derivative(double t, const StateVector& x) const {
-  ++*rhs_evaluations;
-  if (drive_schedule == nullptr) return state_derivative(model, inputs, x);
-  return state_derivative(model, inputs_at(t), x);
+StateVector ode_derivative(const OdeSystem& system, DynamicsWorkspace& workspace, double t,
+                           const StateVector& x) {
+  if (system.drive_schedule == nullptr) return state_derivative(system.model, workspace, system.inputs, x);
+  return state_derivative(system.model, workspace, system.inputs_at(t), x);
+}
+
+const char* status_name(SimulationStatus status) {
+  switch (status) {
+    case SimulationStatus::kOk: return "ok";
+    case SimulationStatus::kNonFinite: return "non-finite state";
+    case SimulationStatus::kStepSizeUnderflow: return "step size underflow";
+    case SimulationStatus::kTimeBudgetExceeded: return "time budget exceeded";
+    case SimulationStatus::kInvalidScenario: return "invalid scenario";
+    case SimulationStatus::kStepSizeCollapsed: return "step size collapsed";
+  }
+  return "unknown";
 }
 
 namespace {
@@ -44,19 +56,43 @@ double sample_time(const IntegrationRequest& r, std::size_t k) {
 
 }  // namespace
 
-bool step_is_bad(IntegrationReport& report, double t, double h, const StateVector& x,
-                 const IntegrationRequest& request) {
+bool step_is_bad(IntegrationReport& report, StallWatch& stall, double t, double h,
+                 const StateVector& x, const IntegrationRequest& request) {
   ++report.steps;
   report.min_step_s = report.steps == 1 ? h : std::min(report.min_step_s, h);
   report.max_step_s = std::max(report.max_step_s, h);
   if (!x.allFinite()) {
-    report.status = IntegrationStatus::kNonFinite;
+    report.status = SimulationStatus::kNonFinite;
     report.failed_at_s = t;
     report.detail = "the state has NaN or infinite entries";
     return true;
   }
+  const double duration = sample_time(request, request.sample_count - 1);
+  const double floor = StallWatch::kRoundingUnits * std::numeric_limits<double>::epsilon() *
+                       std::max(std::abs(t), duration);
+  if (h < floor && t < duration) {  // the last step may end just past a sample
+    report.status = SimulationStatus::kStepSizeCollapsed;
+    report.failed_at_s = t;
+    report.detail = "step " + number_text(h) + " s is below " + number_text(StallWatch::kRoundingUnits) +
+                    " rounding units of the time (" + number_text(floor) + " s)";
+    return true;
+  }
+  if (report.steps - stall.window_start_step >= StallWatch::kWindowSteps) {
+    const double advanced = t - stall.window_start_t_s;
+    if (advanced < StallWatch::kWindowFraction * duration) {
+      report.status = SimulationStatus::kStepSizeCollapsed;
+      report.failed_at_s = t;
+      report.detail = "the last " + std::to_string(report.steps - stall.window_start_step) +
+                      " steps advanced the time by " + number_text(advanced) + " s, less than " +
+                      number_text(StallWatch::kWindowFraction) + " of the duration " +
+                      number_text(duration) + " s";
+      return true;
+    }
+    stall.window_start_step = report.steps;
+    stall.window_start_t_s = t;
+  }
   if (request.out_of_time && request.out_of_time()) {
-    report.status = IntegrationStatus::kTimeBudgetExceeded;
+    report.status = SimulationStatus::kTimeBudgetExceeded;
     report.failed_at_s = t;
     report.detail = "wall-time budget used up";
     return true;
@@ -76,9 +112,14 @@ IntegrationReport integrate_dormand_prince(const OdeSystem& system, StateVector 
   using Dense = odeint::dense_output_runge_kutta<Controlled>;
 
   IntegrationReport report;
+  StallWatch stall;
   request.record(0.0, x);
   if (request.sample_count < 2) return report;
-  auto rhs = [&](const StateVector& s, StateVector& ds, double t) { ds = system.derivative(t, s); };
+  DynamicsWorkspace workspace;
+  auto rhs = [&](const StateVector& s, StateVector& ds, double t) {
+    ++report.rhs_evaluations;
+    ds = ode_derivative(system, workspace, t, s);
+  };
   Dense stepper(Controlled(Checker(settings.absolute_tolerance, settings.relative_tolerance, 1.0, 0.0),
                            Adjuster(settings.max_step_s)));
   stepper.initialize(x, 0.0, settings.initial_step_s);
@@ -87,23 +128,23 @@ IntegrationReport integrate_dormand_prince(const OdeSystem& system, StateVector 
   try {
     while (next < request.sample_count) {
       const auto [t0, t1] = stepper.do_step(rhs);
-      if (step_is_bad(report, t1, t1 - t0, stepper.current_state(), request)) break;
+      if (step_is_bad(report, stall, t1, t1 - t0, stepper.current_state(), request)) break;
       while (next < request.sample_count && sample_time(request, next) <= t1) {
         stepper.calc_state(sample_time(request, next), sample);
         request.record(sample_time(request, next), sample);
         ++next;
       }
       if (next < request.sample_count && stepper.current_time_step() < settings.min_step_s) {
-        report.status = IntegrationStatus::kStepSizeUnderflow;
+        report.status = SimulationStatus::kStepSizeUnderflow;
         report.failed_at_s = t1;
-        report.detail = "step " + std::to_string(stepper.current_time_step()) +
-                        " s is below min_step " + std::to_string(settings.min_step_s) + " s";
+        report.detail = "step " + number_text(stepper.current_time_step()) +
+                        " s is below min_step " + number_text(settings.min_step_s) + " s";
         break;
       }
       if (request.progress) request.progress(t1);
     }
   } catch (const odeint::step_adjustment_error& e) {
-    report.status = IntegrationStatus::kStepSizeUnderflow;
+    report.status = SimulationStatus::kStepSizeUnderflow;
     report.failed_at_s = stepper.current_time();
     report.detail = e.what();
   }
@@ -113,19 +154,26 @@ IntegrationReport integrate_dormand_prince(const OdeSystem& system, StateVector 
 IntegrationReport integrate_rk4(const OdeSystem& system, StateVector x,
                                 const IntegratorSettings& settings, const IntegrationRequest& request) {
   odeint::runge_kutta4<StateVector, double, StateVector, double, odeint::vector_space_algebra> stepper;
-  auto rhs = [&](const StateVector& s, StateVector& ds, double t) { ds = system.derivative(t, s); };
-  // Sub-steps of equal length that divide the sample period.
-  const int substeps = std::max(
-      1, static_cast<int>(std::ceil(request.sample_period_s / settings.fixed_step_s - 1e-9)));
-  const double h = request.sample_period_s / substeps;
   IntegrationReport report;
+  StallWatch stall;
+  DynamicsWorkspace workspace;
+  auto rhs = [&](const StateVector& s, StateVector& ds, double t) {
+    ++report.rhs_evaluations;
+    ds = ode_derivative(system, workspace, t, s);
+  };
+  // Sub-steps of equal length that divide the sample period (the step
+  // divides it to 1e-9 relative: scenario_is_valid(); a step at the round-off
+  // of the time is stopped by step_is_bad()).
+  const long long substeps =
+      std::max(1LL, std::llround(request.sample_period_s / settings.fixed_step_s));
+  const double h = request.sample_period_s / static_cast<double>(substeps);
   request.record(0.0, x);
   for (std::size_t k = 1; k < request.sample_count; ++k) {
     const double t_start = sample_time(request, k - 1);
     bool bad = false;
-    for (int s = 0; s < substeps && !bad; ++s) {
-      stepper.do_step(rhs, x, t_start + s * h, h);
-      bad = step_is_bad(report, t_start + (s + 1) * h, h, x, request);
+    for (long long s = 0; s < substeps && !bad; ++s) {
+      stepper.do_step(rhs, x, t_start + static_cast<double>(s) * h, h);
+      bad = step_is_bad(report, stall, t_start + static_cast<double>(s + 1) * h, h, x, request);
     }
     if (bad) break;
     request.record(sample_time(request, k), x);

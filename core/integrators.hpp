@@ -9,24 +9,28 @@
 #include <vector>
 
 #include "core/coordinates.hpp"
+#include "core/equations_of_motion.hpp"
 #include "core/model_inputs.hpp"
 #include "core/rover_model.hpp"
 #include "core/scenario.hpp"
 
 namespace rover {
 
-// The system being integrated: the model, its inputs (with the actuator
-// set-points of a drive schedule at time t, if the scenario has one), and a
-// counter of right-hand-side evaluations (owned by the caller, not shared).
+// The system being integrated: the model and its inputs, with the actuator
+// set-points of a drive schedule at time t if the scenario has one. Read-only;
+// each integrator evaluates it in its own DynamicsWorkspace and counts the
+// evaluations in its own report.
 struct OdeSystem {
   const RoverModel& model;
   const ModelInputs& inputs;
-  const DriveSchedule* drive_schedule;  // nullptr: constant set-points of `inputs`
-  long* rhs_evaluations;
+  const CompiledDriveSchedule* drive_schedule = nullptr;  // nullptr: constant set-points of `inputs`
   // The model inputs in force at time t.
   ModelInputs inputs_at(double t) const;
-  StateVector derivative(double t, const StateVector& x) const;
 };
+
+// dx/dt of `system` at (t, x), computed in `workspace` (all five stages).
+StateVector ode_derivative(const OdeSystem& system, DynamicsWorkspace& workspace, double t,
+                           const StateVector& x);
 
 struct IntegrationRequest {
   double sample_period_s = 1e-3;
@@ -36,22 +40,50 @@ struct IntegrationRequest {
   std::function<void(double t)> progress;       // optional, called now and then
 };
 
-enum class IntegrationStatus { kOk = 0, kNonFinite = 1, kStepSizeUnderflow = 2, kTimeBudgetExceeded = 3 };
+// How a run ended; simulate() reports the integrator's status as it is.
+// kInvalidScenario: the scenario cannot run on this model (a drive schedule a
+// mode cannot serve, invalid integrator settings); nothing was integrated.
+enum class SimulationStatus {
+  kOk = 0,
+  kNonFinite = 1,
+  kStepSizeUnderflow = 2,
+  kTimeBudgetExceeded = 3,
+  kInvalidScenario = 4,
+  kStepSizeCollapsed = 5  // the run could not progress (see StallWatch)
+};
+const char* status_name(SimulationStatus status);
 
 struct IntegrationReport {
-  IntegrationStatus status = IntegrationStatus::kOk;
+  SimulationStatus status = SimulationStatus::kOk;
   double failed_at_s = 0.0;
   std::string detail;
   long steps = 0;
+  long rhs_evaluations = 0;  // right-hand sides (and, for rosenbrock, Jacobian assemblies)
   double min_step_s = 0.0, max_step_s = 0.0;
+};
+
+// Detects a run whose step size has collapsed, which would otherwise crawl
+// until its wall-time budget is gone. A run has collapsed when
+//  * kWindowSteps accepted steps advanced the time by less than
+//    kWindowFraction of the duration (at that pace the run would need more
+//    than kWindowSteps / kWindowFraction = 1e9 steps), or
+//  * a step is shorter than kRoundingUnits rounding units of the time,
+//    kRoundingUnits eps max(t, duration), where t + h hardly differs from t.
+// The window belongs to one integration (one per run, not shared).
+struct StallWatch {
+  static constexpr long kWindowSteps = 100000;
+  static constexpr double kWindowFraction = 1e-4;
+  static constexpr double kRoundingUnits = 64.0;
+  long window_start_step = 0;
+  double window_start_t_s = 0.0;
 };
 
 // Bookkeeping shared by every integrator after an accepted step of length h
 // ending at t: counts it, tracks the extreme step sizes, and returns true (with
-// the status filled in) if the state is not finite or the wall-time budget is
-// used up.
-bool step_is_bad(IntegrationReport& report, double t, double h, const StateVector& x,
-                 const IntegrationRequest& request);
+// the status filled in) if the state is not finite, the step size has
+// collapsed (`stall`) or the wall-time budget is used up.
+bool step_is_bad(IntegrationReport& report, StallWatch& stall, double t, double h,
+                 const StateVector& x, const IntegrationRequest& request);
 
 IntegrationReport integrate_dormand_prince(const OdeSystem& system, StateVector x,
                                            const IntegratorSettings& settings,

@@ -99,6 +99,12 @@ KinematicTree build_kinematic_tree(const RoverParameters& p) {
 TreeKinematics forward_kinematics(const KinematicTree& tree, const Coordinates& q,
                                   const Coordinates& u) {
   TreeKinematics kin;
+  forward_kinematics(tree, q, u, kin);
+  return kin;
+}
+
+void forward_kinematics(const KinematicTree& tree, const Coordinates& q, const Coordinates& u,
+                        TreeKinematics& kin) {
   for (int i = 0; i < kNumTreeNodes; ++i) {
     const TreeNode& node = tree.nodes[i];
     NodeKinematics& k = kin.nodes[i];
@@ -141,7 +147,6 @@ TreeKinematics forward_kinematics(const KinematicTree& tree, const Coordinates& 
       k.motion_velocity = s * k.axis;
     }
   }
-  return kin;
 }
 
 Eigen::Matrix<double, 3, kNumCoordinates> point_jacobian(const KinematicTree& tree,

@@ -84,6 +84,9 @@ struct TreeKinematics {
 
 TreeKinematics forward_kinematics(const KinematicTree& tree, const Coordinates& q,
                                   const Coordinates& u);
+// The same, written into `kin` (every field), without a copy of the result.
+void forward_kinematics(const KinematicTree& tree, const Coordinates& q, const Coordinates& u,
+                        TreeKinematics& kin);
 
 // World position of the point with body-frame coordinates r_local on `node`.
 inline Vec3 point_position(const TreeKinematics& kin, int node_index, const Vec3& r_local) {

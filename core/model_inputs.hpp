@@ -21,7 +21,7 @@ struct ModelInputs {
 inline ModelInputs nominal_inputs(const RoverParameters& parameters) {
   ModelInputs in;
   in.sharpness_f = parameters.s_structure.sharpness_f;
-  in.damping_c_q = parameters.s_structure.damping_Nms_per_rad;
+  in.damping_c_q = parameters.s_structure.damping_c_q;
   in.preload_Nm = parameters.s_structure.preload_mean_Nm;
   return in;
 }

@@ -40,7 +40,7 @@ struct RoverGeometry {
 struct SStructureParameters {
   double sharpness_f = 1e4;                      // f [1/rad]
   double stiffness_Nm_per_rad = 9.91;            // k_q
-  double damping_Nms_per_rad = 0.14;             // c_q
+  double damping_c_q = 0.14;                     // c_q [N m s/rad]
   // Preloads M0 in the order (1,1), (1,2), (2,1), (2,2), (3,1), (3,2), (4,1), (4,2).
   std::array<double, kNumSJoints> preload_mean_Nm{1.924, 1.336, 2.096, 1.221,
                                                   1.725, 1.480, 2.048, 1.117};

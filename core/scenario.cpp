@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/number_text.hpp"
+
 namespace rover {
 
 const char* integrator_name(IntegratorMethod method) {
@@ -29,6 +31,58 @@ IntegratorSettings default_integrator_settings(IntegratorMethod method) {
     s.absolute_tolerance = 2e-4;
   }
   return s;
+}
+
+namespace {
+
+bool fail(std::string* why, const std::string& message) {
+  if (why != nullptr) *why = message;
+  return false;
+}
+
+bool positive_finite(double v) { return v > 0.0 && std::isfinite(v); }
+
+}  // namespace
+
+bool IntegratorSettings::IsValid(std::string* why) const {
+  const std::string method_name = integrator_name(method);
+  if (method == IntegratorMethod::kRungeKutta4) {
+    if (!positive_finite(fixed_step_s))
+      return fail(why, "rk4: fixed_step must be finite and > 0, got " + number_text(fixed_step_s) + " s");
+    return true;
+  }
+  if (!positive_finite(relative_tolerance))
+    return fail(why, method_name + ": rtol must be finite and > 0, got " + number_text(relative_tolerance));
+  if (!positive_finite(absolute_tolerance))
+    return fail(why, method_name + ": atol must be finite and > 0, got " + number_text(absolute_tolerance));
+  if (!positive_finite(min_step_s) || !positive_finite(initial_step_s) || !positive_finite(max_step_s))
+    return fail(why, method_name + ": min_step, initial_step and max_step must be finite and > 0, got " +
+                         number_text(min_step_s) + ", " + number_text(initial_step_s) + ", " +
+                         number_text(max_step_s) + " s");
+  if (!(min_step_s <= initial_step_s && initial_step_s <= max_step_s))
+    return fail(why, method_name + ": need min_step <= initial_step <= max_step, got " +
+                         number_text(min_step_s) + " <= " + number_text(initial_step_s) + " <= " +
+                         number_text(max_step_s) + " s");
+  return true;
+}
+
+bool scenario_is_valid(const Scenario& scenario, std::string* why) {
+  if (!positive_finite(scenario.duration_s))
+    return fail(why, "duration must be finite and > 0, got " + number_text(scenario.duration_s) + " s");
+  if (!positive_finite(scenario.output_rate_hz))
+    return fail(why, "output rate must be finite and > 0, got " + number_text(scenario.output_rate_hz) + " Hz");
+  if (!(scenario.wall_time_budget_s >= 0.0) || std::isnan(scenario.wall_time_budget_s))
+    return fail(why, "wall-time budget must be >= 0, got " + number_text(scenario.wall_time_budget_s) + " s");
+  if (!scenario.integrator.IsValid(why)) return false;
+  if (scenario.integrator.method == IntegratorMethod::kRungeKutta4) {
+    const double period = 1.0 / scenario.output_rate_hz;
+    const double steps = period / scenario.integrator.fixed_step_s;
+    if (steps < 1.0 - 1e-9 || std::abs(steps - std::round(steps)) > 1e-9 * steps)
+      return fail(why, "rk4: fixed_step " + number_text(scenario.integrator.fixed_step_s) +
+                           " s does not divide the output period " + number_text(period) +
+                           " s (use the period divided by a whole number)");
+  }
+  return true;
 }
 
 std::size_t output_sample_count(const Scenario& scenario) {

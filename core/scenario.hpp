@@ -30,7 +30,13 @@ struct IntegratorSettings {
   double initial_step_s = 1e-5;      // adaptive: first trial step
   double min_step_s = 1e-12;         // adaptive: below this the run fails
   double max_step_s = 1e-2;          // adaptive: upper bound on the step
-  double fixed_step_s = 1e-5;        // RK4: step (rounded so it divides the output period)
+  double fixed_step_s = 1e-5;        // RK4: step; must divide the output period
+
+  // Ceres-style check of the fields the method uses: finite positive
+  // tolerances and 0 < min_step <= initial_step <= max_step for the adaptive
+  // methods, a finite fixed_step > 0 for RK4. On failure, says why in `why`
+  // (if not null), with the numbers as written (1e-12, not 0.000000).
+  bool IsValid(std::string* why) const;
 };
 
 // The settings a method is meant to run with: the defaults above for dopri5
@@ -42,10 +48,12 @@ struct IntegratorSettings {
 // (README, "Stiff integration"). See core/integrator_rosenbrock.cpp.
 IntegratorSettings default_integrator_settings(IntegratorMethod method);
 
-// A time-varying driving command (issue 6): piecewise body-velocity commands
-// in a driving mode, turned into d_ref and w_ref by core/drive_kinematics.
+// A time-varying driving command: piecewise body-velocity commands in a
+// driving mode, turned into d_ref and w_ref by core/drive_kinematics. Only the
+// commands: simulate() compiles them (CompiledDriveSchedule) against the drive
+// kinematics of the model it runs, so a study that changes the rover (the
+// wheel radius, say) gets wheel commands for that rover.
 struct DriveSchedule {
-  DriveKinematics kinematics;
   std::vector<DriveCommandSegment> segments;  // empty: constant set-points
   DriveScheduleOptions options;
 };
@@ -62,6 +70,12 @@ struct Scenario {
   double wall_time_budget_s = 3600.0;  // a run taking longer is stopped and reported
   DriveSchedule drive;                 // optional; overrides the set-points above
 };
+
+// The scenario's own numbers: finite positive duration, output rate and
+// wall-time budget, valid integrator settings, and for RK4 a step that divides
+// the output period (to 1e-9 relative): the step run is the step recorded.
+// simulate() returns kInvalidScenario for a scenario that fails this.
+bool scenario_is_valid(const Scenario& scenario, std::string* why);
 
 // The number of output samples of a scenario, t_k = k / output_rate_hz for
 // k = 0 .. count-1, the last at duration_s (to rounding).

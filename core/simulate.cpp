@@ -4,34 +4,20 @@
 
 #include <chrono>
 #include <cmath>
+#include <optional>
+#include <stdexcept>
 
 #include "core/equations_of_motion.hpp"
 #include "core/integrators.hpp"
+#include "core/number_text.hpp"
 
 namespace rover {
 
-SimulationInputs nominal_simulation_inputs(const RoverParameters& p) {
-  return {p.s_structure.sharpness_f, p.s_structure.damping_Nms_per_rad, p.s_structure.preload_mean_Nm};
-}
-
-ModelInputs model_inputs_for(const Scenario& scenario, const SimulationInputs& inputs) {
-  ModelInputs in;
-  in.sharpness_f = inputs.sharpness_f;
-  in.damping_c_q = inputs.damping_c_q;
-  in.preload_Nm = inputs.preload_Nm;
+ModelInputs model_inputs_for(const Scenario& scenario, const ModelInputs& inputs) {
+  ModelInputs in = inputs;
   in.wheel_speed_ref_radps = scenario.wheel_speed_ref_radps;
   in.steer_ref_rad = scenario.steer_ref_rad;
   return in;
-}
-
-const char* status_name(SimulationStatus status) {
-  switch (status) {
-    case SimulationStatus::kOk: return "ok";
-    case SimulationStatus::kNonFinite: return "non-finite state";
-    case SimulationStatus::kStepSizeUnderflow: return "step size underflow";
-    case SimulationStatus::kTimeBudgetExceeded: return "time budget exceeded";
-  }
-  return "unknown";
 }
 
 namespace {
@@ -51,8 +37,9 @@ class TrajectoryRecorder {
 
   void record(double t, const StateVector& x) {
     const Coordinates q = x.head<kNumCoordinates>(), u = x.tail<kNumCoordinates>();
-    const TreeKinematics kin = forward_kinematics(model_.tree, q, u);
-    const auto contacts = wheel_contacts(model_, kin);
+    compute_kinematics(model_, workspace_, q, u);
+    compute_contacts(model_, workspace_);
+    const TreeKinematics& kin = workspace_.kinematics;
     out_.t.push_back(t);
     q_rows_.push_back(q);
     u_rows_.push_back(u);
@@ -62,7 +49,7 @@ class TrajectoryRecorder {
     out_.pitch.push_back(q[coord::pitch]);
     out_.roll.push_back(q[coord::roll]);
     Eigen::Vector4d fn;
-    for (int leg = 0; leg < kNumLegs; ++leg) fn[leg] = contacts[leg].total_normal_force_N();
+    for (int leg = 0; leg < kNumLegs; ++leg) fn[leg] = workspace_.contacts[leg].total_normal_force_N();
     fn_rows_.push_back(fn);
   }
 
@@ -80,6 +67,7 @@ class TrajectoryRecorder {
 
  private:
   const RoverModel& model_;
+  DynamicsWorkspace workspace_;  // stages 1 and 2 only
   Trajectory& out_;
   std::vector<Coordinates> q_rows_, u_rows_;
   std::vector<Eigen::Vector4d> fn_rows_;
@@ -88,13 +76,36 @@ class TrajectoryRecorder {
 }  // namespace
 
 Trajectory simulate(const RoverModel& model, const Scenario& scenario,
-                    const SimulationInputs& inputs, const SimulationObserver& observer) {
+                    const ModelInputs& inputs, const SimulationObserver& observer) {
   const auto wall_start = Clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - wall_start).count(); };
 
   const ModelInputs model_inputs = model_inputs_for(scenario, inputs);
 
   Trajectory out;
+  // A scenario that cannot run: no samples, the reason in the message.
+  auto invalid = [&](const std::string& why) {
+    out.status = SimulationStatus::kInvalidScenario;
+    out.message = std::string(status_name(out.status)) + ": " + why;
+    out.q.resize(0, kNumCoordinates);
+    out.u.resize(0, kNumCoordinates);
+    out.normal_force_N.resize(0, kNumLegs);
+    out.wall_time_s = elapsed();
+    return out;
+  };
+  if (std::string why; !scenario_is_valid(scenario, &why)) return invalid(why);
+
+  // The drive schedule, compiled against this model's drive kinematics.
+  std::optional<CompiledDriveSchedule> schedule;
+  if (!scenario.drive.segments.empty()) {
+    try {
+      schedule.emplace(make_drive_kinematics(model.parameters), scenario.drive.segments,
+                       scenario.drive.options);
+    } catch (const std::invalid_argument& e) {
+      return invalid(e.what());
+    }
+  }
+
   const double period = 1.0 / scenario.output_rate_hz;
   const std::size_t samples = output_sample_count(scenario);
   TrajectoryRecorder recorder(model, samples, out);
@@ -113,19 +124,17 @@ Trajectory simulate(const RoverModel& model, const Scenario& scenario,
       }
     };
 
-  long evaluations = 0;
-  const OdeSystem system{model, model_inputs,
-                         scenario.drive.segments.empty() ? nullptr : &scenario.drive, &evaluations};
+  const OdeSystem system{model, model_inputs, schedule ? &*schedule : nullptr};
   StateVector x0;
   x0 << scenario.initial_q, scenario.initial_u;
   const IntegrationReport report = integrate(system, x0, scenario.integrator, request);
 
   recorder.finish();
-  out.status = static_cast<SimulationStatus>(report.status);
+  out.status = report.status;
   if (!out.ok())
     out.message = std::string(status_name(out.status)) + " at t = " +
-                  std::to_string(report.failed_at_s) + " s: " + report.detail;
-  out.rhs_evaluations = evaluations;
+                  number_text(report.failed_at_s) + " s: " + report.detail;
+  out.rhs_evaluations = report.rhs_evaluations;
   out.steps = report.steps;
   out.min_step_s = report.min_step_s;
   out.max_step_s = report.max_step_s;

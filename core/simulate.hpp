@@ -4,8 +4,10 @@
 //
 // simulate() has no side effects and shares nothing mutable: many threads may
 // call it at once with the same RoverModel. A run that blows up (non-finite
-// state, step size underflow, wall-time budget exceeded) returns a status and
-// a message; it never throws for numerical trouble, and never hangs.
+// state, step size underflow or collapse, wall-time budget exceeded) or cannot
+// start (scenario_is_valid() fails, a drive schedule the model cannot serve)
+// returns a status and a message; it never throws for numerical trouble, and
+// never hangs.
 #pragma once
 
 #include <functional>
@@ -14,28 +16,16 @@
 
 #include <Eigen/Core>
 
+#include "core/integrators.hpp"
 #include "core/model_inputs.hpp"
 #include "core/rover_model.hpp"
 #include "core/scenario.hpp"
 
 namespace rover {
 
-// What a study varies (MODEL.md section 5); everything else comes from configs.
-struct SimulationInputs {
-  double sharpness_f = 1e4;
-  double damping_c_q = 0.14;
-  std::array<double, kNumSJoints> preload_Nm{};
-};
-
-SimulationInputs nominal_simulation_inputs(const RoverParameters& parameters);
-
-// The model inputs of a run: (f, c_q, M0) from `inputs`, the constant
+// The inputs simulate() runs with: (f, c_q, M0) from `inputs`, the constant
 // actuator set-points from `scenario` (a drive schedule overrides them in time).
-ModelInputs model_inputs_for(const Scenario& scenario, const SimulationInputs& inputs);
-
-// Same values as IntegrationStatus (core/integrators.hpp).
-enum class SimulationStatus { kOk = 0, kNonFinite = 1, kStepSizeUnderflow = 2, kTimeBudgetExceeded = 3 };
-const char* status_name(SimulationStatus status);
+ModelInputs model_inputs_for(const Scenario& scenario, const ModelInputs& inputs);
 
 using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
@@ -59,7 +49,9 @@ struct SimulationObserver {
   std::function<void(double t_s)> progress;
 };
 
+// (f, c_q, M0) come from `inputs`; its set-points are replaced by those of
+// the scenario (model_inputs_for) and, in time, by its drive schedule.
 Trajectory simulate(const RoverModel& model, const Scenario& scenario,
-                    const SimulationInputs& inputs, const SimulationObserver& observer = {});
+                    const ModelInputs& inputs, const SimulationObserver& observer = {});
 
 }  // namespace rover

@@ -44,14 +44,15 @@ int run_eom(const EomOptions& o) {
   if (state.has("params")) inputs = io::parse_model_inputs(state.child("params"), inputs);
   state.finish();
 
-  const EquationsOfMotion eom = evaluate_equations_of_motion(model, q, u, inputs);
-  const TreeKinematics kin = forward_kinematics(model.tree, q, u);
+  DynamicsWorkspace eom;
+  compute_dynamics(model, eom, inputs, q, u);
+  const TreeKinematics& kin = eom.kinematics;
 
   io::Json out;
   out["M"] = io::Json::array();
   for (int r = 0; r < kNumCoordinates; ++r) out["M"].push_back(vec_json(eom.mass_matrix.row(r).transpose()));
   out["F"] = vec_json(eom.forcing);
-  out["F_nocontact"] = vec_json(eom.forcing_no_contact);
+  out["F_nocontact"] = vec_json(eom.forcing_without_contact);
   out["points"]["B_l"] = vec_json(kin.nodes[node::bogie_left].origin);
   out["points"]["B_r"] = vec_json(kin.nodes[node::bogie_right].origin);
   out["points"]["G"] = vec_json(kin.nodes[node::chassis].origin);

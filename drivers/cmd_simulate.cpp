@@ -61,7 +61,7 @@ int run_simulate(const SimulateOptions& o) {
   io::ScenarioSetup setup = io::load_scenario(o.scenario);
   // A different method comes with its own default tolerances (see default_integrator_settings).
   if (!o.integrator.empty()) setup.scenario.integrator = default_integrator_settings(integrator_from_name(o.integrator));
-  const SimulationInputs inputs = apply_overrides(o.overrides, setup.inputs);
+  const ModelInputs inputs = apply_overrides(o.overrides, setup.inputs);
   const std::string out =
       o.out.empty() ? "results/" + setup.scenario.name + ".h5" : o.out;
   if (o.out.empty()) {

@@ -51,7 +51,7 @@ int run_synthesize(const SynthesizeOptions& o) {
     throw CommandLineError({"--rate " + number_text(o.rate_hz) + " over the " +
                             number_text(setup.scenario.duration_s) + " s of " + scenario_path +
                             ": " + problem + "; reduce --rate"});
-  const SimulationInputs in = apply_overrides(o.overrides, setup.inputs);
+  const ModelInputs in = apply_overrides(o.overrides, setup.inputs);
   const Trajectory tr = simulate(setup.model, setup.scenario, in);
   if (!tr.ok()) throw std::runtime_error("the simulation failed: " + tr.message);
   boost::random::mt19937_64 engine(seed);

@@ -172,7 +172,7 @@ inline void check_overrides(const InputOverrides& o, FlagChecks& checks) {
 }
 
 // The inputs with the overrides applied; throws CommandLineError if any is bad.
-inline SimulationInputs apply_overrides(const InputOverrides& o, SimulationInputs in) {
+inline ModelInputs apply_overrides(const InputOverrides& o, ModelInputs in) {
   FlagChecks checks;
   check_overrides(o, checks);
   checks.throw_if_any();

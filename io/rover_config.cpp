@@ -65,7 +65,7 @@ RoverParameters parse_rover_parameters(const Json& config, const std::string& fi
   const JsonReader s = top.child("s_structure");
   p.s_structure.sharpness_f = s.positive("f");
   p.s_structure.stiffness_Nm_per_rad = s.non_negative("k_q");
-  p.s_structure.damping_Nms_per_rad = s.non_negative("c_q");
+  p.s_structure.damping_c_q = s.non_negative("c_q");
   s.has("preload_order");  // documentation only
   p.s_structure.preload_mean_Nm = non_negative_array<kNumSJoints>(s, "preload_mean");
   p.s_structure.preload_sd_Nm = non_negative_array<kNumSJoints>(s, "preload_sd");

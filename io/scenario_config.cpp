@@ -139,7 +139,6 @@ Coordinates commanded_speeds(const BodyVelocityCommand& v, const WheelCommands& 
 DriveConfig parse_drive(const JsonReader& r, const DriveKinematics& kinematics) {
   DriveConfig config;
   DriveSchedule& drive = config.schedule;
-  drive.kinematics = kinematics;
   if (r.has("ramp_time")) drive.options.ramp_time_s = r.non_negative("ramp_time");
   drive.options.wheel.allow_flip = r.boolean_or("allow_flip", true);
   const std::string initial = r.string_or("initial_motion", "commanded");
@@ -156,7 +155,7 @@ DriveConfig parse_drive(const JsonReader& r, const DriveKinematics& kinematics) 
                                                  kinematics, drive.options.wheel, i == 0));
   }
   try {
-    validate_drive_schedule(kinematics, drive.segments, drive.options);
+    config.commands_at_start = CompiledDriveSchedule(kinematics, drive.segments, drive.options).at(0.0);
   } catch (const std::invalid_argument& e) {
     r.fail("segments", e.what());
   }
@@ -240,10 +239,16 @@ IntegratorSettings parse_integrator_settings(const JsonReader& r, IntegratorSett
   if (r.has("max_step")) s.max_step_s = r.positive("max_step");
   if (r.has("fixed_step")) s.fixed_step_s = r.positive("fixed_step");
   r.finish();
+  if (std::string why; !s.IsValid(&why)) {
+    const char* key = s.method == IntegratorMethod::kRungeKutta4 ? "fixed_step"
+                      : !(s.min_step_s <= s.max_step_s)        ? "min_step"
+                                                                : "initial_step";
+    r.fail(key, why);
+  }
   return s;
 }
 
-SimulationInputs parse_simulation_inputs(const JsonReader& r, SimulationInputs in) {
+ModelInputs parse_simulation_inputs(const JsonReader& r, ModelInputs in) {
   if (r.has("f")) in.sharpness_f = r.positive("f");
   if (r.has("c_q")) in.damping_c_q = r.non_negative("c_q");
   if (r.has("M0")) in.preload_Nm = r.fixed_numbers<kNumSJoints>("M0");
@@ -300,8 +305,7 @@ ScenarioSetup build_scenario(const ScenarioSources& sources) {
     }
     DriveConfig drive = parse_drive(r.child("drive"), make_drive_kinematics(setup.model.parameters));
     s.drive = std::move(drive.schedule);
-    const WheelCommands w0 =
-        wheel_commands_at(s.drive.kinematics, s.drive.segments, 0.0, s.drive.options);
+    const WheelCommands w0 = drive.commands_at_start;
     s.steer_ref_rad = w0.steer_rad;
     s.wheel_speed_ref_radps = w0.wheel_speed_radps;
     for (int leg = 0; leg < kNumLegs; ++leg) s.initial_q[coord::steer(leg)] = w0.steer_rad[leg];
@@ -345,6 +349,7 @@ ScenarioSetup build_scenario(const ScenarioSources& sources) {
   }
   if (r.has("integrator")) s.integrator = parse_integrator_settings(r.child("integrator"), s.integrator);
   if (r.has("wall_time_budget")) s.wall_time_budget_s = r.positive("wall_time_budget");
+  if (std::string why; !scenario_is_valid(s, &why)) r.fail("integrator", why);
 
   // A wheel deep in the ground would start with a contact force far beyond
   // the rover's weight: a typo in z, not a drop test.
@@ -361,7 +366,7 @@ ScenarioSetup build_scenario(const ScenarioSources& sources) {
     r.fail("initial_q", std::string(depth) + "; raise initial_q.z or give initial_ground_clearance");
   }
 
-  setup.inputs = nominal_simulation_inputs(setup.model.parameters);
+  setup.inputs = nominal_inputs(setup.model.parameters);
   if (r.has("inputs")) setup.inputs = parse_simulation_inputs(r.child("inputs"), setup.inputs);
   r.finish();
   return setup;

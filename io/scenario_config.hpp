@@ -97,7 +97,7 @@ namespace rover::io {
 struct ScenarioSetup {
   Scenario scenario;
   RoverModel model;
-  SimulationInputs inputs;  // rover config defaults with the scenario's overrides
+  ModelInputs inputs;  // rover config defaults with the scenario's overrides
   std::string scenario_path, rover_path, terrain_path;
 };
 
@@ -150,7 +150,8 @@ WheelPenetration deepest_wheel_penetration(const RoverModel& model, const Coordi
 // The "drive" block (see above) for a rover with these driving kinematics.
 struct DriveConfig {
   DriveSchedule schedule;
-  bool start_at_rest = false;  // "initial_motion": "rest"
+  WheelCommands commands_at_start;  // the compiled schedule's commands at t = 0
+  bool start_at_rest = false;       // "initial_motion": "rest"
 };
 DriveConfig parse_drive(const JsonReader& r, const DriveKinematics& kinematics);
 
@@ -158,7 +159,7 @@ DriveConfig parse_drive(const JsonReader& r, const DriveKinematics& kinematics);
 IntegratorSettings parse_integrator_settings(const JsonReader& r, IntegratorSettings base);
 
 // Parses {"f", "c_q", "M0": [8]} over `base`.
-SimulationInputs parse_simulation_inputs(const JsonReader& r, SimulationInputs base);
+ModelInputs parse_simulation_inputs(const JsonReader& r, ModelInputs base);
 
 // Resolves a path written in a config file relative to that file's directory.
 std::string resolve_relative(const std::string& config_path, const std::string& path);

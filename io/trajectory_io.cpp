@@ -32,7 +32,7 @@ bool ends_with(const std::string& s, const std::string& suffix) {
 }  // namespace
 
 void write_trajectory_hdf5(const std::string& path, const Trajectory& tr, const ScenarioSetup& setup,
-                           const SimulationInputs& inputs) {
+                           const ModelInputs& inputs) {
   Hdf5Writer h5(path);
   h5.write("/t", tr.t);
   h5.write("/B_l_z", tr.B_l_z);

@@ -16,7 +16,7 @@
 namespace rover::io {
 
 void write_trajectory_hdf5(const std::string& path, const Trajectory& trajectory,
-                           const ScenarioSetup& setup, const SimulationInputs& inputs);
+                           const ScenarioSetup& setup, const ModelInputs& inputs);
 void write_trajectory_csv(const std::string& path, const Trajectory& trajectory);
 
 // Drop tests: B_l z(t) (Fig. 11a-b). Obstacle runs: B_l, B_r, G z(t) and a

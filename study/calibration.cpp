@@ -24,8 +24,8 @@ namespace {
 const std::vector<std::string> kFittable{"c_q", "f", "M0_scale", "time_offset"};
 
 // Simulation inputs for parameter values in natural units.
-SimulationInputs inputs_for(const CalibrationStudy& s, const std::vector<double>& values) {
-  SimulationInputs in = s.common.setup.inputs;
+ModelInputs inputs_for(const CalibrationStudy& s, const std::vector<double>& values) {
+  ModelInputs in = s.common.setup.inputs;
   for (std::size_t k = 0; k < s.fit.size(); ++k) {
     const std::string& name = s.fit[k].name;
     if (name == "c_q") in.damping_c_q = values[k];

@@ -11,7 +11,7 @@
 
 namespace rover::study {
 
-// Status of a run: 0 ok; 1 .. 9 the integrator's (IntegrationStatus); and the
+// Status of a run: 0 ok; 1 .. 9 the integrator's (SimulationStatus); and the
 // study's own. A failed or rejected run is a result too: it is recorded, not
 // retried, and never used as if it had values.
 namespace run_status {

@@ -112,7 +112,7 @@ SurfaceStudy load_surface_study(const std::string& path) {
     reference_text = file_text(file) + "|offset " + std::to_string(offset);
   } else {
     const io::JsonReader sim = ref.child("simulate");
-    const SimulationInputs in = io::parse_simulation_inputs(sim, nominal.inputs);
+    const ModelInputs in = io::parse_simulation_inputs(sim, nominal.inputs);
     s.simulate_reference = true;
     s.reference_f = in.sharpness_f;
     s.reference_c_q = in.damping_c_q;

@@ -501,6 +501,67 @@ TEST(DriveSchedule, StoppingHoldsThePreviousSteering) {
   }
 }
 
+// The compiled lookup gives exactly the commands of wheel_commands_at, in the
+// steady stretches and inside the ramps (same mode and mode change).
+TEST(DriveSchedule, CompiledLookupMatchesTheDirectEvaluation) {
+  const std::vector<DriveCommandSegment> plan{
+      {0.0, DriveMode::kSymmetricAckermann, {0.5, 0.0, 0.0}},
+      {1.0, DriveMode::kSymmetricAckermann, {0.5, 0.0, 1.0}},
+      {2.0, DriveMode::kLateral, {0.0, 0.3, 0.0}},
+      {3.0, DriveMode::kSymmetricAckermann, {0.0, 0.0, 0.0}}};
+  for (const double ramp : {0.0, 0.4}) {
+    DriveScheduleOptions options;
+    options.ramp_time_s = ramp;
+    const CompiledDriveSchedule compiled(kKin, plan, options);
+    int in_ramps = 0;
+    for (double t = 0.0; t < 4.0; t += 0.0137) {
+      in_ramps += t > 1.0 && std::fmod(t, 1.0) < ramp ? 1 : 0;
+      const WheelCommands expected = wheel_commands_at(kKin, plan, t, options);
+      const WheelCommands got = compiled.at(t);
+      for (int leg = 0; leg < kNumLegs; ++leg) {
+        EXPECT_EQ(got.steer_rad[leg], expected.steer_rad[leg]) << "t " << t << " ramp " << ramp;
+        EXPECT_EQ(got.wheel_speed_radps[leg], expected.wheel_speed_radps[leg]) << "t " << t;
+      }
+    }
+    if (ramp > 0.0) {
+      EXPECT_GT(in_ramps, 50);
+    }
+  }
+  // Before the first segment: its commands (wheel_commands_at throws there).
+  const CompiledDriveSchedule late(kKin, {{0.5, DriveMode::kParallel, {0.3, 0.0, 0.0}}});
+  EXPECT_EQ(late.at(0.0).wheel_speed_radps, wheel_commands(kKin, DriveMode::kParallel, {0.3, 0.0, 0.0}).wheel_speed_radps);
+}
+
+TEST(DriveSchedule, CompilingRejectsWhatValidationRejects) {
+  const BodyVelocityCommand go{0.3, 0.0, 0.0};
+  DriveScheduleOptions ramp;
+  ramp.ramp_time_s = 0.5;
+  EXPECT_THROW(CompiledDriveSchedule(kKin, {}), std::invalid_argument);
+  EXPECT_THROW(CompiledDriveSchedule(kKin, {{0.0, DriveMode::kParallel, go},
+                                            {1.0, DriveMode::kParallel, go},
+                                            {1.2, DriveMode::kParallel, go}},
+                                     ramp),
+               std::invalid_argument);  // segment 1 is shorter than the ramp
+  try {
+    CompiledDriveSchedule(kKin, {{0.0, DriveMode::kParallel, go}, {1.0, DriveMode::kLateral, go}});
+    FAIL() << "accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("segment 1"), std::string::npos) << e.what();
+  }
+  // A ramp whose blend the end-stop cannot serve: crabbing left at 71.6 deg
+  // forward, then at 71.6 deg backward (served as -71.6 deg rolling backward);
+  // half-way the blend moves straight left, at 90 deg, beyond an 80 deg limit
+  // (and so is its flip, -90 deg).
+  RoverParameters p = default_rover_parameters();
+  p.steering.limit_rad = 80.0 * kPi / 180.0;
+  const DriveKinematics narrow = make_drive_kinematics(p);
+  const std::vector<DriveCommandSegment> sweep{{0.0, DriveMode::kParallel, {0.1, 0.3, 0.0}},
+                                               {1.0, DriveMode::kParallel, {-0.1, 0.3, 0.0}}};
+  EXPECT_NO_THROW(validate_drive_schedule(narrow, sweep, ramp));  // the steady commands pass
+  EXPECT_NO_THROW(CompiledDriveSchedule(narrow, sweep));          // and without a ramp
+  EXPECT_THROW(CompiledDriveSchedule(narrow, sweep, ramp), std::invalid_argument);
+}
+
 TEST(DriveSchedule, IllFormedSchedulesAreRejected) {
   const BodyVelocityCommand go{0.3, 0.0, 0.0};
   DriveScheduleOptions ramp;

@@ -17,7 +17,7 @@ namespace {
 const RoverParameters kParams = default_rover_parameters();
 const KinematicTree kTree = build_kinematic_tree(kParams);
 
-MassMatrix mass_at(const Coordinates& q) {
+CoordinateMatrix mass_at(const Coordinates& q) {
   return mass_matrix(kTree, forward_kinematics(kTree, q, Coordinates::Zero()));
 }
 
@@ -26,9 +26,9 @@ TEST(Dynamics, MassMatrixIsSymmetricPositiveDefinite) {
   for (int trial = 0; trial < 20; ++trial) {
     Coordinates q, u;
     testing::random_state(rng, q, u);
-    const MassMatrix M = mass_at(q);
+    const CoordinateMatrix M = mass_at(q);
     EXPECT_LT((M - M.transpose()).cwiseAbs().maxCoeff(), 1e-15);
-    const double smallest = Eigen::SelfAdjointEigenSolver<MassMatrix>(M).eigenvalues()(0);
+    const double smallest = Eigen::SelfAdjointEigenSolver<CoordinateMatrix>(M).eigenvalues()(0);
     EXPECT_GT(smallest, 0.0);
   }
 }
@@ -40,7 +40,7 @@ TEST(Dynamics, MassMatrixEqualsSumOverBodiesOfJacobianProducts) {
   Coordinates q, u;
   testing::random_state(rng, q, u);
   const TreeKinematics kin = forward_kinematics(kTree, q, u);
-  MassMatrix M = MassMatrix::Zero();
+  CoordinateMatrix M = CoordinateMatrix::Zero();
   for (int b = 0; b < kNumBodies; ++b) {
     const int n = kTree.body_node[b];
     const RigidBodyParameters& body = kTree.bodies[b];
@@ -59,7 +59,7 @@ TEST(Dynamics, MassMatrixEqualsSumOverBodiesOfJacobianProducts) {
     const Mat3 I = kin.nodes[n].rotation * body.inertia_kgm2 * kin.nodes[n].rotation.transpose();
     M += body.mass_kg * Jv.transpose() * Jv + Jw.transpose() * I * Jw;
   }
-  const MassMatrix M_crba = mass_matrix(kTree, kin);
+  const CoordinateMatrix M_crba = mass_matrix(kTree, kin);
   EXPECT_LT((M - M_crba).cwiseAbs().maxCoeff(), 1e-9 * M_crba.cwiseAbs().maxCoeff());
 }
 
@@ -72,12 +72,12 @@ TEST(Dynamics, VelocityTermsSatisfyLagrangesEquations) {
     testing::random_state(rng, q, u);
     const double h = 1e-6;
     Coordinates dT_dq;
-    MassMatrix M_dot = MassMatrix::Zero();
+    CoordinateMatrix M_dot = CoordinateMatrix::Zero();
     for (int k = 0; k < kNumCoordinates; ++k) {
       Coordinates qp = q, qm = q;
       qp[k] += h;
       qm[k] -= h;
-      const MassMatrix dM = (mass_at(qp) - mass_at(qm)) / (2 * h);
+      const CoordinateMatrix dM = (mass_at(qp) - mass_at(qm)) / (2 * h);
       dT_dq[k] = 0.5 * u.dot(dM * u);
       M_dot += dM * u[k];
     }

@@ -188,10 +188,11 @@ TEST(ForceJacobian, SpeedJacobianIsExact) {
     const ModelInputs in = nominal_inputs(model.parameters);
     for (int trial = 0; trial < 4; ++trial) {
       const ContactState s = contact_state(rng, 0.1);
-      const TreeKinematics kin = forward_kinematics(model.tree, s.q, s.u);
-      const auto contacts = wheel_contacts(model, kin);
-      for (const WheelContacts& w : contacts) ASSERT_GE(w.count, 1);
-      const StiffForceJacobian jac = stiff_force_jacobian(model, in, s.q, s.u, kin, contacts);
+      DynamicsWorkspace workspace;
+      compute_kinematics(model, workspace, s.q, s.u);
+      compute_contacts(model, workspace);
+      for (const WheelContacts& w : workspace.contacts) ASSERT_GE(w.count, 1);
+      const StiffForceJacobian jac = stiff_force_jacobian(model, workspace, in, s.q, s.u);
       CoordinateMatrix fd;
       const double h = 1e-8;
       for (int i = 0; i < kNumCoordinates; ++i) {
@@ -212,11 +213,12 @@ TEST(ForceJacobian, SpeedJacobianIsExact) {
 void expect_position_jacobian_has_the_stiff_part(const RoverModel& model, const ModelInputs& in,
                                                  const Coordinates& q, const Coordinates& u, double h,
                                                  const std::string& label) {
-  const TreeKinematics kin = forward_kinematics(model.tree, q, u);
-  const auto contacts = wheel_contacts(model, kin);
+  DynamicsWorkspace workspace;
+  compute_kinematics(model, workspace, q, u);
+  compute_contacts(model, workspace);
   double total_force = 0.0;
-  for (const WheelContacts& w : contacts) total_force += w.total_normal_force_N();
-  const StiffForceJacobian jac = stiff_force_jacobian(model, in, q, u, kin, contacts);
+  for (const WheelContacts& w : workspace.contacts) total_force += w.total_normal_force_N();
+  const StiffForceJacobian jac = stiff_force_jacobian(model, workspace, in, q, u);
   CoordinateMatrix fd;
   for (int i = 0; i < kNumCoordinates; ++i) {
     Coordinates qp = q, qm = q;

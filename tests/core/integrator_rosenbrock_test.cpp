@@ -55,7 +55,7 @@ TEST(IntegratorRosenbrock, SamplesAFreeFallExactly) {
   s.duration_s = 0.5;
   s.output_rate_hz = 100.0;
   s = rosenbrock_scenario(s);
-  const Trajectory tr = simulate(model, s, nominal_simulation_inputs(model.parameters));
+  const Trajectory tr = simulate(model, s, nominal_inputs(model.parameters));
   ASSERT_TRUE(tr.ok()) << tr.message;
   ASSERT_EQ(tr.t.size(), 51u);
   const double g = model.parameters.gravity_mps2;
@@ -71,7 +71,7 @@ TEST(IntegratorRosenbrock, SamplesAFreeFallExactly) {
 
 TEST(IntegratorRosenbrock, DropTestsMatchTheDormandPrinceReference) {
   const RoverModel model = make_rover_model(default_rover_parameters());
-  const SimulationInputs inputs = nominal_simulation_inputs(model.parameters);
+  const ModelInputs inputs = nominal_inputs(model.parameters);
   for (const Scenario& base : {drop(0.281, 0.039, 0.0042), drop(0.299, 0.116, -0.0809)}) {
     Scenario reference = base;
     reference.integrator.relative_tolerance = 1e-8;
@@ -96,7 +96,7 @@ TEST(IntegratorRosenbrock, SettledRoverCostsTheSameForAnySharpness) {
   long settled_steps[2] = {0, 0};
   int i = 0;
   for (const double f : {1e2, 1e5}) {
-    SimulationInputs inputs = nominal_simulation_inputs(model.parameters);
+    ModelInputs inputs = nominal_inputs(model.parameters);
     inputs.sharpness_f = f;
     Scenario falling = rosenbrock_scenario(drop(0.281, 0.039, 0.0042));
     falling.duration_s = 0.6;
@@ -123,7 +123,7 @@ long drop_steps_over_preload_sets(const RoverModel& model, double sharpness_f) {
   const Scenario scenario = rosenbrock_scenario(drop(0.281, 0.039, 0.0042));
   long steps = 0;
   for (const double sd_shift : {-1.0, 0.0, 1.0}) {
-    SimulationInputs inputs = nominal_simulation_inputs(model.parameters);
+    ModelInputs inputs = nominal_inputs(model.parameters);
     for (int j = 0; j < kNumSJoints; ++j)
       inputs.preload_Nm[j] += sd_shift * model.parameters.s_structure.preload_sd_Nm[j];
     inputs.sharpness_f = sharpness_f;
@@ -143,7 +143,7 @@ TEST(IntegratorRosenbrock, HundredfoldSharperFrictionCostsAboutTwiceTheSteps) {
   RoverParameters sharp = default_rover_parameters();
   sharp.friction = with_friction_speeds_scaled(sharp.friction, 0.01);
   const RoverModel model = make_rover_model(default_rover_parameters());
-  const double f = nominal_simulation_inputs(model.parameters).sharpness_f;
+  const double f = nominal_inputs(model.parameters).sharpness_f;
   const long steps = drop_steps_over_preload_sets(model, f);
   const long sharp_steps = drop_steps_over_preload_sets(make_rover_model(sharp), f);
   EXPECT_LT(sharp_steps, 2.5 * static_cast<double>(steps))
@@ -167,7 +167,7 @@ TEST(IntegratorRosenbrock, MatchesTheReferenceAtTheSharpestF) {
   // At f = 1e5 the S-joints lock within 1e-5 rad and ring at a few kHz: the
   // hardest case for the error control's treatment of stiff speeds.
   const RoverModel model = make_rover_model(default_rover_parameters());
-  SimulationInputs inputs = nominal_simulation_inputs(model.parameters);
+  ModelInputs inputs = nominal_inputs(model.parameters);
   inputs.sharpness_f = 1e5;
   Scenario reference = drop(0.281, 0.039, 0.0042);
   reference.integrator.relative_tolerance = 1e-8;
@@ -187,11 +187,10 @@ TEST(IntegratorRosenbrock, FollowsTimeDependentSetPoints) {
   s.initial_q[coord::z] = 0.2285 + 0.001;
   s.duration_s = 0.4;
   s.output_rate_hz = 200.0;
-  s.drive.kinematics = make_drive_kinematics(model.parameters);
   s.drive.segments = {{0.0, DriveMode::kParallel, {0.0, 0.0, 0.0}},
                       {0.2, DriveMode::kParallel, {0.3, 0.0, 0.0}}};
   s.drive.options.ramp_time_s = 0.05;
-  const SimulationInputs inputs = nominal_simulation_inputs(model.parameters);
+  const ModelInputs inputs = nominal_inputs(model.parameters);
   const Trajectory dp = simulate(model, s, inputs);
   const Trajectory ros = simulate(model, rosenbrock_scenario(s), inputs);
   ASSERT_TRUE(dp.ok()) << dp.message;
@@ -204,7 +203,7 @@ TEST(IntegratorRosenbrock, FollowsTimeDependentSetPoints) {
 
 TEST(IntegratorRosenbrock, ReportsRunsThatFail) {
   const RoverModel model = make_rover_model(default_rover_parameters());
-  const SimulationInputs inputs = nominal_simulation_inputs(model.parameters);
+  const ModelInputs inputs = nominal_inputs(model.parameters);
   {  // No wall time at all: stopped after the first step, with the samples so far.
     Scenario s = rosenbrock_scenario(drop(0.281, 0.039, 0.0042));
     s.wall_time_budget_s = 0.0;
@@ -216,6 +215,7 @@ TEST(IntegratorRosenbrock, ReportsRunsThatFail) {
   {  // Touchdown needs steps far below 0.1 ms.
     Scenario s = rosenbrock_scenario(drop(0.281, 0.039, 0.0042));
     s.integrator.min_step_s = 1e-4;
+    s.integrator.initial_step_s = 1e-4;
     const Trajectory tr = simulate(model, s, inputs);
     EXPECT_EQ(tr.status, SimulationStatus::kStepSizeUnderflow);
     EXPECT_NE(tr.message.find("min_step"), std::string::npos) << tr.message;

@@ -123,6 +123,7 @@ TEST(Simulate, EnergyNeverGrowsWithTheWheelsHeld) {
   const ContactParameters& k = setup.model.parameters.contact;
   std::vector<double> energy;
   double max_contact_energy = 0.0;
+  DynamicsWorkspace workspace;
   for (Eigen::Index i = 0; i < tr.q.rows(); ++i) {
     const Coordinates q = tr.q.row(i).transpose(), u = tr.u.row(i).transpose();
     const TreeKinematics kin = forward_kinematics(setup.model.tree, q, u);
@@ -132,7 +133,7 @@ TEST(Simulate, EnergyNeverGrowsWithTheWheelsHeld) {
         contact += k.stiffness_k_g * std::pow(w.points[c].penetration_m, k.exponent_sigma + 1.0) /
                    (k.exponent_sigma + 1.0);
     max_contact_energy = std::max(max_contact_energy, contact);
-    energy.push_back(mechanical_energy(setup.model, inputs, q, u) + contact);
+    energy.push_back(mechanical_energy(setup.model, workspace, inputs, q, u) + contact);
   }
   // Tolerance: integration error only (rtol 1e-6; measured increases are at
   // round-off, 1e-14 J). Leaving out the contact springs' energy would show
@@ -270,6 +271,64 @@ TEST(Simulate, AbsurdInputsFailWithAStatusNotACrashOrHang) {
     EXPECT_NE(tr.message.find("NaN"), std::string::npos) << tr.message;
   }
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 30.0);
+}
+
+// The drive schedule is compiled against the model that runs it, not the one
+// the scenario was loaded with: the same turn on a rover whose steering stops
+// at 10 deg cannot be served, and the run says so instead of throwing.
+TEST(Simulate, ADriveTheModelCannotServeIsAnInvalidScenario) {
+  io::ScenarioSetup setup = shipped("turn_ackermann");
+  setup.scenario.duration_s = 0.05;
+  ASSERT_FALSE(setup.scenario.drive.segments.empty());
+  const Trajectory served = simulate(setup.model, setup.scenario, setup.inputs);
+  ASSERT_TRUE(served.ok()) << served.message;
+  RoverParameters narrow = setup.model.parameters;
+  narrow.steering.limit_rad = 10.0 * std::numbers::pi / 180.0;
+  const RoverModel model = make_rover_model(narrow, setup.model.terrain);
+  const Trajectory tr = simulate(model, setup.scenario, setup.inputs);
+  EXPECT_EQ(tr.status, SimulationStatus::kInvalidScenario);
+  EXPECT_NE(tr.message.find("end-stop"), std::string::npos) << tr.message;
+  EXPECT_TRUE(tr.t.empty());
+  EXPECT_EQ(tr.rhs_evaluations, 0);
+}
+
+// Settings that cannot work fail at once with a status, not after a run at
+// another step (RK4) or a hang.
+TEST(Simulate, InvalidSettingsAreAnInvalidScenario) {
+  io::ScenarioSetup setup = shipped("drop_horizontal");
+  setup.scenario.integrator = default_integrator_settings(IntegratorMethod::kRungeKutta4);
+  setup.scenario.integrator.fixed_step_s = 0.5;  // the output period is 1 ms
+  Trajectory tr = simulate(setup.model, setup.scenario, setup.inputs);
+  EXPECT_EQ(tr.status, SimulationStatus::kInvalidScenario);
+  EXPECT_NE(tr.message.find("fixed_step 0.5 s"), std::string::npos) << tr.message;
+  EXPECT_EQ(tr.rhs_evaluations, 0);
+  setup.scenario.integrator = default_integrator_settings(IntegratorMethod::kDormandPrince45);
+  setup.scenario.integrator.min_step_s = 1e-3;  // above initial_step
+  tr = simulate(setup.model, setup.scenario, setup.inputs);
+  EXPECT_EQ(tr.status, SimulationStatus::kInvalidScenario);
+  EXPECT_NE(tr.message.find("min_step <= initial_step"), std::string::npos) << tr.message;
+}
+
+// A run whose steps cannot advance the time stops with its own status: a
+// step at round-off of the time (RK4 at 1e-16 s), and steps of 1e-10 s that
+// would take 1e10 of them for one second (caught after 1e5 steps).
+TEST(Simulate, ACollapsedStepSizeStopsTheRun) {
+  io::ScenarioSetup setup = shipped("drop_horizontal");
+  setup.scenario.integrator = default_integrator_settings(IntegratorMethod::kRungeKutta4);
+  setup.scenario.integrator.fixed_step_s = 1e-16;
+  Trajectory tr = simulate(setup.model, setup.scenario, setup.inputs);
+  EXPECT_EQ(tr.status, SimulationStatus::kStepSizeCollapsed) << tr.message;
+  EXPECT_NE(tr.message.find("rounding units"), std::string::npos) << tr.message;
+  EXPECT_EQ(tr.steps, 1);
+
+  setup.scenario.integrator = default_integrator_settings(IntegratorMethod::kDormandPrince45);
+  setup.scenario.integrator.initial_step_s = 1e-11;
+  setup.scenario.integrator.max_step_s = 1e-10;
+  tr = simulate(setup.model, setup.scenario, setup.inputs);
+  EXPECT_EQ(tr.status, SimulationStatus::kStepSizeCollapsed) << tr.message;
+  EXPECT_EQ(tr.steps, StallWatch::kWindowSteps);
+  EXPECT_NE(tr.message.find("advanced the time by"), std::string::npos) << tr.message;
+  EXPECT_LT(tr.t.back(), 1e-5);
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
 // `rover eom` (drivers/cmd_eom.cpp): the printed M, F, points and contacts are
-// those of the library (evaluate_equations_of_motion) at the same state,
+// those of the library (compute_dynamics) at the same state,
 // "params" overrides act on the right entries of F only, and a bad state file
 // fails with a message naming the file and the field.
 #include <cmath>
@@ -78,8 +78,9 @@ TEST(CmdEom, OutputMatchesTheLibrary) {
 
   const RoverModel model = io::load_rover_model(source_path("configs/rover.json"));
   const ModelInputs inputs = nominal_inputs(model.parameters);
-  const EquationsOfMotion eom = evaluate_equations_of_motion(model, q, u, inputs);
-  const TreeKinematics kin = forward_kinematics(model.tree, q, u);
+  DynamicsWorkspace eom;
+  compute_dynamics(model, eom, inputs, q, u);
+  const TreeKinematics& kin = eom.kinematics;
 
   // M: 23 x 23, relative 1e-12 of its largest entry.
   ASSERT_EQ(out.at("M").size(), 23u);
@@ -90,7 +91,7 @@ TEST(CmdEom, OutputMatchesTheLibrary) {
       EXPECT_NEAR(out["M"][r][c].get<double>(), eom.mass_matrix(r, c), 1e-12 * m_scale) << r << "," << c;
   }
   expect_vector(out.at("F"), eom.forcing, 1e-12, "F");
-  expect_vector(out.at("F_nocontact"), eom.forcing_no_contact, 1e-12, "F_nocontact");
+  expect_vector(out.at("F_nocontact"), eom.forcing_without_contact, 1e-12, "F_nocontact");
 
   const json& points = out.at("points");
   expect_vector(points.at("B_l"), kin.nodes[node::bogie_left].origin, 1e-12, "B_l");
@@ -119,7 +120,7 @@ TEST(CmdEom, OutputMatchesTheLibrary) {
   EXPECT_GT(touching, 0);
   // The contact part of F is what the contacts make it: F - F_nocontact = sum J^T f.
   const Coordinates contact_part = contact_generalized_forces(model, kin, eom.contacts);
-  expect_vector(out["F"], eom.forcing_no_contact + contact_part, 1e-12, "F = F_nocontact + Q_contact");
+  expect_vector(out["F"], eom.forcing_without_contact + contact_part, 1e-12, "F = F_nocontact + Q_contact");
 }
 
 TEST(CmdEom, TerrainOptionUsesTheTerrain) {
@@ -134,7 +135,8 @@ TEST(CmdEom, TerrainOptionUsesTheTerrain) {
   const json out = run_eom(write_state(testing::temp_dir(), {{"q", to_json(q)}, {"u", to_json(u)}}),
                            "--terrain " + terrain);
   const RoverModel model = io::load_rover_model(source_path("configs/rover.json"), terrain);
-  const EquationsOfMotion eom = evaluate_equations_of_motion(model, q, u, nominal_inputs(model.parameters));
+  DynamicsWorkspace eom;
+  compute_dynamics(model, eom, nominal_inputs(model.parameters), q, u);
   expect_vector(out.at("F"), eom.forcing, 1e-12, "F");
   const int front_right = 1;
   ASSERT_EQ(out["contacts"][front_right].size(), 1u) << out["contacts"].dump();
@@ -157,7 +159,7 @@ TEST(CmdEom, ParamsOverridesChangeOnlyTheirEntries) {
     return F;
   };
   const Coordinates F0 = F_of(base, "F"), F0_nc = F_of(base, "F_nocontact");
-  const double c_q0 = default_rover_parameters().s_structure.damping_Nms_per_rad, c_q1 = 0.5;
+  const double c_q0 = default_rover_parameters().s_structure.damping_c_q, c_q1 = 0.5;
 
   // c_q: only the S-joint entries change, by -(c_q1 - c_q0) * rate.
   const json damped = run_eom(

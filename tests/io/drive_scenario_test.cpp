@@ -86,9 +86,13 @@ TEST(DriveScenario, NaturalAndBodyFormsGiveTheSameSchedule) {
   ASSERT_EQ(a.segments.size(), 2u);
   ASSERT_EQ(b.segments.size(), 2u);
   EXPECT_DOUBLE_EQ(a.options.ramp_time_s, 0.2);
+  const CompiledDriveSchedule compiled_a(make_drive_kinematics(natural.model.parameters), a.segments,
+                                         a.options);
+  const CompiledDriveSchedule compiled_b(make_drive_kinematics(body.model.parameters), b.segments,
+                                         b.options);
   for (double t : {0.0, 0.5, 1.05, 1.1, 2.0}) {
-    const WheelCommands wa = wheel_commands_at(a.kinematics, a.segments, t, a.options);
-    const WheelCommands wb = wheel_commands_at(b.kinematics, b.segments, t, b.options);
+    const WheelCommands wa = compiled_a.at(t);
+    const WheelCommands wb = compiled_b.at(t);
     for (int leg = 0; leg < kNumLegs; ++leg) {
       EXPECT_NEAR(wa.steer_rad[leg], wb.steer_rad[leg], 1e-12) << "t " << t << " leg " << leg;
       EXPECT_NEAR(wa.wheel_speed_radps[leg], wb.wheel_speed_radps[leg], 1e-12) << "t " << t;

@@ -46,7 +46,7 @@ TEST(RoverConfig, ShippedConfigIsTheModelDefaults) {
 
   EXPECT_EQ(a.s_structure.sharpness_f, b.s_structure.sharpness_f);
   EXPECT_EQ(a.s_structure.stiffness_Nm_per_rad, b.s_structure.stiffness_Nm_per_rad);
-  EXPECT_EQ(a.s_structure.damping_Nms_per_rad, b.s_structure.damping_Nms_per_rad);
+  EXPECT_EQ(a.s_structure.damping_c_q, b.s_structure.damping_c_q);
   EXPECT_EQ(a.s_structure.preload_mean_Nm, b.s_structure.preload_mean_Nm);
   EXPECT_EQ(a.s_structure.preload_sd_Nm, b.s_structure.preload_sd_Nm);
 

@@ -59,7 +59,7 @@ TEST(ScenarioConfig, DropScenariosHaveTheInitialStatesOfTable2) {
     EXPECT_EQ(s.model.terrain.flat_height(), 0.0);
     // The inputs are the rover config's nominal values.
     EXPECT_EQ(s.inputs.sharpness_f, s.model.parameters.s_structure.sharpness_f);
-    EXPECT_EQ(s.inputs.damping_c_q, s.model.parameters.s_structure.damping_Nms_per_rad);
+    EXPECT_EQ(s.inputs.damping_c_q, s.model.parameters.s_structure.damping_c_q);
     EXPECT_EQ(s.inputs.preload_Nm, s.model.parameters.s_structure.preload_mean_Nm);
     // Released above the ground.
     for (double b : wheel_bottoms(s.model, s.scenario.initial_q)) EXPECT_GT(b, 0.0);
@@ -122,6 +122,27 @@ std::string write_scenario(const Json& j) {
   const std::string path = testing::temp_dir() + "/scenario.json";
   std::ofstream(path) << j.dump(2);
   return path;
+}
+
+// Integrator settings that cannot work are refused when the file is read,
+// naming the field and the numbers as written.
+TEST(ScenarioConfig, InvalidIntegratorSettingsAreRefused) {
+  auto error_of = [](const Json& integrator) -> std::string {
+    Json j = base_scenario();
+    j["integrator"] = integrator;
+    try {
+      io::load_scenario(write_scenario(j));
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  const std::string steps = error_of({{"min_step", 1e-3}});  // above initial_step 1e-5
+  EXPECT_NE(steps.find("min_step"), std::string::npos) << steps;
+  EXPECT_NE(steps.find("0.001 <= 1e-05"), std::string::npos) << steps;
+  const std::string rk4 = error_of({{"method", "rk4"}, {"fixed_step", 0.5}});  // 1 kHz output
+  EXPECT_NE(rk4.find("does not divide the output period"), std::string::npos) << rk4;
+  EXPECT_EQ(error_of({{"method", "rk4"}, {"fixed_step", 2e-5}}), "accepted");
 }
 
 TEST(ScenarioConfig, OverridesAreRead) {

@@ -56,8 +56,8 @@ io::ScenarioSetup sample_setup() {
   return setup;
 }
 
-SimulationInputs sample_inputs() {
-  SimulationInputs in;
+ModelInputs sample_inputs() {
+  ModelInputs in;
   in.sharpness_f = 2.5e3;
   in.damping_c_q = 0.21;
   in.preload_Nm = {1.9, 1.3, 2.1, 1.2, 1.7, 1.5, 2.0, 1.1};
@@ -67,7 +67,7 @@ SimulationInputs sample_inputs() {
 TEST(TrajectoryIo, Hdf5RoundTrip) {
   const Trajectory tr = sample_trajectory();
   const io::ScenarioSetup setup = sample_setup();
-  const SimulationInputs in = sample_inputs();
+  const ModelInputs in = sample_inputs();
   const std::string path = testing::temp_dir() + "/run.h5";
   io::write_trajectory_hdf5(path, tr, setup, in);
 
@@ -159,7 +159,7 @@ TEST(TrajectoryIo, OpensInH5py) {
   EXPECT_EQ(j["q21"].get<double>(), tr.q(2, 1));  // row-major: sample 2, coordinate y
   EXPECT_EQ(j["Fn31"].get<double>(), tr.normal_force_N(3, 1));
   EXPECT_EQ(j["t"].get<std::vector<double>>(), tr.t);
-  const SimulationInputs in = sample_inputs();
+  const ModelInputs in = sample_inputs();
   EXPECT_EQ(j["f"].get<double>(), in.sharpness_f);
   EXPECT_EQ(j["c_q"].get<double>(), in.damping_c_q);
   EXPECT_EQ(j["M0"].get<std::vector<double>>(), std::vector<double>(in.preload_Nm.begin(), in.preload_Nm.end()));

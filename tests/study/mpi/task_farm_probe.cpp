@@ -25,9 +25,8 @@
 #include <thread>
 #include <vector>
 
-// The C API only (Open MPI would otherwise pull in its deprecated C++ bindings).
-#define OMPI_SKIP_MPICXX 1
-#define MPICH_SKIP_MPICXX 1
+// The C API only: study/CMakeLists.txt defines OMPI_SKIP_MPICXX and
+// MPICH_SKIP_MPICXX for every user of rover_study.
 #include <mpi.h>
 
 #include "io/checkpoint.hpp"
