@@ -1,4 +1,4 @@
-// Shared by the benchmarks: the 1 s horizontal drop of MODEL.md section 7
+// Shared by the benchmarks: the 1 s horizontal drop of docs/model.md §7
 // (configs/scenarios/drop_horizontal.json), the rover at rest at its end, and
 // the benchmark of one right-hand side there.
 #pragma once

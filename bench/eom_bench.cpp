@@ -1,4 +1,4 @@
-// Speed of the equations of motion (core/equations_of_motion.hpp; MODEL.md
+// Speed of the equations of motion (core/equations_of_motion.hpp; docs/model.md
 // section 2): one full evaluation of M and F, the right-hand side
 // state_derivative on flat ground and on the obstacle grid with a wheel on the
 // ramp, and its parts: forward kinematics, the mass matrix, the LLT solve.

@@ -1,4 +1,4 @@
-// The stiff integrator against the explicit reference (issue 7; MODEL.md
+// The stiff integrator against the explicit reference (docs/model.md
 // section 9): the 1 s horizontal drop with dopri5 (rtol 1e-6, atol 1e-9, the
 // scenario's settings) and rosenbrock (default_integrator_settings: rtol 1e-5,
 // atol 2e-4), side by side, for f = 1e2 .. 1e5 and for the friction speed
@@ -157,7 +157,7 @@ void print_obstacle_comparison() {
   std::printf("  dopri5 rtol 1e-8 (reference) %s\n", cell(ref).c_str());
   std::printf("  dopri5 rtol 1e-6             %s   B_l z RMS vs reference %.4f mm\n", cell(dp).c_str(),
               rms_mm(dp.B_l_z, ref.B_l_z));
-  std::printf("  rosenbrock                   %s   B_l z RMS vs reference %.4f mm (issue 7 asks < 0.5 mm)\n\n",
+  std::printf("  rosenbrock                   %s   B_l z RMS vs reference %.4f mm (target < 0.5 mm)\n\n",
               cell(ros).c_str(), rms_mm(ros.B_l_z, ref.B_l_z));
 }
 
@@ -193,7 +193,7 @@ void print_conditioning() {
   std::printf("\n");
 }
 
-// The preload sets of the tolerance sweep: the means of MODEL.md Table 1 and
+// The preload sets of the tolerance sweep: the means of docs/model.md Table 1 and
 // the first `draws` Monte Carlo samples of seed 1 (study::sample_preloads).
 std::vector<ModelInputs> preload_sets(const ModelInputs& nominal, const RoverParameters& p,
                                            int draws) {
@@ -209,7 +209,7 @@ std::vector<ModelInputs> preload_sets(const ModelInputs& nominal, const RoverPar
 // the largest B_l z RMS difference from dopri5 at rtol 1e-8 over six preload
 // sets, for both drops at f = 1e2, 1e4 and 1e5, and the steps and wall time
 // summed over the sets; then the horizontal drop's f = 1e5 / f = 1e2 ratios.
-// The ratio and the accuracy at f = 1e5 pull against each other (issue 7).
+// The ratio and the accuracy at f = 1e5 pull against each other.
 void print_tolerance_sweep() {
   const double atols[] = {1e-4, 2e-4, 5e-4, 1e-3};
   const double fs[] = {1e2, 1e4, 1e5};

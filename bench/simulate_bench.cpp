@@ -1,4 +1,4 @@
-// Speed of simulate() (core/simulate.hpp; MODEL.md sections 7-9), single
+// Speed of simulate() (core/simulate.hpp; docs/model.md §7–9), single
 // threaded: the 1 s horizontal drop at default settings (Dormand-Prince,
 // rtol 1e-6, atol 1e-9) with its right-hand-side evaluations and steps, one
 // right-hand-side evaluation, and wall time against the S-structure sharpness

@@ -1,16 +1,16 @@
-// The issue's other suggested route for the stiff SA model (issue 7), measured
+// Another route for the stiff SA model, measured
 // against the one taken: SUNDIALS' CVODE (variable-order BDF 1-5) and ARKODE
 // (its default L-stable SDIRK of order 4, the whole right-hand side implicit),
 // each with a Newton iteration on a dense LU of I - gamma J, on the same
 // right-hand side (state_derivative(), docs/model.md §9) and the same
 // analytic Jacobian as the Rosenbrock-W integrator,
 //   J = [0, I; M^{-1} K, M^{-1} D],  D, K from core/force_jacobian.hpp,
-// on both drop tests (MODEL.md section 7, mean preloads) at f = 1e2, 1e4 and
+// on both drop tests (docs/model.md §7, mean preloads) at f = 1e2, 1e4 and
 // 1e5, at three tolerance pairs. For each run it prints the wall time, the
 // right-hand sides (the solver's own plus one per Jacobian, as the Rosenbrock
 // counts them), the steps and the B_l z RMS difference from Dormand-Prince at
 // rtol 1e-8; then, per drop, the f = 1e5 / f = 1e2 wall-time ratios, which
-// issue 7 wants below 2.
+// the target was below 2.
 //
 // A fully implicit Newton solve is the natural candidate for stepping over the
 // S-joint chatter at large f (the joint bounces through its preload kink like
@@ -179,7 +179,7 @@ int main() {
     double rtol, atol;
   };
   // A looser pair, the Rosenbrock defaults, and a tighter pair, at which CVODE
-  // is within the 0.05 mm of issue 7 on all but the skewed drop at f = 1e5.
+  // is within the 0.05 mm target on all but the skewed drop at f = 1e5.
   const Tolerances tolerances[] = {{1e-4, 1e-3}, {1e-5, 2e-4}, {1e-6, 1e-5}};
   struct {
     Solver solver;

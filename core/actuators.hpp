@@ -1,4 +1,4 @@
-// Hub motors (MODEL.md section 5): the steering servo (position control with
+// Hub motors (docs/model.md §5): the steering servo (position control with
 // end-stops) and the wheel drive (velocity control with smooth saturation).
 #pragma once
 

@@ -1,4 +1,4 @@
-// Wheel-terrain contact (MODEL.md section 6; paper sections 2.2.2-2.2.3, eqs. 7-9).
+// Wheel-terrain contact (docs/model.md §6; paper sections 2.2.2-2.2.3, eqs. 7-9).
 //
 // The wheel is a disk of radius R_w in the plane through its centre normal to
 // its spin axis. Contact regions are the maximal arcs of the rim below the

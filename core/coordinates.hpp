@@ -1,4 +1,4 @@
-// Generalized coordinates of the SA model (MODEL.md section 2):
+// Generalized coordinates of the SA model (docs/model.md §2):
 // q = [x, y, z, theta, chi, psi, phi, b11, b12, b21, b22, b31, b32, b41, b42,
 //      d1, d2, d3, d4, z1, z2, z3, z4], generalized speeds u = dq/dt.
 #pragma once
@@ -25,7 +25,7 @@ inline constexpr int steer(int leg) { return 15 + leg; }  // d_j
 inline constexpr int spin(int leg) { return 19 + leg; }   // z_j (rolling angle)
 }  // namespace coord
 
-// Names in MODEL.md order, for files and messages.
+// Names in docs/model.md order, for files and messages.
 inline constexpr const char* kCoordinateNames[kNumCoordinates] = {
     "x",   "y",   "z",   "theta", "chi", "psi", "phi", "b11", "b12", "b21", "b22", "b31",
     "b32", "b41", "b42", "d1",    "d2",  "d3",  "d4",  "z1",  "z2",  "z3",  "z4"};

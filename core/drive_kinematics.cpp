@@ -1,5 +1,5 @@
 // Driving modes: motion commands -> steering angles and wheel speeds
-// (paper section 2.1; MODEL.md sections 1-3 and 5). See drive_kinematics.hpp.
+// (paper section 2.1; docs/model.md §1–3 and 5). See drive_kinematics.hpp.
 #include "core/drive_kinematics.hpp"
 
 #include <algorithm>

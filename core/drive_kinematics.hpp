@@ -1,7 +1,7 @@
 // Driving modes: decomposition of a high-level motion command into the four
 // steering angles d_j and wheel rolling speeds dz_j/dt (the paper's section
 // 2.1, "Software and control"), on the geometry and sign conventions of
-// MODEL.md sections 1-3 and the steering end-stops of section 5.
+// docs/model.md §1–3 and the steering end-stops of section 5.
 //
 // The chassis moves in its own plane (x forward, y left, origin G) with a
 // rigid planar motion; wheel j has its steering axis at the wheel centre r_j,
@@ -87,7 +87,7 @@ std::string_view drive_mode_name(DriveMode mode);
 std::string_view drive_mode_keyword(DriveMode mode);
 std::optional<DriveMode> drive_mode_from_keyword(std::string_view keyword);
 
-// Wheel names in leg order (MODEL.md section 1): FL, FR, RL, RR.
+// Wheel names in leg order (docs/model.md §1): FL, FR, RL, RR.
 inline constexpr std::array<const char*, kNumLegs> kWheelNames{"FL", "FR", "RL", "RR"};
 
 // What the driving modes need of the rover: the steering axes (through the
@@ -98,7 +98,7 @@ struct DriveKinematics {
   double steering_limit_rad = 0.0;              // |d_j| <= limit
 };
 
-// From the template geometry of MODEL.md section 3 at q = 0 (mirrored as in
+// From the template geometry of docs/model.md §3 at q = 0 (mirrored as in
 // the kinematic tree: the bogie pivot per side, the leg offsets per leg).
 // Throws std::invalid_argument for a non-positive wheel radius or limit.
 DriveKinematics make_drive_kinematics(const RoverParameters& parameters);
@@ -180,7 +180,7 @@ struct WheelCommandOptions {
   double angle_tolerance_rad = 1e-9;              // slack of the end-stop comparison
 };
 
-// Steering and drive references d_ref, w_ref (MODEL.md section 5).
+// Steering and drive references d_ref, w_ref (docs/model.md §5).
 struct WheelCommands {
   std::array<double, kNumLegs> steer_rad{};          // d_j, + = heading turned left
   std::array<double, kNumLegs> wheel_speed_radps{};  // dz_j/dt, + = rolling forward

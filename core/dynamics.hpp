@@ -1,4 +1,4 @@
-// Kane's equations of the SA model (paper eqs. 2-6; MODEL.md sections 2 and 5):
+// Kane's equations of the SA model (paper eqs. 2-6; docs/model.md §2 and §5):
 //   M(q) du/dt = F(q, u),
 // where F = F_r (active forces: gravity, joint torques, contact) plus the
 // velocity-dependent part of the generalized inertia forces F_r*.

@@ -1,5 +1,5 @@
 // Derivatives of the stiff applied forces of the SA model with respect to the
-// generalized coordinates q and speeds u (issue 7; MODEL.md sections 5 and 6),
+// generalized coordinates q and speeds u (docs/model.md §5 and §6),
 // for the linearly implicit integrator (core/integrator_rosenbrock.cpp).
 //
 // The stiffness of the model sits in a few force elements:
@@ -11,7 +11,7 @@
 //     With f = F_n n + F_t applied at P and Q = J_P(q)^T f:
 //       dQ/du = J_P^T (df/dv_P) J_P                    (exact: v_P = J_P(q) u)
 //       dQ/dq ~ J_P^T [(df/dv_P) (dv_P/dq) + (df/dp) (dp/dq)],  dp/dq = -n^T J_P,
-//     since dp/dt = -v_P . n (MODEL.md 6.3) and u = dq/dt. dv_P/dq at fixed u
+//     since dp/dt = -v_P . n (docs/model.md §6.3) and u = dq/dt. dv_P/dq at fixed u
 //     is how the slip and penetration rates change as the joints turn the
 //     wheel and as P slides over the rim (kinematic_tree.hpp,
 //     contact_point_position_derivative()): a joint moving at 1 rad/s turns
@@ -35,7 +35,7 @@
 namespace rover {
 
 // Derivatives of the force f = F_n n + F_t that one contact applies to the
-// wheel (MODEL.md 6.4-6.5), at fixed normal n.
+// wheel (docs/model.md §6.4-6.5), at fixed normal n.
 struct ContactForceDerivatives {
   Mat3 d_force_d_velocity = Mat3::Zero();     // df/dv_P at fixed p [N s/m]
   Vec3 d_force_d_penetration = Vec3::Zero();  // df/dp at fixed v_P [N/m]

@@ -1,4 +1,4 @@
-// Makkar friction coefficient (paper eq. 8; MODEL.md section 6, item 5).
+// Makkar friction coefficient (paper eq. 8; docs/model.md §6, item 5).
 //
 //   mu(v) = g1 (tanh(g2 v) - tanh(g3 v)) + g4 tanh(g5 v) + g6 v
 //

@@ -1,4 +1,4 @@
-// Friction synthesis (MODEL.md section 6, "Friction synthesis").
+// Friction synthesis (docs/model.md §6, "Friction synthesis").
 //
 // Dimensionless form. With s = v / v_s and m = mu / mu_s the target is
 // T(s) = mu_target(s v_s) / mu_s, which depends only on r_mu = mu_k / mu_s and

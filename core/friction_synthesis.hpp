@@ -1,5 +1,5 @@
 // Friction synthesis: Makkar gammas from the engineering parameters
-// (MODEL.md section 6, "Friction synthesis"; paper section 2.2.3 after eq. 8).
+// (docs/model.md §6, "Friction synthesis"; paper section 2.2.3 after eq. 8).
 //
 // The engineering parameters mu_s, v_s, mu_k, v_k define a STEP-based target
 // curve mu_target(v); the six gammas of eq. 8 are fitted to it by least squares
@@ -13,11 +13,11 @@
 
 namespace rover {
 
-// The cubic step of MODEL.md: h0 + (h1 - h0) a^2 (3 - 2 a),
+// The cubic step of docs/model.md: h0 + (h1 - h0) a^2 (3 - 2 a),
 // a = clamp((x - x0) / (x1 - x0), 0, 1). Requires x1 > x0.
 double friction_step(double x, double x0, double h0, double x1, double h1);
 
-// Target friction coefficient at slip speed v [m/s] (MODEL.md, piecewise):
+// Target friction coefficient at slip speed v [m/s] (docs/model.md, piecewise):
 //   STEP(v, -v_s, -mu_s, v_s, mu_s)  for 0 <= v <= v_s
 //   STEP(v,  v_s,  mu_s, v_k, mu_k)  for v_s < v <= v_k
 //   mu_k                             for v > v_k
@@ -72,7 +72,7 @@ MakkarGammas friction_gammas_for(const FrictionParameters& p);
 // old mu(v / scale) and the gammas stay fitted to the new engineering
 // parameters (the fit is dimensionless, see synthesize_friction). mu'(0), and
 // with it the stiffness of stuck friction, grows by 1 / scale: the friction
-// sharpness of issue 7. Throws std::invalid_argument unless 0 < scale < inf.
+// friction sharpness. Throws std::invalid_argument unless 0 < scale < inf.
 FrictionParameters with_friction_speeds_scaled(FrictionParameters p, double scale);
 
 }  // namespace rover

@@ -1,4 +1,4 @@
-// The linearly implicit integrator of the SA model (issue 7; MODEL.md section 9;
+// The linearly implicit integrator of the SA model (docs/model.md §9;
 // declared in integrators.hpp): the Rosenbrock-W method ROS34PW2
 // (rosenbrock_w.hpp) with the stiff force elements linearized analytically
 // (force_jacobian.hpp), the mass matrix of the step start in the iteration

@@ -1,4 +1,4 @@
-// Time integrators of the first-order system x = [q; u] (MODEL.md section 9).
+// Time integrators of the first-order system x = [q; u] (docs/model.md §9).
 // Each integrator advances one OdeSystem from t = 0, hands the state at every
 // requested sample time to a recorder, and stops early on trouble (non-finite
 // state, step-size underflow, wall-time budget), reporting why.

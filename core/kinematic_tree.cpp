@@ -1,4 +1,4 @@
-// Kinematic tree of MODEL.md section 3 and its recursive kinematics.
+// Kinematic tree of docs/model.md §3 and its recursive kinematics.
 #include "core/kinematic_tree.hpp"
 
 #include <stdexcept>

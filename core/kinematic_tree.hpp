@@ -1,10 +1,10 @@
-// The rover's kinematic tree (MODEL.md section 3) and its kinematics.
+// The rover's kinematic tree (docs/model.md §3) and its kinematics.
 //
 // The tree is a list of nodes, parents first. Each node is one elementary
 // 1-DOF joint (a rotation about, or a translation along, an axis fixed in the
 // parent frame after a constant offset) driven by one generalized coordinate
 // times a sign. Several nodes may share a coordinate: the two bogies are
-// driven by phi with signs +1 (right) and -1 (left), which is MODEL.md's
+// driven by phi with signs +1 (right) and -1 (left), which is docs/model.md's
 // lever coupling. The floating chassis is six nodes: translations along the
 // world axes, then Rz(theta), Ry(chi), Rx(psi), so R_WC = Rz Ry Rx.
 //
@@ -59,7 +59,7 @@ struct KinematicTree {
   double total_mass_kg = 0.0;
 };
 
-// Builds the tree of MODEL.md section 3 from the template parameters.
+// Builds the tree of docs/model.md §3 from the template parameters.
 KinematicTree build_kinematic_tree(const RoverParameters& parameters);
 
 // World pose, velocity and bias acceleration of one node frame.

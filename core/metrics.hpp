@@ -1,4 +1,4 @@
-// Metrics of MODEL.md section 8: the deflection error (paper eq. 10), the
+// Metrics of docs/model.md §8: the deflection error (paper eq. 10), the
 // at-rest error (eq. 11) and the RMS difference between two sampled curves.
 #pragma once
 

@@ -1,5 +1,5 @@
 // The inputs a study varies between runs (f, c_q and the eight preloads M0,
-// MODEL.md section 5) plus the actuator set-points of a scenario. Everything
+// docs/model.md §5) plus the actuator set-points of a scenario. Everything
 // else is fixed by RoverParameters.
 #pragma once
 

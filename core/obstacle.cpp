@@ -1,4 +1,4 @@
-// Trapezoid obstacle height grid (see obstacle.hpp; MODEL.md section 7).
+// Trapezoid obstacle height grid (see obstacle.hpp; docs/model.md §7).
 #include "core/obstacle.hpp"
 
 #include <algorithm>

@@ -1,5 +1,5 @@
-// The trapezoid obstacle of the obstacle-negotiation scenario (MODEL.md
-// section 7; paper section 3) as a height grid for the terrain (MODEL.md
+// The trapezoid obstacle of the obstacle-negotiation scenario (docs/model.md
+// section 7; paper section 3) as a height grid for the terrain (docs/model.md
 // section 6).
 //
 // Profile along x: 0 before the foot x_f, a ramp rising at ramp_angle up to
@@ -7,7 +7,7 @@
 // top_length, a ramp falling over L, then 0. Laterally the obstacle spans
 // y in [y_min, y_max] with vertical sides, 0 outside.
 //
-// Grid: nodes lie exactly on x = x_f and on y = y_min, y = y_max (MODEL.md:
+// Grid: nodes lie exactly on x = x_f and on y = y_min, y = y_max (docs/model.md:
 // "1 mm spacing with nodes on its edges"), so the foot and the lateral sides
 // are rounded over at most one spacing by the bilinear interpolation, and the
 // top-of-ramp edges (in general between nodes) over one spacing as well. Nodes

@@ -1,7 +1,7 @@
 // One step of the Rosenbrock-W method ROS34PW2 (J. Rang and L. Angermann, BIT
 // 45 (2005) 761-787) for a mechanical system in second-order form
 //   dq/dt = u,   M(q) du/dt = F(t, q, u),
-// with the stiff forces treated linearly implicitly (issue 7, MODEL.md 9).
+// with the stiff forces treated linearly implicitly (docs/model.md §9).
 //
 // ROS34PW2 has four stages, order 3 with an embedded order-2 solution for the
 // step-size control, and is L-stable (R(inf) = 0; the embedded method is

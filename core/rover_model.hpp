@@ -17,7 +17,7 @@ struct RoverModel {
 
 // Builds the tree and resolves the friction gammas: the configured set if it
 // meets the fit quality bar for mu_s, v_s, mu_k, v_k, otherwise a synthesis
-// (MODEL.md section 6, "Friction synthesis").
+// (docs/model.md §6, "Friction synthesis").
 RoverModel make_rover_model(RoverParameters parameters, Terrain terrain = Terrain::flat());
 
 }  // namespace rover

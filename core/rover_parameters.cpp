@@ -1,4 +1,4 @@
-// Defaults of MODEL.md sections 3-6 (see rover_parameters.hpp).
+// Defaults of docs/model.md §3–6 (see rover_parameters.hpp).
 #include "core/rover_parameters.hpp"
 
 namespace rover {

@@ -1,7 +1,7 @@
-// Rover parameters: every number of MODEL.md sections 3-5 as plain data.
+// Rover parameters: every number of docs/model.md §3–5 as plain data.
 //
 // Geometry and mass properties are given for the template leg (front-left) and
-// the left bogie; mirrored_position()/mirrored_inertia() apply MODEL.md section 1
+// the left bogie; mirrored_position()/mirrored_inertia() apply docs/model.md §1
 // (S = diag(s_x, s_y, 1); r -> S r, I -> S I S) for the other legs and the
 // right bogie. Nothing here is a constant of the code: the loader (io/) fills
 // these structs from configs/rover.json.
@@ -26,7 +26,7 @@ struct RigidBodyParameters {
   Mat3 inertia_kgm2 = Mat3::Zero();     // about the centre of mass, body axes
 };
 
-// Kinematic tree geometry (MODEL.md section 3), template leg / left bogie.
+// Kinematic tree geometry (docs/model.md §3), template leg / left bogie.
 struct RoverGeometry {
   Vec3 bogie_pivot_m{0.0, 0.1325, -0.030};     // P_s in the chassis frame
   Vec3 hip_m{0.1078, 0.0, -0.0265};            // H_j in the bogie frame
@@ -35,7 +35,7 @@ struct RoverGeometry {
   double wheel_radius_m = 0.085;
 };
 
-// S-structure lumped joint (eq. 1 plus viscous term, MODEL.md section 5):
+// S-structure lumped joint (eq. 1 plus viscous term, docs/model.md §5):
 // tau = -(2 M0 / pi) atan(f b) - k_q b - c_q db/dt.
 struct SStructureParameters {
   double sharpness_f = 1e4;                      // f [1/rad]
@@ -48,7 +48,7 @@ struct SStructureParameters {
                                                 0.069, 0.053, 0.075, 0.032};
 };
 
-// Steering servo (position control with end-stops), MODEL.md section 5.
+// Steering servo (position control with end-stops), docs/model.md §5.
 struct SteeringParameters {
   double stiffness_Nm_per_rad = 20.0;            // K_d
   double damping_Nms_per_rad = 0.2;              // D_d
@@ -56,13 +56,13 @@ struct SteeringParameters {
   double end_stop_stiffness_Nm_per_rad = 200.0;  // per rad beyond the limit
 };
 
-// Wheel drive (velocity control, smooth saturation), MODEL.md section 5.
+// Wheel drive (velocity control, smooth saturation), docs/model.md §5.
 struct DriveParameters {
   double gain_Nms_per_rad = 0.3;                 // K_w
   double max_torque_Nm = 4.1;                    // tau_max
 };
 
-// Kelvin-Voigt normal contact (eq. 7), MODEL.md section 6.
+// Kelvin-Voigt normal contact (eq. 7), docs/model.md §6.
 struct ContactParameters {
   double stiffness_k_g = 1e6;                    // N/m^sigma
   double damping_c_g = 100.0;                    // N s/m
@@ -99,11 +99,11 @@ struct RoverParameters {
   FrictionParameters friction;
 };
 
-// The defaults of MODEL.md (the same numbers as configs/rover.json); for tests
+// The defaults of docs/model.md (the same numbers as configs/rover.json); for tests
 // and as the base that the JSON loader overwrites field by field.
 RoverParameters default_rover_parameters();
 
-// Leg sign conventions (MODEL.md section 1): legs 0..3 are 1 = FL, 2 = FR, 3 = RL, 4 = RR.
+// Leg sign conventions (docs/model.md §1): legs 0..3 are 1 = FL, 2 = FR, 3 = RL, 4 = RR.
 inline constexpr double leg_sign_x(int leg) { return leg < 2 ? 1.0 : -1.0; }
 inline constexpr double leg_sign_y(int leg) { return (leg % 2 == 0) ? 1.0 : -1.0; }
 

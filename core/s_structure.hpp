@@ -1,5 +1,5 @@
 // Lumped S-structure joint: preloaded non-linear torsional spring and viscous
-// damper (paper eq. 1 plus the c_q term; MODEL.md section 5):
+// damper (paper eq. 1 plus the c_q term; docs/model.md §5):
 //   tau(b, db) = -(2 M0 / pi) atan(f b) - k_q b - c_q db
 // with its partial derivatives and the potential energy of the elastic part.
 #pragma once

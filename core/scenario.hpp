@@ -1,4 +1,4 @@
-// A simulation scenario (MODEL.md section 7): initial state, actuator
+// A simulation scenario (docs/model.md §7): initial state, actuator
 // set-points, duration, output rate and integrator settings. The terrain is
 // part of the RoverModel; the file formats live in io/scenario_config.hpp.
 #pragma once
@@ -17,7 +17,7 @@ namespace rover {
 enum class IntegratorMethod {
   kDormandPrince45,  // explicit Runge-Kutta 5(4), adaptive, dense output (default)
   kRungeKutta4,      // the paper's classic fixed-step RK4
-  kRosenbrockW,      // linearly implicit Rosenbrock-W ROS34PW2 for the stiff forces (issue 7)
+  kRosenbrockW,      // linearly implicit Rosenbrock-W ROS34PW2 for the stiff forces
 };
 
 const char* integrator_name(IntegratorMethod method);
@@ -43,8 +43,8 @@ struct IntegratorSettings {
 // and rk4; for rosenbrock, whose error estimate is that of its embedded
 // second-order solution, rtol 1e-5 and atol 2e-4, which keep B_l z of both
 // drop tests within 0.03 mm RMS of dopri5 at rtol 1e-8 for f = 1e2 .. 1e4
-// and v_s down to 1/100 of its default, over several preload sets (issue 7
-// asks for 0.05 mm); at f = 1e5 the skewed drop is 0.02-0.07 mm off
+// and v_s down to 1/100 of its default, over several preload sets (
+// the target is 0.05 mm); at f = 1e5 the skewed drop is 0.02-0.07 mm off
 // (README, "Stiff integration"). See core/integrator_rosenbrock.cpp.
 IntegratorSettings default_integrator_settings(IntegratorMethod method);
 

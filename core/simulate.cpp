@@ -1,5 +1,5 @@
 // simulate(): a scenario integrated with the chosen integrator, sampled at the
-// output rate into the outputs of MODEL.md section 8 (see simulate.hpp).
+// output rate into the outputs of docs/model.md §8 (see simulate.hpp).
 #include "core/simulate.hpp"
 
 #include <chrono>
@@ -24,7 +24,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// Collects the outputs of MODEL.md section 8 at the sample times.
+// Collects the outputs of docs/model.md §8 at the sample times.
 class TrajectoryRecorder {
  public:
   TrajectoryRecorder(const RoverModel& model, std::size_t capacity, Trajectory& out)

@@ -1,5 +1,5 @@
 // The pure simulation function the study layer calls thousands of times
-// (MODEL.md sections 7-9): integrates the equations of motion of a scenario
+// (docs/model.md §7–9): integrates the equations of motion of a scenario
 // with given (f, c_q, M0) and returns the sampled trajectory and its outputs.
 //
 // simulate() has no side effects and shares nothing mutable: many threads may
@@ -29,7 +29,7 @@ ModelInputs model_inputs_for(const Scenario& scenario, const ModelInputs& inputs
 
 using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
-// Output samples (MODEL.md section 8), one row per sample time.
+// Output samples (docs/model.md §8), one row per sample time.
 struct Trajectory {
   SimulationStatus status = SimulationStatus::kOk;
   std::string message;

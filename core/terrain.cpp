@@ -1,5 +1,5 @@
 // Terrain height field: flat plane or bilinear height grid (see terrain.hpp;
-// MODEL.md section 6, "Terrain").
+// docs/model.md §6, "Terrain").
 #include "core/terrain.hpp"
 
 #include <algorithm>

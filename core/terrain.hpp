@@ -1,4 +1,4 @@
-// The terrain: a height field z = h(x, y) in the world frame (MODEL.md section 6,
+// The terrain: a height field z = h(x, y) in the world frame (docs/model.md §6,
 // "Terrain"; paper section 2.2.3).
 //
 // Either the horizontal plane z = const (the default, z = 0) or heights on a
@@ -8,7 +8,7 @@
 //
 // On a grid line the bilinear slope across the line jumps. Within
 // kGridLineTolerance_m (1e-9 m) of a grid line the gradient component across
-// that line is the mean of the two one-sided slopes (MODEL.md section 6), so
+// that line is the mean of the two one-sided slopes (docs/model.md §6), so
 // the normal does not flip with round-off at a convex edge. This holds on the
 // grid boundary too, where the outer one-sided slope is the 0 of the clamped
 // extension, and at grid nodes for both components at once. The height itself

@@ -1,5 +1,5 @@
 // Thin-plate spline interpolation of terrain control points onto a grid (see
-// terrain_interpolation.hpp; MODEL.md section 6, "Terrain").
+// terrain_interpolation.hpp; docs/model.md §6, "Terrain").
 #include "core/terrain_interpolation.hpp"
 
 #include <cmath>

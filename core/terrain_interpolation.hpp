@@ -1,4 +1,4 @@
-// Terrain from scattered control points (MODEL.md section 6, "Terrain"; paper
+// Terrain from scattered control points (docs/model.md §6, "Terrain"; paper
 // section 2.2.3: "a set of control points ... interpolated on the
 // bi-dimensional grid").
 //

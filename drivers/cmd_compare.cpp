@@ -1,4 +1,4 @@
-// `rover compare A B`: the metrics of MODEL.md section 8 between two curves.
+// `rover compare A B`: the metrics of docs/model.md §8 between two curves.
 // Measured CSV curves t,z go through io::read_measured_curve's checks; a metric
 // that is not finite (a flat reference makes eq. 10 divide by zero) is an
 // error naming it, not JSON null.

@@ -83,7 +83,7 @@ const RegisterCommand registration{
       app.footer(
           "STATE.json: {\"q\": [23 numbers], \"u\": [23 numbers], optional \"params\": {\"f\": .., "
           "\"c_q\": .., \"M0\": [8], \"w_ref\": [4], \"d_ref\": [4]}}; coordinates in the order of "
-          "MODEL.md section 2 (x y z theta chi psi phi b11 b12 b21 b22 b31 b32 b41 b42 d1..d4 "
+          "docs/model.md §2 (x y z theta chi psi phi b11 b12 b21 b22 b31 b32 b41 b42 d1..d4 "
           "z1..z4).\nOutput: {\"M\": [[23x23]], \"F\": [23], \"F_nocontact\": [23], \"points\": "
           "{\"B_l\", \"B_r\", \"G\", \"wheel_centres\"}, \"contacts\": [per wheel: [{point, normal, "
           "penetration, Fn, Ft}]]}.\n\nExample:\n  rover eom --state state.json --terrain "

@@ -1,6 +1,6 @@
 // `rover friction`: the Makkar friction curve (paper eq. 8) for a set of
 // engineering parameters, with its fit quality against the STEP target of
-// MODEL.md section 6 ("Friction synthesis"), as JSON on stdout and optionally
+// docs/model.md §6 ("Friction synthesis"), as JSON on stdout and optionally
 // as a PNG of mu(v) and the target.
 #include <chrono>
 #include <cmath>
@@ -124,7 +124,7 @@ const RegisterCommand registration{
           "Takes the friction section of the rover config, overrides any of mu_s, v_s, mu_k, "
           "v_k given on the command line, and resolves the six gammas of eq. 8 as the model "
           "does: the configured gammas if they still fit (RMS < 0.01 against the STEP target of "
-          "MODEL.md section 6 on v in [0, 10 v_k], peak within 5 % of mu_s), otherwise a fresh "
+          "docs/model.md §6 on v in [0, 10 v_k], peak within 5 % of mu_s), otherwise a fresh "
           "least-squares synthesis (global NLopt search + local polish, deterministic, ~0.1 s). "
           "--synthesize always fits anew.\n"
           "Output (stdout): {\"engineering\": {mu_s, v_s_mps, mu_k, v_k_mps}, \"gammas\": [6], "

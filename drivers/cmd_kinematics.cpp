@@ -1,6 +1,6 @@
 // `rover kinematics`: the wheel commands (steering angles d_j and rolling
 // speeds dz_j/dt) of one driving-mode command (core/drive_kinematics.hpp;
-// paper section 2.1, MODEL.md sections 1-3 and 5), as a table or JSON.
+// paper section 2.1, docs/model.md §1–3 and 5), as a table or JSON.
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
@@ -192,7 +192,7 @@ const RegisterCommand registration{
       app.footer(
           "Decomposes a motion command into the steering angles d_j (+ = wheel heading turned "
           "left) and the wheel rolling speeds dz_j/dt (+ = rolling forward; ground speed / R_w) of "
-          "the wheels FL FR RL RR, with chassis axes x forward, y left, origin G (MODEL.md 1-3).\n"
+          "the wheels FL FR RL RR, with chassis axes x forward, y left, origin G (docs/model.md §1-3).\n"
           "Give a mode and either its natural parameters or a body velocity at G:\n"
           "  car                --v --radius      rear wheels straight; speed and turning radius\n"
           "                                       of the rear-axle centre (+radius = turn left)\n"

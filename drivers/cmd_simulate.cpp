@@ -2,7 +2,7 @@
 //
 // Flags are checked before the scenario is loaded. Two kinds of silent
 // trouble get a warning on stderr: friction gammas that miss the fit quality
-// bar of MODEL.md section 6 (also recorded in the file, see
+// bar of docs/model.md §6 (also recorded in the file, see
 // io/trajectory_io.hpp), and a result whose chassis origin G ends below the
 // terrain (the wheels went through the ground, e.g. after a drop from metres).
 #include <filesystem>

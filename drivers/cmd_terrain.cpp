@@ -1,5 +1,5 @@
 // `rover terrain`: generates terrain files reproducibly. `rover terrain obstacle`
-// writes the trapezoid obstacle of MODEL.md section 7 as a height grid
+// writes the trapezoid obstacle of docs/model.md §7 as a height grid
 // (core/obstacle.hpp) in the "grid" format of io/terrain_json.hpp.
 #include <cmath>
 #include <filesystem>
@@ -49,7 +49,7 @@ int run_obstacle(const ObstacleOptions& o) {
   const HeightGrid grid = trapezoid_obstacle_grid(obstacle, o.spacing_m, o.margin_m);
 
   std::ostringstream description;
-  description << "Trapezoid obstacle of MODEL.md section 7 (obstacle negotiation): foot at x = "
+  description << "Trapezoid obstacle of docs/model.md §7 (obstacle negotiation): foot at x = "
               << obstacle.foot_x_m << " m, height " << obstacle.height_m << " m, "
               << o.ramp_angle_deg << " deg ramps, top " << obstacle.top_length_m
               << " m, sides y = " << obstacle.y_min_m << " and " << obstacle.y_max_m
@@ -77,7 +77,7 @@ int run_obstacle(const ObstacleOptions& o) {
             << " m, " << std::filesystem::file_size(o.out) << " bytes\n";
   if (!o.png.empty()) {
     io::SurfacePlot plot;
-    plot.title = "Trapezoid obstacle (MODEL.md section 7): terrain height [m]";
+    plot.title = "Trapezoid obstacle (docs/model.md §7): terrain height [m]";
     plot.x_label = "x [m]";
     plot.y_label = "y [m]";
     plot.z_label = "height [m]";
@@ -97,7 +97,7 @@ int run_obstacle(const ObstacleOptions& o) {
 }
 
 const RegisterCommand registration{
-    30, "terrain", "Generate terrain files (the obstacle of MODEL.md section 7)",
+    30, "terrain", "Generate terrain files (the obstacle of docs/model.md §7)",
     [](CLI::App& app) -> std::function<int()> {
       app.require_subcommand(1);
       app.footer(
@@ -107,14 +107,14 @@ const RegisterCommand registration{
 
       auto o = std::make_shared<ObstacleOptions>();
       CLI::App* obstacle = app.add_subcommand(
-          "obstacle", "Write the trapezoid obstacle (MODEL.md section 7) as a height grid");
+          "obstacle", "Write the trapezoid obstacle (docs/model.md §7) as a height grid");
       obstacle->footer(
           "The obstacle: 0 before the foot, a ramp rising at --ramp-angle-deg to --height, a flat "
           "top of --top-length, a ramp falling back to 0; laterally y in [--y-min, --y-max] with "
           "vertical sides. Grid nodes lie exactly on x = foot and on both sides, so the sharp "
           "edges are rounded over at most one spacing by the bilinear terrain; zero-height nodes "
           "(--margin) surround it so the terrain outside the grid is the ground z = 0. Heights "
-          "are rounded to 1e-12 m. The defaults reproduce MODEL.md section 7 (ramps 0.2747 m "
+          "are rounded to 1e-12 m. The defaults reproduce docs/model.md §7 (ramps 0.2747 m "
           "long).\n\nExample (regenerates the shipped file):\n"
           "  rover terrain obstacle --out configs/terrains/obstacle.json --png obstacle.png\n"
           "  rover eom --terrain configs/terrains/obstacle.json --state state.json");

@@ -69,7 +69,7 @@ int main(int argc, char** argv) {
   using namespace rover::cli;
   CLI::App app{
       "rover: semi-analytical dynamics of the Archimede rover (Caruso et al.) and the\n"
-      "uncertainty/sensitivity studies built on it. Model: ../shared/MODEL.md.\n"
+      "uncertainty/sensitivity studies built on it. Model: docs/model.md.\n"
       "Run `rover <subcommand> --help` for the options and an example of each subcommand."};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string(ROVER_VERSION));

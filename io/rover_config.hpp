@@ -1,4 +1,4 @@
-// Loads RoverParameters (MODEL.md sections 3-6) from a JSON config such as
+// Loads RoverParameters (docs/model.md §3–6) from a JSON config such as
 // configs/rover.json. Every field is required (no silent defaults for the
 // physics), unknown keys are rejected, and each error names the file, the
 // field and the value.

@@ -52,7 +52,7 @@ double lowest_wheel_bottom(const RoverModel& model, const Coordinates& q) {
   return lowest;
 }
 
-// ---- "drive": a time-varying driving command (issue 6) ----------------------
+// ---- "drive": a time-varying driving command ----------------------
 
 constexpr const char* kModeKeywords =
     "car, ackermann, general-ackermann, parallel, lateral, rotation";

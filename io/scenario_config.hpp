@@ -1,4 +1,4 @@
-// Scenario files (configs/scenarios/*.json, MODEL.md section 7).
+// Scenario files (configs/scenarios/*.json, docs/model.md §7).
 //
 // {
 //   "name": "drop_horizontal",
@@ -9,7 +9,7 @@
 //   "forward_speed": 1.0,                     // optional [m/s]: dx/dt = v, every dzj/dt = w_ref = v / R_w
 //   "travel_distance": 2.869,                 // optional [m]: duration = distance / forward_speed
 //   "initial_ground_clearance": 0.001,        // optional [m]: z so the lowest wheel bottom is this high
-//   "initial_q": {"z": 0.281, "chi": 0.039},  // by MODEL.md names: x y z theta chi psi phi b11 .. z4
+//   "initial_q": {"z": 0.281, "chi": 0.039},  // by docs/model.md names: x y z theta chi psi phi b11 .. z4
 //   "initial_u": {"x": 1.0},
 //   "wheel_speed_ref": [0, 0, 0, 0],          // rad/s (overrides forward_speed's)
 //   "steer_ref": [0, 0, 0, 0],                // rad
@@ -23,7 +23,7 @@
 //   "drive": {...}                            // optional, see below
 // }
 //
-// "drive": a time-varying driving command (issue 6; core/drive_kinematics.hpp),
+// "drive": a time-varying driving command (core/drive_kinematics.hpp),
 // turned into the steering and wheel-speed references d_ref, w_ref at every
 // time by the simulator. It replaces "forward_speed", "wheel_speed_ref" and
 // "steer_ref" (giving one of them too is an error), and needs "duration".

@@ -1,4 +1,4 @@
-// Terrain files (MODEL.md section 6, "Terrain"; paper section 2.2.3: terrains
+// Terrain files (docs/model.md §6, "Terrain"; paper section 2.2.3: terrains
 // are saved to a .json file and loaded at simulation start-up).
 //
 // Three formats, told apart by "type" (lengths in metres):

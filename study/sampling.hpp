@@ -1,4 +1,4 @@
-// Sampling for the studies: preload draws for the Monte Carlo (MODEL.md
+// Sampling for the studies: preload draws for the Monte Carlo (docs/model.md
 // section 5, M0 ~ Normal(mean, sd)) and the parameter grids of the response
 // surfaces (paper section 3.5, Fig. 13).
 //

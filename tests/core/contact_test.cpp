@@ -1,4 +1,4 @@
-// Wheel-terrain contact (core/contact.cpp; MODEL.md section 6): the geometry
+// Wheel-terrain contact (core/contact.cpp; docs/model.md §6): the geometry
 // of the deepest rim point against analytic results on flat and planar
 // terrain, several contact regions at the foot of a ramp, the slope normal,
 // the mean-slope normal at a convex edge on a grid line, and the forces: never
@@ -27,7 +27,7 @@ const double kRamp = 20.0 * kPi / 180.0;
 Mat3 rot(const Vec3& axis, double angle) { return Eigen::AngleAxisd(angle, axis).toRotationMatrix(); }
 
 // Spin axis of a wheel steered by `steer` on a chassis with yaw, pitch, roll
-// (all joints at 0): R_WC Rz(steer) e_y, R_WC = Rz Ry Rx (MODEL.md sections 1, 3).
+// (all joints at 0): R_WC Rz(steer) e_y, R_WC = Rz Ry Rx (docs/model.md sections 1, 3).
 Vec3 spin_axis(double yaw, double pitch, double roll, double steer) {
   return rot(Vec3::UnitZ(), yaw) * rot(Vec3::UnitY(), pitch) * rot(Vec3::UnitX(), roll) *
          rot(Vec3::UnitZ(), steer) * Vec3::UnitY();
@@ -244,7 +244,7 @@ ForcesAt forces_at(const Coordinates& q, const Coordinates& u, Terrain terrain =
   f.contacts = wheel_contacts(f.model, f.kin);
   return f;
 }
-constexpr double kBottomBelowG = 0.2285;  // MODEL.md section 3
+constexpr double kBottomBelowG = 0.2285;  // docs/model.md §3
 
 TEST(Contact, NormalForceNeverPulls) {
   Coordinates q = Coordinates::Zero(), u = Coordinates::Zero();
@@ -367,7 +367,7 @@ TEST(Contact, GeneralizedForceHasTheVirtualPowerOfTheContactForces) {
 
 TEST(Contact, GeneralizedForceIsTheFiniteDifferenceJacobianTransposed) {
   // J_P^T F with J_P = d P / d q for the material point P of the wheel at the
-  // contact (u = dq/dt, MODEL.md section 2).
+  // contact (u = dq/dt, docs/model.md §2).
   std::mt19937 rng(22);
   for (const Terrain& terrain : test_terrains()) {
     for (int trial = 0; trial < 4; ++trial) {
@@ -412,7 +412,7 @@ TEST(Contact, ContactPointDerivativeEqualsFiniteDifferencesOnFlatGround) {
     Coordinates q, u;
     testing::random_state(rng, q, u);
     for (int i = coord::yaw; i < kNumCoordinates; ++i) q[i] *= 0.02;  // every wheel 2 to 8 mm deep
-    q[coord::z] = 0.2235;  // 5 mm below the wheels' reach at q = 0 (MODEL.md section 3)
+    q[coord::z] = 0.2235;  // 5 mm below the wheels' reach at q = 0 (docs/model.md §3)
     const TreeKinematics kin = forward_kinematics(model.tree, q, u);
     const auto contacts = wheel_contacts(model, kin);
     for (int leg = 0; leg < kNumLegs; ++leg) {

@@ -79,7 +79,7 @@ TEST(DriveKinematics, WheelCentresFollowModelGeometryAndKinematicTree) {
   const TreeKinematics at_zero =
       forward_kinematics(tree, Coordinates::Zero(), Coordinates::Zero());
   for (int leg = 0; leg < kNumLegs; ++leg) {
-    EXPECT_NEAR(kKin.wheel_centre_m[leg].x(), leg_sign_x(leg) * 0.360, kTol);   // MODEL.md 3
+    EXPECT_NEAR(kKin.wheel_centre_m[leg].x(), leg_sign_x(leg) * 0.360, kTol);   // docs/model.md §3
     EXPECT_NEAR(kKin.wheel_centre_m[leg].y(), leg_sign_y(leg) * 0.2215, kTol);
     const Vec3 hub = at_zero.nodes[node::hub(leg)].origin;  // the steering axis
     EXPECT_NEAR(kKin.wheel_centre_m[leg].x(), hub.x(), kTol);

@@ -1,4 +1,4 @@
-// Derivatives of the stiff force elements (core/force_jacobian.cpp; issue 7)
+// Derivatives of the stiff force elements (core/force_jacobian.cpp)
 // against central finite differences of the force laws themselves, evaluated
 // through the model: the contact force of one wheel as a function of the
 // speeds and of the penetration, the joint torques, and the generalized force
@@ -20,7 +20,7 @@
 namespace rover {
 namespace {
 
-constexpr double kBottomBelowG = 0.2285;  // wheel bottoms below G at q = 0 (MODEL.md section 3)
+constexpr double kBottomBelowG = 0.2285;  // wheel bottoms below G at q = 0 (docs/model.md §3)
 
 std::vector<Terrain> test_terrains() {
   return {Terrain::flat(), Terrain::from_grid(testing::sampled_grid(

@@ -1,5 +1,5 @@
 // Friction synthesis (core/friction_synthesis.hpp): the STEP target of
-// MODEL.md section 6, the quality measure against the pinned reference set,
+// docs/model.md §6, the quality measure against the pinned reference set,
 // and the fit itself (quality bar, determinism, scaling, resolution rule).
 #include "core/friction_synthesis.hpp"
 
@@ -34,7 +34,7 @@ TEST(FrictionStep, IsTheSmoothCubicBetweenItsEnds) {
 }
 
 TEST(FrictionTarget, PassesThroughTheEngineeringPoints) {
-  const FrictionParameters p;  // MODEL.md defaults
+  const FrictionParameters p;  // docs/model.md defaults
   EXPECT_DOUBLE_EQ(friction_target_mu(0.0, p), 0.0);
   EXPECT_DOUBLE_EQ(friction_target_mu(p.v_static_mps, p), p.mu_static);
   EXPECT_DOUBLE_EQ(friction_target_mu(p.v_kinetic_mps, p), p.mu_kinetic);
@@ -49,7 +49,7 @@ TEST(FrictionTarget, PassesThroughTheEngineeringPoints) {
 }
 
 TEST(FrictionFitQuality, ReproducesTheReferenceNumbersOfModelMd) {
-  // MODEL.md: the pinned set has RMS 0.00139 and peak 0.3038 at 0.66 mm/s.
+  // docs/model.md: the pinned set has RMS 0.00139 and peak 0.3038 at 0.66 mm/s.
   const FrictionParameters p;
   const FrictionFitQuality q = friction_fit_quality(p.gammas, p);
   EXPECT_NEAR(q.rms, 0.00139, 5e-6);
@@ -79,7 +79,7 @@ TEST(FrictionFitQuality, RejectsAPeakOffByMoreThanFivePercent) {
 
 TEST(FrictionSynthesis, MeetsTheQualityBarForSeveralParameterSets) {
   const FrictionParameters sets[] = {
-      FrictionParameters{},                      // MODEL.md defaults
+      FrictionParameters{},                      // docs/model.md defaults
       engineering(0.5, 1e-3, 0.35, 4e-3),
       engineering(0.8, 5.5e-4, 0.6, 2e-3),
   };

@@ -9,7 +9,7 @@
 namespace rover {
 namespace {
 
-// The MODEL.md reference set, and one with a viscous term.
+// The docs/model.md reference set, and one with a viscous term.
 const MakkarGammas kReference{0.9264631218718848, 1831.8163703630614, 1062.6242130578348,
                               0.20009963867985064, 730.7116335954703, 0.0};
 const MakkarGammas kViscous{0.5, 2000.0, 900.0, 0.25, 600.0, 0.4};

@@ -1,6 +1,6 @@
-// The linearly implicit integrator (core/integrator_rosenbrock.cpp; issue 7):
+// The linearly implicit integrator (core/integrator_rosenbrock.cpp):
 // output sampling on an analytic free fall, the drop tests against the
-// Dormand-Prince reference at rtol 1e-8 (MODEL.md section 9 asks for 0.05 mm
+// Dormand-Prince reference at rtol 1e-8 (docs/model.md §9 asks for 0.05 mm
 // RMS on B_l z, also at f = 1e5), a cost that does not grow with the
 // S-structure sharpness f once the rover has settled, grows less than
 // threefold over the whole drop from f = 1e2 to 1e5 and about twofold with
@@ -24,7 +24,7 @@ Scenario rosenbrock_scenario(const Scenario& base) {
   return s;
 }
 
-// The drop tests of MODEL.md section 7 (Table 2).
+// The drop tests of docs/model.md §7 (Table 2).
 Scenario drop(double z, double chi, double psi) {
   Scenario s;
   s.name = "drop";
@@ -152,7 +152,7 @@ TEST(IntegratorRosenbrock, HundredfoldSharperFrictionCostsAboutTwiceTheSteps) {
 
 TEST(IntegratorRosenbrock, ThousandfoldSharperSStructuresCostLessThanThriceTheSteps) {
   // f = 1e2 against 1e5: 2.8x when written, 3.1x without the S-joint
-  // stiffness over the step's reach. Issue 7 asks for less than twice the
+  // stiffness over the step's reach. The target is less than twice the
   // cost. At f = 1e5 a joint near b = 0 acts like a Coulomb spring (its
   // torque turns by 2 M0 within 1e-5 rad) and bounces through the kink about
   // 200 times in the drop, none at f = 1e2; the steps must still resolve each

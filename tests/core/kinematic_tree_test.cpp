@@ -1,4 +1,4 @@
-// Kinematics of the tree (core/kinematic_tree.cpp): MODEL.md section 3 geometry,
+// Kinematics of the tree (core/kinematic_tree.cpp): docs/model.md §3 geometry,
 // Jacobians and bias accelerations against finite differences.
 #include "core/kinematic_tree.hpp"
 

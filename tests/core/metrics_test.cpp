@@ -1,4 +1,4 @@
-// Metrics of MODEL.md section 8 (core/metrics.cpp): RMS difference between
+// Metrics of docs/model.md §8 (core/metrics.cpp): RMS difference between
 // curves sampled differently, linear interpolation, and the deflection and
 // at-rest errors (paper eqs. 10-11) on curves built by hand.
 #include "core/metrics.hpp"

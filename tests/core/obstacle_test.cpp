@@ -1,4 +1,4 @@
-// Tests of the trapezoid obstacle grid (core/obstacle.hpp; MODEL.md section 7).
+// Tests of the trapezoid obstacle grid (core/obstacle.hpp; docs/model.md §7).
 #include "core/obstacle.hpp"
 
 #include <cmath>
@@ -12,7 +12,7 @@ namespace {
 
 class ObstacleGrid : public ::testing::Test {
  protected:
-  TrapezoidObstacle obstacle;  // MODEL.md section 7 defaults
+  TrapezoidObstacle obstacle;  // docs/model.md §7 defaults
   HeightGrid grid = trapezoid_obstacle_grid(obstacle);
   Terrain terrain = Terrain::from_grid(grid);
   double y_mid = -0.2215;  // the right wheel track

@@ -1,4 +1,4 @@
-// Scenario helpers (core/scenario.cpp): the output grid of MODEL.md section 8
+// Scenario helpers (core/scenario.cpp): the output grid of docs/model.md §8
 // must end at duration_s even where duration / period rounds just below an
 // integer in floating point (0.7 s at 1 kHz: 699.9999999999999 periods).
 #include "core/scenario.hpp"

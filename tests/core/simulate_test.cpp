@@ -1,4 +1,4 @@
-// simulate() (core/simulate.cpp, core/integrators.cpp; MODEL.md sections 7-9)
+// simulate() (core/simulate.cpp, core/integrators.cpp; docs/model.md §7–9)
 // on the shipped scenarios: the adaptive and a fine fixed-step integrator
 // agree; a dropped rover lands, rebounds and comes to rest in a sensible pose
 // carrying its weight; with the wheels held, energy (contact springs included)
@@ -44,7 +44,7 @@ TEST(Simulate, DormandPrinceAndFineStepRk4Agree) {
   ASSERT_EQ(adaptive.t.size(), 401u);
   ASSERT_EQ(fixed.t, adaptive.t);
   EXPECT_EQ(fixed.steps, 80000);  // 5 us steps dividing the 1 ms output period
-  // MODEL.md section 9: B_l z within 0.05 mm.
+  // docs/model.md §9: B_l z within 0.05 mm.
   EXPECT_LT(rms_difference(adaptive.t, adaptive.B_l_z, fixed.t, fixed.B_l_z), 5e-5);
   double worst = 0.0;
   for (std::size_t i = 0; i < adaptive.t.size(); ++i)

@@ -1,5 +1,5 @@
 // Tests of the thin-plate-spline terrain from control points
-// (core/terrain_interpolation.hpp; MODEL.md section 6).
+// (core/terrain_interpolation.hpp; docs/model.md §6).
 #include "core/terrain_interpolation.hpp"
 
 #include <cmath>

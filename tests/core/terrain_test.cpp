@@ -1,4 +1,4 @@
-// Tests of the terrain height field (core/terrain.hpp; MODEL.md section 6).
+// Tests of the terrain height field (core/terrain.hpp; docs/model.md §6).
 #include "core/terrain.hpp"
 
 #include <cmath>

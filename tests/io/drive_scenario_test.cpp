@@ -1,4 +1,4 @@
-// Scenarios with a "drive" block (issue 6; io/scenario_config.hpp): the
+// Scenarios with a "drive" block (io/scenario_config.hpp): the
 // schedule is parsed in either command form, the initial state rolls without
 // slip, a simulated Ackermann turn follows its radius, an in-place rotation
 // turns about G, a bad block is rejected naming the file and the field, and

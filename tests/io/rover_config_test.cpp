@@ -1,5 +1,5 @@
 // The rover config loader (io/rover_config.cpp): the shipped configs/rover.json
-// is exactly MODEL.md's defaults (core/rover_parameters.cpp), and every kind of
+// is exactly docs/model.md's defaults (core/rover_parameters.cpp), and every kind of
 // bad input is refused with a ConfigError naming the file, the field (dotted
 // path) and the value. Bad configs are the shipped one with one edit, written
 // to a temporary file.

@@ -1,4 +1,4 @@
-// Scenario files (io/scenario_config.cpp; MODEL.md section 7): the shipped
+// Scenario files (io/scenario_config.cpp; docs/model.md §7): the shipped
 // scenarios load with the initial states of Table 2 and the obstacle runs'
 // speeds, durations and ground clearance; bad files are refused with a
 // ConfigError naming the file, the field and the value; recordings too large
@@ -83,7 +83,7 @@ TEST(ScenarioConfig, ObstacleScenariosDriveTheDistanceWithOneMillimetreClearance
     q[coord::z] = s.scenario.initial_q[coord::z];
     EXPECT_EQ(s.scenario.initial_q, q);
     for (double b : wheel_bottoms(s.model, s.scenario.initial_q)) EXPECT_NEAR(b, 0.001, 1e-12);
-    EXPECT_NEAR(q[coord::z], 0.2285 + 0.001, 1e-12);  // MODEL.md section 3: bottoms 0.2285 m below G
+    EXPECT_NEAR(q[coord::z], 0.2285 + 0.001, 1e-12);  // docs/model.md §3: bottoms 0.2285 m below G
     // The obstacle terrain: its top is 0.1 m, in front of the right wheels.
     ASSERT_FALSE(s.model.terrain.is_flat());
     EXPECT_NEAR(s.model.terrain.max_height(), 0.1, 1e-12);

@@ -1,4 +1,4 @@
-// Tests of the terrain files (io/terrain_json.hpp; MODEL.md section 6).
+// Tests of the terrain files (io/terrain_json.hpp; docs/model.md §6).
 #include "io/terrain_json.hpp"
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// Trajectory files (io/trajectory_io.cpp; MODEL.md section 8): the HDF5 file
+// Trajectory files (io/trajectory_io.cpp; docs/model.md §8): the HDF5 file
 // round-trips through Hdf5Reader and opens in h5py with the documented
 // datasets, shapes and attributes; the CSV round-trips exactly; read_curve
 // reads both, and measured t,z data.
