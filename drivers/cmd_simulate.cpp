@@ -5,6 +5,7 @@
 // bar of docs/model.md §6 (also recorded in the file, see
 // io/trajectory_io.hpp), and a result whose chassis origin G ends below the
 // terrain (the wheels went through the ground, e.g. after a drop from metres).
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -98,8 +99,11 @@ int run_simulate(const SimulateOptions& o) {
   }
   if (!o.no_plot) {
     const std::string stem = out.substr(0, out.size() - std::filesystem::path(out).extension().string().size());
-    const bool obstacle = setup.terrain_path.find("obstacle") != std::string::npos ||
-                          setup.scenario.initial_u[coord::x] != 0.0;
+    // A run where the rover travels (obstacle runs, turns) also gets B_r, G
+    // and the attitude; a drop test only B_l z.
+    const auto last = tr.q.rows() - 1;
+    const bool obstacle = last > 0 && std::hypot(tr.q(last, coord::x) - tr.q(0, coord::x),
+                                                 tr.q(last, coord::y) - tr.q(0, coord::y)) > 0.01;
     try {
       for (const auto& png : io::write_trajectory_plots(stem, tr, setup.scenario.name, obstacle))
         std::cerr << "simulate: wrote " << png << "\n";

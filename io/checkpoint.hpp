@@ -47,16 +47,9 @@
 #include <string_view>
 #include <vector>
 
-namespace rover::io {
+#include "io/task_record.hpp"
 
-// The outcome of one task of a study. status 0 = ok; nonzero = the run failed
-// (message says why); a failed run is a result too and is not retried.
-struct TaskRecord {
-  int index = 0;
-  int status = 0;
-  std::string message;
-  std::vector<double> values;
-};
+namespace rover::io {
 
 struct CheckpointPolicy {
   std::size_t every_records = 100;  // write after this many new records ...

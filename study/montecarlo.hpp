@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "io/checkpoint.hpp"
 #include "study/band_statistics.hpp"
 #include "study/qoi_summary.hpp"
 #include "study/streaming_band.hpp"

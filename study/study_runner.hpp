@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "io/checkpoint.hpp"
 #include "study/task_farm.hpp"
 
 namespace rover::study {

@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "io/checkpoint.hpp"
+#include "io/task_record.hpp"
 
 namespace rover::study {
 
