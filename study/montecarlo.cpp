@@ -259,6 +259,7 @@ std::string run_montecarlo(const MonteCarloStudy& study, const StudyRunControl& 
   remove_checkpoint(out);
 
   std::cerr << "montecarlo: " << N << " runs (" << result.failed << " failed), wrote " << out << "\n";
+  std::string last_note;
   for (std::size_t q = 0; q < result.summaries.size(); ++q) {
     const QoiSummary& s = result.summaries[q];
     const std::string unit = model.qoi_units()[q];
@@ -267,7 +268,8 @@ std::string run_montecarlo(const MonteCarloStudy& study, const StudyRunControl& 
               << k * s.mean_upper << "], sd " << k * s.sd << " [" << k * s.sd_lower << ", " << k * s.sd_upper
               << "] " << display_unit(unit) << " (" << s.samples << " runs, "
               << static_cast<int>(100 * study.confidence) << " % intervals)\n";
-    if (!s.note.empty()) std::cerr << "    " << s.note << "\n";
+    if (!s.note.empty() && s.note != last_note) std::cerr << "    " << s.note << "\n";
+    last_note = s.note;
   }
   if (result.failed == result.samples)
     throw std::runtime_error("every run failed (first: " + (result.messages.empty() ? "" : result.messages[0]) +

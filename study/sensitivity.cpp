@@ -129,6 +129,9 @@ void plot_morris(const std::string& png, const std::string& qoi, const MorrisRes
     plot.labels.push_back({m.mu_star[i], m.sigma[i], labels[static_cast<std::size_t>(i)]});
   }
   plot.series.push_back(points);
+  // Room for the labels of the largest effects.
+  plot.x_range = io::AxisRange{0.0, 1.3 * m.mu_star.maxCoeff()};
+  plot.y_range = io::AxisRange{0.0, 1.15 * std::max(m.sigma.maxCoeff(), m.mu_star.maxCoeff())};
   plot.series.push_back({"sigma = mu*", {0.0, m.mu_star.maxCoeff()}, {0.0, m.mu_star.maxCoeff()}, io::SeriesStyle::dashed});
   io::write_png_or_warn(plot, png, "sensitivity", std::cerr);
 }
