@@ -1,31 +1,10 @@
 // The part of a study file every design-based study shares (montecarlo,
-// evaluate, sensitivity, and the calibration priors):
-//
-//   "type": "montecarlo", "name": "preload_mc", "description": "...",
-//   "scenario": "../scenarios/drop_horizontal.json"     (the rover; or)
-//   "model": "ishigami" | "sobol_g" | "linear"          (an analytic test model)
-//   "integrator": {"method": "rosenbrock", ...}         (optional, replaces the scenario's)
-//   "parameters": {                                     (the uncertain inputs)
-//     "c_q": {"distribution": "uniform", "min": 0.05, "max": 0.40},
-//     "f":   {"distribution": "log_uniform", "min": 1e2, "max": 1e5},
-//     "M0":  {"distribution": "normal", "from_config": true, "sd_scale": 1.0},
-//     "contact.k_g": {"distribution": "normal", "sd_percent": 10}
-//   },
-//   "design": {"type": "monte_carlo" | "latin_hypercube" | "sobol" | "grid",
-//              "samples": 1024, "seed": 7, "levels": 5 | {"c_q": 3, "f": 4}},
-//   "qoi": ["B_l_z_min", "deflection", {"name": "settling_time", "band": 0.001},
-//           {"name": "rms_vs", "reference": "../data/x.csv", "time_offset": 0.05,
-//            "channel": "B_l_z", "label": "rms_drop"}],
-//   "channels": ["B_l_z", "G_z"]
-//
-// Parameter names: study/parameter_space.hpp. Distributions:
-// study/distributions.hpp. "from_config" (the preloads "M0" or one "M0_jk"):
-// Normal(preload_mean, sd_scale * preload_sd) of the rover file. Inputs are
-// independent. A sample outside a parameter's valid range is recorded as
-// rejected with the loader's reason; "truncate" keeps samples inside.
-// Analytic models have inputs x1 .. xd with their textbook distributions
-// (ishigami: U(-pi, pi); sobol_g: U(0, 1); linear: N(0, 1)); "parameters" may
-// replace them.
+// evaluate, sensitivity, calibration priors): the model (a scenario or an
+// analytic test model), the uncertain parameters and their distributions, the
+// design, the QoIs and the channels. The file format is documented in one
+// place: README.md, "Configuration files" -> "Studies". Parameter names:
+// study/parameter_space.hpp; distributions: study/distributions.hpp; QoIs:
+// study/qoi.hpp (formulas and units).
 #pragma once
 
 #include <cstdint>
