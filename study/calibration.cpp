@@ -3,19 +3,26 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <iostream>
 #include <limits>
+#include <sstream>
 
 #include <boost/random/mersenne_twister.hpp>
 #include <boost/random/uniform_real_distribution.hpp>
+#include <Eigen/Core>
 #include <nlopt.hpp>
 
 #include "core/metrics.hpp"
 #include "core/simulate.hpp"
+#include "io/checkpoint.hpp"
 #include "io/csv.hpp"
 #include "io/hdf5_file.hpp"
 #include "io/plot.hpp"
+#include "study/calibration_mcmc.hpp"
+#include "study/calibration_mpi.hpp"
+#include "study/least_squares_uncertainty.hpp"
 #include "study/study_runner.hpp"
 
 namespace rover::study {
@@ -42,20 +49,15 @@ struct Evaluation {
 };
 
 Evaluation evaluate(const CalibrationStudy& s, const std::vector<double>& values) {
-  const Trajectory tr = simulate(s.common.setup.model, s.common.setup.scenario, inputs_for(s, values));
+  const CalibrationCurve curve = simulate_calibration_curve(s, values);
   Evaluation e;
-  e.status = static_cast<int>(tr.status);
-  if (!tr.ok() || tr.t.size() < 2) {
+  if (!curve.ok) {
+    e.status = 1;
     e.rms = 1.0;  // a failed run is a very bad fit, not the end of the calibration
     return e;
   }
-  e.offset = s.offset_initial_s;
-  for (std::size_t k = 0; k < s.fit.size(); ++k)
-    if (s.fit[k].name == "time_offset") e.offset = values[k];
-  const bool offset_fitted = std::any_of(s.fit.begin(), s.fit.end(),
-                                         [](const FitParameter& p) { return p.name == "time_offset"; });
-  if (!offset_fitted) e.offset = best_offset(tr.t, tr.B_l_z, s.data_t, s.data_z, s.offset_min_s, s.offset_max_s);
-  e.rms = shifted_rms(tr.t, tr.B_l_z, s.data_t, s.data_z, e.offset);
+  e.offset = offset_for(s, curve, values);
+  e.rms = shifted_rms(curve.t_s, curve.z_m, s.data_t, s.data_z, e.offset);
   return e;
 }
 
@@ -63,7 +65,25 @@ Evaluation evaluate(const CalibrationStudy& s, const std::vector<double>& values
 double to_internal(const FitParameter& p, double v) { return p.log_scale ? std::log10(v) : v; }
 double to_natural(const FitParameter& p, double x) { return p.log_scale ? std::pow(10.0, x) : x; }
 
+std::string format_number(double v, int digits = 4) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.*g", digits, v);
+  return buffer;
+}
+
 }  // namespace
+
+bool CalibrationStudy::offset_fitted() const {
+  return std::any_of(fit.begin(), fit.end(), [](const FitParameter& p) { return p.name == "time_offset"; });
+}
+
+std::vector<double> shifted_residuals(const std::vector<double>& t, const std::vector<double>& z,
+                                      const std::vector<double>& t_d, const std::vector<double>& z_d,
+                                      double offset) {
+  std::vector<double> r(t_d.size());
+  for (std::size_t i = 0; i < t_d.size(); ++i) r[i] = interpolate(t, z, t_d[i] - offset) - z_d[i];
+  return r;
+}
 
 double shifted_rms(const std::vector<double>& t, const std::vector<double>& z,
                    const std::vector<double>& t_d, const std::vector<double>& z_d, double offset) {
@@ -112,6 +132,29 @@ double best_offset(const std::vector<double>& t, const std::vector<double>& z,
   return shifted_rms(t, z, t_d, z_d, polished) <= best_rms ? polished : best;
 }
 
+CalibrationCurve simulate_calibration_curve(const CalibrationStudy& s, const std::vector<double>& values) {
+  CalibrationCurve curve;
+  try {
+    const Trajectory tr = simulate(s.common.setup.model, s.common.setup.scenario, inputs_for(s, values));
+    if (!tr.ok() || tr.t.size() < 2) {
+      curve.message = "simulation failed (status " + std::to_string(static_cast<int>(tr.status)) + ")";
+      return curve;
+    }
+    curve.ok = true;
+    curve.t_s = tr.t;
+    curve.z_m = tr.B_l_z;
+  } catch (const std::exception& e) {
+    curve.message = e.what();
+  }
+  return curve;
+}
+
+double offset_for(const CalibrationStudy& s, const CalibrationCurve& curve, const std::vector<double>& values) {
+  for (std::size_t k = 0; k < s.fit.size(); ++k)
+    if (s.fit[k].name == "time_offset") return values[k];
+  return best_offset(curve.t_s, curve.z_m, s.data_t, s.data_z, s.offset_min_s, s.offset_max_s);
+}
+
 CalibrationStudy load_calibration_study(const std::string& path, const CalibrationOverrides& o) {
   const io::Json json = io::read_json_file(path);
   const io::JsonReader r(json, path);
@@ -120,9 +163,16 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
   if (o.data_path.empty() && !r.has("data")) r.fail("data", "missing: give the measured curve here or with --data");
   s.data_path = o.data_path.empty() ? io::resolve_relative(path, r.string("data")) : o.data_path;
   (void)r.has("data");  // allowed to be absent when --data is given
-  const io::CsvTable table = io::read_csv(s.data_path, {"t", "z"});
-  s.data_t = table.column("t");
-  s.data_z = table.column("z");
+  // The checks `rover compare` makes (monotonic times, >= 3 rows, sane values).
+  const io::MeasuredCurve curve = io::read_measured_curve(s.data_path);
+  s.data_t = curve.t_s;
+  s.data_z = curve.z_m;
+
+  const std::string configured_method = r.string_or("method", "optimize");
+  const std::string method = o.method.empty() ? configured_method : o.method;
+  if (method == "optimize") s.method = CalibrationMethod::optimize;
+  else if (method == "mcmc") s.method = CalibrationMethod::mcmc;
+  else r.fail("method", "unknown method '" + method + "' (optimize or mcmc)");
 
   std::vector<std::string> names;
   if (!o.fit.empty()) {
@@ -153,6 +203,7 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
     if (p.log_scale && !(p.lower > 0)) bounds.fail(name, "bounds of f must be positive");
     p.initial = initial.number(name);
     if (p.initial < p.lower || p.initial > p.upper) initial.fail(name, "initial value outside the bounds");
+    p.prior = p.log_scale ? log_uniform(p.lower, p.upper) : uniform(p.lower, p.upper);
     s.fit.push_back(p);
   }
   // Bounds and initial values of parameters not fitted are accepted (a study
@@ -171,6 +222,57 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
   }
   bounds.finish();
   initial.finish();
+
+  // Priors (used by the mcmc method; checked whatever the method).
+  if (r.has("priors")) {
+    const io::JsonReader priors = r.child("priors");
+    for (const std::string& name : kFittable) {
+      if (!priors.has(name)) continue;
+      const io::JsonReader prior = priors.child(name);
+      const Distribution d = parse_distribution(prior, std::numeric_limits<double>::quiet_NaN());
+      std::string why;
+      if (!d.IsValid(&why)) priors.fail(name, why);
+      prior.finish();
+      for (auto& p : s.fit)
+        if (p.name == name) p.prior = d;
+    }
+    priors.finish();
+  }
+
+  if (r.has("mcmc")) {
+    const io::JsonReader m = r.child("mcmc");
+    s.mcmc.walkers = m.integer_or("walkers", s.mcmc.walkers);
+    s.mcmc.steps = m.integer_or("steps", static_cast<int>(s.mcmc.steps));
+    s.mcmc.discard = m.integer_or("discard", static_cast<int>(s.mcmc.discard));
+    s.mcmc.seed = m.seed_or("seed", s.mcmc.seed);
+    s.mcmc.predictive_draws = m.integer_or("predictive_draws", s.mcmc.predictive_draws);
+    if (m.has("noise_sd")) {
+      if (m.raw("noise_sd").is_number()) {
+        s.mcmc.sample_noise = false;
+        s.mcmc.known_noise_sd_m = m.positive("noise_sd");
+      } else {
+        const io::JsonReader noise = m.child("noise_sd");
+        s.mcmc.noise_prior = parse_distribution(noise, std::numeric_limits<double>::quiet_NaN());
+        std::string why;
+        if (!s.mcmc.noise_prior.IsValid(&why)) m.fail("noise_sd", why);
+        if (!(s.mcmc.noise_prior.support_lower() >= 0))
+          m.fail("noise_sd", "the noise sd prior must not extend below 0");
+        noise.finish();
+      }
+    }
+    if (s.mcmc.predictive_draws < 0) m.fail("predictive_draws", "must not be negative");
+    m.finish();
+  }
+  if (o.walkers) s.mcmc.walkers = *o.walkers;
+  if (o.steps) s.mcmc.steps = *o.steps;
+  const std::size_t sampled = s.fit.size() + (s.mcmc.sample_noise ? 1 : 0);
+  if (s.mcmc.walkers < 2 * static_cast<int>(sampled) || s.mcmc.walkers % 2 != 0)
+    r.fail("mcmc.walkers", "must be even and at least twice the number of sampled parameters (" +
+                               std::to_string(2 * sampled) + ")");
+  if (s.mcmc.steps <= 0) r.fail("mcmc.steps", "must be positive");
+  if (s.mcmc.discard < 0 || s.mcmc.discard >= s.mcmc.steps)
+    r.fail("mcmc.discard", "must be in [0, steps)");
+
   // Read every key even when the command line overrides it (no "unknown key").
   const std::string configured_algorithm = r.string_or("algorithm", "LN_BOBYQA");
   const int configured_evaluations = r.integer_or("max_evaluations", 40);
@@ -178,17 +280,153 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
   s.algorithm = !o.algorithm.empty() ? o.algorithm : configured_algorithm;
   if (static_cast<int>(nlopt_algorithm_from_string(s.algorithm.c_str())) < 0)
     r.fail("algorithm", "unknown NLopt algorithm '" + s.algorithm + "' (e.g. LN_BOBYQA, LN_NELDERMEAD, GN_DIRECT_L, GN_CRS2_LM)");
-  s.max_evaluations = o.max_evaluations > 0 ? o.max_evaluations : configured_evaluations;
-  if (s.max_evaluations <= 0) r.fail("max_evaluations", "must be positive");
+  if (s.algorithm.rfind("LD_", 0) == 0 || s.algorithm.rfind("GD_", 0) == 0)
+    r.fail("algorithm", "'" + s.algorithm + "' needs gradients, which the simulated RMS does not have; "
+                        "use a derivative-free algorithm (LN_BOBYQA, LN_SBPLX, LN_NELDERMEAD, GN_DIRECT_L, ...)");
+  s.max_evaluations = o.max_evaluations ? *o.max_evaluations : configured_evaluations;
+  if (s.max_evaluations <= 0) r.fail("max_evaluations", "must be positive, got " + std::to_string(s.max_evaluations));
   s.xtol_rel = r.has("xtol_rel") ? r.positive("xtol_rel") : 1e-3;
-  s.starts = o.starts > 0 ? o.starts : configured_starts;
-  if (s.starts <= 0) r.fail("starts", "must be positive");
+  s.starts = o.starts ? *o.starts : configured_starts;
+  if (s.starts <= 0) r.fail("starts", "must be positive, got " + std::to_string(s.starts));
   s.seed = static_cast<std::uint64_t>(r.integer_or("seed", 1));
   r.finish();
+
+  // Everything that changes a result: the files, the data and the options in force.
+  std::ostringstream key;
+  key << s.common.fingerprint << '\n' << read_text(s.data_path) << '\n' << method << '\n' << s.algorithm
+      << ' ' << s.max_evaluations << ' ' << s.starts << ' ' << s.mcmc.walkers << ' ' << s.mcmc.steps;
+  for (const auto& p : s.fit) key << ' ' << p.name;
+  s.fingerprint = io::config_fingerprint(key.str());
   return s;
 }
 
-std::string run_calibration(const CalibrationStudy& s, const StudyRunControl& control) {
+namespace {
+
+// The Gauss-Newton uncertainty at the optimum. Parameters: the fitted ones
+// (natural units) and, when it is profiled, the time offset (its derivative
+// needs no simulation: the curve is shifted). Collective: the 2 p difference
+// runs go through run_task_farm. `best` (values then offset) is rank 0's and
+// is broadcast. Returns the uncertainty and its parameter names on rank 0.
+struct GaussNewtonResult {
+  bool ok = false;
+  std::string message;
+  std::vector<std::string> names;
+  LeastSquaresUncertainty uncertainty;
+};
+
+GaussNewtonResult gauss_newton_at_optimum(const CalibrationStudy& s, std::vector<double> best,
+                                          const StudyRunControl& control) {
+  broadcast_from_rank0(best);
+  const std::size_t p = s.fit.size();
+  const std::vector<double> values(best.begin(), best.begin() + static_cast<std::ptrdiff_t>(p));
+  const double offset = best[p];
+  const bool profiled = !s.offset_fitted();
+  // Simulated parameters (all but a fitted time_offset) get difference steps.
+  std::vector<std::size_t> simulated;
+  for (std::size_t k = 0; k < p; ++k)
+    if (s.fit[k].name != "time_offset") simulated.push_back(k);
+  Eigen::VectorXd x(static_cast<Eigen::Index>(simulated.size())), lower(x.size()), upper(x.size()),
+      typical(x.size());
+  for (std::size_t j = 0; j < simulated.size(); ++j) {
+    const FitParameter& f = s.fit[simulated[j]];
+    const auto i = static_cast<Eigen::Index>(j);
+    x[i] = values[simulated[j]];
+    lower[i] = f.lower;
+    upper[i] = f.upper;
+    // finite_difference_steps takes h = cbrt(eps) max(|x|, typical); this
+    // typical makes h = kJacobianRelativeStep max(|x|, 1 % of the range).
+    typical[i] = kJacobianRelativeStep / std::cbrt(std::numeric_limits<double>::epsilon()) *
+                 std::max(std::abs(x[i]), 1e-2 * (f.upper - f.lower));
+  }
+  const std::vector<DifferenceStep> steps = finite_difference_steps(x, lower, upper, typical);
+
+  // Task 2 j: x + h_j e_j; task 2 j + 1: x - h_j e_j (central steps only).
+  // Both at the optimum's offset (the offset is a parameter of its own here).
+  std::vector<int> tasks;
+  for (std::size_t j = 0; j < steps.size(); ++j) {
+    tasks.push_back(static_cast<int>(2 * j));
+    if (steps[j].scheme == DifferenceScheme::central) tasks.push_back(static_cast<int>(2 * j + 1));
+  }
+  tasks.push_back(static_cast<int>(2 * steps.size()));  // the optimum itself
+  auto compute = [&](int task) {
+    std::vector<double> v = values;
+    const std::size_t j = static_cast<std::size_t>(task) / 2;
+    if (j < steps.size()) v[simulated[j]] += (task % 2 == 0 ? 1.0 : -1.0) * steps[j].step;
+    const CalibrationCurve curve = simulate_calibration_curve(s, v);
+    TaskResult result{task, curve.ok ? 0 : 1, curve.message, {}};
+    if (curve.ok) {
+      result.values = shifted_residuals(curve.t_s, curve.z_m, s.data_t, s.data_z, offset);
+      // The time step of the simulated curve, for the offset derivative.
+      result.values.push_back(curve.t_s[1] - curve.t_s[0]);
+    }
+    return result;
+  };
+  TaskFarmOptions farm;
+  farm.label = "calibrate: Jacobian";
+  farm.progress_interval_s = control.progress_interval_s;
+  farm.stop = &InterruptGuard::flag();
+  const std::vector<TaskResult> runs = run_task_farm(tasks, compute, {}, farm);
+  GaussNewtonResult out;
+  if (world_rank() != 0) return out;
+  const std::size_t n = s.data_t.size();
+  std::vector<const TaskResult*> by_task(2 * steps.size() + 1, nullptr);
+  for (const TaskResult& r : runs) {
+    if (r.status != 0) {
+      out.message = "a Jacobian run failed (" + r.message + "): no intervals";
+      return out;
+    }
+    by_task[static_cast<std::size_t>(r.index)] = &r;
+  }
+  if (runs.size() != tasks.size()) {
+    out.message = "interrupted before the Jacobian was complete: no intervals";
+    return out;
+  }
+  const TaskResult& centre = *by_task.back();
+  const std::size_t q = p + (profiled ? 1 : 0);
+  if (n <= q) {
+    out.message = "only " + std::to_string(n) + " data points for " + std::to_string(q) +
+                  " parameters: no intervals";
+    return out;
+  }
+  Eigen::MatrixXd jacobian(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(q));
+  Eigen::VectorXd residuals(static_cast<Eigen::Index>(n)), theta(static_cast<Eigen::Index>(q));
+  for (std::size_t i = 0; i < n; ++i) residuals[static_cast<Eigen::Index>(i)] = centre.values[i];
+  for (std::size_t k = 0; k < p; ++k) theta[static_cast<Eigen::Index>(k)] = values[k];
+  for (std::size_t j = 0; j < steps.size(); ++j) {
+    const auto column = static_cast<Eigen::Index>(simulated[j]);
+    const std::vector<double>& plus = by_task[2 * j]->values;
+    const bool central = steps[j].scheme == DifferenceScheme::central;
+    const std::vector<double>& minus = central ? by_task[2 * j + 1]->values : centre.values;
+    const double width = central ? 2.0 * steps[j].step : steps[j].step;
+    for (std::size_t i = 0; i < n; ++i)
+      jacobian(static_cast<Eigen::Index>(i), column) = (plus[i] - minus[i]) / width;
+  }
+  // d r_i / d offset = -z'(t_i - offset): a central difference of the shifted
+  // curve over one output interval (no new simulation). The same column
+  // serves a fitted time_offset.
+  std::size_t offset_column = p;
+  for (std::size_t k = 0; k < p; ++k)
+    if (s.fit[k].name == "time_offset") offset_column = k;
+  {
+    const CalibrationCurve curve = simulate_calibration_curve(s, values);
+    const double h = 0.5 * centre.values[n];
+    const auto plus = shifted_residuals(curve.t_s, curve.z_m, s.data_t, s.data_z, offset + h);
+    const auto minus = shifted_residuals(curve.t_s, curve.z_m, s.data_t, s.data_z, offset - h);
+    for (std::size_t i = 0; i < n; ++i)
+      jacobian(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(offset_column)) =
+          (plus[i] - minus[i]) / (2.0 * h);
+  }
+  for (const auto& f : s.fit) out.names.push_back(f.name);
+  if (profiled) {
+    out.names.push_back("time_offset");
+    theta[static_cast<Eigen::Index>(p)] = offset;
+  }
+  out.uncertainty = gauss_newton_uncertainty(theta, residuals, jacobian, 0.95, out.names);
+  out.ok = true;
+  return out;
+}
+
+std::string run_fit(const CalibrationStudy& s, const StudyRunControl& control) {
   const std::string out = results_path(s.common, control.results_path);
   const std::size_t p = s.fit.size();
   const std::size_t row = p + 3;  // parameters, offset, rms, status
@@ -236,29 +474,29 @@ std::string run_calibration(const CalibrationStudy& s, const StudyRunControl& co
     TaskResult result{start, 0, "", {}};
     try {
       const nlopt::result code = opt.optimize(x, best);
-      result.message = std::string("nlopt: ") + nlopt_result_to_string(static_cast<nlopt_result>(code));
+      result.message = nlopt_result_to_string(static_cast<nlopt_result>(code));
     } catch (const nlopt::roundoff_limited&) {
-      result.message = "nlopt: roundoff limited (the result is as good as it gets)";
+      result.message = "ROUNDOFF_LIMITED";
     } catch (const std::exception& e) {
       if (history.empty()) throw;
-      result.message = std::string("nlopt stopped: ") + e.what();
+      result.message = std::string("FAILURE: ") + e.what();
     }
     result.values = std::move(history);
     return result;
   };
-  StudyRunOptions options{.results_path = out, .fingerprint = s.common.fingerprint, .resume = control.resume,
+  StudyRunOptions options{.results_path = out, .fingerprint = s.fingerprint, .resume = control.resume,
                           .label = "calibrate", .progress_interval_s = control.progress_interval_s,
                           .resume_command = control.resume_command, .checkpoint = control.checkpoint};
   const std::vector<TaskResult> results = run_study_tasks(s.starts, compute, options);
-  if (world_rank() != 0) return out;
 
-  // Every evaluation of every start, and the best of them.
+  // Every evaluation of every start, and the best of them (rank 0).
   std::vector<double> history, history_start;
   std::size_t best_row = 0;
   double best_rms = std::numeric_limits<double>::infinity();
   std::vector<std::string> messages;
+  std::string best_status;
   for (const TaskResult& r : results) {
-    messages.push_back("start " + std::to_string(r.index) + ": " + r.message);
+    messages.push_back("start " + std::to_string(r.index) + ": nlopt " + r.message);
     for (std::size_t k = 0; k + row <= r.values.size(); k += row) {
       const std::size_t e = history.size() / row;
       history.insert(history.end(), r.values.begin() + static_cast<std::ptrdiff_t>(k),
@@ -267,16 +505,24 @@ std::string run_calibration(const CalibrationStudy& s, const StudyRunControl& co
       if (r.values[k + p + 2] == 0 && r.values[k + p + 1] < best_rms) {
         best_rms = r.values[k + p + 1];
         best_row = e;
+        best_status = r.message;
       }
     }
   }
-  if (history.empty()) throw std::runtime_error("calibrate: no evaluation finished");
-  const std::vector<double> best_values(history.begin() + static_cast<std::ptrdiff_t>(best_row * row),
-                                        history.begin() + static_cast<std::ptrdiff_t>(best_row * row + p));
-  const double best_offset_s = history[best_row * row + p];
-  const Trajectory fit = simulate(s.common.setup.model, s.common.setup.scenario, inputs_for(s, best_values));
-  std::vector<double> fit_t(fit.t.size());
-  for (std::size_t i = 0; i < fit.t.size(); ++i) fit_t[i] = fit.t[i] + best_offset_s;
+  if (world_rank() == 0 && !std::isfinite(best_rms))
+    throw std::runtime_error("calibrate: no evaluation succeeded");
+  std::vector<double> best;  // values, then offset
+  if (world_rank() == 0)
+    best.assign(history.begin() + static_cast<std::ptrdiff_t>(best_row * row),
+                history.begin() + static_cast<std::ptrdiff_t>(best_row * row + p + 1));
+  const GaussNewtonResult gn = gauss_newton_at_optimum(s, best, control);
+  if (world_rank() != 0) return out;
+
+  const std::vector<double> best_values(best.begin(), best.begin() + static_cast<std::ptrdiff_t>(p));
+  const double best_offset_s = best[p];
+  const CalibrationCurve fit = simulate_calibration_curve(s, best_values);
+  std::vector<double> fit_t(fit.t_s.size());
+  for (std::size_t i = 0; i < fit.t_s.size(); ++i) fit_t[i] = fit.t_s[i] + best_offset_s;
 
   std::vector<std::string> names, columns;
   for (const auto& f : s.fit) names.push_back(f.name);
@@ -290,27 +536,81 @@ std::string run_calibration(const CalibrationStudy& s, const StudyRunControl& co
   h5.write("/best/names", names);
   h5.write("/best/time_offset", std::vector<double>{best_offset_s});
   h5.write("/best/rms", std::vector<double>{best_rms});
+  h5.attribute("/best", "nlopt_status", best_status);
+  if (gn.ok) {
+    const LeastSquaresUncertainty& u = gn.uncertainty;
+    const auto q = static_cast<std::size_t>(u.covariance.rows());
+    auto to_vector = [](const Eigen::MatrixXd& m) {  // row-major
+      std::vector<double> v;
+      for (Eigen::Index i = 0; i < m.rows(); ++i)
+        for (Eigen::Index j = 0; j < m.cols(); ++j) v.push_back(m(i, j));
+      return v;
+    };
+    h5.write("/best/names_uncertainty", gn.names);
+    h5.write("/best/covariance", to_vector(u.covariance), q, q);
+    h5.write("/best/correlation", to_vector(u.correlation), q, q);
+    h5.write("/best/stderr", std::vector<double>(u.standard_error.begin(), u.standard_error.end()));
+    h5.write("/best/lower", std::vector<double>(u.lower.begin(), u.lower.end()));
+    h5.write("/best/upper", std::vector<double>(u.upper.begin(), u.upper.end()));
+    h5.write("/best/noise_sd", std::vector<double>{u.noise_sd});
+    h5.attribute("/best", "degrees_of_freedom", static_cast<long long>(u.degrees_of_freedom));
+    h5.attribute("/best", "jacobian_rank", static_cast<long long>(u.rank));
+    h5.attribute("/best", "gn_warning", u.warning);
+  } else {
+    h5.attribute("/best", "gn_warning", gn.message);
+  }
   h5.write("/data/t", s.data_t);
   h5.write("/data/z", s.data_z);
   h5.write("/fit/t", fit_t);
-  h5.write("/fit/z", fit.B_l_z);
+  h5.write("/fit/z", fit.z_m);
   h5.write("/messages", messages);
   write_study_provenance(h5, s.common);
   h5.attribute("/", "data_file", s.data_path);
+  h5.attribute("/", "method", std::string("optimize"));
   h5.attribute("/", "algorithm", s.algorithm);
+  h5.attribute("/", "nlopt_status", best_status);
   h5.attribute("/", "max_evaluations", static_cast<long long>(s.max_evaluations));
   h5.attribute("/", "starts", static_cast<long long>(s.starts));
+  h5.attribute("/", "calibration_fingerprint", s.fingerprint);
   h5.commit();
   remove_checkpoint(out);
-  std::cerr << "calibrate: " << history.size() / row << " evaluations; best RMS " << best_rms * 1000.0
-            << " mm at";
-  for (std::size_t k = 0; k < p; ++k) std::cerr << " " << names[k] << " = " << best_values[k];
-  std::cerr << ", time offset " << best_offset_s << " s; wrote " << out << "\n";
+  std::cerr << "calibrate: " << history.size() / row << " evaluations; NLopt returned " << best_status
+            << " for the best start; best RMS " << format_number(best_rms * 1000.0) << " mm at";
+  for (std::size_t k = 0; k < p; ++k) std::cerr << " " << names[k] << " = " << format_number(best_values[k], 6);
+  std::cerr << ", time offset " << format_number(best_offset_s, 6) << " s\n";
+  if (gn.ok) {
+    const LeastSquaresUncertainty& u = gn.uncertainty;
+    std::cerr << "calibrate: noise sd from the residuals " << format_number(u.noise_sd * 1000.0)
+              << " mm (" << u.degrees_of_freedom << " degrees of freedom); Gauss-Newton 95 % intervals:\n";
+    for (std::size_t k = 0; k < gn.names.size(); ++k) {
+      const auto i = static_cast<Eigen::Index>(k);
+      const double value = k < p ? best_values[k] : best_offset_s;
+      std::cerr << "  " << gn.names[k] << " = " << format_number(value, 6) << " +- "
+                << format_number(u.upper[i] - value, 3) << " (95 %), se " << format_number(u.standard_error[i], 3)
+                << (k >= p ? "  (profiled offset)" : "") << "\n";
+    }
+    std::cerr << "calibrate: correlation matrix (" ;
+    for (std::size_t k = 0; k < gn.names.size(); ++k) std::cerr << (k ? ", " : "") << gn.names[k];
+    std::cerr << "):\n";
+    for (Eigen::Index i = 0; i < u.correlation.rows(); ++i) {
+      std::cerr << " ";
+      for (Eigen::Index j = 0; j < u.correlation.cols(); ++j) {
+        char cell[32];
+        std::snprintf(cell, sizeof cell, " %7.3f", u.correlation(i, j));
+        std::cerr << cell;
+      }
+      std::cerr << "\n";
+    }
+    if (!u.warning.empty()) std::cerr << "calibrate: WARNING: " << u.warning << "\n";
+  } else {
+    std::cerr << "calibrate: WARNING: " << gn.message << "\n";
+  }
+  std::cerr << "calibrate: wrote " << out << "\n";
 
   if (control.plot) {
     const std::string png = out.substr(0, out.size() - 3) + ".png";
     io::LinePlot plot;
-    plot.title = s.common.name + ": data and fitted B_l z (RMS " + std::to_string(best_rms * 1000.0).substr(0, 6) + " mm)";
+    plot.title = s.common.name + ": data and fitted B_l z (RMS " + format_number(best_rms * 1000.0) + " mm)";
     plot.x_label = "t (data clock) [s]";
     plot.y_label = "B_l z [mm]";
     io::Series data, model;
@@ -320,11 +620,17 @@ std::string run_calibration(const CalibrationStudy& s, const StudyRunControl& co
     data.style = io::SeriesStyle::points;
     model.label = "fitted model";
     model.x = fit_t;
-    for (double z : fit.B_l_z) model.y.push_back(1000.0 * z);
+    for (double z : fit.z_m) model.y.push_back(1000.0 * z);
     plot.series = {data, model};
     io::write_png_or_warn(plot, png, "calibrate", std::cerr);
   }
   return out;
+}
+
+}  // namespace
+
+std::string run_calibration(const CalibrationStudy& s, const StudyRunControl& control) {
+  return s.method == CalibrationMethod::mcmc ? run_calibration_mcmc(s, control) : run_fit(s, control);
 }
 
 }  // namespace rover::study
