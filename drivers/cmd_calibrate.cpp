@@ -26,6 +26,7 @@ int run_calibrate_command(CalibrateOptions o) {
   for (std::string name; std::getline(ss, name, ',');)
     if (!name.empty()) o.overrides.fit.push_back(name);
   const study::CalibrationStudy s = study::load_calibration_study(o.study_path, o.overrides);
+  o.control.resume_command = "the same command with --resume";
   if (mpi.rank() == 0) {
     if (s.method == study::CalibrationMethod::mcmc) {
       std::cerr << "calibrate: sampling the posterior of";
@@ -77,6 +78,7 @@ const RegisterCommand registration{
           ->check(CLI::IsMember({"optimize", "mcmc"}));
       app.add_option("--walkers", o->overrides.walkers, "mcmc: ensemble walkers (even, >= 2 x sampled parameters)");
       app.add_option("--steps", o->overrides.steps, "mcmc: ensemble steps");
+      app.add_option("--discard", o->overrides.discard, "mcmc: burn-in steps left out of the summaries");
       add_study_control(app, o->control);
       return [o] { return run_calibrate_command(*o); };
     }};

@@ -265,6 +265,7 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
   }
   if (o.walkers) s.mcmc.walkers = *o.walkers;
   if (o.steps) s.mcmc.steps = *o.steps;
+  if (o.discard) s.mcmc.discard = *o.discard;
   const std::size_t sampled = s.fit.size() + (s.mcmc.sample_noise ? 1 : 0);
   if (s.mcmc.walkers < 2 * static_cast<int>(sampled) || s.mcmc.walkers % 2 != 0)
     r.fail("mcmc.walkers", "must be even and at least twice the number of sampled parameters (" +
@@ -294,7 +295,7 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
   // Everything that changes a result: the files, the data and the options in force.
   std::ostringstream key;
   key << s.common.fingerprint << '\n' << read_text(s.data_path) << '\n' << method << '\n' << s.algorithm
-      << ' ' << s.max_evaluations << ' ' << s.starts << ' ' << s.mcmc.walkers << ' ' << s.mcmc.steps;
+      << ' ' << s.max_evaluations << ' ' << s.starts << ' ' << s.mcmc.walkers << ' ' << s.mcmc.steps << ' ' << s.mcmc.discard;
   for (const auto& p : s.fit) key << ' ' << p.name;
   s.fingerprint = io::config_fingerprint(key.str());
   return s;

@@ -105,12 +105,12 @@ struct CalibrationStudy {
 
 // Command-line overrides; std::nullopt / empty: the study's.
 struct CalibrationOverrides {
-  std::string data_path;
-  std::vector<std::string> fit;
-  std::string algorithm;
-  std::string method;
-  std::optional<int> starts, max_evaluations, walkers;
-  std::optional<long> steps;
+  std::string data_path{};
+  std::vector<std::string> fit{};
+  std::string algorithm{};
+  std::string method{};
+  std::optional<int> starts{}, max_evaluations{}, walkers{};
+  std::optional<long> steps{}, discard{};
 };
 
 // Throws io::ConfigError naming the file and the field on any bad value
