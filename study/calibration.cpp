@@ -271,8 +271,8 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
     r.fail("mcmc.walkers", "must be even and at least twice the number of sampled parameters (" +
                                std::to_string(2 * sampled) + ")");
   if (s.mcmc.steps <= 0) r.fail("mcmc.steps", "must be positive");
-  if (s.mcmc.discard < 0 || s.mcmc.discard >= s.mcmc.steps)
-    r.fail("mcmc.discard", "must be in [0, steps)");
+  if (s.mcmc.discard < 0 || s.mcmc.steps - s.mcmc.discard < 4)
+    r.fail("mcmc.discard", "must be >= 0 and leave at least 4 of the " + std::to_string(s.mcmc.steps) + " steps");
 
   // Read every key even when the command line overrides it (no "unknown key").
   const std::string configured_algorithm = r.string_or("algorithm", "LN_BOBYQA");
