@@ -64,7 +64,7 @@ TEST(CmdCalibrate, FitRecoversTheGeneratingDampingWithGaussNewtonIntervals) {
 }
 
 // A quick posterior: a 0.25 s drop with the stiff integrator, 4 walkers.
-std::string mcmc_study(const std::string& dir) {
+std::string mcmc_study(const std::string& dir, int walkers = 4, int steps = 6) {
   const std::string scenario = write_file(dir + "/short_drop.json", R"({"name": "short_drop", "rover": ")" +
       source_path("configs/rover.json") + R"(", "duration": 0.25, "output_rate": 200,
       "initial_q": {"z": 0.281, "chi": 0.039, "psi": 0.0042}})");
@@ -73,7 +73,8 @@ std::string mcmc_study(const std::string& dir) {
       source_path("configs/data/drop_horizontal_synthetic.csv") + R"(", "method": "mcmc", "fit": ["c_q"],
       "bounds": {"c_q": [0.02, 1.0], "time_offset": [-0.2, 0.2]}, "initial": {"c_q": 0.25},
       "priors": {"c_q": {"distribution": "uniform", "min": 0.1, "max": 0.5}},
-      "mcmc": {"walkers": 4, "steps": 6, "discard": 2, "seed": 3, "predictive_draws": 4,
+      "mcmc": {"walkers": )" + std::to_string(walkers) +
+      R"(, "steps": )" + std::to_string(steps) + R"(, "discard": 2, "seed": 3, "predictive_draws": 4,
                "noise_sd": {"distribution": "log_uniform", "min": 1e-5, "max": 1e-2}}})");
 }
 
@@ -108,6 +109,29 @@ TEST(CmdCalibrate, PosteriorIsIdenticalOnOneAndTwoRanks) {
     EXPECT_GT(upper_noise[i] - lower_noise[i], upper[i] - lower[i]);
   }
   EXPECT_NE(log1.find("WARNING"), std::string::npos) << log1;  // 6 steps: loudly unreliable
+}
+
+TEST(CmdCalibrate, KilledPosteriorResumesToTheUninterruptedChain) {
+  const std::string dir = rover::testing::temp_dir();
+  const std::string study = mcmc_study(dir, 8, 30);
+  std::string log;
+  ASSERT_EQ(run_command(rover_binary() + " calibrate --study " + study + " --no-plot --out " + dir + "/whole.h5", &log), 0)
+      << log;
+  // SIGKILL once some steps are checkpointed (the ensemble is saved every step).
+  run_command("cd " + dir + " && (" + rover_binary() + " calibrate --study " + study + " --no-plot --out " + dir +
+                  "/part.h5 & pid=$!; for i in $(seq 200); do [ -s " + dir +
+                  "/part.h5.checkpoint ] && break; sleep 0.05; done; sleep 0.5; kill -9 $pid; wait $pid)",
+              &log);
+  if (std::ifstream(dir + "/part.h5").good()) GTEST_SKIP() << "the study finished before the kill";
+  ASSERT_TRUE(std::ifstream(dir + "/part.h5.checkpoint").good()) << log;
+  ASSERT_EQ(run_command(rover_binary() + " calibrate --study " + study + " --no-plot --resume --out " + dir +
+                            "/part.h5", &log), 0) << log;
+  EXPECT_NE(log.find("resuming the ensemble after step"), std::string::npos) << log;
+  const io::Hdf5Reader whole(dir + "/whole.h5"), part(dir + "/part.h5");
+  EXPECT_EQ(whole.read_doubles("/chain"), part.read_doubles("/chain"));
+  EXPECT_EQ(whole.read_doubles("/log_posterior"), part.read_doubles("/log_posterior"));
+  EXPECT_EQ(whole.read_doubles("/predictive/lower_noise"), part.read_doubles("/predictive/lower_noise"));
+  EXPECT_FALSE(std::ifstream(dir + "/part.h5.checkpoint").good());
 }
 
 TEST(CmdCalibrate, BadInputIsRefusedNamingTheFieldOrFile) {
