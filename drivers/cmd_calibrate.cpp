@@ -32,12 +32,12 @@ int run_calibrate_command(CalibrateOptions o) {
       std::cerr << "calibrate: sampling the posterior of";
       for (const auto& p : s.fit) std::cerr << " " << p.name << " ~ " << p.prior.describe();
       std::cerr << (s.mcmc.sample_noise ? " and the noise sd" : "") << " given " << s.data_path << " ("
-                << s.data_t.size() << " points): " << s.mcmc.walkers << " walkers x " << s.mcmc.steps
+                << s.datasets.size() << " curve(s)): " << s.mcmc.walkers << " walkers x " << s.mcmc.steps
                 << " steps on " << mpi.size() << " rank(s)\n";
     } else {
       std::cerr << "calibrate: fitting";
       for (const auto& p : s.fit) std::cerr << " " << p.name << " in [" << p.lower << ", " << p.upper << "]";
-      std::cerr << " to " << s.data_path << " (" << s.data_t.size() << " points) with " << s.algorithm
+      std::cerr << " to " << s.data_path << " (" << s.datasets.size() << " curve(s)) with " << s.algorithm
                 << ", " << s.starts << " start(s) on " << mpi.size() << " rank(s)\n";
     }
   }

@@ -43,21 +43,38 @@ SimulationInputs inputs_for(const CalibrationStudy& s, const std::vector<double>
   return in;
 }
 
+// One evaluation of the objective: per dataset the offset, the pooled RMS,
+// and the objective NLopt minimises (the RMS for one curve; for several,
+// sum_k n_k log RMS_k / N, the profile likelihood with a noise sd per curve).
 struct Evaluation {
-  double offset = 0.0, rms = 0.0;
+  std::vector<double> offsets;
+  double rms = 0.0, objective = 0.0;
   int status = 0;
 };
 
 Evaluation evaluate(const CalibrationStudy& s, const std::vector<double>& values) {
-  const CalibrationCurve curve = simulate_calibration_curve(s, values);
+  const CalibrationResiduals r = calibration_residuals(s, values);
   Evaluation e;
-  if (!curve.ok) {
+  e.offsets.assign(s.datasets.size(), 0.0);
+  if (!r.ok) {
     e.status = 1;
     e.rms = 1.0;  // a failed run is a very bad fit, not the end of the calibration
+    e.objective = s.datasets.size() == 1 ? e.rms : 1e3;
     return e;
   }
-  e.offset = offset_for(s, curve, values);
-  e.rms = shifted_rms(curve.t_s, curve.z_m, s.data_t, s.data_z, e.offset);
+  e.offsets = r.offsets;
+  double rss = 0.0, log_sum = 0.0;
+  std::size_t n = 0;
+  for (const auto& residuals : r.residuals) {
+    double rss_k = 0.0;
+    for (double v : residuals) rss_k += v * v;
+    rss += rss_k;
+    n += residuals.size();
+    log_sum += 0.5 * static_cast<double>(residuals.size()) *
+               std::log(std::max(rss_k / static_cast<double>(residuals.size()), 1e-300));
+  }
+  e.rms = std::sqrt(rss / static_cast<double>(n));
+  e.objective = s.datasets.size() == 1 ? e.rms : log_sum / static_cast<double>(n);
   return e;
 }
 
@@ -132,27 +149,47 @@ double best_offset(const std::vector<double>& t, const std::vector<double>& z,
   return shifted_rms(t, z, t_d, z_d, polished) <= best_rms ? polished : best;
 }
 
-CalibrationCurve simulate_calibration_curve(const CalibrationStudy& s, const std::vector<double>& values) {
+CalibrationCurve simulate_calibration_curve(const CalibrationStudy& s, std::size_t dataset,
+                                            const std::vector<double>& values) {
+  const CalibrationDataset& d = s.datasets.at(dataset);
   CalibrationCurve curve;
   try {
-    const Trajectory tr = simulate(s.common.setup.model, s.common.setup.scenario, inputs_for(s, values));
+    const Trajectory tr = simulate(d.setup.model, d.setup.scenario, inputs_for(s, values));
     if (!tr.ok() || tr.t.size() < 2) {
       curve.message = "simulation failed (status " + std::to_string(static_cast<int>(tr.status)) + ")";
       return curve;
     }
     curve.ok = true;
     curve.t_s = tr.t;
-    curve.z_m = tr.B_l_z;
+    curve.z_m = d.channel == "B_r_z" ? tr.B_r_z : tr.B_l_z;
   } catch (const std::exception& e) {
     curve.message = e.what();
   }
   return curve;
 }
 
-double offset_for(const CalibrationStudy& s, const CalibrationCurve& curve, const std::vector<double>& values) {
+double offset_for(const CalibrationStudy& s, std::size_t dataset, const CalibrationCurve& curve,
+                  const std::vector<double>& values) {
   for (std::size_t k = 0; k < s.fit.size(); ++k)
     if (s.fit[k].name == "time_offset") return values[k];
-  return best_offset(curve.t_s, curve.z_m, s.data_t, s.data_z, s.offset_min_s, s.offset_max_s);
+  const CalibrationDataset& d = s.datasets.at(dataset);
+  return best_offset(curve.t_s, curve.z_m, d.t, d.z, s.offset_min_s, s.offset_max_s);
+}
+
+CalibrationResiduals calibration_residuals(const CalibrationStudy& s, const std::vector<double>& values) {
+  CalibrationResiduals out;
+  for (std::size_t k = 0; k < s.datasets.size(); ++k) {
+    const CalibrationCurve curve = simulate_calibration_curve(s, k, values);
+    if (!curve.ok) {
+      out.message = curve.message;
+      return out;
+    }
+    const CalibrationDataset& d = s.datasets[k];
+    out.offsets.push_back(offset_for(s, k, curve, values));
+    out.residuals.push_back(shifted_residuals(curve.t_s, curve.z_m, d.t, d.z, out.offsets.back()));
+  }
+  out.ok = true;
+  return out;
 }
 
 CalibrationStudy load_calibration_study(const std::string& path, const CalibrationOverrides& o) {
@@ -161,12 +198,50 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
   CalibrationStudy s;
   s.common = parse_study_common(r, "calibration");
   if (o.data_path.empty() && !r.has("data")) r.fail("data", "missing: give the measured curve here or with --data");
-  s.data_path = o.data_path.empty() ? io::resolve_relative(path, r.string("data")) : o.data_path;
-  (void)r.has("data");  // allowed to be absent when --data is given
-  // The checks `rover compare` makes (monotonic times, >= 3 rows, sane values).
-  const io::MeasuredCurve curve = io::read_measured_curve(s.data_path);
-  s.data_t = curve.t_s;
-  s.data_z = curve.z_m;
+  const std::string study_scenario = io::resolve_relative(path, r.string("scenario"));
+  auto add_dataset = [&](const std::string& file, const std::string& scenario, const std::string& channel) {
+    CalibrationDataset d;
+    d.path = file;
+    d.scenario_path = scenario;
+    d.channel = channel;
+    d.setup = scenario == study_scenario ? s.common.setup : io::load_scenario(scenario);
+    if (r.has("integrator"))
+      d.setup.scenario.integrator = s.common.setup.scenario.integrator;
+    // The checks `rover compare` makes (monotonic times, >= 3 rows, sane values).
+    const io::MeasuredCurve curve = io::read_measured_curve(file);
+    d.t = curve.t_s;
+    d.z = curve.z_m;
+    s.data_path += (s.data_path.empty() ? "" : ", ") + file;
+    s.datasets.push_back(std::move(d));
+  };
+  if (!o.data_path.empty()) {
+    (void)r.has("data");  // the command line's curve replaces the study's
+    add_dataset(o.data_path, study_scenario, "B_l_z");
+  } else if (r.raw("data").is_string()) {
+    add_dataset(io::resolve_relative(path, r.string("data")), study_scenario, "B_l_z");
+  } else {
+    const io::Json& list = r.raw("data");
+    if (!list.is_array() || list.empty())
+      r.fail("data", "expected a file name or a non-empty list of {\"file\", \"scenario\", \"channel\"}");
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      if (!list[i].is_object()) r.fail("data", "entry " + std::to_string(i) + " is not an object");
+      const io::JsonReader item(list[i], path, r.field("data") + "[" + std::to_string(i) + "]");
+      const std::string file = io::resolve_relative(path, item.string("file"));
+      const std::string scenario =
+          item.has("scenario") ? io::resolve_relative(path, item.string("scenario")) : study_scenario;
+      const std::string channel = item.string_or("channel", "B_l_z");
+      if (channel != "B_l_z" && channel != "B_r_z")
+        item.fail("channel", "unknown channel '" + channel + "' (B_l_z or B_r_z)");
+      try {
+        add_dataset(file, scenario, channel);
+      } catch (const io::ConfigError&) {
+        throw;  // names the data file
+      } catch (const std::exception& e) {
+        item.fail("scenario", e.what());
+      }
+      item.finish();
+    }
+  }
 
   const std::string configured_method = r.string_or("method", "optimize");
   const std::string method = o.method.empty() ? configured_method : o.method;
@@ -193,6 +268,9 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
       r.fail("fit", "unknown parameter '" + name + "' (can fit: c_q, f, M0_scale, time_offset)");
     for (const auto& p : s.fit)
       if (p.name == name) r.fail("fit", "parameter '" + name + "' is listed twice");
+    if (name == "time_offset" && s.datasets.size() > 1)
+      r.fail("fit", "time_offset can be fitted for one curve only; with several each curve's offset is profiled");
+
     FitParameter p;
     p.name = name;
     p.log_scale = name == "f";
@@ -266,7 +344,7 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
   if (o.walkers) s.mcmc.walkers = *o.walkers;
   if (o.steps) s.mcmc.steps = *o.steps;
   if (o.discard) s.mcmc.discard = *o.discard;
-  const std::size_t sampled = s.fit.size() + (s.mcmc.sample_noise ? 1 : 0);
+  const std::size_t sampled = s.fit.size() + (s.mcmc.sample_noise ? s.datasets.size() : 0);
   if (s.mcmc.walkers < 2 * static_cast<int>(sampled) || s.mcmc.walkers % 2 != 0)
     r.fail("mcmc.walkers", "must be even and at least twice the number of sampled parameters (" +
                                std::to_string(2 * sampled) + ")");
@@ -294,7 +372,10 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
 
   // Everything that changes a result: the files, the data and the options in force.
   std::ostringstream key;
-  key << s.common.fingerprint << '\n' << read_text(s.data_path) << '\n' << method << '\n' << s.algorithm
+  key << s.common.fingerprint << '\n';
+  for (const auto& d : s.datasets)
+    key << read_text(d.path) << '\n' << read_text(d.scenario_path) << '\n' << d.channel << '\n';
+  key << method << '\n' << s.algorithm
       << ' ' << s.max_evaluations << ' ' << s.starts << ' ' << s.mcmc.walkers << ' ' << s.mcmc.steps << ' ' << s.mcmc.discard;
   for (const auto& p : s.fit) key << ' ' << p.name;
   s.fingerprint = io::config_fingerprint(key.str());
@@ -313,14 +394,15 @@ struct GaussNewtonResult {
   std::string message;
   std::vector<std::string> names;
   LeastSquaresUncertainty uncertainty;
+  std::vector<double> noise_rms, noise_sd;  // per curve
 };
 
 GaussNewtonResult gauss_newton_at_optimum(const CalibrationStudy& s, std::vector<double> best,
                                           const StudyRunControl& control) {
   broadcast_from_rank0(best);
-  const std::size_t p = s.fit.size();
+  const std::size_t p = s.fit.size(), K = s.datasets.size();
   const std::vector<double> values(best.begin(), best.begin() + static_cast<std::ptrdiff_t>(p));
-  const double offset = best[p];
+  const std::vector<double> offsets(best.begin() + static_cast<std::ptrdiff_t>(p), best.end());
   const bool profiled = !s.offset_fitted();
   // Simulated parameters (all but a fitted time_offset) get difference steps.
   std::vector<std::size_t> simulated;
@@ -341,24 +423,26 @@ GaussNewtonResult gauss_newton_at_optimum(const CalibrationStudy& s, std::vector
   }
   const std::vector<DifferenceStep> steps = finite_difference_steps(x, lower, upper, typical);
 
-  // Task 2 j: x + h_j e_j; task 2 j + 1: x - h_j e_j (central steps only).
-  // Both at the optimum's offset (the offset is a parameter of its own here).
+  // Task 2 j: x + h_j e_j; task 2 j + 1: x - h_j e_j (central steps only);
+  // the last task: the optimum itself. All at the optimum's offsets (each
+  // offset is a parameter of its own here). A task's values: every dataset's
+  // residuals in turn.
   std::vector<int> tasks;
   for (std::size_t j = 0; j < steps.size(); ++j) {
     tasks.push_back(static_cast<int>(2 * j));
     if (steps[j].scheme == DifferenceScheme::central) tasks.push_back(static_cast<int>(2 * j + 1));
   }
-  tasks.push_back(static_cast<int>(2 * steps.size()));  // the optimum itself
+  tasks.push_back(static_cast<int>(2 * steps.size()));
   auto compute = [&](int task) {
     std::vector<double> v = values;
     const std::size_t j = static_cast<std::size_t>(task) / 2;
     if (j < steps.size()) v[simulated[j]] += (task % 2 == 0 ? 1.0 : -1.0) * steps[j].step;
-    const CalibrationCurve curve = simulate_calibration_curve(s, v);
-    TaskResult result{task, curve.ok ? 0 : 1, curve.message, {}};
-    if (curve.ok) {
-      result.values = shifted_residuals(curve.t_s, curve.z_m, s.data_t, s.data_z, offset);
-      // The time step of the simulated curve, for the offset derivative.
-      result.values.push_back(curve.t_s[1] - curve.t_s[0]);
+    TaskResult result{task, 0, "", {}};
+    for (std::size_t k = 0; k < K; ++k) {
+      const CalibrationCurve curve = simulate_calibration_curve(s, k, v);
+      if (!curve.ok) return TaskResult{task, 1, curve.message, {}};
+      const auto r = shifted_residuals(curve.t_s, curve.z_m, s.datasets[k].t, s.datasets[k].z, offsets[k]);
+      result.values.insert(result.values.end(), r.begin(), r.end());
     }
     return result;
   };
@@ -369,7 +453,9 @@ GaussNewtonResult gauss_newton_at_optimum(const CalibrationStudy& s, std::vector
   const std::vector<TaskResult> runs = run_task_farm(tasks, compute, {}, farm);
   GaussNewtonResult out;
   if (world_rank() != 0) return out;
-  const std::size_t n = s.data_t.size();
+  std::vector<std::size_t> first_row(K + 1, 0);
+  for (std::size_t k = 0; k < K; ++k) first_row[k + 1] = first_row[k] + s.datasets[k].t.size();
+  const std::size_t n = first_row[K];
   std::vector<const TaskResult*> by_task(2 * steps.size() + 1, nullptr);
   for (const TaskResult& r : runs) {
     if (r.status != 0) {
@@ -383,15 +469,26 @@ GaussNewtonResult gauss_newton_at_optimum(const CalibrationStudy& s, std::vector
     return out;
   }
   const TaskResult& centre = *by_task.back();
-  const std::size_t q = p + (profiled ? 1 : 0);
+  const std::size_t q = p + (profiled ? K : 0);
   if (n <= q) {
     out.message = "only " + std::to_string(n) + " data points for " + std::to_string(q) +
                   " parameters: no intervals";
     return out;
   }
-  Eigen::MatrixXd jacobian(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(q));
+  // Each curve's residuals weighted by 1 / s_k (its RMS at the optimum), so
+  // curves of different noise levels count by their information.
+  std::vector<double> weight(n);
+  out.noise_rms.resize(K);
+  for (std::size_t k = 0; k < K; ++k) {
+    double rss = 0;
+    for (std::size_t i = first_row[k]; i < first_row[k + 1]; ++i) rss += centre.values[i] * centre.values[i];
+    out.noise_rms[k] = std::sqrt(rss / static_cast<double>(first_row[k + 1] - first_row[k]));
+    const double w = K == 1 || out.noise_rms[k] == 0 ? 1.0 : 1.0 / out.noise_rms[k];
+    for (std::size_t i = first_row[k]; i < first_row[k + 1]; ++i) weight[i] = w;
+  }
+  Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(q));
   Eigen::VectorXd residuals(static_cast<Eigen::Index>(n)), theta(static_cast<Eigen::Index>(q));
-  for (std::size_t i = 0; i < n; ++i) residuals[static_cast<Eigen::Index>(i)] = centre.values[i];
+  for (std::size_t i = 0; i < n; ++i) residuals[static_cast<Eigen::Index>(i)] = weight[i] * centre.values[i];
   for (std::size_t k = 0; k < p; ++k) theta[static_cast<Eigen::Index>(k)] = values[k];
   for (std::size_t j = 0; j < steps.size(); ++j) {
     const auto column = static_cast<Eigen::Index>(simulated[j]);
@@ -400,29 +497,36 @@ GaussNewtonResult gauss_newton_at_optimum(const CalibrationStudy& s, std::vector
     const std::vector<double>& minus = central ? by_task[2 * j + 1]->values : centre.values;
     const double width = central ? 2.0 * steps[j].step : steps[j].step;
     for (std::size_t i = 0; i < n; ++i)
-      jacobian(static_cast<Eigen::Index>(i), column) = (plus[i] - minus[i]) / width;
+      jacobian(static_cast<Eigen::Index>(i), column) = weight[i] * (plus[i] - minus[i]) / width;
   }
-  // d r_i / d offset = -z'(t_i - offset): a central difference of the shifted
-  // curve over one output interval (no new simulation). The same column
-  // serves a fitted time_offset.
-  std::size_t offset_column = p;
-  for (std::size_t k = 0; k < p; ++k)
-    if (s.fit[k].name == "time_offset") offset_column = k;
-  {
-    const CalibrationCurve curve = simulate_calibration_curve(s, values);
-    const double h = 0.5 * centre.values[n];
-    const auto plus = shifted_residuals(curve.t_s, curve.z_m, s.data_t, s.data_z, offset + h);
-    const auto minus = shifted_residuals(curve.t_s, curve.z_m, s.data_t, s.data_z, offset - h);
-    for (std::size_t i = 0; i < n; ++i)
-      jacobian(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(offset_column)) =
-          (plus[i] - minus[i]) / (2.0 * h);
+  // d r_i / d offset_k = -z'(t_i - offset_k) on curve k's rows: a central
+  // difference of the shifted curve over one output interval (no new
+  // simulation). The same column serves a fitted time_offset.
+  for (std::size_t k = 0; k < K; ++k) {
+    std::size_t column = p + k;
+    for (std::size_t c = 0; c < p; ++c)
+      if (s.fit[c].name == "time_offset") column = c;
+    const CalibrationDataset& d = s.datasets[k];
+    const CalibrationCurve curve = simulate_calibration_curve(s, k, values);
+    const double h = 0.5 * (curve.t_s[1] - curve.t_s[0]);
+    const auto plus = shifted_residuals(curve.t_s, curve.z_m, d.t, d.z, offsets[k] + h);
+    const auto minus = shifted_residuals(curve.t_s, curve.z_m, d.t, d.z, offsets[k] - h);
+    for (std::size_t i = 0; i < d.t.size(); ++i)
+      jacobian(static_cast<Eigen::Index>(first_row[k] + i), static_cast<Eigen::Index>(column)) =
+          weight[first_row[k] + i] * (plus[i] - minus[i]) / (2.0 * h);
   }
   for (const auto& f : s.fit) out.names.push_back(f.name);
-  if (profiled) {
-    out.names.push_back("time_offset");
-    theta[static_cast<Eigen::Index>(p)] = offset;
-  }
+  if (profiled)
+    for (std::size_t k = 0; k < K; ++k) {
+      out.names.push_back(K == 1 ? "time_offset" : "time_offset[" + std::to_string(k) + "]");
+      theta[static_cast<Eigen::Index>(p + k)] = offsets[k];
+    }
   out.uncertainty = gauss_newton_uncertainty(theta, residuals, jacobian, 0.95, out.names);
+  // The noise sd of each curve: for one curve s itself; for several, each
+  // curve's RMS scaled like s (by sqrt(N / (N - q)) through the weighted fit).
+  out.noise_sd.resize(K);
+  for (std::size_t k = 0; k < K; ++k)
+    out.noise_sd[k] = K == 1 ? out.uncertainty.noise_sd : out.noise_rms[k] * out.uncertainty.noise_sd;
   out.ok = true;
   return out;
 }
@@ -430,7 +534,8 @@ GaussNewtonResult gauss_newton_at_optimum(const CalibrationStudy& s, std::vector
 std::string run_fit(const CalibrationStudy& s, const StudyRunControl& control) {
   const std::string out = results_path(s.common, control.results_path);
   const std::size_t p = s.fit.size();
-  const std::size_t row = p + 3;  // parameters, offset, rms, status
+  const std::size_t K = s.datasets.size();
+  const std::size_t row = p + K + 3;  // parameters, offsets, rms, objective, status
 
   // One task = one local (or global) NLopt search from its own start point;
   // its values are the history of every evaluation, row by row.
@@ -450,10 +555,11 @@ std::string run_fit(const CalibrationStudy& s, const StudyRunControl& control) {
       for (std::size_t k = 0; k < p; ++k) values[k] = to_natural(s.fit[k], xi[k]);
       const Evaluation e = evaluate(s, values);
       history.insert(history.end(), values.begin(), values.end());
-      history.push_back(e.offset);
+      history.insert(history.end(), e.offsets.begin(), e.offsets.end());
       history.push_back(e.rms);
+      history.push_back(e.objective);
       history.push_back(e.status);
-      return e.rms;
+      return e.objective;
     };
     nlopt::opt opt(s.algorithm.c_str(), static_cast<unsigned>(p));
     opt.set_lower_bounds(lower);
@@ -493,7 +599,7 @@ std::string run_fit(const CalibrationStudy& s, const StudyRunControl& control) {
   // Every evaluation of every start, and the best of them (rank 0).
   std::vector<double> history, history_start;
   std::size_t best_row = 0;
-  double best_rms = std::numeric_limits<double>::infinity();
+  double best_objective = std::numeric_limits<double>::infinity(), best_rms = best_objective;
   std::vector<std::string> messages;
   std::string best_status;
   for (const TaskResult& r : results) {
@@ -503,8 +609,9 @@ std::string run_fit(const CalibrationStudy& s, const StudyRunControl& control) {
       history.insert(history.end(), r.values.begin() + static_cast<std::ptrdiff_t>(k),
                      r.values.begin() + static_cast<std::ptrdiff_t>(k + row));
       history_start.push_back(r.index);
-      if (r.values[k + p + 2] == 0 && r.values[k + p + 1] < best_rms) {
-        best_rms = r.values[k + p + 1];
+      if (r.values[k + p + K + 2] == 0 && r.values[k + p + K + 1] < best_objective) {
+        best_objective = r.values[k + p + K + 1];
+        best_rms = r.values[k + p + K];
         best_row = e;
         best_status = r.message;
       }
@@ -512,30 +619,35 @@ std::string run_fit(const CalibrationStudy& s, const StudyRunControl& control) {
   }
   if (world_rank() == 0 && !std::isfinite(best_rms))
     throw std::runtime_error("calibrate: no evaluation succeeded");
-  std::vector<double> best;  // values, then offset
+  std::vector<double> best;  // values, then offsets
   if (world_rank() == 0)
     best.assign(history.begin() + static_cast<std::ptrdiff_t>(best_row * row),
-                history.begin() + static_cast<std::ptrdiff_t>(best_row * row + p + 1));
+                history.begin() + static_cast<std::ptrdiff_t>(best_row * row + p + K));
   const GaussNewtonResult gn = gauss_newton_at_optimum(s, best, control);
   if (world_rank() != 0) return out;
 
   const std::vector<double> best_values(best.begin(), best.begin() + static_cast<std::ptrdiff_t>(p));
-  const double best_offset_s = best[p];
-  const CalibrationCurve fit = simulate_calibration_curve(s, best_values);
-  std::vector<double> fit_t(fit.t_s.size());
-  for (std::size_t i = 0; i < fit.t_s.size(); ++i) fit_t[i] = fit.t_s[i] + best_offset_s;
+  const std::vector<double> best_offsets(best.begin() + static_cast<std::ptrdiff_t>(p), best.end());
+  // The fitted curves in data time.
+  std::vector<CalibrationCurve> fits;
+  for (std::size_t k = 0; k < K; ++k) {
+    fits.push_back(simulate_calibration_curve(s, k, best_values));
+    for (double& t : fits.back().t_s) t += best_offsets[k];
+  }
 
   std::vector<std::string> names, columns;
   for (const auto& f : s.fit) names.push_back(f.name);
   columns = names;
-  columns.insert(columns.end(), {"time_offset", "rms", "status"});
+  for (std::size_t k = 0; k < K; ++k)
+    columns.push_back(K == 1 ? "time_offset" : "time_offset[" + std::to_string(k) + "]");
+  columns.insert(columns.end(), {"rms", "objective", "status"});
   io::Hdf5Writer h5(out);
   h5.write("/history", history, history.size() / row, row);
   h5.write("/history_columns", columns);
   h5.write("/history_start", history_start);
   h5.write("/best/values", best_values);
   h5.write("/best/names", names);
-  h5.write("/best/time_offset", std::vector<double>{best_offset_s});
+  h5.write("/best/time_offset", best_offsets);
   h5.write("/best/rms", std::vector<double>{best_rms});
   h5.attribute("/best", "nlopt_status", best_status);
   if (gn.ok) {
@@ -553,17 +665,23 @@ std::string run_fit(const CalibrationStudy& s, const StudyRunControl& control) {
     h5.write("/best/stderr", std::vector<double>(u.standard_error.begin(), u.standard_error.end()));
     h5.write("/best/lower", std::vector<double>(u.lower.begin(), u.lower.end()));
     h5.write("/best/upper", std::vector<double>(u.upper.begin(), u.upper.end()));
-    h5.write("/best/noise_sd", std::vector<double>{u.noise_sd});
+    h5.write("/best/noise_sd", gn.noise_sd);
     h5.attribute("/best", "degrees_of_freedom", static_cast<long long>(u.degrees_of_freedom));
     h5.attribute("/best", "jacobian_rank", static_cast<long long>(u.rank));
     h5.attribute("/best", "gn_warning", u.warning);
   } else {
     h5.attribute("/best", "gn_warning", gn.message);
   }
-  h5.write("/data/t", s.data_t);
-  h5.write("/data/z", s.data_z);
-  h5.write("/fit/t", fit_t);
-  h5.write("/fit/z", fit.z_m);
+  for (std::size_t k = 0; k < K; ++k) {  // curve 0 at /data, /fit; curve k at /data/k, /fit/k
+    const std::string suffix = k == 0 ? "" : "/" + std::to_string(k);
+    h5.write("/data" + suffix + "/t", s.datasets[k].t);
+    h5.write("/data" + suffix + "/z", s.datasets[k].z);
+    h5.write("/fit" + suffix + "/t", fits[k].t_s);
+    h5.write("/fit" + suffix + "/z", fits[k].z_m);
+  }
+  std::vector<std::string> channels;
+  for (const auto& d : s.datasets) channels.push_back(d.channel + " of " + d.path);
+  h5.write("/data/curves", channels);
   h5.write("/messages", messages);
   write_study_provenance(h5, s.common);
   h5.attribute("/", "data_file", s.data_path);
@@ -578,14 +696,17 @@ std::string run_fit(const CalibrationStudy& s, const StudyRunControl& control) {
   std::cerr << "calibrate: " << history.size() / row << " evaluations; NLopt returned " << best_status
             << " for the best start; best RMS " << format_number(best_rms * 1000.0) << " mm at";
   for (std::size_t k = 0; k < p; ++k) std::cerr << " " << names[k] << " = " << format_number(best_values[k], 6);
-  std::cerr << ", time offset " << format_number(best_offset_s, 6) << " s\n";
+  std::cerr << ", time offset" << (K > 1 ? "s" : "");
+  for (double o : best_offsets) std::cerr << " " << format_number(o, 6);
+  std::cerr << " s\n";
   if (gn.ok) {
     const LeastSquaresUncertainty& u = gn.uncertainty;
-    std::cerr << "calibrate: noise sd from the residuals " << format_number(u.noise_sd * 1000.0)
-              << " mm (" << u.degrees_of_freedom << " degrees of freedom); Gauss-Newton 95 % intervals:\n";
+    std::cerr << "calibrate: noise sd from the residuals";
+    for (double sd : gn.noise_sd) std::cerr << " " << format_number(sd * 1000.0);
+    std::cerr << " mm (" << u.degrees_of_freedom << " degrees of freedom); Gauss-Newton 95 % intervals:\n";
     for (std::size_t k = 0; k < gn.names.size(); ++k) {
       const auto i = static_cast<Eigen::Index>(k);
-      const double value = k < p ? best_values[k] : best_offset_s;
+      const double value = k < p ? best_values[k] : best_offsets[k - p];
       std::cerr << "  " << gn.names[k] << " = " << format_number(value, 6) << " +- "
                 << format_number(u.upper[i] - value, 3) << " (95 %), se " << format_number(u.standard_error[i], 3)
                 << (k >= p ? "  (profiled offset)" : "") << "\n";
@@ -609,21 +730,24 @@ std::string run_fit(const CalibrationStudy& s, const StudyRunControl& control) {
   std::cerr << "calibrate: wrote " << out << "\n";
 
   if (control.plot) {
-    const std::string png = out.substr(0, out.size() - 3) + ".png";
-    io::LinePlot plot;
-    plot.title = s.common.name + ": data and fitted B_l z (RMS " + format_number(best_rms * 1000.0) + " mm)";
-    plot.x_label = "t (data clock) [s]";
-    plot.y_label = "B_l z [mm]";
-    io::Series data, model;
-    data.label = "data";
-    data.x = s.data_t;
-    for (double z : s.data_z) data.y.push_back(1000.0 * z);
-    data.style = io::SeriesStyle::points;
-    model.label = "fitted model";
-    model.x = fit_t;
-    for (double z : fit.z_m) model.y.push_back(1000.0 * z);
-    plot.series = {data, model};
-    io::write_png_or_warn(plot, png, "calibrate", std::cerr);
+    for (std::size_t k = 0; k < K; ++k) {
+      const std::string png = out.substr(0, out.size() - 3) + (k == 0 ? "" : "_" + std::to_string(k)) + ".png";
+      io::LinePlot plot;
+      plot.title = s.common.name + ": data and fitted " + s.datasets[k].channel + " (RMS " +
+                   format_number(gn.ok ? gn.noise_rms[k] * 1000.0 : best_rms * 1000.0) + " mm)";
+      plot.x_label = "t (data clock) [s]";
+      plot.y_label = s.datasets[k].channel + " [mm]";
+      io::Series data, model;
+      data.label = "data";
+      data.x = s.datasets[k].t;
+      for (double z : s.datasets[k].z) data.y.push_back(1000.0 * z);
+      data.style = io::SeriesStyle::points;
+      model.label = "fitted model";
+      model.x = fits[k].t_s;
+      for (double z : fits[k].z_m) model.y.push_back(1000.0 * z);
+      plot.series = {data, model};
+      io::write_png_or_warn(plot, png, "calibrate", std::cerr);
+    }
   }
   return out;
 }

@@ -37,17 +37,30 @@
 // Gradient-based NLopt algorithms (LD_*, GD_*) are refused: the objective has
 // no analytic gradient.
 //
-// Measured data: CSV with the header t,z (s, metres of the left bogie pin
-// B_l), read by io::read_measured_curve (the checks of `rover compare`: at
-// least 3 rows, strictly increasing times, finite |z| < 1 km).
+// Measured data: CSV with the header t,z (s, metres of the bogie pin), read by
+// io::read_measured_curve (the checks of `rover compare`: at least 3 rows,
+// strictly increasing times, finite |z| < 1 km).
 //
-// HDF5 result of a fit: /history (E x (p + 3): the p parameters, time_offset,
-// rms, status, one row per evaluation in order), /history_start (E),
-// /best/values (p), /best/names, /best/time_offset, /best/rms, /best/
-// {names_uncertainty, covariance, correlation, stderr, lower, upper,
-// noise_sd} (over the fitted parameters followed by time_offset when it is
-// profiled), /data/t, /data/z, /fit/t, /fit/z (the best curve in data time);
-// attributes algorithm, nlopt_status, gn_warning.
+// Joint fits: "data" may be a list of curves,
+//   [{"file": "../data/drop_horizontal_synthetic.csv"},
+//    {"file": "../data/drop_skewed_synthetic.csv", "scenario": "../scenarios/drop_skewed.json",
+//     "channel": "B_l_z"}]
+// (scenario: default the study's; channel "B_l_z" (default) or "B_r_z"), one
+// parameter set for all, each curve with its own time offset (profiled; a
+// fitted "time_offset" needs a single curve) and its own noise level. The fit
+// then minimises sum_k n_k log RMS_k, the profile likelihood of independent
+// Gaussian noise of unknown sd per curve (Bates & Watts 1988, section 2.2); the
+// Gauss-Newton covariance weights each curve's residuals by 1 / s_k.
+//
+// HDF5 result of a fit: /history (E x (p + K + 3) for K curves: the p
+// parameters, K time offsets, pooled rms, objective, status; one row per
+// evaluation in order; /history_columns names them), /history_start (E),
+// /best/values (p), /best/names, /best/time_offset (K), /best/rms, /best/
+// {names_uncertainty, covariance, correlation, stderr, lower, upper} (over the
+// fitted parameters followed by the K offsets when they are profiled),
+// /best/noise_sd (K), /data/t, /data/z, /fit/t, /fit/z (curve 0, the best
+// curve in data time; curve k > 0 under /data/k, /fit/k), /data/curves;
+// attributes algorithm, nlopt_status (on / and /best), /best gn_warning.
 #pragma once
 
 #include <cstdint>
@@ -83,10 +96,18 @@ struct McmcSettings {
   int predictive_draws = 40;  // posterior draws re-simulated for the predictive band
 };
 
+// One measured curve of a (joint) calibration: its scenario, the channel it
+// measures ("B_l_z" or "B_r_z"), its own time offset and noise level.
+struct CalibrationDataset {
+  std::string path, scenario_path, channel = "B_l_z";
+  io::ScenarioSetup setup;  // its scenario, with the study's integrator override
+  std::vector<double> t, z;
+};
+
 struct CalibrationStudy {
   StudyCommon common;
-  std::string data_path;
-  std::vector<double> data_t, data_z;
+  std::string data_path;  // the data files, comma-separated (for messages)
+  std::vector<CalibrationDataset> datasets;  // at least one
   std::vector<FitParameter> fit;
   CalibrationMethod method = CalibrationMethod::optimize;
   std::string algorithm = "LN_BOBYQA";
@@ -132,20 +153,32 @@ double best_offset(const std::vector<double>& t, const std::vector<double>& z,
                    const std::vector<double>& t_d, const std::vector<double>& z_d, double lo,
                    double hi);
 
-// A simulated B_l z curve at fitted-parameter values (natural units, in the
-// order of study.fit; a "time_offset" entry is ignored here). ok = false when
-// the simulation failed (message says why).
+// The simulated channel of dataset `dataset` at fitted-parameter values
+// (natural units, in the order of study.fit; a "time_offset" entry is ignored
+// here). ok = false when the simulation failed (message says why).
 struct CalibrationCurve {
   bool ok = false;
   std::string message;
   std::vector<double> t_s, z_m;
 };
-CalibrationCurve simulate_calibration_curve(const CalibrationStudy& study, const std::vector<double>& values);
+CalibrationCurve simulate_calibration_curve(const CalibrationStudy& study, std::size_t dataset,
+                                            const std::vector<double>& values);
 
-// The time offset that goes with a curve: the fitted value if time_offset is
-// among the parameters, otherwise the profiled best offset.
-double offset_for(const CalibrationStudy& study, const CalibrationCurve& curve,
+// The time offset that goes with a curve of a dataset: the fitted value if
+// time_offset is among the parameters (one dataset only), otherwise the
+// profiled best offset.
+double offset_for(const CalibrationStudy& study, std::size_t dataset, const CalibrationCurve& curve,
                   const std::vector<double>& values);
+
+// Every dataset at once: per dataset its offset and residual vector; ok =
+// false if any simulation failed.
+struct CalibrationResiduals {
+  bool ok = false;
+  std::string message;
+  std::vector<double> offsets;
+  std::vector<std::vector<double>> residuals;
+};
+CalibrationResiduals calibration_residuals(const CalibrationStudy& study, const std::vector<double>& values);
 
 // Relative finite-difference step of the Gauss-Newton Jacobian. Far above
 // cbrt(eps): the residuals come from an adaptive integrator whose error

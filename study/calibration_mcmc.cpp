@@ -46,21 +46,6 @@ std::string format_duration(double seconds) {
   return s >= 60 ? std::to_string(s / 60) + "m" + std::to_string(s % 60) + "s" : std::to_string(s) + "s";
 }
 
-// The model curve of a parameter point at the data times (offset applied).
-struct PointFit {
-  bool ok = false;
-  double offset = 0.0;
-  std::vector<double> residuals;
-};
-PointFit fit_point(const CalibrationStudy& s, const std::vector<double>& values) {
-  PointFit out;
-  const CalibrationCurve curve = simulate_calibration_curve(s, values);
-  if (!curve.ok) return out;
-  out.ok = true;
-  out.offset = offset_for(s, curve, values);
-  out.residuals = shifted_residuals(curve.t_s, curve.z_m, s.data_t, s.data_z, out.offset);
-  return out;
-}
 
 // Ensemble state <-> checkpoint record (positions row-major, log densities, accepted moves).
 io::TaskRecord state_record(const EnsembleState& state, long accepted_in_step) {
@@ -91,9 +76,8 @@ double gaussian_log_likelihood(const std::vector<double>& residuals, double nois
 }
 
 double calibration_log_density(const std::vector<Distribution>& priors, const Distribution& noise_prior,
-                               std::optional<double> known_noise_sd, const Eigen::VectorXd& theta,
-                               const std::function<std::optional<std::vector<double>>(
-                                   const std::vector<double>& parameters)>& residuals) {
+                               std::optional<double> known_noise_sd, std::size_t curves,
+                               const Eigen::VectorXd& theta, const ResidualFunction& residuals) {
   const std::size_t p = priors.size();
   double log_density = 0.0;
   std::vector<double> parameters(p);
@@ -101,15 +85,18 @@ double calibration_log_density(const std::vector<Distribution>& priors, const Di
     parameters[k] = theta[static_cast<Eigen::Index>(k)];
     log_density += priors[k].log_pdf(parameters[k]);
   }
-  double sd = known_noise_sd.value_or(0.0);
-  if (!known_noise_sd) {
-    sd = theta[static_cast<Eigen::Index>(p)];
-    log_density += noise_prior.log_pdf(sd);
+  std::vector<double> sd(curves, known_noise_sd.value_or(0.0));
+  for (std::size_t k = 0; k < curves && !known_noise_sd; ++k) {
+    sd[k] = theta[static_cast<Eigen::Index>(p + k)];
+    log_density += noise_prior.log_pdf(sd[k]);
   }
-  if (!(log_density > kNegativeInfinity) || !(sd > 0)) return kNegativeInfinity;
-  const std::optional<std::vector<double>> r = residuals(parameters);
+  if (!(log_density > kNegativeInfinity) || !std::all_of(sd.begin(), sd.end(), [](double v) { return v > 0; }))
+    return kNegativeInfinity;
+  const std::optional<std::vector<std::vector<double>>> r = residuals(parameters);
   if (!r) return kNegativeInfinity;
-  return log_density + gaussian_log_likelihood(*r, sd);
+  if (r->size() != curves) throw std::invalid_argument("calibration_log_density: residuals of a wrong number of curves");
+  for (std::size_t k = 0; k < curves; ++k) log_density += gaussian_log_likelihood((*r)[k], sd[k]);
+  return log_density;
 }
 
 std::string run_calibration_mcmc(const CalibrationStudy& s, const StudyRunControl& control) {
@@ -117,7 +104,8 @@ std::string run_calibration_mcmc(const CalibrationStudy& s, const StudyRunContro
   const std::string out = results_path(s.common, control.results_path);
   const McmcSettings& m = s.mcmc;
   const int p_fit = static_cast<int>(s.fit.size());
-  const int p = p_fit + (m.sample_noise ? 1 : 0);
+  const std::size_t curves = s.datasets.size();
+  const int p = p_fit + (m.sample_noise ? static_cast<int>(curves) : 0);
   const int walkers = m.walkers;
   const bool root = world_rank() == 0;
   std::vector<std::string> names;
@@ -126,7 +114,8 @@ std::string run_calibration_mcmc(const CalibrationStudy& s, const StudyRunContro
     names.push_back(f.name);
     priors.push_back(f.prior);
   }
-  if (m.sample_noise) names.push_back("noise_sd");
+  for (std::size_t k = 0; k < curves && m.sample_noise; ++k)
+    names.push_back(curves == 1 ? "noise_sd" : "noise_sd[" + std::to_string(k) + "]");
   const std::optional<double> known_sd =
       m.sample_noise ? std::nullopt : std::optional<double>(m.known_noise_sd_m);
 
@@ -136,9 +125,9 @@ std::string run_calibration_mcmc(const CalibrationStudy& s, const StudyRunContro
     auto compute = [&](int i) {
       const Eigen::VectorXd theta = points.row(i).transpose();
       const double lp = calibration_log_density(
-          priors, m.noise_prior, known_sd, theta, [&](const std::vector<double>& values) {
-            PointFit fit = fit_point(s, values);
-            return fit.ok ? std::optional<std::vector<double>>(std::move(fit.residuals)) : std::nullopt;
+          priors, m.noise_prior, known_sd, curves, theta, [&](const std::vector<double>& values) {
+            CalibrationResiduals fit = calibration_residuals(s, values);
+            return fit.ok ? std::optional<std::vector<std::vector<double>>>(std::move(fit.residuals)) : std::nullopt;
           });
       return TaskResult{i, 0, "", {lp}};
     };
@@ -190,23 +179,23 @@ std::string run_calibration_mcmc(const CalibrationStudy& s, const StudyRunContro
     // prior's width or 10 % of its sd); the noise sd around the RMS there.
     std::vector<double> start_values;
     for (const auto& f : s.fit) start_values.push_back(f.initial);
-    double start_sd = known_sd.value_or(1e-3);
+    std::vector<double> start_sd(curves, known_sd.value_or(1e-3));
     if (m.sample_noise) {
-      const PointFit fit = fit_point(s, start_values);
-      if (fit.ok) start_sd = std::sqrt(std::max(1e-30, [&] {
+      const CalibrationResiduals fit = calibration_residuals(s, start_values);
+      for (std::size_t c = 0; c < curves && fit.ok; ++c) {
         double ss = 0;
-        for (double r : fit.residuals) ss += r * r;
-        return ss / static_cast<double>(fit.residuals.size());
-      }()));
+        for (double r : fit.residuals[c]) ss += r * r;
+        start_sd[c] = std::sqrt(std::max(1e-30, ss / static_cast<double>(fit.residuals[c].size())));
+      }
     }
     boost::random::mt19937_64 engine(m.seed);
     boost::random::normal_distribution<double> gauss;
     DesignMatrix positions(walkers, p);
     for (int w = 0; w < walkers; ++w) {
       for (int k = 0; k < p; ++k) {
-        const bool noise = k == p_fit;
+        const bool noise = k >= p_fit;
         const Distribution& prior = noise ? m.noise_prior : priors[static_cast<std::size_t>(k)];
-        const double centre = noise ? start_sd : start_values[static_cast<std::size_t>(k)];
+        const double centre = noise ? start_sd[static_cast<std::size_t>(k - p_fit)] : start_values[static_cast<std::size_t>(k)];
         const double lo = prior.support_lower(), hi = prior.support_upper();
         const double spread = noise ? 0.1 * centre
                               : std::isfinite(hi - lo) ? 0.02 * (hi - lo) : 0.1 * prior.sd();
@@ -287,7 +276,7 @@ std::string run_calibration_mcmc(const CalibrationStudy& s, const StudyRunContro
   broadcast_from_rank0(draws);
 
   // Posterior predictive: re-simulate the draws (fanned out).
-  const int K = static_cast<int>(draws.size()) / std::max(1, p);
+  const int K = static_cast<int>(draws.size()) / std::max(1, p);  // draws
   std::vector<int> predictive_tasks(static_cast<std::size_t>(K));
   for (int d = 0; d < K; ++d) predictive_tasks[static_cast<std::size_t>(d)] = d;
   TaskFarmOptions farm;
@@ -297,10 +286,11 @@ std::string run_calibration_mcmc(const CalibrationStudy& s, const StudyRunContro
       predictive_tasks,
       [&](int d) {
         std::vector<double> values(draws.begin() + d * p, draws.begin() + d * p + p_fit);
-        const PointFit fit = fit_point(s, values);
-        TaskResult r{d, fit.ok ? 0 : 1, fit.ok ? "" : "simulation failed", {}};
-        if (fit.ok)
-          for (std::size_t i = 0; i < fit.residuals.size(); ++i) r.values.push_back(fit.residuals[i] + s.data_z[i]);
+        const CalibrationResiduals fit = calibration_residuals(s, values);
+        TaskResult r{d, fit.ok ? 0 : 1, fit.message, {}};
+        for (std::size_t c = 0; c < curves && fit.ok; ++c)  // model values at the data times, curve after curve
+          for (std::size_t i = 0; i < fit.residuals[c].size(); ++i)
+            r.values.push_back(fit.residuals[c][i] + s.datasets[c].z[i]);
         return r;
       },
       {}, farm);
@@ -325,29 +315,36 @@ std::string run_calibration_mcmc(const CalibrationStudy& s, const StudyRunContro
 
   // The 99.73 % predictive band over the data times, without and with noise
   // (M noisy replicates per draw, each with the draw's noise sd).
-  const std::size_t n = s.data_t.size();
-  std::vector<std::vector<double>> curves;
-  std::vector<double> curve_sd;
+  // All curves' points in one vector; first[c] is curve c's first point.
+  std::vector<std::size_t> first(curves + 1, 0);
+  for (std::size_t c = 0; c < curves; ++c) first[c + 1] = first[c] + s.datasets[c].t.size();
+  const std::size_t n = first[curves];
+  std::vector<std::vector<double>> model_curves;
+  std::vector<std::vector<double>> point_sd;  // per draw, per point
   for (const TaskResult& r : predictive)
     if (r.status == 0) {
-      curves.push_back(r.values);
-      curve_sd.push_back(m.sample_noise ? draws[static_cast<std::size_t>(r.index * p + p_fit)] : *known_sd);
+      model_curves.push_back(r.values);
+      std::vector<double> sd_of_point(n);
+      for (std::size_t c = 0; c < curves; ++c)
+        for (std::size_t i = first[c]; i < first[c + 1]; ++i)
+          sd_of_point[i] = m.sample_noise ? draws[static_cast<std::size_t>(r.index * p + p_fit) + c] : *known_sd;
+      point_sd.push_back(std::move(sd_of_point));
     }
   std::vector<double> band_mean(n), band_lower(n), band_upper(n), noise_lower(n), noise_upper(n);
   constexpr int kReplicates = 25;
   constexpr double kLowerTail = 0.00135, kUpperTail = 0.99865;
-  if (!curves.empty()) {
+  if (!model_curves.empty()) {
     boost::random::mt19937_64 engine(m.seed ^ 0x9e3779b97f4a7c15ull);
     boost::random::normal_distribution<double> gauss;
     std::vector<std::vector<double>> noisy(n);
-    for (std::size_t c = 0; c < curves.size(); ++c)
+    for (std::size_t c = 0; c < model_curves.size(); ++c)
       for (int j = 0; j < kReplicates; ++j)
-        for (std::size_t i = 0; i < n; ++i) noisy[i].push_back(curves[c][i] + curve_sd[c] * gauss(engine));
+        for (std::size_t i = 0; i < n; ++i) noisy[i].push_back(model_curves[c][i] + point_sd[c][i] * gauss(engine));
     for (std::size_t i = 0; i < n; ++i) {
-      std::vector<double> at(curves.size());
+      std::vector<double> at(model_curves.size());
       double sum = 0;
-      for (std::size_t c = 0; c < curves.size(); ++c) sum += (at[c] = curves[c][i]);
-      band_mean[i] = sum / static_cast<double>(curves.size());
+      for (std::size_t c = 0; c < model_curves.size(); ++c) sum += (at[c] = model_curves[c][i]);
+      band_mean[i] = sum / static_cast<double>(model_curves.size());
       band_lower[i] = quantile_of(at, kLowerTail);
       band_upper[i] = quantile_of(at, kUpperTail);
       noise_lower[i] = quantile_of(noisy[i], kLowerTail);
@@ -383,16 +380,25 @@ std::string run_calibration_mcmc(const CalibrationStudy& s, const StudyRunContro
   h5.write("/diagnostics/effective_sample_size", as_vector(diagnostics.effective_sample_size));
   h5.write("/diagnostics/split_rhat", as_vector(diagnostics.split_rhat));
   h5.attribute("/diagnostics", "warning", diagnostics.warning);
-  h5.write("/predictive/t", s.data_t);
-  h5.write("/predictive/mean", band_mean);
-  h5.write("/predictive/lower", band_lower);
-  h5.write("/predictive/upper", band_upper);
-  h5.write("/predictive/lower_noise", noise_lower);
-  h5.write("/predictive/upper_noise", noise_upper);
-  h5.attribute("/predictive", "draws", static_cast<long long>(curves.size()));
+  // Curve 0 at /predictive and /data, curve c at /predictive/c and /data/c.
+  auto slice = [&](const std::vector<double>& v, std::size_t c) {
+    return std::vector<double>(v.begin() + static_cast<std::ptrdiff_t>(first[c]),
+                               v.begin() + static_cast<std::ptrdiff_t>(first[c + 1]));
+  };
+  for (std::size_t c = 0; c < curves; ++c) {
+    const std::string g = "/predictive" + (c == 0 ? std::string() : "/" + std::to_string(c));
+    h5.write(g + "/t", s.datasets[c].t);
+    h5.write(g + "/mean", slice(band_mean, c));
+    h5.write(g + "/lower", slice(band_lower, c));
+    h5.write(g + "/upper", slice(band_upper, c));
+    h5.write(g + "/lower_noise", slice(noise_lower, c));
+    h5.write(g + "/upper_noise", slice(noise_upper, c));
+    const std::string d = "/data" + (c == 0 ? std::string() : "/" + std::to_string(c));
+    h5.write(d + "/t", s.datasets[c].t);
+    h5.write(d + "/z", s.datasets[c].z);
+  }
+  h5.attribute("/predictive", "draws", static_cast<long long>(model_curves.size()));
   h5.attribute("/predictive", "coverage", 0.9973);
-  h5.write("/data/t", s.data_t);
-  h5.write("/data/z", s.data_z);
   write_study_provenance(h5, s.common);
   h5.attribute("/", "data_file", s.data_path);
   h5.attribute("/", "method", std::string("mcmc"));
@@ -474,23 +480,24 @@ std::string run_calibration_mcmc(const CalibrationStudy& s, const StudyRunContro
                                            names[static_cast<std::size_t>(b)] + ".png", "calibrate", std::cerr);
       }
     }
-    if (!curves.empty()) {
+    for (std::size_t c = 0; c < curves && !model_curves.empty(); ++c) {
       io::LinePlot band;
       band.title = s.common.name + ": posterior predictive 99.73 % band of B_l z (" +
-                   std::to_string(curves.size()) + " draws)";
+                   std::to_string(model_curves.size()) + " draws, " + s.datasets[c].channel + " of curve " + std::to_string(c) + ")";
       band.x_label = "t (data clock) [s]";
       band.y_label = "B_l z [mm]";
       auto mm = [](std::vector<double> v) {
         for (double& x : v) x *= 1000.0;
         return v;
       };
-      band.bands.push_back({.label = "with measurement noise", .x = s.data_t, .lower = mm(noise_lower),
-                            .upper = mm(noise_upper), .color = "#a0c0ff", .opacity = 0.4});
-      band.bands.push_back({.label = "model only", .x = s.data_t, .lower = mm(band_lower),
-                            .upper = mm(band_upper), .color = "#2040a0", .opacity = 0.5});
-      band.series.push_back({.label = "data", .x = s.data_t, .y = mm(s.data_z), .style = io::SeriesStyle::points,
-                             .color = "black", .line_width = 1.0});
-      io::write_png_or_warn(band, stem + "_predictive.png", "calibrate", std::cerr);
+      band.bands.push_back({.label = "with measurement noise", .x = s.datasets[c].t, .lower = mm(slice(noise_lower, c)),
+                            .upper = mm(slice(noise_upper, c)), .color = "#a0c0ff", .opacity = 0.4});
+      band.bands.push_back({.label = "model only", .x = s.datasets[c].t, .lower = mm(slice(band_lower, c)),
+                            .upper = mm(slice(band_upper, c)), .color = "#2040a0", .opacity = 0.5});
+      band.series.push_back({.label = "data", .x = s.datasets[c].t, .y = mm(s.datasets[c].z),
+                             .style = io::SeriesStyle::points, .color = "black", .line_width = 1.0});
+      io::write_png_or_warn(band, stem + "_predictive" + (c == 0 ? std::string() : "_" + std::to_string(c)) + ".png",
+                            "calibrate", std::cerr);
     }
   }
   return out;

@@ -18,13 +18,16 @@
 // exactly as an uninterrupted run.
 //
 // HDF5 result: /chain (steps x (walkers p), row-major, i.e. steps x walkers x
-// p; attribute shape), /log_posterior (steps x walkers), /posterior/{names,
+// p; attribute shape; p = the fitted parameters, then noise_sd per curve when
+// sampled), /log_posterior (steps x walkers), /posterior/{names,
 // mean, sd, q025, q975, map} (after the discarded burn-in),
 // /diagnostics/{acceptance_fraction, autocorrelation_time,
 // effective_sample_size, split_rhat} and attribute warning,
 // /predictive/{t, mean, lower, upper, lower_noise, upper_noise} (the 99.73 %
 // band of B_l z over the data times, from predictive_draws posterior draws
-// re-simulated; with noise: each draw plus Gaussian noise of its sd).
+// re-simulated; with noise: each draw plus Gaussian noise of its sd; 25
+// noise replicates per draw). Joint fits: curve c > 0 at /predictive/c/...
+// and /data/c/...
 #pragma once
 
 #include <functional>
@@ -43,14 +46,19 @@ namespace rover::study {
 // noise_sd > 0: -n/2 log(2 pi sd^2) - sum r^2 / (2 sd^2).
 double gaussian_log_likelihood(const std::vector<double>& residuals, double noise_sd);
 
-// The log posterior density (up to a constant) of theta = (parameters with
-// `priors`, then the noise sd if known_noise_sd is empty, with noise_prior).
-// residuals(parameters) gives the residual vector or std::nullopt when the
-// model failed (log density -inf). Not called outside the prior's support.
+// Per curve, the residual vector at parameter values; std::nullopt when the
+// model failed.
+using ResidualFunction =
+    std::function<std::optional<std::vector<std::vector<double>>>(const std::vector<double>& parameters)>;
+
+// The log posterior density (up to a constant) of theta = (the parameters,
+// with `priors`, then, unless known_noise_sd is given, one noise sd per curve
+// with noise_prior): sum of log priors + sum over the `curves` curves of
+// gaussian_log_likelihood(residuals_k, sd_k). -inf outside the priors'
+// support (the model is then not run) or when the model failed.
 double calibration_log_density(const std::vector<Distribution>& priors, const Distribution& noise_prior,
-                               std::optional<double> known_noise_sd, const Eigen::VectorXd& theta,
-                               const std::function<std::optional<std::vector<double>>(
-                                   const std::vector<double>& parameters)>& residuals);
+                               std::optional<double> known_noise_sd, std::size_t curves,
+                               const Eigen::VectorXd& theta, const ResidualFunction& residuals);
 
 // Collective over MPI ranks; see above. Returns the result path.
 std::string run_calibration_mcmc(const CalibrationStudy& study, const StudyRunControl& control);

@@ -62,23 +62,31 @@ TEST(Calibration, GaussianLogLikelihoodIsTheNormalDensity) {
 
 TEST(Calibration, LogDensityOutsideThePriorSkipsTheModel) {
   int calls = 0;
-  const auto residuals = [&](const std::vector<double>&) {
+  const ResidualFunction residuals = [&](const std::vector<double>&) {
     ++calls;
-    return std::optional<std::vector<double>>(std::vector<double>{0.0});
+    return std::optional<std::vector<std::vector<double>>>(std::vector<std::vector<double>>{{0.0}});
   };
   const std::vector<Distribution> priors{uniform(0.0, 1.0)};
-  EXPECT_EQ(calibration_log_density(priors, log_uniform(1e-3, 1.0), std::nullopt, Eigen::Vector2d(1.5, 0.1), residuals),
+  EXPECT_EQ(calibration_log_density(priors, log_uniform(1e-3, 1.0), std::nullopt, 1, Eigen::Vector2d(1.5, 0.1), residuals),
             -std::numeric_limits<double>::infinity());
-  EXPECT_EQ(calibration_log_density(priors, log_uniform(1e-3, 1.0), std::nullopt, Eigen::Vector2d(0.5, 2.0), residuals),
+  EXPECT_EQ(calibration_log_density(priors, log_uniform(1e-3, 1.0), std::nullopt, 1, Eigen::Vector2d(0.5, 2.0), residuals),
             -std::numeric_limits<double>::infinity());
   EXPECT_EQ(calls, 0);
   // A failed model run is -inf too.
-  EXPECT_EQ(calibration_log_density(priors, {}, 0.1, Eigen::VectorXd::Constant(1, 0.5),
-                                    [](const std::vector<double>&) { return std::optional<std::vector<double>>(); }),
+  EXPECT_EQ(calibration_log_density(priors, {}, 0.1, 1, Eigen::VectorXd::Constant(1, 0.5),
+                                    [](const std::vector<double>&) { return std::optional<std::vector<std::vector<double>>>(); }),
             -std::numeric_limits<double>::infinity());
   // Inside: prior + likelihood.
-  EXPECT_NEAR(calibration_log_density(priors, {}, 0.1, Eigen::VectorXd::Constant(1, 0.5), residuals),
+  EXPECT_NEAR(calibration_log_density(priors, {}, 0.1, 1, Eigen::VectorXd::Constant(1, 0.5), residuals),
               std::log(1.0) + gaussian_log_likelihood({0.0}, 0.1), 1e-14);
+  // Two curves, each with its own sampled noise sd: the sum of their likelihoods.
+  const ResidualFunction two = [](const std::vector<double>&) {
+    return std::optional<std::vector<std::vector<double>>>(std::vector<std::vector<double>>{{0.1, -0.1}, {0.3}});
+  };
+  EXPECT_NEAR(calibration_log_density(priors, log_uniform(1e-3, 1.0), std::nullopt, 2, Eigen::Vector3d(0.5, 0.2, 0.4), two),
+              log_uniform(1e-3, 1.0).log_pdf(0.2) + log_uniform(1e-3, 1.0).log_pdf(0.4) +
+                  gaussian_log_likelihood({0.1, -0.1}, 0.2) + gaussian_log_likelihood({0.3}, 0.4),
+              1e-12);
 }
 
 // y_i = a + b x_i + e_i with known sd and a flat prior: the posterior is
@@ -103,10 +111,10 @@ TEST(Calibration, LinearGaussianPosteriorMatchesTheClosedForm) {
   const BatchLogDensity batch = [&](const DesignMatrix& points) {
     Eigen::VectorXd lp(points.rows());
     for (Eigen::Index w = 0; w < points.rows(); ++w)
-      lp[w] = calibration_log_density(priors, {}, sd, points.row(w).transpose(), [&](const std::vector<double>& ab) {
+      lp[w] = calibration_log_density(priors, {}, sd, 1, points.row(w).transpose(), [&](const std::vector<double>& ab) {
         std::vector<double> r(n);
         for (int i = 0; i < n; ++i) r[i] = ab[0] + ab[1] * X(i, 1) - y[i];
-        return std::optional<std::vector<double>>(r);
+        return std::optional<std::vector<std::vector<double>>>(std::vector<std::vector<double>>{r});
       });
     return lp;
   };
@@ -160,7 +168,9 @@ TEST(Calibration, StudyFileChecksNameTheField) {
   const std::string good = rover::testing::source_path("configs/data/drop_horizontal_synthetic.csv");
   const std::string study = write_file(dir, "good.json", study_text(good));
   const CalibrationStudy s = load_calibration_study(study);
-  EXPECT_EQ(s.data_t.size(), 501u);
+  ASSERT_EQ(s.datasets.size(), 1u);
+  EXPECT_EQ(s.datasets[0].t.size(), 501u);
+  EXPECT_EQ(s.datasets[0].channel, "B_l_z");
   EXPECT_EQ(s.method, CalibrationMethod::optimize);
 
   // Bad data: the checks of `rover compare`.
@@ -184,6 +194,23 @@ TEST(Calibration, StudyFileChecksNameTheField) {
   expect_refused(write_file(dir, "e.json", study_text(good, R"(, "method": "mcmc", "mcmc": {"walkers": 2})")),
                  "'mcmc.walkers'");
   expect_refused(write_file(dir, "f.json", study_text(good, R"(, "method": "nuts")")), "'method'");
+  // Joint fits: a list of curves, each with a known channel.
+  const std::string skewed = rover::testing::source_path("configs/data/drop_skewed_synthetic.csv");
+  const std::string joint = R"(, "data": [{"file": ")" + good + R"("}, {"file": ")" + skewed +
+                            R"(", "scenario": ")" + rover::testing::source_path("configs/scenarios/drop_skewed.json") +
+                            R"(", "channel": "B_r_z"}])";
+  std::string text = study_text(good);
+  text = text.substr(0, text.find(R"(, "data")")) + joint + text.substr(text.find(R"(, "fit")"));
+  const CalibrationStudy two = load_calibration_study(write_file(dir, "joint.json", text));
+  ASSERT_EQ(two.datasets.size(), 2u);
+  EXPECT_EQ(two.datasets[1].channel, "B_r_z");
+  EXPECT_NE(two.datasets[1].setup.scenario.initial_q, two.datasets[0].setup.scenario.initial_q);
+  std::string bad_channel = text;
+  bad_channel.replace(bad_channel.find("B_r_z"), 5, "B_x_z");
+  expect_refused(write_file(dir, "g.json", bad_channel), "'data[1].channel'");
+  std::string with_offset = text;
+  with_offset.replace(with_offset.find(R"("fit": ["c_q"])"), 14, R"("fit": ["c_q", "time_offset"])");
+  expect_refused(write_file(dir, "h.json", with_offset), "'fit'");
 
   // Every option that changes a result changes the fingerprint.
   EXPECT_NE(load_calibration_study(study, {.max_evaluations = 7}).fingerprint, s.fingerprint);
