@@ -74,6 +74,9 @@ const RegisterCommand registration{
                      "GN_DIRECT_L, GN_CRS2_LM, GN_ISRES, G_MLSL_LDS (with a BOBYQA local search), ...");
       app.add_option("--starts", o->overrides.starts, "Number of independent starts (fanned out over ranks)");
       app.add_option("--max-evaluations", o->overrides.max_evaluations, "Simulations per start");
+      app.add_flag("--profile", o->overrides.profile,
+                   "After the fit: profile-likelihood intervals of every fitted parameter (the others "
+                   "re-optimised along a grid), a PNG each; says when a parameter is not identifiable");
       app.add_option("--method", o->overrides.method, "optimize (default) or mcmc")
           ->check(CLI::IsMember({"optimize", "mcmc"}));
       app.add_option("--walkers", o->overrides.walkers, "mcmc: ensemble walkers (even, >= 2 x sampled parameters)");

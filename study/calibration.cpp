@@ -368,6 +368,9 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
   s.starts = o.starts ? *o.starts : configured_starts;
   if (s.starts <= 0) r.fail("starts", "must be positive, got " + std::to_string(s.starts));
   s.seed = static_cast<std::uint64_t>(r.integer_or("seed", 1));
+  s.profile = r.boolean_or("profile", false) || o.profile;
+  s.profile_points = r.integer_or("profile_points", s.profile_points);
+  if (s.profile_points < 3) r.fail("profile_points", "must be at least 3");
   r.finish();
 
   // Everything that changes a result: the files, the data and the options in force.
@@ -376,7 +379,7 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
   for (const auto& d : s.datasets)
     key << read_text(d.path) << '\n' << read_text(d.scenario_path) << '\n' << d.channel << '\n';
   key << method << '\n' << s.algorithm
-      << ' ' << s.max_evaluations << ' ' << s.starts << ' ' << s.mcmc.walkers << ' ' << s.mcmc.steps << ' ' << s.mcmc.discard;
+      << ' ' << s.max_evaluations << ' ' << s.starts << ' ' << s.mcmc.walkers << ' ' << s.mcmc.steps << ' ' << s.mcmc.discard << ' ' << s.profile << ' ' << s.profile_points;
   for (const auto& p : s.fit) key << ' ' << p.name;
   s.fingerprint = io::config_fingerprint(key.str());
   return s;
@@ -531,6 +534,125 @@ GaussNewtonResult gauss_newton_at_optimum(const CalibrationStudy& s, std::vector
   return out;
 }
 
+// Profile likelihood (Bates & Watts 1988, ch. 6; Venzon & Moolgavkar 1988):
+// for each fitted parameter (a fitted time_offset excepted) a grid of
+// `profile_points` values over +-4 Gauss-Newton standard errors around the
+// optimum (the whole bounds when the se is not finite), clipped to the bounds;
+// at each value the other parameters are re-optimised with BOBYQA (at most
+// max_evaluations simulations) and the offsets profiled as in the fit. The
+// profile is the weighted RSS sum_k RSS_k / s_k^2 (s_k: each curve's noise sd
+// at the optimum), so the threshold is chi2_1(0.95) with unit variance.
+// Collective: one task per grid point, fanned out with run_task_farm.
+struct ParameterProfile {
+  std::string name;
+  std::vector<double> values, weighted_rss;
+  ProfileInterval interval;
+  bool complete = false;
+};
+
+std::vector<ParameterProfile> profile_parameters(const CalibrationStudy& s, const GaussNewtonResult& gn,
+                                                 std::vector<double> best, const StudyRunControl& control) {
+  const std::size_t p = s.fit.size(), K = s.datasets.size();
+  const std::size_t G = static_cast<std::size_t>(s.profile_points);
+  // Rank 0 lays out the grids and the noise sds; every rank gets them.
+  std::vector<double> layout;  // best (p + K), noise sd (K), then per parameter G values
+  std::vector<std::size_t> profiled;
+  for (std::size_t j = 0; j < p; ++j)
+    if (s.fit[j].name != "time_offset") profiled.push_back(j);
+  if (world_rank() == 0) {
+    layout = best;
+    for (std::size_t k = 0; k < K; ++k) layout.push_back(gn.ok ? gn.noise_sd[k] : 0.0);
+    for (std::size_t j : profiled) {
+      const FitParameter& f = s.fit[j];
+      const double se = gn.ok ? gn.uncertainty.standard_error[static_cast<Eigen::Index>(j)] : NAN;
+      double lo = f.lower, hi = f.upper;
+      if (std::isfinite(se) && se > 0) {
+        lo = std::max(f.lower, best[j] - 4.0 * se);
+        hi = std::min(f.upper, best[j] + 4.0 * se);
+      }
+      for (std::size_t g = 0; g < G; ++g) {
+        const double u = static_cast<double>(g) / static_cast<double>(G - 1);
+        layout.push_back(f.log_scale && !(std::isfinite(se) && se > 0)
+                             ? std::exp(std::log(lo) + u * (std::log(hi) - std::log(lo)))
+                             : lo + u * (hi - lo));
+      }
+    }
+  }
+  broadcast_from_rank0(layout);
+  best.assign(layout.begin(), layout.begin() + static_cast<std::ptrdiff_t>(p + K));
+  const std::vector<double> noise_sd(layout.begin() + static_cast<std::ptrdiff_t>(p + K),
+                                     layout.begin() + static_cast<std::ptrdiff_t>(p + 2 * K));
+  auto grid_value = [&](std::size_t i, std::size_t g) { return layout[p + 2 * K + i * G + g]; };
+  if (std::any_of(noise_sd.begin(), noise_sd.end(), [](double v) { return !(v > 0); })) return {};
+
+  auto compute = [&](int task) {
+    const std::size_t i = static_cast<std::size_t>(task) / G, g = static_cast<std::size_t>(task) % G;
+    const std::size_t fixed = profiled[i];
+    std::vector<double> values(best.begin(), best.begin() + static_cast<std::ptrdiff_t>(p));
+    values[fixed] = grid_value(i, g);
+    std::vector<std::size_t> free;
+    for (std::size_t k = 0; k < p; ++k)
+      if (k != fixed) free.push_back(k);
+    if (!free.empty()) {
+      std::vector<double> x, lower, upper;
+      for (std::size_t k : free) {
+        x.push_back(to_internal(s.fit[k], values[k]));
+        lower.push_back(to_internal(s.fit[k], s.fit[k].lower));
+        upper.push_back(to_internal(s.fit[k], s.fit[k].upper));
+      }
+      std::function<double(const std::vector<double>&)> objective = [&](const std::vector<double>& xi) {
+        std::vector<double> v = values;
+        for (std::size_t k = 0; k < free.size(); ++k) v[free[k]] = to_natural(s.fit[free[k]], xi[k]);
+        return evaluate(s, v).objective;
+      };
+      nlopt::opt opt(nlopt::LN_BOBYQA, static_cast<unsigned>(free.size()));
+      opt.set_lower_bounds(lower);
+      opt.set_upper_bounds(upper);
+      opt.set_maxeval(s.max_evaluations);
+      opt.set_xtol_rel(s.xtol_rel);
+      opt.set_min_objective(
+          [](const std::vector<double>& xi, std::vector<double>&, void* data) {
+            return (*static_cast<std::function<double(const std::vector<double>&)>*>(data))(xi);
+          },
+          &objective);
+      double minimum = 0;
+      try {
+        opt.optimize(x, minimum);
+      } catch (const nlopt::roundoff_limited&) {
+      }
+      for (std::size_t k = 0; k < free.size(); ++k) values[free[k]] = to_natural(s.fit[free[k]], x[k]);
+    }
+    const CalibrationResiduals r = calibration_residuals(s, values);
+    if (!r.ok) return TaskResult{task, 1, r.message, {}};
+    double weighted = 0;
+    for (std::size_t k = 0; k < K; ++k)
+      for (double v : r.residuals[k]) weighted += v * v / (noise_sd[k] * noise_sd[k]);
+    return TaskResult{task, 0, "", {weighted}};
+  };
+  std::vector<int> tasks(profiled.size() * G);
+  for (std::size_t t = 0; t < tasks.size(); ++t) tasks[t] = static_cast<int>(t);
+  TaskFarmOptions farm;
+  farm.label = "calibrate: profiles";
+  farm.progress_interval_s = control.progress_interval_s;
+  farm.stop = &InterruptGuard::flag();
+  const std::vector<TaskResult> runs = run_task_farm(tasks, compute, {}, farm);
+  std::vector<ParameterProfile> profiles;
+  if (world_rank() != 0) return profiles;
+  for (std::size_t i = 0; i < profiled.size(); ++i) {
+    ParameterProfile prof;
+    prof.name = s.fit[profiled[i]].name;
+    for (const TaskResult& r : runs)
+      if (static_cast<std::size_t>(r.index) / G == i && r.status == 0) {
+        prof.values.push_back(grid_value(i, static_cast<std::size_t>(r.index) % G));
+        prof.weighted_rss.push_back(r.values.at(0));
+      }
+    prof.complete = prof.values.size() >= 3;
+    if (prof.complete) prof.interval = profile_likelihood_interval(prof.values, prof.weighted_rss, 1.0, 0.95);
+    profiles.push_back(std::move(prof));
+  }
+  return profiles;
+}
+
 std::string run_fit(const CalibrationStudy& s, const StudyRunControl& control) {
   const std::string out = results_path(s.common, control.results_path);
   const std::size_t p = s.fit.size();
@@ -624,6 +746,8 @@ std::string run_fit(const CalibrationStudy& s, const StudyRunControl& control) {
     best.assign(history.begin() + static_cast<std::ptrdiff_t>(best_row * row),
                 history.begin() + static_cast<std::ptrdiff_t>(best_row * row + p + K));
   const GaussNewtonResult gn = gauss_newton_at_optimum(s, best, control);
+  const std::vector<ParameterProfile> profiles =
+      s.profile ? profile_parameters(s, gn, best, control) : std::vector<ParameterProfile>{};
   if (world_rank() != 0) return out;
 
   const std::vector<double> best_values(best.begin(), best.begin() + static_cast<std::ptrdiff_t>(p));
@@ -691,6 +815,16 @@ std::string run_fit(const CalibrationStudy& s, const StudyRunControl& control) {
   h5.attribute("/", "max_evaluations", static_cast<long long>(s.max_evaluations));
   h5.attribute("/", "starts", static_cast<long long>(s.starts));
   h5.attribute("/", "calibration_fingerprint", s.fingerprint);
+  for (const ParameterProfile& prof : profiles) {
+    const std::string g = "/profile/" + prof.name;
+    h5.write(g + "/values", prof.values);
+    h5.write(g + "/weighted_rss", prof.weighted_rss);
+    if (!prof.complete) continue;
+    h5.attribute(g, "best", prof.interval.best);
+    h5.attribute(g, "lower", prof.interval.lower);
+    h5.attribute(g, "upper", prof.interval.upper);
+    h5.attribute(g, "identifiable", static_cast<long long>(prof.interval.identifiable));
+  }
   h5.commit();
   remove_checkpoint(out);
   std::cerr << "calibrate: " << history.size() / row << " evaluations; NLopt returned " << best_status
@@ -727,9 +861,44 @@ std::string run_fit(const CalibrationStudy& s, const StudyRunControl& control) {
   } else {
     std::cerr << "calibrate: WARNING: " << gn.message << "\n";
   }
+  for (const ParameterProfile& prof : profiles) {
+    if (!prof.complete) {
+      std::cerr << "calibrate: profile of " << prof.name << ": too few successful runs\n";
+    } else if (!prof.interval.identifiable) {
+      std::cerr << "calibrate: profile of " << prof.name << ": NOT IDENTIFIABLE from these data (the profile stays below "
+                << "the 95 % threshold over [" << format_number(prof.values.front(), 6) << ", "
+                << format_number(prof.values.back(), 6) << "])\n";
+    } else {
+      auto end = [&](double v, bool open) { return open ? std::string(v < 0 ? "-inf" : "inf") + " (open)" : format_number(v, 6); };
+      std::cerr << "calibrate: profile of " << prof.name << ": best " << format_number(prof.interval.best, 6)
+                << ", 95 % profile-likelihood interval [" << end(prof.interval.lower, prof.interval.lower_open)
+                << ", " << end(prof.interval.upper, prof.interval.upper_open) << "]\n";
+    }
+  }
   std::cerr << "calibrate: wrote " << out << "\n";
 
   if (control.plot) {
+    for (const ParameterProfile& prof : profiles) {
+      if (prof.values.empty()) continue;
+      io::LinePlot plot;
+      const double minimum = *std::min_element(prof.weighted_rss.begin(), prof.weighted_rss.end());
+      plot.title = s.common.name + ": profile likelihood of " + prof.name +
+                   (prof.complete && !prof.interval.identifiable ? " (not identifiable from these data)" : "");
+      plot.x_label = prof.name;
+      plot.y_label = "(RSS - RSS_min) / s^2";
+      io::Series curve, threshold;
+      curve.label = "profile";
+      curve.style = io::SeriesStyle::lines_points;
+      curve.x = prof.values;
+      for (double v : prof.weighted_rss) curve.y.push_back(v - minimum);
+      threshold.label = "95 % threshold (chi2_1 = 3.84)";
+      threshold.style = io::SeriesStyle::dashed;
+      threshold.x = {prof.values.front(), prof.values.back()};
+      threshold.y = {3.841458820694124, 3.841458820694124};
+      plot.series = {curve, threshold};
+      io::write_png_or_warn(plot, out.substr(0, out.size() - 3) + "_profile_" + prof.name + ".png", "calibrate",
+                            std::cerr);
+    }
     for (std::size_t k = 0; k < K; ++k) {
       const std::string png = out.substr(0, out.size() - 3) + (k == 0 ? "" : "_" + std::to_string(k)) + ".png";
       io::LinePlot plot;

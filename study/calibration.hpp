@@ -116,6 +116,8 @@ struct CalibrationStudy {
   double offset_min_s = -0.2, offset_max_s = 0.2, offset_initial_s = 0.0;
   int starts = 1;
   std::uint64_t seed = 1;
+  bool profile = false;     // profile-likelihood intervals after the fit
+  int profile_points = 13;  // grid points per profiled parameter (>= 3)
   McmcSettings mcmc;
   // Covers the study's files (common.fingerprint), the data file's text and
   // every option that changes a result (command-line overrides included).
@@ -132,6 +134,7 @@ struct CalibrationOverrides {
   std::string method{};
   std::optional<int> starts{}, max_evaluations{}, walkers{};
   std::optional<long> steps{}, discard{};
+  bool profile = false;
 };
 
 // Throws io::ConfigError naming the file and the field on any bad value

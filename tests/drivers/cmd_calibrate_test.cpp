@@ -34,7 +34,7 @@ TEST(CmdCalibrate, FitRecoversTheGeneratingDampingWithGaussNewtonIntervals) {
       "bounds": {"c_q": [0.02, 1.0], "time_offset": [-0.2, 0.2]}, "initial": {"c_q": 0.1}, "max_evaluations": 30})");
   std::string log;
   ASSERT_EQ(run_command(rover_binary() + " calibrate --study " + study +
-                            " --algorithm LN_BOBYQA --no-plot --out " + dir + "/cal.h5", &log),
+                            " --algorithm LN_BOBYQA --profile --no-plot --out " + dir + "/cal.h5", &log),
             0) << log;
   const io::Hdf5Reader h5(dir + "/cal.h5");
   const double c_q = h5.read_doubles("/best/values").at(0);
@@ -59,6 +59,16 @@ TEST(CmdCalibrate, FitRecoversTheGeneratingDampingWithGaussNewtonIntervals) {
   // The noise sd estimated from the residuals is the generating 0.1 mm.
   EXPECT_NEAR(h5.read_doubles("/best/noise_sd").at(0), 1e-4, 1e-5);
   EXPECT_FALSE(h5.attribute_string("/", "nlopt_status").empty());
+  // The profile of c_q (nothing else to re-optimise): the interval holds the
+  // fit and is of the Gauss-Newton interval's size (the model is nearly
+  // linear in c_q over +-4 se, where the two agree).
+  EXPECT_EQ(h5.read_doubles("/profile/c_q/values").size(), 13u);
+  const double profile_lower = h5.attribute_double("/profile/c_q", "lower"),
+               profile_upper = h5.attribute_double("/profile/c_q", "upper");
+  EXPECT_LT(profile_lower, c_q);
+  EXPECT_GT(profile_upper, c_q);
+  EXPECT_NEAR(profile_upper - profile_lower, upper[0] - lower[0], 0.3 * (upper[0] - lower[0]));
+  EXPECT_NE(log.find("profile-likelihood interval"), std::string::npos) << log;
   EXPECT_NE(log.find("c_q = "), std::string::npos);
   EXPECT_NE(log.find("(95 %)"), std::string::npos) << log;
 }
