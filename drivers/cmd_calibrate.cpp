@@ -1,5 +1,7 @@
 // `rover calibrate`: fit c_q (and f, M0_scale, time_offset) to a measured drop
-// curve with any NLopt algorithm. See study/calibration.hpp for the formats.
+// curve with any derivative-free NLopt algorithm, with Gauss-Newton intervals
+// at the optimum, or sample their posterior (--method mcmc). See
+// study/calibration.hpp and study/calibration_mcmc.hpp for the formats.
 #include <iostream>
 #include <sstream>
 
@@ -24,18 +26,27 @@ int run_calibrate_command(CalibrateOptions o) {
   for (std::string name; std::getline(ss, name, ',');)
     if (!name.empty()) o.overrides.fit.push_back(name);
   const study::CalibrationStudy s = study::load_calibration_study(o.study_path, o.overrides);
+  o.control.resume_command = "the same command with --resume";
   if (mpi.rank() == 0) {
-    std::cerr << "calibrate: fitting";
-    for (const auto& p : s.fit) std::cerr << " " << p.name << " in [" << p.lower << ", " << p.upper << "]";
-    std::cerr << " to " << s.data_path << " (" << s.data_t.size() << " points) with " << s.algorithm
-              << ", " << s.starts << " start(s) on " << mpi.size() << " rank(s)\n";
+    if (s.method == study::CalibrationMethod::mcmc) {
+      std::cerr << "calibrate: sampling the posterior of";
+      for (const auto& p : s.fit) std::cerr << " " << p.name << " ~ " << p.prior.describe();
+      std::cerr << (s.mcmc.sample_noise ? " and the noise sd" : "") << " given " << s.data_path << " ("
+                << s.datasets.size() << " curve(s)): " << s.mcmc.walkers << " walkers x " << s.mcmc.steps
+                << " steps on " << mpi.size() << " rank(s)\n";
+    } else {
+      std::cerr << "calibrate: fitting";
+      for (const auto& p : s.fit) std::cerr << " " << p.name << " in [" << p.lower << ", " << p.upper << "]";
+      std::cerr << " to " << s.data_path << " (" << s.datasets.size() << " curve(s)) with " << s.algorithm
+                << ", " << s.starts << " start(s) on " << mpi.size() << " rank(s)\n";
+    }
   }
   study::run_calibration(s, o.control);
   return 0;
 }
 
 const RegisterCommand registration{
-    58, "calibrate", "Fit c_q (and f, M0_scale, time offset) to a measured drop curve with NLopt",
+    58, "calibrate", "Fit c_q (and f, M0_scale, time offset) to a measured drop curve, with intervals or a posterior",
     [](CLI::App& app) -> std::function<int()> {
       auto o = std::make_shared<CalibrateOptions>();
       app.footer(std::string(
@@ -43,21 +54,34 @@ const RegisterCommand registration{
           "(seconds, metres of the left bogie pin); its time origin need not be the release: the\n"
           "offset is profiled out (or fitted, with --fit ...,time_offset). Bounds, initial values\n"
           "and the scenario come from the study file. Writes /history (every evaluation),\n"
-          "/best, /data, /fit and a PNG of data against the fitted curve.\n\n"
+          "/best (with Gauss-Newton standard errors, 95 % intervals, covariance and correlation of\n"
+          "the parameters and the time offset, and NLopt's return status), /data, /fit and a PNG.\n"
+          "--method mcmc samples the posterior (priors from the study's \"priors\", noise sd\n"
+          "known or sampled) with an ensemble sampler: /chain, /posterior, /diagnostics,\n"
+          "/predictive (99.73 % band of B_l z), traces, corner panels and the band as PNGs.\n\n"
           "Examples:\n"
           "  rover calibrate --data configs/data/drop_horizontal_synthetic.csv --fit c_q --algorithm LN_BOBYQA\n"
           "  rover calibrate --fit c_q,M0_scale --algorithm GN_DIRECT_L --max-evaluations 60\n"
-          "  mpirun -np 4 rover calibrate --fit c_q,f --starts 4\n\n") + kMpiFooter);
+          "  mpirun -np 4 rover calibrate --fit c_q,f --starts 4\n"
+          "  rover calibrate --study configs/studies/calibration_mcmc.json --method mcmc\n\n") + kMpiFooter);
       app.add_option("--study", o->study_path, "Study file (type calibration)")
           ->capture_default_str()->check(CLI::ExistingFile);
       app.add_option("--data", o->overrides.data_path, "Measured curve, CSV t,z (default: the study's)")
           ->check(CLI::ExistingFile);
       app.add_option("--fit", o->fit, "Parameters to fit, comma-separated: c_q, f, M0_scale, time_offset");
       app.add_option("--algorithm", o->overrides.algorithm,
-                     "Any NLopt algorithm by name: LN_BOBYQA, LN_NELDERMEAD, LN_SBPLX, GN_DIRECT_L, "
-                     "GN_CRS2_LM, GN_ISRES, G_MLSL_LDS (with a BOBYQA local search), ...");
+                     "Any derivative-free NLopt algorithm by name: LN_BOBYQA, LN_NELDERMEAD, LN_SBPLX, "
+                     "GN_DIRECT_L, GN_CRS2_LM, GN_ISRES, G_MLSL_LDS (with a BOBYQA local search), ...");
       app.add_option("--starts", o->overrides.starts, "Number of independent starts (fanned out over ranks)");
       app.add_option("--max-evaluations", o->overrides.max_evaluations, "Simulations per start");
+      app.add_flag("--profile", o->overrides.profile,
+                   "After the fit: profile-likelihood intervals of every fitted parameter (the others "
+                   "re-optimised along a grid), a PNG each; says when a parameter is not identifiable");
+      app.add_option("--method", o->overrides.method, "optimize (default) or mcmc")
+          ->check(CLI::IsMember({"optimize", "mcmc"}));
+      app.add_option("--walkers", o->overrides.walkers, "mcmc: ensemble walkers (even, >= 2 x sampled parameters)");
+      app.add_option("--steps", o->overrides.steps, "mcmc: ensemble steps");
+      app.add_option("--discard", o->overrides.discard, "mcmc: burn-in steps left out of the summaries");
       add_study_control(app, o->control);
       return [o] { return run_calibrate_command(*o); };
     }};

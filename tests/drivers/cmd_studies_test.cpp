@@ -1,4 +1,5 @@
-// End-to-end tests of the study subcommands (montecarlo, surface, calibrate)
+// End-to-end tests of the study subcommands (montecarlo, surface; calibrate
+// has tests/drivers/cmd_calibrate_test.cpp)
 // through the built `rover`, with and without mpirun.
 #include <cstdlib>
 #include <fstream>
@@ -237,21 +238,6 @@ TEST(CmdStudies, SurfaceOnTwoRanksHasTheGridShapes) {
   EXPECT_EQ(h5.attribute_string("/", "integrator"), "dopri5");
 }
 
-TEST(CmdStudies, CalibrationRecoversTheGeneratingDamping) {
-  // configs/data/drop_horizontal_synthetic.csv was made at c_q = 0.25 with
-  // 0.1 mm noise and a 0.05 s offset (see its header).
-  const std::string dir = rover::testing::temp_dir();
-  std::string log;
-  ASSERT_EQ(run_command("cd " + source_path("") + " && " + rover_binary() +
-                            " calibrate --fit c_q --algorithm LN_BOBYQA --no-plot --out " + dir +
-                            "/cal.h5", &log), 0) << log;
-  const io::Hdf5Reader h5(dir + "/cal.h5");
-  const double c_q = h5.read_doubles("/best/values").at(0);
-  EXPECT_NEAR(c_q, 0.25, 0.05 * 0.25) << log;
-  EXPECT_NEAR(h5.read_doubles("/best/time_offset").at(0), 0.05, 2e-3);
-  EXPECT_GT(h5.shape("/history").at(0), 3u);
-}
-
 TEST(CmdStudies, BadStudyConfigsNameTheField) {
   const std::string dir = rover::testing::temp_dir();
   const std::string scenario = short_drop(dir);
@@ -269,9 +255,6 @@ TEST(CmdStudies, BadStudyConfigsNameTheField) {
           "f": {"min": 1e3, "max": 1e4, "count": 0}, "c_q": {"min": 0.1, "max": 0.2, "count": 2}})", "f.count"},
       {"surface", R"({"type": "surface", "name": "s", "scenario": ")" + scenario + R"(", "reference": {"simulate": {}},
           "f": {"min": 1e4, "max": 1e3, "count": 2}, "c_q": {"min": 0.1, "max": 0.2, "count": 2}})", "f.max"},
-      {"calibrate", R"({"type": "calibration", "name": "c", "scenario": ")" + scenario + R"(", "data": ")" +
-          source_path("configs/data/drop_horizontal_synthetic.csv") + R"(", "fit": ["c_q"],
-          "bounds": {"c_q": [1.0, 0.1]}, "initial": {"c_q": 0.5}})", "bounds.c_q"},
   };
   for (const Case& c : cases) {
     const std::string path = dir + "/bad.json";

@@ -1,0 +1,15 @@
+// Broadcast of a result computed on rank 0 (the best point of a fit, the log
+// densities of an ensemble half-step) to every rank of MPI_COMM_WORLD, so that
+// all ranks can take part in the next collective task farm with the same
+// inputs. Without MPI initialised, or on one rank, a no-op.
+#pragma once
+
+#include <vector>
+
+namespace rover::study {
+
+// Collective: every rank calls it; afterwards every rank holds rank 0's
+// `values` (resized as needed).
+void broadcast_from_rank0(std::vector<double>& values);
+
+}  // namespace rover::study
