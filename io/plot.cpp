@@ -354,8 +354,10 @@ void write_png(const BarPlot& plot, const std::string& png_path) {
   });
 }
 
-bool write_png_or_warn(const BarPlot& plot, const std::string& png_path, const std::string& label,
-                       std::ostream& log) {
+namespace {
+
+template <class Plot>
+bool write_or_warn(const Plot& plot, const std::string& png_path, const std::string& label, std::ostream& log) {
   try {
     write_png(plot, png_path);
     log << label << ": wrote " << png_path << "\n";
@@ -366,16 +368,16 @@ bool write_png_or_warn(const BarPlot& plot, const std::string& png_path, const s
   }
 }
 
+}  // namespace
+
 bool write_png_or_warn(const LinePlot& plot, const std::string& png_path, const std::string& label,
                        std::ostream& log) {
-  try {
-    write_png(plot, png_path);
-    log << label << ": wrote " << png_path << "\n";
-    return true;
-  } catch (const std::exception& e) {
-    log << label << ": warning: no plot (" << e.what() << ")\n";
-    return false;
-  }
+  return write_or_warn(plot, png_path, label, log);
+}
+
+bool write_png_or_warn(const BarPlot& plot, const std::string& png_path, const std::string& label,
+                       std::ostream& log) {
+  return write_or_warn(plot, png_path, label, log);
 }
 
 }  // namespace rover::io

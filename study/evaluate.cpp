@@ -1,6 +1,7 @@
 // See evaluate.hpp.
 #include "study/evaluate.hpp"
 
+#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -43,10 +44,11 @@ std::string csv_quoted(const std::string& s) {
   return out + "\"";
 }
 
+// The shortest text that reads back to exactly x.
 std::string number(double x) {
-  std::ostringstream os;
-  os << std::setprecision(17) << x;
-  return os.str();
+  char text[32];
+  const auto result = std::to_chars(text, text + sizeof text, x);
+  return std::string(text, result.ptr);
 }
 
 }  // namespace

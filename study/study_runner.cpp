@@ -2,7 +2,6 @@
 
 #include <filesystem>
 #include <iostream>
-#include <map>
 
 #include <mpi.h>
 
@@ -32,39 +31,9 @@ int world_size() {
 std::vector<TaskResult> run_study_tasks(int task_count,
                                         const std::function<TaskResult(int)>& compute,
                                         const StudyRunOptions& options) {
-  const bool root = world_rank() == 0;
-  std::vector<TaskResult> done;
-  std::vector<int> todo;
-  std::unique_ptr<io::ResultCheckpoint> checkpoint;
-  if (root) {
-    if (const auto dir = std::filesystem::path(options.results_path).parent_path(); !dir.empty())
-      std::filesystem::create_directories(dir);
-    checkpoint = std::make_unique<io::ResultCheckpoint>(options.results_path, options.fingerprint);
-    if (options.resume) {
-      done = checkpoint->load();
-      std::cerr << options.label << ": resuming, " << done.size() << " of " << task_count
-                << " runs already done (" << checkpoint->path() << ")\n";
-    } else if (std::filesystem::exists(checkpoint->path())) {
-      std::cerr << options.label << ": starting afresh; the old checkpoint " << checkpoint->path()
-                << " is replaced (use --resume to continue it)\n";
-      checkpoint->remove();
-    }
-    todo = io::missing_indices(task_count, done);
-  }
-  TaskFarmOptions farm;
-  farm.label = options.label;
-  farm.progress_interval_s = options.progress_interval_s;
-  std::vector<TaskResult> fresh = run_task_farm(
-      todo, compute, [&](const TaskResult& r) { checkpoint->add(r); }, farm);
-  if (!root) return {};
-  checkpoint->save();
-  std::map<int, TaskResult> all;
-  for (auto& r : done) all[r.index] = std::move(r);
-  for (auto& r : fresh) all[r.index] = std::move(r);
-  std::vector<TaskResult> out;
-  out.reserve(all.size());
-  for (auto& [index, r] : all) out.push_back(std::move(r));
-  return out;
+  std::vector<TaskResult> all;
+  stream_study_tasks(task_count, compute, [&](TaskResult&& r) { all.push_back(std::move(r)); }, options);
+  return all;
 }
 
 namespace {

@@ -28,10 +28,9 @@ struct StudyRunOptions {
   io::CheckpointPolicy checkpoint;  // how often finished runs are flushed to the checkpoint
 };
 
-// Collective: every rank calls it. Runs compute(i) for i in [0, task_count)
-// that are not in the checkpoint (all of them without --resume), and returns
-// on rank 0 the results of all task_count runs, sorted by index (empty on the
-// other ranks). The checkpoint stays until remove_checkpoint() is called,
+// Collective: every rank calls it. stream_study_tasks() (below) collecting
+// the records: returns on rank 0 the results of all task_count runs, sorted by
+// index (empty on the other ranks), for studies whose runs are few. The checkpoint stays until remove_checkpoint() is called,
 // after the results are committed.
 std::vector<TaskResult> run_study_tasks(int task_count,
                                         const std::function<TaskResult(int)>& compute,

@@ -1,5 +1,7 @@
 #include "test_support.hpp"
 
+#include <fstream>
+
 #include <array>
 #include <cstdio>
 #include <cstdlib>
@@ -99,6 +101,18 @@ int run_command(const std::string& command, std::string* output) {
   const int status = pclose(pipe);
   if (output) *output = text;
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string write_file(const std::string& path, const std::string& text) {
+  std::ofstream(path) << text;
+  return path;
+}
+
+std::string short_drop_scenario(const std::string& dir) {
+  return write_file(dir + "/short_drop.json", R"({"name": "short_drop", "rover": ")" +
+                                                  source_path("configs/rover.json") +
+                                                  R"(", "duration": 0.25, "output_rate": 200,
+      "initial_q": {"z": 0.281, "chi": 0.039, "psi": 0.0042}})");
 }
 
 }  // namespace rover::testing

@@ -10,6 +10,11 @@ std::string source_path(const std::string& relative);  // <source dir>/relative
 std::string rover_binary();                              // path of the built `rover`
 std::string mpiexec();                                   // "mpirun --oversubscribe" (root allowed)
 std::string temp_dir();  // a fresh directory for this test, removed if it passes
+// Writes `text` to `path`; returns the path.
+std::string write_file(const std::string& path, const std::string& text);
+// A short drop scenario (0.25 s at 200 Hz, the horizontal drop's start) in
+// `dir`, so that studies run in seconds; returns its path.
+std::string short_drop_scenario(const std::string& dir);
 // Runs a shell command; returns its exit status and captures stdout+stderr.
 int run_command(const std::string& command, std::string* output = nullptr);
 

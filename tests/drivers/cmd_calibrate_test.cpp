@@ -18,10 +18,7 @@ using rover::testing::rover_binary;
 using rover::testing::run_command;
 using rover::testing::source_path;
 
-std::string write_file(const std::string& path, const std::string& text) {
-  std::ofstream(path) << text;
-  return path;
-}
+using rover::testing::write_file;
 
 // configs/data/drop_horizontal_synthetic.csv was made at c_q = 0.25 with
 // 0.1 mm noise and a 0.05 s offset (see its header).

@@ -18,7 +18,7 @@ using rover::testing::rover_binary;
 using rover::testing::run_command;
 using rover::testing::source_path;
 
-void write_file(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+using rover::testing::write_file;
 
 // The evaluate CSV: '#' comments, a header, then numbers and a quoted message
 // last. Returns the numeric columns by name.
@@ -41,13 +41,7 @@ std::map<std::string, std::vector<double>> read_output(const std::string& path) 
   return columns;
 }
 
-std::string short_drop(const std::string& dir) {
-  const std::string path = dir + "/short_drop.json";
-  write_file(path, R"({"name": "short_drop", "rover": ")" + source_path("configs/rover.json") +
-                       R"(", "duration": 0.25, "output_rate": 200,
-      "initial_q": {"z": 0.281, "chi": 0.039, "psi": 0.0042}})");
-  return path;
-}
+std::string short_drop(const std::string& dir) { return rover::testing::short_drop_scenario(dir); }
 
 TEST(CmdEvaluate, RowsComeBackInOrderAndMatchSimulate) {
   const std::string dir = rover::testing::temp_dir();

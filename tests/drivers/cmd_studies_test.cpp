@@ -17,16 +17,10 @@ using rover::testing::rover_binary;
 using rover::testing::run_command;
 using rover::testing::source_path;
 
-void write_file(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+using rover::testing::write_file;
 
 // A short drop (0.25 s at 200 Hz) so that studies run in seconds.
-std::string short_drop(const std::string& dir) {
-  const std::string path = dir + "/short_drop.json";
-  write_file(path, R"({"name": "short_drop", "rover": ")" + source_path("configs/rover.json") +
-                       R"(", "duration": 0.25, "output_rate": 200,
-      "initial_q": {"z": 0.281, "chi": 0.039, "psi": 0.0042}})");
-  return path;
-}
+std::string short_drop(const std::string& dir) { return rover::testing::short_drop_scenario(dir); }
 
 // A Monte Carlo over the preloads (sd_scale times their sds) and, with
 // `four_inputs`, c_q, f and the drop height too, on a design of `design` type.
