@@ -29,10 +29,13 @@ std::string percent_text(double fraction) {
 
 // 2218 -> "2,218"
 std::string grouped(long long n) {
-  std::string digits = std::to_string(n);
-  for (int i = static_cast<int>(digits.size()) - 3; i > 0; i -= 3)
-    digits.insert(static_cast<std::size_t>(i), ",");
-  return digits;
+  const std::string digits = std::to_string(n);
+  std::string out;
+  for (std::size_t i = 0; i < digits.size(); ++i) {
+    if (i > 0 && (digits.size() - i) % 3 == 0) out += ',';
+    out += digits[i];
+  }
+  return out;
 }
 
 // P(B <= k) and P(B > k) for B ~ Binomial(n, p); k = -1 and k = n allowed.
