@@ -1,5 +1,6 @@
 // See design.hpp.
 #include "study/design.hpp"
+#include "study/splitmix64.hpp"
 
 #include <algorithm>
 #include <climits>
@@ -12,15 +13,6 @@
 
 namespace rover::study {
 namespace {
-
-// SplitMix64 finaliser (Steele, Lea and Flood 2014): a bijection of 64-bit
-// words with good avalanche, used to derive independent keys and seeds.
-std::uint64_t splitmix64(std::uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
 
 // Salts keeping the random streams of the design types apart.
 constexpr std::uint64_t kLatinHypercubeSalt = 0x4C48532D4C484344ull;

@@ -1,4 +1,5 @@
 #include "study/ensemble_sampler.hpp"
+#include "study/splitmix64.hpp"
 
 #include <cmath>
 #include <limits>
@@ -11,13 +12,6 @@
 
 namespace rover::study {
 namespace {
-
-std::uint64_t splitmix64(std::uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
 
 // The engine of walker `walker` at step `step`: a function of (seed, step,
 // walker) only.

@@ -1,4 +1,5 @@
 #include "study/sampling.hpp"
+#include "study/splitmix64.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -7,16 +8,6 @@
 #include <boost/random/normal_distribution.hpp>
 
 namespace rover::study {
-namespace {
-
-std::uint64_t splitmix64(std::uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
-
-}  // namespace
 
 std::array<double, kNumSJoints> sample_preloads(const SStructureParameters& s, std::uint64_t seed,
                                                 std::uint64_t index, double sd_scale) {

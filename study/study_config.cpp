@@ -1,32 +1,17 @@
 #include "study/study_config.hpp"
 
-#include <fstream>
-#include <sstream>
 
 #include "io/checkpoint.hpp"
+#include "study/study_output.hpp"
 #include "study/study_runner.hpp"
 
 namespace rover::study {
 
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+std::string read_text(const std::string& path) { return file_text(path); }
 
 void write_study_provenance(io::Hdf5Writer& h5, const StudyCommon& common) {
-  const IntegratorSettings& integrator = common.setup.scenario.integrator;
-  h5.attribute("/", "study", common.type);
-  h5.attribute("/", "name", common.name);
-  h5.attribute("/", "study_file", common.path);
-  h5.attribute("/", "study_json", read_text(common.path));
-  h5.attribute("/", "integrator", integrator_name(integrator.method));
-  h5.attribute("/", "rtol", integrator.relative_tolerance);
-  h5.attribute("/", "atol", integrator.absolute_tolerance);
-  h5.attribute("/", "ranks", static_cast<long long>(world_size()));
-  h5.attribute("/", "fingerprint", common.fingerprint);
-  h5.attribute("/", "project_version", ROVER_VERSION);
+  write_base_provenance(h5, common.type, common.name, common.path, &common.setup.scenario.integrator,
+                        common.fingerprint);
 }
 
 StudyCommon parse_study_common(const io::JsonReader& r, const std::string& expected_type) {

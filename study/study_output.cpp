@@ -48,31 +48,39 @@ std::string sibling_path(const std::string& results_path, const std::string& suf
   return (p.parent_path() / (stem + suffix)).string();
 }
 
+void write_base_provenance(io::Hdf5Writer& h5, const std::string& type, const std::string& name,
+                           const std::string& study_path, const IntegratorSettings* integrator,
+                           const std::string& fingerprint) {
+  h5.attribute("/", "study", type);
+  h5.attribute("/", "name", name);
+  h5.attribute("/", "study_file", study_path);
+  h5.attribute("/", "study_json", file_text(study_path));
+  if (integrator != nullptr) {
+    h5.attribute("/", "integrator", integrator_name(integrator->method));
+    h5.attribute("/", "rtol", integrator->relative_tolerance);
+    h5.attribute("/", "atol", integrator->absolute_tolerance);
+  }
+  h5.attribute("/", "ranks", static_cast<long long>(world_size()));
+  h5.attribute("/", "fingerprint", fingerprint);
+  h5.attribute("/", "project_version", ROVER_VERSION);
+}
+
 void write_study_provenance(io::Hdf5Writer& h5, const StudySpec& spec, const std::string& fingerprint) {
-  h5.attribute("/", "study", spec.type);
-  h5.attribute("/", "name", spec.name);
+  const IntegratorSettings* integrator = spec.rover ? &spec.rover->nominal().scenario.integrator : nullptr;
+  write_base_provenance(h5, spec.type, spec.name, spec.path, integrator, fingerprint);
   h5.attribute("/", "description", spec.description);
-  h5.attribute("/", "study_file", spec.path);
-  h5.attribute("/", "study_json", file_text(spec.path));
   if (spec.rover) {
     const auto& setup = spec.rover->nominal();
-    const IntegratorSettings& integrator = setup.scenario.integrator;
     h5.attribute("/", "scenario", setup.scenario.name);
     h5.attribute("/", "scenario_file", setup.scenario_path);
     h5.attribute("/", "rover_file", setup.rover_path);
     h5.attribute("/", "terrain_file", setup.terrain_path);
-    h5.attribute("/", "integrator", integrator_name(integrator.method));
-    h5.attribute("/", "rtol", integrator.relative_tolerance);
-    h5.attribute("/", "atol", integrator.absolute_tolerance);
   } else {
     h5.attribute("/", "model", spec.model->describe());
   }
   h5.attribute("/", "design", design_type_name(spec.design.type));
   h5.attribute("/", "seed", static_cast<long long>(spec.design.seed));
   h5.attribute("/", "samples", static_cast<long long>(spec.design.samples));
-  h5.attribute("/", "ranks", static_cast<long long>(world_size()));
-  h5.attribute("/", "fingerprint", fingerprint);
-  h5.attribute("/", "project_version", ROVER_VERSION);
 }
 
 void write_study_inputs(io::Hdf5Writer& h5, const StudySpec& spec, const DesignMatrix& x) {

@@ -23,6 +23,14 @@ void require_memory(const std::string& what, double bytes, double max_bytes = 8.
 // "results/x.h5" + "_band_B_l_z.png" -> "results/x_band_B_l_z.png".
 std::string sibling_path(const std::string& results_path, const std::string& suffix);
 
+// The root attributes every study result carries: study (its type), name,
+// study_file, study_json (the file's text), integrator, rtol, atol (when a
+// scenario is simulated: `integrator` not null), ranks, fingerprint,
+// project_version.
+void write_base_provenance(io::Hdf5Writer& h5, const std::string& type, const std::string& name,
+                           const std::string& study_path, const IntegratorSettings* integrator,
+                           const std::string& fingerprint);
+
 // Root attributes: study (type), name, description, study_file, study_json,
 // scenario / model, integrator, rtol, atol, ranks, fingerprint, project_version.
 void write_study_provenance(io::Hdf5Writer& h5, const StudySpec& spec, const std::string& fingerprint);

@@ -215,16 +215,7 @@ std::string run_surface(const SurfaceStudy& study, const StudyRunControl& contro
     h5.attribute("/sweep", "c_q", study.sweep_c_q);
     h5.attribute("/sweep/regression", "meaning", "t_c = a + b f: [a (s), b (s), r^2]");
   }
-  h5.attribute("/", "study", "surface");
-  h5.attribute("/", "name", study.name);
-  h5.attribute("/", "study_file", study.path);
-  h5.attribute("/", "study_json", file_text(study.path));
-  h5.attribute("/", "integrator", integrator_name(integ.method));
-  h5.attribute("/", "rtol", integ.relative_tolerance);
-  h5.attribute("/", "atol", integ.absolute_tolerance);
-  h5.attribute("/", "ranks", static_cast<long long>(world_size()));
-  h5.attribute("/", "fingerprint", study.fingerprint);
-  h5.attribute("/", "project_version", ROVER_VERSION);
+  write_base_provenance(h5, "surface", study.name, study.path, &integ, study.fingerprint);
   h5.attribute("/", "scenario", model.nominal().scenario.name);
   h5.attribute("/", "reference", study.reference_description);
   h5.attribute("/", "t_c_meaning", "wall time of one simulate() call on one core, seconds");
