@@ -70,7 +70,7 @@ int sundials_jacobian(double /*t*/, N_Vector y, N_Vector /*fy*/, SUNMatrix jacob
   const Coordinates q = x.head<kNumCoordinates>(), u = x.tail<kNumCoordinates>();
   compute_dynamics(p.model, p.workspace, p.inputs, q, u);
   const StiffForceJacobian stiff = stiff_force_jacobian(p.model, p.workspace, p.inputs, q, u);
-  const Eigen::LLT<CoordinateMatrix>& mass = p.workspace.mass_factorization;
+  const auto& mass = p.workspace.mass_factorization;
   // SUNDIALS dense matrices are column-major, as Eigen's.
   Eigen::Map<Eigen::Matrix<double, kStateSize, kStateSize>> J(SM_DATA_D(jacobian));
   J.setZero();

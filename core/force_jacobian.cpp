@@ -1,6 +1,7 @@
 // Derivatives of the stiff applied forces (see force_jacobian.hpp).
 #include "core/force_jacobian.hpp"
 
+#include <array>
 #include <cmath>
 
 #include "core/actuators.hpp"
@@ -79,6 +80,11 @@ StiffForceJacobian stiff_force_jacobian(const RoverModel& model, const DynamicsW
   jac.d_position.diagonal() = joints.d_position;
   jac.spring_d_position_diagonal = joints.d_position;
   using Columns = Eigen::Matrix<double, 3, kNumCoordinates>;
+  // A wheel's J_P and dv_P/dq have non-zero columns only for the coordinates
+  // on its path to the root: the products J^T A J are formed on those
+  // (11 of 23) and added into D and K there.
+  using PathColumns = Eigen::Matrix<double, 3, kMaxTreeDepth>;
+  using PathBlock = Eigen::Matrix<double, kMaxTreeDepth, kMaxTreeDepth>;
   for (int leg = 0; leg < kNumLegs; ++leg) {
     const WheelContacts& at_wheel = contacts[leg];
     bool pushing = false;
@@ -89,6 +95,18 @@ StiffForceJacobian stiff_force_jacobian(const RoverModel& model, const DynamicsW
     const Columns centre_jacobian = point_jacobian(model.tree, kin, node, wheel.origin);
     const Columns omega_jacobian = angular_jacobian(model.tree, kin, node);
     const FrameVelocityPositionDerivative frame = frame_velocity_position_derivative(model.tree, kin, node);
+    const int path_length = model.tree.path_length[node];
+    std::array<int, kMaxTreeDepth> path_coordinate{};
+    for (int a = 0; a < path_length; ++a) path_coordinate[a] = model.tree.nodes[model.tree.path[node][a]].coordinate;
+    const auto on_path = [&](const Columns& full) {
+      PathColumns compact = PathColumns::Zero();
+      for (int a = 0; a < path_length; ++a) compact.col(a) = full.col(path_coordinate[a]);
+      return compact;
+    };
+    const auto add_on_path = [&](const PathBlock& block, CoordinateMatrix& target) {
+      for (int b = 0; b < path_length; ++b)
+        for (int a = 0; a < path_length; ++a) target(path_coordinate[a], path_coordinate[b]) += block(a, b);
+    };
     for (int k = 0; k < at_wheel.count; ++k) {
       const ContactPoint& c = at_wheel.points[k];
       if (!(c.normal_force_N > 0.0)) continue;
@@ -96,7 +114,8 @@ StiffForceJacobian stiff_force_jacobian(const RoverModel& model, const DynamicsW
           contact_force_derivatives(c, model.parameters.contact, model.parameters.friction);
       const Vec3 lever = c.point_m - wheel.origin;
       const Columns J = centre_jacobian - cross_matrix(lever) * omega_jacobian;  // J_P = dv_P/du
-      jac.d_speed.noalias() += J.transpose() * (d.d_force_d_velocity * J);
+      const PathColumns J_path = on_path(J);
+      add_on_path(J_path.transpose() * (d.d_force_d_velocity * J_path), jac.d_speed);
       // v_P = J_P u changes with q: the frame turns and P slides over the rim
       // (contact_point_position_derivative); the penetration follows the
       // material point (P is the deepest point), dp/dq = -n^T J_P.
@@ -106,7 +125,7 @@ StiffForceJacobian stiff_force_jacobian(const RoverModel& model, const DynamicsW
                             cross_matrix(wheel.omega) * (dP_dq - centre_jacobian);
       const Eigen::Matrix<double, 1, kNumCoordinates> dp_dq = -c.normal.transpose() * J;
       const Columns df_dq = d.d_force_d_velocity * dv_dq + d.d_force_d_penetration * dp_dq;
-      jac.d_position.noalias() += J.transpose() * df_dq;
+      add_on_path(J_path.transpose() * on_path(df_dq), jac.d_position);
       jac.spring_d_position_diagonal +=
           (J.transpose() * d.d_force_d_penetration).cwiseProduct(dp_dq.transpose());
     }

@@ -2,7 +2,8 @@
 // declared in integrators.hpp): the Rosenbrock-W method ROS34PW2
 // (rosenbrock_w.hpp) with the stiff force elements linearized analytically
 // (force_jacobian.hpp), the mass matrix of the step start in the iteration
-// matrix M0 - h g D - h^2 g^2 K (23 x 23, one LU per step size tried), step
+// matrix M0 - h g D - h^2 g^2 K (23 x 23, one LU per step size tried, without
+// fill-in on the coordinate tree: branch_induced_lu.hpp), step
 // control on the embedded second-order solution, and cubic Hermite output.
 //
 // Error control, on the embedded second-order solution:
@@ -37,7 +38,8 @@
 //
 // Work per accepted step: the right-hand side at the step start (which also
 // gives M0, F0 and the contacts), one assembly of D and K from the contacts'
-// point Jacobians, one 23 x 23 LU, and three right-hand sides for the stages.
+// point Jacobians, one sparse 23 x 23 LU, and three right-hand sides for the
+// stages.
 // Every right-hand side is counted in the report's rhs_evaluations, and so is
 // each Jacobian assembly, as one evaluation (it costs about as much as one
 // right-hand side; bench/integrator_bench.cpp times both).
@@ -50,6 +52,7 @@
 
 #include <Eigen/Cholesky>
 
+#include "core/branch_induced_lu.hpp"
 #include "core/dynamics.hpp"
 #include "core/equations_of_motion.hpp"
 #include "core/force_jacobian.hpp"
@@ -288,6 +291,7 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
 
   StallWatch stall;
   StepPoint start, end, stage;
+  BranchInducedLU<kNumCoordinates> iteration;  // of M0 - h g D - h^2 g^2 K
   evaluate(system, 0.0, x, start, report);
   double h = std::clamp(settings.initial_step_s, settings.min_step_s, settings.max_step_s);
   std::size_t next = 1;
@@ -316,8 +320,9 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
       MechanicalLinearization<kNumCoordinates> lin_h = lin.system;
       stiffen_s_joints_over_step(system.model.parameters, start.inputs, q0, u0, h,
                                  lin_h.d_force_d_position);
+      iteration.compute(ros34pw2_iteration_matrix(lin_h, h), system.model.tree.coordinate_parent);
       const RosenbrockWStep<kNumCoordinates> step =
-          ros34pw2_step<kNumCoordinates>(lin_h, start.t, q0, u0, h, acceleration);
+          ros34pw2_step<kNumCoordinates>(lin_h, iteration, start.t, q0, u0, h, acceleration);
       StateVector x1, e;
       x1 << step.q, step.u;
       e << step.error_q, step.error_u;

@@ -93,6 +93,18 @@ KinematicTree build_kinematic_tree(const RoverParameters& p) {
       if (tree.nodes[tree.path[i][a]].coordinate == tree.nodes[i].coordinate)
         throw std::logic_error("kinematic tree: coordinate repeated along a path");
   }
+  // Coordinate parents; the nodes that share a coordinate must agree on it.
+  tree.coordinate_parent.fill(-2);
+  for (int i = 0; i < kNumTreeNodes; ++i) {
+    const int c = tree.nodes[i].coordinate;
+    const int above = tree.path_length[i] > 1 ? tree.nodes[tree.path[i][1]].coordinate : -1;
+    if (above >= c) throw std::logic_error("kinematic tree: a coordinate must come after the one above it");
+    if (tree.coordinate_parent[c] != -2 && tree.coordinate_parent[c] != above)
+      throw std::logic_error("kinematic tree: nodes of one coordinate under different coordinates");
+    tree.coordinate_parent[c] = above;
+  }
+  for (int c = 0; c < kNumCoordinates; ++c)
+    if (tree.coordinate_parent[c] == -2) throw std::logic_error("kinematic tree: coordinate drives no node");
   return tree;
 }
 

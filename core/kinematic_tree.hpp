@@ -56,6 +56,11 @@ struct KinematicTree {
   // Ancestors of each node, the node itself first, root last.
   std::array<std::array<int, kMaxTreeDepth>, kNumTreeNodes> path{};
   std::array<int, kNumTreeNodes> path_length{};
+  // The tree of the coordinates: coordinate_parent[c] (< c) drives the
+  // nearest joint above the nodes of c, -1 at the root. M(q) and the stiff
+  // force Jacobians have non-zeros only where one coordinate is an ancestor
+  // of the other (branch_induced_lu.hpp).
+  std::array<int, kNumCoordinates> coordinate_parent{};
   double total_mass_kg = 0.0;
 };
 

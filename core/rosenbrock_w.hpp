@@ -23,6 +23,7 @@
 
 #include <array>
 #include <cmath>
+#include <utility>
 
 #include <Eigen/Core>
 #include <Eigen/LU>
@@ -112,24 +113,30 @@ constexpr RosenbrockWTableau make_ros34pw2_tableau() {
 
 inline constexpr RosenbrockWTableau kRos34pw2 = detail::make_ros34pw2_tableau();
 
-// One ROS34PW2 step of size h from (t0, q0, u0), linearized there as `lin`.
-// acceleration(t, q, u) must return M(q)^{-1} F(t, q, u); it is called three
-// times (the first stage uses lin.force). Non-finite results (a singular
-// iteration matrix, a blown-up stage) propagate into q, u and the error, for
-// the caller's step control to reject.
-template <int N, class Acceleration>
-RosenbrockWStep<N> ros34pw2_step(const MechanicalLinearization<N>& lin, double t0,
-                                 const Eigen::Matrix<double, N, 1>& q0,
+// The iteration matrix M0 - h g D - h^2 g^2 K of a step of size h (the top
+// of the file); a factorization of it is the one linear solver of the step.
+template <int N>
+Eigen::Matrix<double, N, N> ros34pw2_iteration_matrix(const MechanicalLinearization<N>& lin, double h) {
+  const double hg = h * kRos34pw2.gamma;
+  return lin.mass - hg * lin.d_force_d_speed - (hg * hg) * lin.d_force_d_position;
+}
+
+// One ROS34PW2 step of size h from (t0, q0, u0), linearized there as `lin`,
+// with `iteration` a factorization (anything with Vector solve(Vector)) of
+// ros34pw2_iteration_matrix(lin, h). acceleration(t, q, u) must return
+// M(q)^{-1} F(t, q, u); it is called three times (the first stage uses
+// lin.force). Non-finite results (a singular iteration matrix, a blown-up
+// stage) propagate into q, u and the error, for the caller's step control to
+// reject.
+template <int N, class Factorization, class Acceleration>
+RosenbrockWStep<N> ros34pw2_step(const MechanicalLinearization<N>& lin, const Factorization& iteration,
+                                 double t0, const Eigen::Matrix<double, N, 1>& q0,
                                  const Eigen::Matrix<double, N, 1>& u0, double h,
                                  Acceleration&& acceleration) {
   using Vector = Eigen::Matrix<double, N, 1>;
-  using Matrix = Eigen::Matrix<double, N, N>;
   constexpr int s = RosenbrockWTableau::kStages;
   const RosenbrockWTableau& tab = kRos34pw2;
   const double hg = h * tab.gamma;
-  const Matrix iteration =
-      lin.mass - hg * lin.d_force_d_speed - (hg * hg) * lin.d_force_d_position;
-  const Eigen::PartialPivLU<Matrix> lu(iteration);
 
   std::array<Vector, s> Uq, Uu;  // transformed stage increments
   RosenbrockWStep<N> out{q0, u0, Vector::Zero(), Vector::Zero()};
@@ -149,7 +156,7 @@ RosenbrockWStep<N> ros34pw2_step(const MechanicalLinearization<N>& lin, double t
     const Vector mass_ru =
         i == 0 ? lin.force
                : Vector(lin.mass * (acceleration(t0 + tab.stage_time[i] * h, q, u) + ru_correction));
-    Uu[i] = lu.solve(hg * (mass_ru + hg * (lin.d_force_d_position * rq)));
+    Uu[i] = iteration.solve(Vector(hg * (mass_ru + hg * (lin.d_force_d_position * rq))));
     Uq[i] = hg * (rq + Uu[i]);
     out.q += tab.m[i] * Uq[i];
     out.u += tab.m[i] * Uu[i];
@@ -157,6 +164,16 @@ RosenbrockWStep<N> ros34pw2_step(const MechanicalLinearization<N>& lin, double t
     out.error_u += tab.m_error[i] * Uu[i];
   }
   return out;
+}
+
+// The same step with a dense LU of the iteration matrix.
+template <int N, class Acceleration>
+RosenbrockWStep<N> ros34pw2_step(const MechanicalLinearization<N>& lin, double t0,
+                                 const Eigen::Matrix<double, N, 1>& q0,
+                                 const Eigen::Matrix<double, N, 1>& u0, double h,
+                                 Acceleration&& acceleration) {
+  const Eigen::PartialPivLU<Eigen::Matrix<double, N, N>> iteration(ros34pw2_iteration_matrix(lin, h));
+  return ros34pw2_step<N>(lin, iteration, t0, q0, u0, h, std::forward<Acceleration>(acceleration));
 }
 
 }  // namespace rover

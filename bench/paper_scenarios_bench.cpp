@@ -1,0 +1,138 @@
+// The stiff integrator on the five paper scenarios (docs/model.md §7 and §9):
+// for the two drops and the obstacle runs at 0.34, 1 and 2 m/s, the
+// Rosenbrock-W integrator at its default settings against Dormand-Prince at a
+// tight tolerance (rtol 1e-8, atol 1e-11): wall time (best of three),
+// accepted steps, right-hand sides, and the RMS and largest difference of
+// B_l z and B_r z over every sample. This is the accuracy the studies rely on
+// when they use the stiff integrator (target: within 0.05 mm RMS), and the
+// cost of one run they pay.
+//
+// The references take minutes; they are kept in a cache directory (default
+// /tmp/rover_reference_cache; --cache DIR) keyed by scenario, so a second
+// run of the table costs seconds. Run on a quiet core:
+//   taskset -c 0 build/bench/paper_scenarios_bench [--cache DIR] [--only NAME] [--rtol R] [--atol A]
+// (--rtol and --atol replace the stiff integrator's default tolerances).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "core/simulate.hpp"
+#include "io/scenario_config.hpp"
+
+namespace {
+
+using namespace rover;
+
+struct Curves {
+  std::vector<double> B_l_z, B_r_z;
+};
+
+// The reference curves of one scenario, from the cache or computed now.
+Curves reference_curves(const io::ScenarioSetup& setup, const std::string& name,
+                        const std::filesystem::path& cache_dir) {
+  const std::filesystem::path file = cache_dir / (name + ".bin");
+  Curves c;
+  if (std::ifstream in(file, std::ios::binary); in) {
+    std::size_t n = 0;
+    in.read(reinterpret_cast<char*>(&n), sizeof n);
+    c.B_l_z.resize(n);
+    c.B_r_z.resize(n);
+    in.read(reinterpret_cast<char*>(c.B_l_z.data()), static_cast<std::streamsize>(n * sizeof(double)));
+    in.read(reinterpret_cast<char*>(c.B_r_z.data()), static_cast<std::streamsize>(n * sizeof(double)));
+    if (in) return c;
+  }
+  Scenario tight = setup.scenario;
+  tight.integrator = default_integrator_settings(IntegratorMethod::kDormandPrince45);
+  tight.integrator.relative_tolerance = 1e-8;
+  tight.integrator.absolute_tolerance = 1e-11;
+  tight.wall_time_budget_s = 3600.0;
+  std::printf("  (computing the dopri5 reference of %s ...)\n", name.c_str());
+  std::fflush(stdout);
+  const Trajectory ref = simulate(setup.model, tight, setup.inputs);
+  if (!ref.ok()) {
+    std::fprintf(stderr, "reference of %s failed: %s\n", name.c_str(), ref.message.c_str());
+    std::exit(1);
+  }
+  c.B_l_z = ref.B_l_z;
+  c.B_r_z = ref.B_r_z;
+  std::filesystem::create_directories(cache_dir);
+  std::ofstream out(file, std::ios::binary);
+  const std::size_t n = c.B_l_z.size();
+  out.write(reinterpret_cast<const char*>(&n), sizeof n);
+  out.write(reinterpret_cast<const char*>(c.B_l_z.data()), static_cast<std::streamsize>(n * sizeof(double)));
+  out.write(reinterpret_cast<const char*>(c.B_r_z.data()), static_cast<std::streamsize>(n * sizeof(double)));
+  return c;
+}
+
+struct Difference {
+  double rms_mm = NAN, max_mm = NAN;
+};
+
+Difference difference_mm(const std::vector<double>& a, const std::vector<double>& b) {
+  Difference d;
+  if (a.size() != b.size() || a.empty()) return d;
+  double sum = 0.0, largest = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const double e = std::abs(a[i] - b[i]);
+    sum += e * e;
+    largest = std::max(largest, e);
+  }
+  d.rms_mm = 1e3 * std::sqrt(sum / static_cast<double>(a.size()));
+  d.max_mm = 1e3 * largest;
+  return d;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::filesystem::path cache_dir = "/tmp/rover_reference_cache";
+  std::string only;
+  IntegratorSettings stiff = default_integrator_settings(IntegratorMethod::kRosenbrockW);
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--cache") && i + 1 < argc) {
+      cache_dir = argv[++i];
+    } else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) {
+      only = argv[++i];
+    } else if (!std::strcmp(argv[i], "--rtol") && i + 1 < argc) {
+      stiff.relative_tolerance = std::atof(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--atol") && i + 1 < argc) {
+      stiff.absolute_tolerance = std::atof(argv[++i]);
+    } else {
+      std::fprintf(stderr, "usage: %s [--cache DIR] [--only SCENARIO] [--rtol R] [--atol A]\n", argv[0]);
+      return 2;
+    }
+  }
+  const char* const names[] = {"drop_horizontal", "drop_skewed", "obstacle_v034", "obstacle_v1", "obstacle_v2"};
+  std::printf("Rosenbrock-W (rtol %.0e, atol %.0e) against dopri5 (rtol 1e-8, atol 1e-11)\n",
+              stiff.relative_tolerance, stiff.absolute_tolerance);
+  std::printf("%-16s %9s %7s %7s | %-17s | %-17s\n", "scenario", "wall [s]", "steps", "rhs",
+              "B_l z RMS/max mm", "B_r z RMS/max mm");
+  double total_wall_s = 0.0;
+  for (const char* name : names) {
+    if (!only.empty() && only != name) continue;
+    const io::ScenarioSetup setup =
+        io::load_scenario(std::string(ROVER_SOURCE_DIR) + "/configs/scenarios/" + name + ".json");
+    const Curves ref = reference_curves(setup, name, cache_dir);
+    Scenario run = setup.scenario;
+    run.integrator = stiff;
+    Trajectory best = simulate(setup.model, run, setup.inputs);
+    for (int repeat = 0; repeat < 2; ++repeat) {
+      Trajectory again = simulate(setup.model, run, setup.inputs);
+      if (again.wall_time_s < best.wall_time_s) best = std::move(again);
+    }
+    if (!best.ok()) std::printf("%-16s failed: %s\n", name, best.message.c_str());
+    const Difference l = difference_mm(best.B_l_z, ref.B_l_z), r = difference_mm(best.B_r_z, ref.B_r_z);
+    std::printf("%-16s %9.4f %7ld %7ld | %7.4f / %7.4f | %7.4f / %7.4f\n", name, best.wall_time_s, best.steps,
+                best.rhs_evaluations, l.rms_mm, l.max_mm, r.rms_mm, r.max_mm);
+    std::fflush(stdout);
+    total_wall_s += best.wall_time_s;
+  }
+  std::printf("total wall %.4f s\n", total_wall_s);
+  return 0;
+}
