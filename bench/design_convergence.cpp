@@ -141,7 +141,7 @@ struct DesignErrors {
 
 DesignErrors design_errors(const std::string& name, const std::string& design,
                            const std::vector<std::string>& paths, const Reference& ref,
-                           const std::vector<int>& sizes, const ResultFile& first_file, const Options& o) {
+                           const std::vector<int>& sizes, const ResultFile& reference_file, const Options& o) {
   const Eigen::Index replicates = static_cast<Eigen::Index>(paths.size()), times = ref.band.mean.size();
   const std::size_t count = sizes.size();
   std::vector<Eigen::MatrixXd> band_mean(count, Eigen::MatrixXd(replicates, times)), band_sd = band_mean;
@@ -153,7 +153,7 @@ DesignErrors design_errors(const std::string& name, const std::string& design,
   d.sizes = sizes;
   for (Eigen::Index r = 0; r < replicates; ++r) {
     const ResultFile f = read_result(paths[r], o);
-    require_same_study(first_file, f);
+    require_same_study(reference_file, f);
     // Only these designs' prefixes are designs themselves (a Latin hypercube is drawn whole).
     if (f.design != design)
       throw std::runtime_error(f.path + ": design " + f.design + ", not " + design + " (--" + name + ")");
@@ -274,6 +274,9 @@ int run(const Options& o) {
     for (const std::string& path : *paths) smallest = std::min(smallest, io::Hdf5Reader(path).shape("/qoi/" + o.qoi).at(0));
   const std::vector<int> sizes =
       study::power_of_two_sizes(std::max(o.n_min, 2), static_cast<int>(std::min<std::size_t>(smallest, 1 << 30)));
+  if (std::count_if(sizes.begin(), sizes.end(), [&](int n) { return n >= o.fit_min; }) < 2)
+    throw std::invalid_argument("--fit-min " + std::to_string(o.fit_min) + " leaves fewer than 2 sizes up to N = " +
+                                std::to_string(sizes.back()) + " to fit");
   if (ref.runs <= sizes.back())
     throw std::invalid_argument(o.reference_path + ": the reference has " + std::to_string(ref.runs) +
                                 " runs, not more than the replicates' " + std::to_string(sizes.back()));
