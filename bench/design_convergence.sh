@@ -17,7 +17,7 @@
 # them (and resumes an interrupted run from its checkpoint).
 #
 # Usage: bench/design_convergence.sh [--replicates R] [--n-max N] [--n-ref N]
-#            [--ranks P] [--duration S] [--out DIR] [--rover BIN] [--analysis BIN]
+#            [--ranks P] [--duration S] [--fit-min N] [--out DIR] [--rover BIN] [--analysis BIN]
 #   --replicates  independent seeds per design (default 8)
 #   --n-max       runs per replicate, a power of two (default 1024)
 #   --n-ref       runs of the Sobol' reference (default 8192)
@@ -25,13 +25,14 @@
 #   --duration    drop duration [s] instead of the scenario's 1 s, e.g. 0.3 for a
 #                 quick check (the peak compression is at 0.18 s; the band then
 #                 covers the shorter curve)
+#   --fit-min     smallest N of the power-law fits (default 16; at least 2 sizes up to --n-max)
 #   --out         directory of the result files (default results/design_convergence)
 #   --rover       the rover program (default build/drivers/rover)
 #   --analysis    the analysis program (default build/bench/design_convergence)
 # Quick check: bench/design_convergence.sh --replicates 4 --n-max 64 --n-ref 256 --duration 0.3 --out results/dc_quick
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
-replicates=8 n_max=1024 n_ref=8192 ranks=2 duration="" out=results/design_convergence
+replicates=8 n_max=1024 n_ref=8192 ranks=2 duration="" fit_min=16 out=results/design_convergence
 rover=$here/build/drivers/rover analysis=$here/build/bench/design_convergence
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -40,6 +41,7 @@ while [ $# -gt 0 ]; do
     --n-ref) n_ref=$2 ;;
     --ranks) ranks=$2 ;;
     --duration) duration=$2 ;;
+    --fit-min) fit_min=$2 ;;
     --out) out=$2 ;;
     --rover) rover=$2 ;;
     --analysis) analysis=$2 ;;
@@ -47,7 +49,7 @@ while [ $# -gt 0 ]; do
   esac
   shift 2
 done
-for v in "$replicates" "$n_max" "$n_ref" "$ranks"; do
+for v in "$replicates" "$n_max" "$n_ref" "$ranks" "$fit_min"; do
   [[ "$v" =~ ^[1-9][0-9]*$ ]] || { echo "design_convergence.sh: not a positive integer: $v" >&2; exit 2; }
 done
 (( replicates >= 2 )) || { echo "design_convergence.sh: --replicates must be at least 2" >&2; exit 2; }
@@ -67,8 +69,10 @@ if [ -n "$duration" ]; then
   sed -e "s|\"duration\": 1.0|\"duration\": $duration|" -e "s|\"\.\./rover.json\"|\"$here/configs/rover.json\"|" \
       -e "s|\"\.\./terrains/flat.json\"|\"$here/configs/terrains/flat.json\"|" \
       "$here/configs/scenarios/drop_horizontal.json" > "$scenario"
-  grep -q "\"duration\": $duration," "$scenario" && grep -q "\"$here/configs/rover.json\"" "$scenario" ||
-    { echo "design_convergence.sh: could not rewrite $here/configs/scenarios/drop_horizontal.json" >&2; exit 1; }
+  if ! grep -q "\"duration\": $duration," "$scenario" || ! grep -q "\"$here/configs/rover.json\"" "$scenario" ||
+     ! grep -q "\"$here/configs/terrains/flat.json\"" "$scenario"; then
+    echo "design_convergence.sh: could not rewrite $here/configs/scenarios/drop_horizontal.json" >&2; exit 1
+  fi
   for study in mc_study sobol_study; do
     copy=$out/configs/$(basename "${!study}" .json)_duration_$duration.json
     sed "s|\"\.\./scenarios/drop_horizontal.json\"|\"$scenario\"|" "${!study}" > "$copy"
@@ -85,8 +89,9 @@ start=$(date +%s)
 done_runs=0
 # montecarlo STUDY SAMPLES SEED FILE: one rover run set, skipped if FILE exists.
 montecarlo() {
-  local study=$1 samples=$2 seed=$3 file=$4 resume=()
+  local study=$1 samples=$2 seed=$3 file=$4 resume=() kept=" (kept from an earlier call)"
   if [ ! -f "$file" ]; then
+    kept=""
     [ -f "$file.checkpoint" ] && resume=(--resume)
     nice mpirun --oversubscribe -np "$ranks" "$rover" montecarlo --study "$study" --samples "$samples" \
       --seed "$seed" --out "$file" --no-plot --progress-interval 60 "${resume[@]}" \
@@ -94,7 +99,7 @@ montecarlo() {
       { echo "design_convergence.sh: rover montecarlo failed, see $out/logs/$(basename "$file" .h5).log" >&2; exit 1; }
   fi
   done_runs=$((done_runs + samples))
-  echo "  $(basename "$file"): $done_runs / $runs runs, $(( $(date +%s) - start )) s"
+  echo "  $(basename "$file")$kept: $done_runs / $runs runs, $(( $(date +%s) - start )) s"
 }
 
 # Seeds: Monte Carlo 1001.., Sobol' 2001.., the reference 9001 (independent of all).
@@ -109,4 +114,4 @@ for r in $(seq 1 "$replicates"); do
 done
 
 "$analysis" --reference "$reference" --mc "${mc_files[@]}" --sobol "${sobol_files[@]}" \
-  --qoi B_l_z_min --channel B_l_z --out "$out/design_convergence" | tee "$out/summary.txt"
+  --qoi B_l_z_min --channel B_l_z --fit-min "$fit_min" --out "$out/design_convergence" | tee "$out/summary.txt"
