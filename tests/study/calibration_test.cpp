@@ -7,6 +7,9 @@
 #include <cmath>
 #include <fstream>
 #include <numbers>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -139,6 +142,25 @@ TEST(Calibration, LinearGaussianPosteriorMatchesTheClosedForm) {
   }
 }
 
+// Every channel a measured curve may be is a height of study/qoi.hpp, in
+// metres (the data's unit); the names are the study file's.
+TEST(Calibration, ChannelsAreTheHeightChannels) {
+  std::vector<std::string> names;
+  for (const CalibrationChannel& c : calibration_channels()) {
+    names.push_back(c.name);
+    EXPECT_EQ(c.name, channel_name(c.channel));
+    EXPECT_STREQ(channel_unit(c.channel), "m") << c.name;
+    EXPECT_EQ(&calibration_channel(c.name), &c);
+  }
+  EXPECT_EQ(names, (std::vector<std::string>{"B_l_z", "B_r_z", "G_z"}));
+  try {
+    (void)calibration_channel("pitch");
+    ADD_FAILURE() << "pitch (radians) accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "unknown channel 'pitch' (valid: B_l_z, B_r_z, G_z)");
+  }
+}
+
 // --- the study file's checks -------------------------------------------------
 
 std::string write_file(const std::string& dir, const std::string& name, const std::string& text) {
@@ -208,6 +230,10 @@ TEST(Calibration, StudyFileChecksNameTheField) {
   std::string bad_channel = text;
   bad_channel.replace(bad_channel.find("B_r_z"), 5, "B_x_z");
   expect_refused(write_file(dir, "g.json", bad_channel), "'data[1].channel'");
+  expect_refused(write_file(dir, "g.json", bad_channel), "unknown channel 'B_x_z' (valid: B_l_z, B_r_z, G_z)");
+  std::string centre = text;
+  centre.replace(centre.find("B_r_z"), 5, "G_z");
+  EXPECT_EQ(load_calibration_study(write_file(dir, "g.json", centre)).datasets[1].channel, "G_z");
   std::string with_offset = text;
   with_offset.replace(with_offset.find(R"("fit": ["c_q"])"), 14, R"("fit": ["c_q", "time_offset"])");
   expect_refused(write_file(dir, "h.json", with_offset), "'fit'");
