@@ -55,6 +55,8 @@ JSON
   runs=$((runs + 1))
   printf "%4d  %.6f  %.6f  %.6f  %s  %s\n" "$seed" "$fit" "$lower" "$upper" "$q025" "$q975"
 done
+awk -v n="$runs" 'BEGIN{printf "binomial: %.1f of %d expected at 95 %% coverage, sd %.2f (2 sd: %.1f .. %d)\n",
+                      0.95 * n, n, sqrt(n * 0.95 * 0.05), 0.95 * n - 2 * sqrt(n * 0.95 * 0.05), n}'
 echo "Gauss-Newton 95 % intervals holding c_q = 0.25: $gn_hits / $runs"
 [ "$posterior" = 1 ] && echo "posterior 95 % intervals holding c_q = 0.25: $post_hits / $runs"
 exit 0
