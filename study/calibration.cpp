@@ -366,10 +366,16 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
   if (o.walkers) s.mcmc.walkers = *o.walkers;
   if (o.steps) s.mcmc.steps = *o.steps;
   if (o.discard) s.mcmc.discard = *o.discard;
+  std::string sampled_names;
+  for (const FitParameter& p : s.fit) sampled_names += (sampled_names.empty() ? "" : ", ") + p.name;
+  if (s.mcmc.sample_noise)
+    for (std::size_t k = 0; k < s.datasets.size(); ++k)
+      sampled_names += s.datasets.size() == 1 ? ", noise_sd" : ", noise_sd[" + std::to_string(k) + "]";
   const std::size_t sampled = s.fit.size() + (s.mcmc.sample_noise ? s.datasets.size() : 0);
   if (s.mcmc.walkers < 2 * static_cast<int>(sampled) || s.mcmc.walkers % 2 != 0)
-    r.fail("mcmc.walkers", "must be even and at least twice the number of sampled parameters (" +
-                               std::to_string(2 * sampled) + ")");
+    r.fail("mcmc.walkers", "got " + std::to_string(s.mcmc.walkers) + "; must be even and at least " +
+                               std::to_string(2 * sampled) + ", twice the " + std::to_string(sampled) +
+                               " sampled parameters (" + sampled_names + ")");
   if (s.mcmc.steps <= 0) r.fail("mcmc.steps", "must be positive");
   if (s.mcmc.discard < 0 || s.mcmc.steps - s.mcmc.discard < 4)
     r.fail("mcmc.discard", "must be >= 0 and leave at least 4 of the " + std::to_string(s.mcmc.steps) + " steps");

@@ -215,6 +215,13 @@ TEST(Calibration, StudyFileChecksNameTheField) {
                  "'priors.c_q");
   expect_refused(write_file(dir, "e.json", study_text(good, R"(, "method": "mcmc", "mcmc": {"walkers": 2})")),
                  "'mcmc.walkers'");
+  // c_q and the noise sd are sampled: 4 walkers at least, and the message says why.
+  expect_refused(write_file(dir, "e.json", study_text(good, R"(, "method": "mcmc", "mcmc": {"walkers": 2})")),
+                 "got 2; must be even and at least 4, twice the 2 sampled parameters (c_q, noise_sd)");
+  expect_refused(write_file(dir, "e.json", study_text(good, R"(, "method": "mcmc", "mcmc": {"walkers": 5})")),
+                 "got 5; must be even");
+  EXPECT_EQ(load_calibration_study(write_file(dir, "e.json", study_text(good, R"(, "method": "mcmc", "mcmc": {"walkers": 4})")))
+                .mcmc.walkers, 4);
   expect_refused(write_file(dir, "f.json", study_text(good, R"(, "method": "nuts")")), "'method'");
   // Joint fits: a list of curves, each with a known channel.
   const std::string skewed = rover::testing::source_path("configs/data/drop_skewed_synthetic.csv");
@@ -237,6 +244,9 @@ TEST(Calibration, StudyFileChecksNameTheField) {
   std::string with_offset = text;
   with_offset.replace(with_offset.find(R"("fit": ["c_q"])"), 14, R"("fit": ["c_q", "time_offset"])");
   expect_refused(write_file(dir, "h.json", with_offset), "'fit'");
+  const std::string no_file = text.substr(0, text.find(R"(, "data")")) + R"(, "data": [{"file": ")" + good +
+                              R"("}, {"channel": "B_r_z"}])" + text.substr(text.find(R"(, "fit")"));
+  expect_refused(write_file(dir, "i.json", no_file), "'data[1].file'");
 
   // Every option that changes a result changes the fingerprint.
   EXPECT_NE(load_calibration_study(study, {.max_evaluations = 7}).fingerprint, s.fingerprint);
