@@ -50,15 +50,16 @@ const RegisterCommand registration{
     [](CLI::App& app) -> std::function<int()> {
       auto o = std::make_shared<CalibrateOptions>();
       app.footer(std::string(
-          "Minimises the RMS between simulated and measured B_l z. DATA.csv has the header t,z\n"
-          "(seconds, metres of the left bogie pin); its time origin need not be the release: the\n"
+          "Minimises the RMS between simulated and measured B_l z (or, per curve of the study's\n"
+          "\"data\" list, B_r_z or G_z). DATA.csv has the header t,z (seconds, metres of the\n"
+          "channel, the left bogie pin for --data); its time origin need not be the release: the\n"
           "offset is profiled out (or fitted, with --fit ...,time_offset). Bounds, initial values\n"
           "and the scenario come from the study file. Writes /history (every evaluation),\n"
           "/best (with Gauss-Newton standard errors, 95 % intervals, covariance and correlation of\n"
           "the parameters and the time offset, and NLopt's return status), /data, /fit and a PNG.\n"
           "--method mcmc samples the posterior (priors from the study's \"priors\", noise sd\n"
           "known or sampled) with an ensemble sampler: /chain, /posterior, /diagnostics,\n"
-          "/predictive (99.73 % band of B_l z), traces, corner panels and the band as PNGs.\n\n"
+          "/predictive (99.73 % band of each curve's channel), traces, corner panels and the band as PNGs.\n\n"
           "Examples:\n"
           "  rover calibrate --data configs/data/drop_horizontal_synthetic.csv --fit c_q --algorithm LN_BOBYQA\n"
           "  rover calibrate --fit c_q,M0_scale --algorithm GN_DIRECT_L --max-evaluations 60\n"

@@ -1,10 +1,14 @@
 // `rover synthesize`: a synthetic "measured" drop curve (t,z CSV) made by the
 // model at known parameters, with Gaussian measurement noise and an unknown
 // time offset, for testing calibrations. Clearly labelled SYNTHETIC.
-// Every bad flag is reported before the simulation, and a sample count whose
-// file would be absurdly large is refused with its size.
+// Any scenario file, any channel a calibration's "data" entry may name
+// (study/calibration.hpp: B_l_z, B_r_z, G_z) and any integrator; the file's
+// comment header records all of them. Every bad flag is reported before the
+// simulation, and a sample count whose file would be absurdly large is
+// refused with its size.
 #include <iostream>
 #include <sstream>
+#include <stdexcept>
 
 #include <boost/random/mersenne_twister.hpp>
 #include <boost/random/normal_distribution.hpp>
@@ -14,6 +18,7 @@
 #include "drivers/options.hpp"
 #include "io/csv.hpp"
 #include "io/scenario_config.hpp"
+#include "study/calibration.hpp"
 
 namespace rover::cli {
 namespace {
@@ -30,6 +35,8 @@ struct SynthesizeOptions {
   InputOverrides overrides;
   double noise_m = 1e-4, offset_s = 0.05, rate_hz = 500.0;
   std::string seed = "7";
+  std::string channel = "B_l_z";
+  std::string integrator;  // empty: the scenario's
   CLI::Option* scenario_option = nullptr;
 };
 
@@ -41,10 +48,26 @@ int run_synthesize(const SynthesizeOptions& o) {
   checks.positive("--rate", o.rate_hz);
   const std::uint64_t seed = checks.seed("--seed", o.seed);
   check_overrides(o.overrides, checks);
+  try {
+    (void)study::calibration_channel(o.channel);
+  } catch (const std::invalid_argument& e) {
+    checks.add(std::string("--channel: ") + e.what());
+  }
+  if (!o.integrator.empty()) {
+    try {
+      (void)integrator_from_name(o.integrator);
+    } catch (const std::invalid_argument& e) {
+      checks.add(std::string("--integrator: ") + e.what());
+    }
+  }
   checks.throw_if_any();
+  const study::CalibrationChannel& channel = study::calibration_channel(o.channel);
 
   const std::string scenario_path = path_option(o.scenario_option, o.scenario, kDefaultScenario);
-  const io::ScenarioSetup setup = io::load_scenario(scenario_path);
+  io::ScenarioSetup setup = io::load_scenario(scenario_path);
+  // A different method comes with its own default tolerances, as in `rover simulate`.
+  if (!o.integrator.empty())
+    setup.scenario.integrator = default_integrator_settings(integrator_from_name(o.integrator));
   if (const std::string problem = io::recording_size_problem(
           io::recorded_sample_count(setup.scenario.duration_s, o.rate_hz), kBytesPerLine, kMaxCurveBytes);
       !problem.empty())
@@ -54,6 +77,7 @@ int run_synthesize(const SynthesizeOptions& o) {
   const ModelInputs in = apply_overrides(o.overrides, setup.inputs);
   const Trajectory tr = simulate(setup.model, setup.scenario, in);
   if (!tr.ok()) throw std::runtime_error("the simulation failed: " + tr.message);
+  const std::vector<double> clean = study::channel_values(tr, channel.channel);
   boost::random::mt19937_64 engine(seed);
   boost::random::normal_distribution<double> noise(0.0, o.noise_m);
   // Data clock: t_d = t_sim + offset, from 0 to the end of the run; before the
@@ -64,23 +88,29 @@ int run_synthesize(const SynthesizeOptions& o) {
     const double td = k / o.rate_hz;
     if (td > end - 1e-12 || td > setup.scenario.duration_s) break;
     t.push_back(td);
-    z.push_back(interpolate(tr.t, tr.B_l_z, td - o.offset_s) + (o.noise_m > 0 ? noise(engine) : 0.0));
+    z.push_back(interpolate(tr.t, clean, td - o.offset_s) + (o.noise_m > 0 ? noise(engine) : 0.0));
   }
   std::ostringstream comment;
   comment << "SYNTHETIC measured drop curve, NOT experimental data.\n"
           << "Made by `rover synthesize` from " << scenario_path << " at f = " << in.sharpness_f
           << ", c_q = " << in.damping_c_q << ", M0 = [";
   for (int j = 0; j < kNumSJoints; ++j) comment << (j ? ", " : "") << in.preload_Nm[j];
+  const IntegratorSettings& integrator = setup.scenario.integrator;
   comment << "],\nGaussian noise sd " << o.noise_m << " m (seed " << seed << "), time offset "
-          << o.offset_s << " s (t_data = t_release + offset), " << o.rate_hz << " Hz.\n"
-          << "Columns: t [s], z [m] = world z of the left bogie pin B_l.";
+          << o.offset_s << " s (t_data = t_release + offset), " << o.rate_hz << " Hz,\n"
+          << "integrator " << integrator_name(integrator.method);
+  if (integrator.method == IntegratorMethod::kRungeKutta4)
+    comment << " (step " << integrator.fixed_step_s << " s)";
+  else
+    comment << " (rtol " << integrator.relative_tolerance << ", atol " << integrator.absolute_tolerance << ")";
+  comment << ".\nColumns: t [s], z [m] = " << channel.name << ", the " << channel.description << ".";
   io::write_csv(o.out, {"t", "z"}, {t, z}, comment.str());
-  std::cerr << "synthesize: wrote " << t.size() << " points to " << o.out << "\n";
+  std::cerr << "synthesize: wrote " << t.size() << " points of " << channel.name << " to " << o.out << "\n";
   return 0;
 }
 
 const RegisterCommand registration{
-    70, "synthesize", "Make a SYNTHETIC measured drop curve (t,z CSV) with noise and a time offset",
+    70, "synthesize", "Make a SYNTHETIC measured drop curve (t,z CSV of one channel) with noise and a time offset",
     [](CLI::App& app) -> std::function<int()> {
       auto o = std::make_shared<SynthesizeOptions>();
       app.footer(
@@ -88,11 +118,21 @@ const RegisterCommand registration{
           "calibration tests. The file's comment header records every parameter.\n\n"
           "Example (the shipped configs/data/drop_horizontal_synthetic.csv):\n"
           "  rover synthesize --scenario configs/scenarios/drop_horizontal.json --cq 0.25 \\\n"
-          "      --noise 1e-4 --offset 0.05 --rate 500 --seed 7 --out configs/data/drop_horizontal_synthetic.csv");
+          "      --noise 1e-4 --offset 0.05 --rate 500 --seed 7 --out configs/data/drop_horizontal_synthetic.csv\n"
+          "The right bogie pin of the skewed drop (configs/data/drop_skewed_B_r_z_synthetic.csv):\n"
+          "  rover synthesize --scenario configs/scenarios/drop_skewed.json --channel B_r_z --cq 0.25 \\\n"
+          "      --noise 1.2e-4 --offset 0.08 --rate 500 --seed 13 --out configs/data/drop_skewed_B_r_z_synthetic.csv");
       o->scenario_option = app.add_option("--scenario", o->scenario, "Scenario file")
                                ->capture_default_str()
                                ->check(CLI::ExistingFile);
       app.add_option("--out", o->out, "CSV file to write")->required();
+      std::string channels;
+      for (const study::CalibrationChannel& c : study::calibration_channels())
+        channels += (channels.empty() ? "" : ", ") + c.name + " (" + c.description + ")";
+      app.add_option("--channel", o->channel, "The measured channel [m]: " + channels)->capture_default_str();
+      app.add_option("--integrator", o->integrator,
+                     "Override the scenario's integrator, with that method's default tolerances: " +
+                         integrator_choices_text());
       add_input_overrides(app, o->overrides);
       app.add_option("--noise", o->noise_m, "Measurement noise standard deviation [m]")->capture_default_str();
       app.add_option("--offset", o->offset_s, "Time of the release on the data clock [s]")->capture_default_str();

@@ -8,6 +8,7 @@
 #include <iostream>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 
 #include <boost/random/mersenne_twister.hpp>
 #include <boost/random/uniform_real_distribution.hpp>
@@ -149,6 +150,24 @@ double best_offset(const std::vector<double>& t, const std::vector<double>& z,
   return shifted_rms(t, z, t_d, z_d, polished) <= best_rms ? polished : best;
 }
 
+const std::vector<CalibrationChannel>& calibration_channels() {
+  static const std::vector<CalibrationChannel> channels{
+      {"B_l_z", Channel::kBlz, "world z of the left bogie pin B_l"},
+      {"B_r_z", Channel::kBrz, "world z of the right bogie pin B_r"},
+      {"G_z", Channel::kGz, "world z of the chassis centre of mass G"},
+  };
+  return channels;
+}
+
+const CalibrationChannel& calibration_channel(const std::string& name) {
+  std::string valid;
+  for (const CalibrationChannel& c : calibration_channels()) {
+    if (c.name == name) return c;
+    valid += (valid.empty() ? "" : ", ") + c.name;
+  }
+  throw std::invalid_argument("unknown channel '" + name + "' (valid: " + valid + ")");
+}
+
 CalibrationCurve simulate_calibration_curve(const CalibrationStudy& s, std::size_t dataset,
                                             const std::vector<double>& values) {
   const CalibrationDataset& d = s.datasets.at(dataset);
@@ -161,7 +180,7 @@ CalibrationCurve simulate_calibration_curve(const CalibrationStudy& s, std::size
     }
     curve.ok = true;
     curve.t_s = tr.t;
-    curve.z_m = d.channel == "B_r_z" ? tr.B_r_z : tr.B_l_z;
+    curve.z_m = channel_values(tr, calibration_channel(d.channel).channel);
   } catch (const std::exception& e) {
     curve.message = e.what();
   }
@@ -230,8 +249,11 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
       const std::string scenario =
           item.has("scenario") ? io::resolve_relative(path, item.string("scenario")) : study_scenario;
       const std::string channel = item.string_or("channel", "B_l_z");
-      if (channel != "B_l_z" && channel != "B_r_z")
-        item.fail("channel", "unknown channel '" + channel + "' (B_l_z or B_r_z)");
+      try {
+        (void)calibration_channel(channel);
+      } catch (const std::invalid_argument& e) {
+        item.fail("channel", e.what());
+      }
       try {
         add_dataset(file, scenario, channel);
       } catch (const io::ConfigError&) {
@@ -344,10 +366,16 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
   if (o.walkers) s.mcmc.walkers = *o.walkers;
   if (o.steps) s.mcmc.steps = *o.steps;
   if (o.discard) s.mcmc.discard = *o.discard;
+  std::string sampled_names;
+  for (const FitParameter& p : s.fit) sampled_names += (sampled_names.empty() ? "" : ", ") + p.name;
+  if (s.mcmc.sample_noise)
+    for (std::size_t k = 0; k < s.datasets.size(); ++k)
+      sampled_names += s.datasets.size() == 1 ? ", noise_sd" : ", noise_sd[" + std::to_string(k) + "]";
   const std::size_t sampled = s.fit.size() + (s.mcmc.sample_noise ? s.datasets.size() : 0);
   if (s.mcmc.walkers < 2 * static_cast<int>(sampled) || s.mcmc.walkers % 2 != 0)
-    r.fail("mcmc.walkers", "must be even and at least twice the number of sampled parameters (" +
-                               std::to_string(2 * sampled) + ")");
+    r.fail("mcmc.walkers", "got " + std::to_string(s.mcmc.walkers) + "; must be even and at least " +
+                               std::to_string(2 * sampled) + ", twice the " + std::to_string(sampled) +
+                               " sampled parameters (" + sampled_names + ")");
   if (s.mcmc.steps <= 0) r.fail("mcmc.steps", "must be positive");
   if (s.mcmc.discard < 0 || s.mcmc.steps - s.mcmc.discard < 4)
     r.fail("mcmc.discard", "must be >= 0 and leave at least 4 of the " + std::to_string(s.mcmc.steps) + " steps");

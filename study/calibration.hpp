@@ -37,7 +37,7 @@
 // Gradient-based NLopt algorithms (LD_*, GD_*) are refused: the objective has
 // no analytic gradient.
 //
-// Measured data: CSV with the header t,z (s, metres of the bogie pin), read by
+// Measured data: CSV with the header t,z (s, metres of the channel), read by
 // io::read_measured_curve (the checks of `rover compare`: at least 3 rows,
 // strictly increasing times, finite |z| < 1 km).
 //
@@ -45,7 +45,8 @@
 //   [{"file": "../data/drop_horizontal_synthetic.csv"},
 //    {"file": "../data/drop_skewed_synthetic.csv", "scenario": "../scenarios/drop_skewed.json",
 //     "channel": "B_l_z"}]
-// (scenario: default the study's; channel "B_l_z" (default) or "B_r_z"), one
+// (scenario: default the study's; channel one of calibration_channels(): "B_l_z"
+// (default), "B_r_z" or "G_z"), one
 // parameter set for all, each curve with its own time offset (profiled; a
 // fitted "time_offset" needs a single curve) and its own noise level. The fit
 // then minimises sum_k n_k log RMS_k, the profile likelihood of independent
@@ -71,9 +72,21 @@
 
 #include "study/distributions.hpp"
 #include "study/montecarlo.hpp"
+#include "study/qoi.hpp"
 #include "study/study_config.hpp"
 
 namespace rover::study {
+
+// A channel a measured curve may be: a height of study/qoi.hpp, in metres
+// (docs/model.md §8). One list for `rover calibrate` and `rover synthesize`.
+struct CalibrationChannel {
+  std::string name;         // "B_l_z", as a study file's "channel" names it
+  Channel channel = Channel::kBlz;
+  std::string description;  // "world z of the left bogie pin B_l"
+};
+const std::vector<CalibrationChannel>& calibration_channels();  // B_l_z, B_r_z, G_z
+// Throws std::invalid_argument "unknown channel 'x' (valid: B_l_z, B_r_z, G_z)".
+const CalibrationChannel& calibration_channel(const std::string& name);
 
 struct FitParameter {
   std::string name;
@@ -97,7 +110,8 @@ struct McmcSettings {
 };
 
 // One measured curve of a (joint) calibration: its scenario, the channel it
-// measures ("B_l_z" or "B_r_z"), its own time offset and noise level.
+// measures (a name of calibration_channels()), its own time offset and noise
+// level.
 struct CalibrationDataset {
   std::string path, scenario_path, channel = "B_l_z";
   io::ScenarioSetup setup;  // its scenario, with the study's integrator override

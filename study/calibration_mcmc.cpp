@@ -482,10 +482,10 @@ std::string run_calibration_mcmc(const CalibrationStudy& s, const StudyRunContro
     }
     for (std::size_t c = 0; c < curves && !model_curves.empty(); ++c) {
       io::LinePlot band;
-      band.title = s.common.name + ": posterior predictive 99.73 % band of B_l z (" +
-                   std::to_string(model_curves.size()) + " draws, " + s.datasets[c].channel + " of curve " + std::to_string(c) + ")";
+      band.title = s.common.name + ": posterior predictive 99.73 % band of " + s.datasets[c].channel + " (" +
+                   std::to_string(model_curves.size()) + " draws, curve " + std::to_string(c) + ")";
       band.x_label = "t (data clock) [s]";
-      band.y_label = "B_l z [mm]";
+      band.y_label = s.datasets[c].channel + " [mm]";
       auto mm = [](std::vector<double> v) {
         for (double& x : v) x *= 1000.0;
         return v;

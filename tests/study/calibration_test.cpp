@@ -7,6 +7,9 @@
 #include <cmath>
 #include <fstream>
 #include <numbers>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -139,6 +142,25 @@ TEST(Calibration, LinearGaussianPosteriorMatchesTheClosedForm) {
   }
 }
 
+// Every channel a measured curve may be is a height of study/qoi.hpp, in
+// metres (the data's unit); the names are the study file's.
+TEST(Calibration, ChannelsAreTheHeightChannels) {
+  std::vector<std::string> names;
+  for (const CalibrationChannel& c : calibration_channels()) {
+    names.push_back(c.name);
+    EXPECT_EQ(c.name, channel_name(c.channel));
+    EXPECT_STREQ(channel_unit(c.channel), "m") << c.name;
+    EXPECT_EQ(&calibration_channel(c.name), &c);
+  }
+  EXPECT_EQ(names, (std::vector<std::string>{"B_l_z", "B_r_z", "G_z"}));
+  try {
+    (void)calibration_channel("pitch");
+    ADD_FAILURE() << "pitch (radians) accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "unknown channel 'pitch' (valid: B_l_z, B_r_z, G_z)");
+  }
+}
+
 // --- the study file's checks -------------------------------------------------
 
 std::string write_file(const std::string& dir, const std::string& name, const std::string& text) {
@@ -193,6 +215,13 @@ TEST(Calibration, StudyFileChecksNameTheField) {
                  "'priors.c_q");
   expect_refused(write_file(dir, "e.json", study_text(good, R"(, "method": "mcmc", "mcmc": {"walkers": 2})")),
                  "'mcmc.walkers'");
+  // c_q and the noise sd are sampled: 4 walkers at least, and the message says why.
+  expect_refused(write_file(dir, "e.json", study_text(good, R"(, "method": "mcmc", "mcmc": {"walkers": 2})")),
+                 "got 2; must be even and at least 4, twice the 2 sampled parameters (c_q, noise_sd)");
+  expect_refused(write_file(dir, "e.json", study_text(good, R"(, "method": "mcmc", "mcmc": {"walkers": 5})")),
+                 "got 5; must be even");
+  EXPECT_EQ(load_calibration_study(write_file(dir, "e.json", study_text(good, R"(, "method": "mcmc", "mcmc": {"walkers": 4})")))
+                .mcmc.walkers, 4);
   expect_refused(write_file(dir, "f.json", study_text(good, R"(, "method": "nuts")")), "'method'");
   // Joint fits: a list of curves, each with a known channel.
   const std::string skewed = rover::testing::source_path("configs/data/drop_skewed_synthetic.csv");
@@ -208,9 +237,16 @@ TEST(Calibration, StudyFileChecksNameTheField) {
   std::string bad_channel = text;
   bad_channel.replace(bad_channel.find("B_r_z"), 5, "B_x_z");
   expect_refused(write_file(dir, "g.json", bad_channel), "'data[1].channel'");
+  expect_refused(write_file(dir, "g.json", bad_channel), "unknown channel 'B_x_z' (valid: B_l_z, B_r_z, G_z)");
+  std::string centre = text;
+  centre.replace(centre.find("B_r_z"), 5, "G_z");
+  EXPECT_EQ(load_calibration_study(write_file(dir, "g.json", centre)).datasets[1].channel, "G_z");
   std::string with_offset = text;
   with_offset.replace(with_offset.find(R"("fit": ["c_q"])"), 14, R"("fit": ["c_q", "time_offset"])");
   expect_refused(write_file(dir, "h.json", with_offset), "'fit'");
+  const std::string no_file = text.substr(0, text.find(R"(, "data")")) + R"(, "data": [{"file": ")" + good +
+                              R"("}, {"channel": "B_r_z"}])" + text.substr(text.find(R"(, "fit")"));
+  expect_refused(write_file(dir, "i.json", no_file), "'data[1].file'");
 
   // Every option that changes a result changes the fingerprint.
   EXPECT_NE(load_calibration_study(study, {.max_evaluations = 7}).fingerprint, s.fingerprint);
