@@ -48,13 +48,14 @@ const std::vector<std::string> kMonteCarloDatasets{
     "/bands/G_z/mean", "/qoi/B_l_z_min", "/qoi/t_min", "/qoi/deflection", "/qoi/at_rest",
     "/summary/deflection/mean", "/summary/deflection/sd", "/t"};
 
-TEST(CmdStudies, MonteCarloOfFourInputsIsIdenticalOnOneTwoAndThreeRanks) {
+TEST(CmdStudies, MonteCarloOfFourInputsIsIdenticalOnOneTwoThreeAndEightRanks) {
   const std::string dir = rover::testing::temp_dir();
   const std::string study = mc_study(dir, 1.0, 7, true, "sobol");
   std::string log;
   ASSERT_EQ(run_command(rover_binary() + " montecarlo --study " + study + " --no-plot --out " + dir + "/np1.h5", &log), 0)
       << log;
-  for (const char* np : {"2", "3"}) {
+  // Eight ranks: more ranks than cores, and one with no task at all (7 runs).
+  for (const char* np : {"2", "3", "8"}) {
     ASSERT_EQ(run_command(mpiexec() + " -np " + np + " " + rover_binary() + " montecarlo --study " + study +
                               " --no-plot --out " + dir + "/np" + np + ".h5", &log), 0) << log;
     const io::Hdf5Reader a(dir + "/np1.h5"), b(dir + "/np" + np + ".h5");
