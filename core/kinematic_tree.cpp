@@ -1,6 +1,7 @@
 // Kinematic tree of docs/model.md §3 and its recursive kinematics.
 #include "core/kinematic_tree.hpp"
 
+#include <cmath>
 #include <stdexcept>
 
 #include <Eigen/Geometry>
@@ -115,6 +116,28 @@ TreeKinematics forward_kinematics(const KinematicTree& tree, const Coordinates& 
   return kin;
 }
 
+namespace {
+
+// parent * (rotation by `angle` about the unit `axis`): the elementary
+// rotations of the tree (about x, y or z of the parent frame) turn two
+// columns of the parent in their plane; any other axis goes through
+// Eigen::AngleAxis.
+Mat3 rotated_about(const Mat3& parent, const Vec3& axis, double angle) {
+  for (int a = 0; a < 3; ++a) {
+    if (axis[a] != 1.0 || axis[(a + 1) % 3] != 0.0 || axis[(a + 2) % 3] != 0.0) continue;
+    const int b = (a + 1) % 3, c = (a + 2) % 3;
+    const double cos_angle = std::cos(angle), sin_angle = std::sin(angle);
+    Mat3 r;
+    r.col(a) = parent.col(a);
+    r.col(b) = cos_angle * parent.col(b) + sin_angle * parent.col(c);
+    r.col(c) = cos_angle * parent.col(c) - sin_angle * parent.col(b);
+    return r;
+  }
+  return parent * Eigen::AngleAxisd(angle, axis).toRotationMatrix();
+}
+
+}  // namespace
+
 void forward_kinematics(const KinematicTree& tree, const Coordinates& q, const Coordinates& u,
                         TreeKinematics& kin) {
   for (int i = 0; i < kNumTreeNodes; ++i) {
@@ -129,7 +152,7 @@ void forward_kinematics(const KinematicTree& tree, const Coordinates& q, const C
     k.axis = parent.rotation * node.axis;
     Vec3 r = parent.rotation * node.offset_m;
     if (node.type == JointType::kRevolute) {
-      k.rotation = parent.rotation * Eigen::AngleAxisd(displacement, node.axis).toRotationMatrix();
+      k.rotation = rotated_about(parent.rotation, node.axis, displacement);
       k.omega = parent.omega + k.axis * rate;
       k.alpha_bias = parent.alpha_bias + parent.omega.cross(k.axis * rate);
       k.velocity = parent.velocity + parent.omega.cross(r);
