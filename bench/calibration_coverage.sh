@@ -7,9 +7,9 @@
 # 0.034). Data and fit use the same (stiff) integrator, so the integrator's
 # error is not mistaken for noise. Not a unit test: minutes of runs.
 #
-# Usage: bench/calibration_coverage.sh [ROVER] [SEEDS] [POSTERIOR]
+# Usage: bench/calibration_coverage.sh [ROVER] [SEEDS] [POSTERIOR] [FIRST]
 #   ROVER      the rover binary (default build/drivers/rover)
-#   SEEDS      number of noise seeds (default 40)
+#   SEEDS      the last noise seed (default 40)
 #   POSTERIOR  1: also sample the posterior (16 walkers x 150 steps per seed,
 #              the first 75 discarded; slow). The walkers start in a ball
 #              around the Gauss-Newton fit, 2 % of the prior's width: with
@@ -19,9 +19,11 @@
 #              Gauss-Newton one. The prior is uniform on [0.2, 0.3]: +-100
 #              posterior sd around the truth, flat where the likelihood is not
 #              negligible, and a 0.002-wide starting ball.
+#   FIRST      the first noise seed (default 1), to split the seeds over processes
 set -euo pipefail
 rover=${1:-build/drivers/rover}
 seeds=${2:-40}
+first=${4:-1}
 posterior=${3:-0}
 source_dir=$(cd "$(dirname "$0")/.." && pwd)
 work=$(mktemp -d)
@@ -36,7 +38,7 @@ JSON
 
 gn_hits=0 post_hits=0 runs=0
 printf "seed  c_q_fit  gn_lower  gn_upper  post_q025  post_q975\n"
-for seed in $(seq 1 "$seeds"); do
+for seed in $(seq "$first" "$seeds"); do
   "$rover" synthesize --scenario "$work/drop.json" --cq 0.25 --noise 1e-4 --offset 0.05 --rate 500 \
       --seed "$seed" --out "$work/data.csv" > /dev/null 2>&1
   cat > "$work/fit.json" <<JSON
