@@ -59,8 +59,8 @@ void compute_forcing(const RoverModel& model, DynamicsWorkspace& workspace,
                       contact_generalized_forces(model, workspace.kinematics, workspace.contacts);
 }
 
-void compute_acceleration(const RoverModel& model, DynamicsWorkspace& workspace) {
-  workspace.mass_factorization.compute_symmetric(workspace.mass_matrix, model.tree.coordinate_parent);
+void compute_acceleration(DynamicsWorkspace& workspace) {
+  workspace.mass_factorization.compute(workspace.mass_matrix);
   workspace.acceleration = workspace.mass_factorization.solve(workspace.forcing);
 }
 
@@ -70,7 +70,7 @@ void compute_dynamics(const RoverModel& model, DynamicsWorkspace& workspace,
   compute_contacts(model, workspace);
   compute_mass_matrix(model, workspace);
   compute_forcing(model, workspace, inputs, q, u);
-  compute_acceleration(model, workspace);
+  compute_acceleration(workspace);
 }
 
 StateVector state_derivative(const RoverModel& model, DynamicsWorkspace& workspace,

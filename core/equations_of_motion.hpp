@@ -37,9 +37,9 @@ struct DynamicsWorkspace {
   // velocity-product inertia terms, joint torques), then F with them.
   Coordinates forcing_without_contact;
   Coordinates forcing;
-  // Stage 5, compute_acceleration(): the L^T D L factors of M, without fill-in on the
-  // coordinate tree (branch_induced_lu.hpp) and du/dt = M^{-1} F (23).
-  BranchInducedLU<kNumCoordinates> mass_factorization;
+  // Stage 5, compute_acceleration(): the factors of M, without fill-in on the
+  // coordinate tree (branch_induced_lu.hpp), and du/dt = M^{-1} F (23).
+  BranchInducedLU mass_factorization;
   Coordinates acceleration;
 };
 
@@ -54,7 +54,7 @@ void compute_mass_matrix(const RoverModel& model, DynamicsWorkspace& workspace);
 void compute_forcing(const RoverModel& model, DynamicsWorkspace& workspace,
                      const ModelInputs& inputs, const Coordinates& q, const Coordinates& u);
 // Stage 5: factorises M and solves for du/dt (needs stages 3 and 4).
-void compute_acceleration(const RoverModel& model, DynamicsWorkspace& workspace);
+void compute_acceleration(DynamicsWorkspace& workspace);
 
 // All five stages at (q, u).
 void compute_dynamics(const RoverModel& model, DynamicsWorkspace& workspace,

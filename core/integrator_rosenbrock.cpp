@@ -291,7 +291,7 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
 
   StallWatch stall;
   StepPoint start, end, stage;
-  BranchInducedLU<kNumCoordinates> iteration;  // of M0 - h g D - h^2 g^2 K
+  BranchInducedLU iteration;  // of M0 - h g D - h^2 g^2 K
   evaluate(system, 0.0, x, start, report);
   double h = std::clamp(settings.initial_step_s, settings.min_step_s, settings.max_step_s);
   std::size_t next = 1;
@@ -320,7 +320,7 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
       MechanicalLinearization<kNumCoordinates> lin_h = lin.system;
       stiffen_s_joints_over_step(system.model.parameters, start.inputs, q0, u0, h,
                                  lin_h.d_force_d_position);
-      iteration.compute(ros34pw2_iteration_matrix(lin_h, h), system.model.tree.coordinate_parent);
+      iteration.compute(ros34pw2_iteration_matrix(lin_h, h));
       const RosenbrockWStep<kNumCoordinates> step =
           ros34pw2_step<kNumCoordinates>(lin_h, iteration, start.t, q0, u0, h, acceleration);
       StateVector x1, e;
