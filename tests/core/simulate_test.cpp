@@ -407,6 +407,8 @@ TEST(Simulate, ACollapsedStepSizeStopsTheRun) {
   setup.scenario.integrator = default_integrator_settings(IntegratorMethod::kDormandPrince45);
   setup.scenario.integrator.initial_step_s = 1e-11;
   setup.scenario.integrator.max_step_s = 1e-10;
+  // No budget: on a slow machine the pace check (RunPaceWatch) would come first.
+  setup.scenario.wall_time_budget_s = std::numeric_limits<double>::infinity();
   tr = simulate(setup.model, setup.scenario, setup.inputs);
   EXPECT_EQ(tr.status, SimulationStatus::kStepSizeCollapsed) << tr.message;
   EXPECT_EQ(tr.steps, StallWatch::kWindowSteps);
