@@ -4,6 +4,9 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 
@@ -20,9 +23,53 @@ ModelInputs model_inputs_for(const Scenario& scenario, const ModelInputs& inputs
   return in;
 }
 
+bool RunPaceWatch::hopeless(double wall_s, double t_s) {
+  wall_s_ = wall_s;
+  t_s_ = t_s;
+  if (wall_s >= next_mark_wall_s_) {
+    window_start_ = last_mark_;
+    last_mark_ = {wall_s, t_s};
+    while (next_mark_wall_s_ <= wall_s) next_mark_wall_s_ *= 2.0;
+  }
+  if (wall_s < kGraceWall_s || t_s >= duration_s_) return false;
+  const double advanced_s = t_s - window_start_.t_s, window_wall_s = wall_s - window_start_.wall_s;
+  projected_wall_s_ = advanced_s > 0.0 && window_wall_s > 0.0
+                          ? wall_s + (duration_s_ - t_s) * window_wall_s / advanced_s
+                          : std::numeric_limits<double>::infinity();
+  return projected_wall_s_ > kBudgetMargin * budget_s_;
+}
+
+std::string RunPaceWatch::explanation() const {
+  const std::string needs = std::isfinite(projected_wall_s_)
+                                ? "at this pace it needs ~" + wall_time_text(projected_wall_s_)
+                                : "it has not advanced for the last " +
+                                      wall_time_text(wall_s_ - window_start_.wall_s);
+  return "after " + wall_time_text(wall_s_) + " of computing the run reached t = " + number_text(t_s_) +
+         " s of " + number_text(duration_s_) + " s; " + needs + ", beyond the wall-time budget of " +
+         wall_time_text(budget_s_) + " (\"wall_time_budget\")";
+}
+
+std::string wall_time_text(double seconds) {
+  char text[32];
+  if (seconds < 120.0)
+    std::snprintf(text, sizeof text, "%.3g s", seconds);
+  else if (seconds < 3600.0)
+    std::snprintf(text, sizeof text, "%.3g min", seconds / 60.0);
+  else
+    std::snprintf(text, sizeof text, "%.3g h", seconds / 3600.0);
+  return text;
+}
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// CPU time of the calling thread [s] (POSIX).
+double thread_cpu_seconds() {
+  timespec now{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
+}
 
 // Collects the outputs of docs/model.md §8 at the sample times.
 class TrajectoryRecorder {
@@ -114,15 +161,28 @@ Trajectory simulate(const RoverModel& model, const Scenario& scenario,
   request.sample_period_s = period;
   request.sample_count = samples;
   request.record = [&](double t, const StateVector& x) { recorder.record(t, x); };
-  request.out_of_time = [&] { return elapsed() > scenario.wall_time_budget_s; };
+  // The budget, and the pace that says it will be blown (RunPaceWatch; the
+  // thread's CPU time is read every kPaceCheckSteps steps, a system call).
+  constexpr long kPaceCheckSteps = 32;
+  RunPaceWatch pace(static_cast<double>(samples - 1) * period, scenario.wall_time_budget_s);
+  const double cpu_start_s = thread_cpu_seconds();
+  double reached_s = 0.0;  // simulated time of the last accepted step
+  long checks = 0;
+  bool hopeless = false;
+  request.out_of_time = [&] {
+    if (elapsed() > scenario.wall_time_budget_s) return true;
+    if (++checks % kPaceCheckSteps != 0) return false;
+    hopeless = pace.hopeless(thread_cpu_seconds() - cpu_start_s, reached_s);
+    return hopeless;
+  };
   double last_progress_s = 0.0;
-  if (observer.progress)
-    request.progress = [&](double t) {
-      if (elapsed() - last_progress_s > 1.0) {
-        last_progress_s = elapsed();
-        observer.progress(t);
-      }
-    };
+  request.progress = [&](double t) {
+    reached_s = t;
+    if (observer.progress && elapsed() - last_progress_s > 1.0) {
+      last_progress_s = elapsed();
+      observer.progress(t);
+    }
+  };
 
   const OdeSystem system{model, model_inputs, schedule ? &*schedule : nullptr};
   StateVector x0;
@@ -132,8 +192,8 @@ Trajectory simulate(const RoverModel& model, const Scenario& scenario,
   recorder.finish();
   out.status = report.status;
   if (!out.ok())
-    out.message = std::string(status_name(out.status)) + " at t = " +
-                  number_text(report.failed_at_s) + " s: " + report.detail;
+    out.message = std::string(status_name(out.status)) + " at t = " + number_text(report.failed_at_s) +
+                  " s: " + (hopeless ? pace.explanation() : report.detail);
   out.rhs_evaluations = report.rhs_evaluations;
   out.steps = report.steps;
   out.min_step_s = report.min_step_s;

@@ -4,10 +4,10 @@
 //
 // simulate() has no side effects and shares nothing mutable: many threads may
 // call it at once with the same RoverModel. A run that blows up (non-finite
-// state, step size underflow or collapse, wall-time budget exceeded) or cannot
-// start (scenario_is_valid() fails, a drive schedule the model cannot serve)
-// returns a status and a message; it never throws for numerical trouble, and
-// never hangs.
+// state, step size underflow or collapse, wall-time budget exceeded or sure to
+// be exceeded: RunPaceWatch) or cannot start (scenario_is_valid() fails, a
+// drive schedule the model cannot serve) returns a status and a message; it
+// never throws for numerical trouble, and never hangs.
 #pragma once
 
 #include <functional>
@@ -43,6 +43,56 @@ struct Trajectory {
   double min_step_s = 0.0, max_step_s = 0.0;
   bool ok() const { return status == SimulationStatus::kOk; }
 };
+
+// The projected-cost check of simulate(): a run whose pace says it cannot
+// finish within its wall-time budget (a rover at 1e8 m/s crawls through
+// nanosecond steps) is stopped after seconds, not after the whole budget.
+//
+// Time is the run's compute time (simulate() feeds it the CPU time of its
+// thread), so a run starved by a loaded machine is never judged by the
+// seconds it did not get; since wall time is at least compute time, a run
+// whose compute time alone exceeds the budget cannot finish within it. The
+// pace is the simulated time advanced per second of compute over a recent
+// window: the window's start moves to the previous mark each time the elapsed
+// compute time doubles (marks at 1, 2, 4, 8 ... s), so the pace is measured
+// over at least the last half of the run and a slow start (the first steps, a
+// landing) is forgotten. Nothing is projected before kGraceWall_s. A run is
+// hopeless when the projected total, elapsed + (duration - t) / pace, exceeds
+// kBudgetMargin budgets; a run that merely needs about its budget is left to
+// the budget itself.
+//
+// One object per run (it is not shared); the caller feeds it the elapsed
+// compute time and the simulated time reached.
+class RunPaceWatch {
+ public:
+  static constexpr double kGraceWall_s = 2.0;
+  static constexpr double kBudgetMargin = 2.0;
+
+  RunPaceWatch(double duration_s, double wall_time_budget_s)
+      : duration_s_(duration_s), budget_s_(wall_time_budget_s) {}
+
+  // After `wall_s` seconds of computing the run has reached simulated time
+  // `t_s`: true if it is hopeless (see above). Calls must come with
+  // non-decreasing wall_s.
+  bool hopeless(double wall_s, double t_s);
+
+  // Why the last call returned true, e.g. "after 3 s of computing the run
+  // reached t = 1.2e-06 s of 1 s; at this pace it needs ~700 h, beyond the
+  // wall-time budget of 1 h".
+  std::string explanation() const;
+
+ private:
+  struct Mark {
+    double wall_s = 0.0, t_s = 0.0;
+  };
+  double duration_s_, budget_s_;
+  Mark window_start_, last_mark_;   // the pace is measured from window_start_
+  double next_mark_wall_s_ = 1.0;
+  double wall_s_ = 0.0, t_s_ = 0.0, projected_wall_s_ = 0.0;
+};
+
+// "45 s", "12 min", "700 h": a wall time in the unit a person reads best.
+std::string wall_time_text(double seconds);
 
 struct SimulationObserver {
   // Called now and then with the simulated time (progress on long runs).

@@ -40,8 +40,10 @@ int run_evaluate_command(EvaluateOptions& o) {
                              (o.request.integrator.empty() ? "" : " --integrator " + o.request.integrator) +
                              " --resume";
   const study::InterruptGuard interrupts;
-  const int failed = study::run_evaluate(o.request);
-  return mpi.rank() == 0 && failed > 0 ? 2 : 0;
+  return run_interruptible("evaluate", [&] {
+    const int failed = study::run_evaluate(o.request);
+    return mpi.rank() == 0 && failed > 0 ? 2 : 0;
+  });
 }
 
 const RegisterCommand registration{

@@ -48,8 +48,10 @@ int run_montecarlo_command(MonteCarloOptions& o) {
               << s.spec.inputs.size() << " inputs (" << study::design_type_name(s.spec.design.type) << ", seed "
               << s.spec.design.seed << ") on " << mpi.size() << " rank(s)\n";
   const study::InterruptGuard interrupts;
-  study::run_montecarlo(s, o.control);
-  return 0;
+  return run_interruptible("montecarlo", [&] {
+    study::run_montecarlo(s, o.control);
+    return 0;
+  });
 }
 
 const RegisterCommand registration{

@@ -38,8 +38,10 @@ int run_sensitivity_command(SensitivityOptions& o) {
               << s.spec.inputs.size() << " inputs, " << s.spec.design.samples << " runs of " << s.spec.model->describe()
               << " on " << mpi.size() << " rank(s)\n";
   const study::InterruptGuard interrupts;
-  study::run_sensitivity(s, o.control);
-  return 0;
+  return run_interruptible("sensitivity", [&] {
+    study::run_sensitivity(s, o.control);
+    return 0;
+  });
 }
 
 const RegisterCommand registration{

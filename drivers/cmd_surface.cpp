@@ -31,8 +31,10 @@ int run_surface_command(SurfaceOptions& o) {
     std::cerr << "surface: " << s.f.size() << " x " << s.c_q.size() << " grid + " << s.sweep_f.size()
               << " sweep runs of " << s.sources.scenario_path << " on " << mpi.size() << " rank(s)\n";
   const study::InterruptGuard interrupts;
-  study::run_surface(s, o.control);
-  return 0;
+  return run_interruptible("surface", [&] {
+    study::run_surface(s, o.control);
+    return 0;
+  });
 }
 
 const RegisterCommand registration{

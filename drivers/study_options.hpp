@@ -1,12 +1,14 @@
 // Options shared by the study subcommands (montecarlo, surface, calibrate).
 #pragma once
 
+#include <iostream>
 #include <memory>
 #include <string>
 
 #include <CLI/CLI.hpp>
 
 #include "study/montecarlo.hpp"
+#include "study/study_runner.hpp"
 
 namespace rover::cli {
 
@@ -21,6 +23,20 @@ inline void add_study_control(CLI::App& app, study::StudyRunControl& c) {
   app.add_option("--checkpoint-every", c.checkpoint.every_records,
                  "Flush finished runs to <out>.checkpoint after this many (or every 60 s)")
       ->capture_default_str()->check(CLI::Range(1, 1000000));
+}
+
+// Runs a study inside the command's MPI session and reports an interrupt
+// there (exit status 130): after a Ctrl-C of mpirun, MPI_Finalize does not
+// return before Open MPI kills the rank, so a message printed after the
+// session ended would be lost.
+template <class Study>
+int run_interruptible(const std::string& command, Study&& run_study) {
+  try {
+    return run_study();
+  } catch (const study::StudyInterrupted& e) {
+    std::cerr << "rover " << command << ": " << e.what() << std::endl;
+    return study::StudyInterrupted::kExitCode;
+  }
 }
 
 inline constexpr const char* kMpiFooter =

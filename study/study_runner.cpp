@@ -96,10 +96,24 @@ void stream_study_tasks(int task_count, const std::function<TaskResult(int)>& co
   farm.progress_interval_s = options.progress_interval_s;
   farm.keep_results = false;
   farm.stop = &g_interrupted;
+  const std::string resume_hint =
+      "Continue with:\n  " + (options.resume_command.empty() ? std::string("the same command with --resume")
+                                                             : options.resume_command);
+  // At the signal, at once (under mpirun, rank 0's own run may still be
+  // computing; Open MPI kills the ranks 1 s after its SIGTERM): what is
+  // finished goes to disk and the user learns how to resume. From then on
+  // every arriving run is written as it comes.
+  farm.on_stop = [&] {
+    checkpoint->save();
+    std::cerr << options.label << ": interrupt: no new runs are handed out; " << checkpoint->size() << " of "
+              << task_count << " runs are saved in " << checkpoint->path()
+              << " and the runs in progress are added as they finish. " << resume_hint << std::endl;
+  };
   run_task_farm(
       todo, compute,
       [&](const TaskResult& r) {
         checkpoint->add(r);
+        if (g_interrupted.load()) checkpoint->save();
         sink.push(r.index, TaskResult(r));
       },
       farm);
@@ -107,10 +121,8 @@ void stream_study_tasks(int task_count, const std::function<TaskResult(int)>& co
   checkpoint->save();
   if (g_interrupted.load()) {
     throw StudyInterrupted(options.label + ": interrupted; " + std::to_string(checkpoint->size()) + " of " +
-                           std::to_string(task_count) + " runs are saved in " + checkpoint->path() +
-                           ". Continue with:\n  " +
-                           (options.resume_command.empty() ? std::string("the same command with --resume")
-                                                           : options.resume_command));
+                           std::to_string(task_count) + " runs are saved in " + checkpoint->path() + ". " +
+                           resume_hint);
   }
   if (sink.buffered() != 0)
     throw std::logic_error(options.label + ": " + std::to_string(sink.buffered()) +

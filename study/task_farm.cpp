@@ -5,8 +5,12 @@
 //   worker -> master  kTagRequest  int n: "send me n tasks" (once, at start)
 //   worker -> master  kTagResult   a serialised TaskResult; also asks for one more task
 //   master -> worker  kTagTask     int: a task index, or kStop
+//   worker -> master  kTagReturned int: a task handed back unrun (the worker's
+//                                  stop flag is set); asks for nothing more
 // Every request for a task is answered by exactly one kTagTask message, so a
-// worker knows how many answers are pending and stops when none is. The master
+// worker knows how many answers are pending and stops when none is. A worker
+// that handed a task back is retired: it gets kStop only, and its task goes
+// back to the queue (unless rank 0 is stopping too). The master
 // keeps a worker's second task (the one "in hand") back when few tasks remain,
 // so that no rank sits idle while another holds two; those requests are answered
 // later (a task when the worker returns a result, kStop once the queue is empty).
@@ -38,6 +42,7 @@ namespace {
 constexpr int kTagRequest = 1;
 constexpr int kTagResult = 2;
 constexpr int kTagTask = 3;
+constexpr int kTagReturned = 4;
 constexpr int kStop = -1;
 constexpr int kTasksInHand = 2;  // a worker computes one and holds the next
 constexpr auto kMasterPoll = std::chrono::milliseconds(1);
@@ -180,6 +185,33 @@ class Progress {
   std::size_t done_ = 0, failed_ = 0;
 };
 
+// Hands finished tasks to on_result (and keeps them) under one lock, so that
+// rank 0's two threads never deliver at the same time.
+class Delivery {
+ public:
+  Delivery(const std::function<void(const TaskResult&)>& on_result, bool keep_results,
+           std::size_t expected)
+      : on_result_(on_result), keep_(keep_results) {
+    if (keep_) results_.reserve(expected);
+  }
+  std::unique_lock<std::mutex> lock() { return std::unique_lock(mutex_); }
+  // The caller holds lock().
+  void deliver(TaskResult&& result) {
+    if (on_result_) on_result_(result);
+    ++delivered_;
+    if (keep_) results_.push_back(std::move(result));
+  }
+  std::size_t delivered() const { return delivered_; }
+  std::vector<TaskResult> take_results() { return std::move(results_); }
+
+ private:
+  const std::function<void(const TaskResult&)>& on_result_;
+  const bool keep_;
+  std::mutex mutex_;
+  std::size_t delivered_ = 0;
+  std::vector<TaskResult> results_;
+};
+
 // What rank 0's two threads share: the task queue and the results received
 // from workers, waiting for the main thread.
 struct Rank0State {
@@ -188,12 +220,23 @@ struct Rank0State {
 
   std::optional<int> take() {
     const std::lock_guard lock(mutex);
-    if (halted() || next == tasks.size()) return std::nullopt;
+    if (halted()) return std::nullopt;
+    if (!returned.empty()) {
+      const int index = returned.back();
+      returned.pop_back();
+      return index;
+    }
+    if (next == tasks.size()) return std::nullopt;
     return tasks[next++];
   }
   std::size_t remaining() {
     const std::lock_guard lock(mutex);
-    return halted() ? 0 : tasks.size() - next;
+    return halted() ? 0 : tasks.size() - next + returned.size();
+  }
+  // A task a stopped worker handed back unrun.
+  void give_back(int index) {
+    const std::lock_guard lock(mutex);
+    returned.push_back(index);
   }
   // Cancelled, or asked to stop handing out work (a signal).
   bool halted() const { return cancelled || (stop != nullptr && stop->load()); }
@@ -207,6 +250,7 @@ struct Rank0State {
   std::mutex mutex;
   std::condition_variable changed;  // inbox filled or master finished
   std::size_t next = 0;
+  std::vector<int> returned;
   bool cancelled = false;
   std::deque<TaskResult> inbox;
   bool master_done = false;
@@ -215,11 +259,14 @@ struct Rank0State {
 
 // The master: rank 0's communication thread, the only thread calling MPI
 // while it runs. Returns when no worker can send anything more.
-void master_loop(MPI_Comm comm, int size, Rank0State& state, Progress& progress) {
+void master_loop(MPI_Comm comm, int size, Rank0State& state, Progress& progress, Delivery& delivery,
+                 const std::function<void()>& on_stop) {
   try {
     const auto workers = static_cast<std::size_t>(size);
     std::vector<int> owed(workers, 0);     // requests for a task not answered yet
     std::vector<int> in_hand(workers, 0);  // tasks sent, result not received
+    std::vector<bool> retired(workers, false);  // handed a task back: gets kStop only
+    bool stop_seen = false;
     int started = 0;                       // workers whose first request arrived
     int total_in_hand = 0;
     std::vector<char> buffer;
@@ -234,7 +281,7 @@ void master_loop(MPI_Comm comm, int size, Rank0State& state, Progress& progress)
       const auto w = static_cast<std::size_t>(worker);
       while (owed[w] > 0) {
         const std::size_t remaining = state.remaining();
-        if (remaining == 0) {
+        if (remaining == 0 || retired[w]) {
           send(worker, kStop);
         } else if (in_hand[w] == 0 || remaining >= 2 * workers) {
           const std::optional<int> task = state.take();  // may have been emptied meanwhile
@@ -249,8 +296,24 @@ void master_loop(MPI_Comm comm, int size, Rank0State& state, Progress& progress)
       }
     };
 
+    // A stop: deliver what the main thread has not taken yet, then on_stop;
+    // later results are delivered as they arrive.
+    const auto handle_stop = [&] {
+      stop_seen = true;
+      auto delivering = delivery.lock();
+      std::deque<TaskResult> batch;
+      {
+        const std::lock_guard lock(state.mutex);
+        batch = std::move(state.inbox);
+        state.inbox.clear();
+      }
+      for (TaskResult& result : batch) delivery.deliver(std::move(result));
+      if (on_stop) on_stop();
+    };
+
     while (true) {
       progress.maybe_report();
+      if (!stop_seen && state.stop != nullptr && state.stop->load()) handle_stop();
       if (state.remaining() == 0) {
         for (int worker = 1; worker < size; ++worker) serve(worker);
         if (started == size - 1 && total_in_hand == 0) break;
@@ -279,11 +342,23 @@ void master_loop(MPI_Comm comm, int size, Rank0State& state, Progress& progress)
         --total_in_hand;
         ++owed[w];
         progress.record(result);
-        {
-          const std::lock_guard lock(state.mutex);
-          state.inbox.push_back(std::move(result));
+        if (stop_seen) {
+          auto delivering = delivery.lock();
+          delivery.deliver(std::move(result));
+        } else {
+          {
+            const std::lock_guard lock(state.mutex);
+            state.inbox.push_back(std::move(result));
+          }
+          state.changed.notify_one();
         }
-        state.changed.notify_one();
+      } else if (status.MPI_TAG == kTagReturned) {
+        int index = kStop;
+        MPI_Recv(&index, 1, MPI_INT, worker, kTagReturned, comm, MPI_STATUS_IGNORE);
+        --in_hand[w];
+        --total_in_hand;
+        retired[w] = true;
+        state.give_back(index);
       } else {
         throw std::runtime_error("run_task_farm: unexpected message tag " +
                                  std::to_string(status.MPI_TAG) + " from rank " +
@@ -303,7 +378,8 @@ void master_loop(MPI_Comm comm, int size, Rank0State& state, Progress& progress)
   state.changed.notify_one();
 }
 
-void worker_loop(MPI_Comm comm, const std::function<TaskResult(int)>& compute) {
+void worker_loop(MPI_Comm comm, const std::function<TaskResult(int)>& compute,
+                 const std::atomic<bool>* stop) {
   int pending = kTasksInHand;
   MPI_Send(&pending, 1, MPI_INT, 0, kTagRequest, comm);
   while (pending > 0) {
@@ -311,6 +387,10 @@ void worker_loop(MPI_Comm comm, const std::function<TaskResult(int)>& compute) {
     MPI_Recv(&index, 1, MPI_INT, 0, kTagTask, comm, MPI_STATUS_IGNORE);
     --pending;
     if (index == kStop) continue;
+    if (stop != nullptr && stop->load()) {  // stopped: hand the task back unrun
+      MPI_Send(&index, 1, MPI_INT, 0, kTagReturned, comm);
+      continue;
+    }
     const std::vector<char> bytes = serialize(run_one(compute, index));
     if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
       throw std::runtime_error("run_task_farm: result of task " + std::to_string(index) +
@@ -359,36 +439,40 @@ std::vector<TaskResult> run_rank0(MPI_Comm comm, int size, const std::vector<int
     state.cancelled = true;  // the master then only sends the workers home
   }
   Progress progress(options, tasks.size());
-  std::thread master(master_loop, comm, size, std::ref(state), std::ref(progress));
+  Delivery delivery(on_result, options.keep_results, tasks.size());
+  std::thread master(master_loop, comm, size, std::ref(state), std::ref(progress), std::ref(delivery),
+                     std::cref(options.on_stop));
 
-  std::vector<TaskResult> results;
-  std::size_t delivered = 0;
-  if (options.keep_results) results.reserve(tasks.size());
-  const auto deliver = [&](TaskResult&& result) {
-    if (on_result) on_result(result);
-    ++delivered;
-    if (options.keep_results) results.push_back(std::move(result));
-  };
-  const auto take_inbox = [&](std::unique_lock<std::mutex>& lock) {
-    std::deque<TaskResult> batch = std::move(state.inbox);
-    state.inbox.clear();
-    lock.unlock();
-    for (TaskResult& result : batch) deliver(std::move(result));
+  // Delivers what the master queued. Lock order: the delivery's, then the state's.
+  const auto deliver_inbox = [&] {
+    auto delivering = delivery.lock();
+    std::deque<TaskResult> batch;
+    {
+      const std::lock_guard lock(state.mutex);
+      batch = std::move(state.inbox);
+      state.inbox.clear();
+    }
+    for (TaskResult& result : batch) delivery.deliver(std::move(result));
   };
   try {
     if (invalid) std::rethrow_exception(invalid);
     while (const std::optional<int> index = state.take()) {
       TaskResult result = run_one(compute, *index);
       progress.record(result);
-      deliver(std::move(result));
-      std::unique_lock lock(state.mutex);
-      take_inbox(lock);
+      {
+        auto delivering = delivery.lock();
+        delivery.deliver(std::move(result));
+      }
+      deliver_inbox();
     }
     while (true) {  // the queue is empty: collect the workers' last results
-      std::unique_lock lock(state.mutex);
-      state.changed.wait(lock, [&] { return !state.inbox.empty() || state.master_done; });
-      const bool done = state.master_done;
-      take_inbox(lock);
+      bool done = false;
+      {
+        std::unique_lock lock(state.mutex);
+        state.changed.wait(lock, [&] { return !state.inbox.empty() || state.master_done; });
+        done = state.master_done;
+      }
+      deliver_inbox();
       if (done) break;
     }
   } catch (...) {
@@ -398,10 +482,11 @@ std::vector<TaskResult> run_rank0(MPI_Comm comm, int size, const std::vector<int
   }
   master.join();
   if (state.master_error) std::rethrow_exception(state.master_error);
-  if (delivered != tasks.size() && !state.halted())
-    throw std::logic_error("run_task_farm: " + std::to_string(delivered) + " results for " +
+  if (delivery.delivered() != tasks.size() && !state.halted())
+    throw std::logic_error("run_task_farm: " + std::to_string(delivery.delivered()) + " results for " +
                            std::to_string(tasks.size()) + " tasks");
   progress.final_report();
+  std::vector<TaskResult> results = delivery.take_results();
   sort_by_index(results);
   return results;
 }
@@ -456,7 +541,7 @@ std::vector<TaskResult> run_task_farm(const std::vector<int>& tasks,
 
   const DuplicateComm comm(MPI_COMM_WORLD);
   if (rank == 0) return run_rank0(comm.get(), size, tasks, compute, on_result, options);
-  worker_loop(comm.get(), compute);
+  worker_loop(comm.get(), compute, options.stop);
   return {};
 }
 

@@ -41,15 +41,25 @@ struct TaskFarmOptions {
   bool keep_results = true;
   // When it becomes true (e.g. set by a signal handler), no further task is
   // handed out; the tasks in progress finish and are delivered, and the farm
-  // returns with fewer results than tasks.
+  // returns with fewer results than tasks. A worker rank whose own flag is set
+  // too (mpirun signals every rank) gives back the task it holds unrun.
   const std::atomic<bool>* stop = nullptr;
+  // Under MPI (more than one rank), called once on rank 0 as soon as the stop
+  // is seen, after every result received so far went to on_result. It runs on
+  // the communication thread, while rank 0's own task may still be computing,
+  // so that a checkpoint can be flushed before mpirun's SIGKILL (Open MPI 4.1
+  // sends it 1 s after SIGTERM); from then on the workers' results go to
+  // on_result from that thread too, as they arrive. Calls of on_result and
+  // on_stop never overlap. (A single process returns at once after a stop.)
+  std::function<void()> on_stop = nullptr;
 };
 
 // Runs compute(i) for every i in `tasks` (distinct, non-negative indices; only
 // rank 0's list is used) on all ranks. compute() may throw: the task is then
 // recorded as failed (status 1, message = what()). The result's index is set
-// to i. on_result is called on rank 0 only, in the calling thread, once per
-// finished task, in completion order (for checkpointing). Returns, on rank 0,
+// to i. on_result is called on rank 0 only, once per finished task, in
+// completion order (for checkpointing), in the calling thread (after a stop,
+// also the communication thread: see on_stop; never two calls at once). Returns, on rank 0,
 // all results sorted by index; on other ranks, an empty vector. The values are
 // exactly what compute() returned, whatever the number of ranks.
 //

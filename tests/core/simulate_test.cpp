@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include <gtest/gtest.h>
@@ -246,6 +247,88 @@ TEST(Simulate, TinyWallTimeBudgetStopsWithAStatus) {
   EXPECT_EQ(tr.B_l_z.size(), tr.t.size());
 }
 
+// RunPaceWatch on paces with known projections (duration 1 s unless said).
+TEST(RunPaceWatch, AConstantCrawlIsHopelessAfterTheGracePeriodOnly) {
+  RunPaceWatch watch(1.0, 3600.0);
+  // 1e-6 simulated seconds per wall second: 1e6 s to go.
+  EXPECT_FALSE(watch.hopeless(0.5, 0.5e-6));
+  EXPECT_FALSE(watch.hopeless(1.0, 1.0e-6));
+  EXPECT_FALSE(watch.hopeless(1.9, 1.9e-6));  // inside the grace period
+  ASSERT_TRUE(watch.hopeless(2.0, 2.0e-6));
+  // Projected: 2 + (1 - 2e-6) / 1e-6 = 1,000,000 s = 277.8 h.
+  EXPECT_NE(watch.explanation().find("after 2 s of computing the run reached t = 2e-06 s of 1 s; "
+                                     "at this pace it needs ~278 h, beyond the wall-time budget of 1 h"),
+            std::string::npos)
+      << watch.explanation();
+}
+
+TEST(RunPaceWatch, ASlowStartIsForgotten) {
+  // 10 s to simulate with a budget of 6 s (hopeless beyond 12 s): nothing
+  // happens for 1 s, then 1 simulated second per wall second. The pace since
+  // the start (0.5) would project 2 + 9 / 0.5 = 20 s; the recent pace (1)
+  // projects 2 + 9 = 11 s, within two budgets.
+  RunPaceWatch watch(10.0, 6.0);
+  EXPECT_FALSE(watch.hopeless(0.5, 0.0));
+  EXPECT_FALSE(watch.hopeless(1.0, 0.0));
+  EXPECT_FALSE(watch.hopeless(1.5, 0.5));
+  EXPECT_FALSE(watch.hopeless(2.0, 1.0));
+  EXPECT_FALSE(watch.hopeless(3.0, 2.0));
+  // The same run slows to 0.2 s per s after t = 2 s: over the window from the
+  // 2 s mark (t = 1) the pace is 1.2 / 2 = 0.6, projected 4 + 7.8 / 0.6 = 17 s.
+  EXPECT_TRUE(watch.hopeless(4.0, 2.2));
+}
+
+TEST(RunPaceWatch, ARunThatStopsAdvancingOrNeedsAboutItsBudget) {
+  RunPaceWatch stuck(1.0, 3600.0);
+  EXPECT_FALSE(stuck.hopeless(1.0, 0.25));
+  ASSERT_TRUE(stuck.hopeless(2.5, 0.25));
+  EXPECT_NE(stuck.explanation().find("it has not advanced for the last 1.5 s"), std::string::npos)
+      << stuck.explanation();
+  // Needing 1.5 budgets is left to the budget itself.
+  RunPaceWatch close(1.0, 10.0);
+  EXPECT_FALSE(close.hopeless(1.0, 1.0 / 15.0));
+  EXPECT_FALSE(close.hopeless(2.0, 2.0 / 15.0));  // projected 15 s < 2 x 10 s
+  // No budget, no projection.
+  RunPaceWatch unlimited(1.0, std::numeric_limits<double>::infinity());
+  EXPECT_FALSE(unlimited.hopeless(1.0, 0.0));
+  EXPECT_FALSE(unlimited.hopeless(100.0, 0.0));
+}
+
+TEST(Simulate, ARunThatCannotFinishWithinItsBudgetStopsAfterSeconds) {
+  // Driving at 1e8 m/s: dopri5 crawls through nanosecond steps (hours for the
+  // 1 s drop). It is stopped once the pace is known, not after the hour.
+  io::ScenarioSetup setup = shipped("drop_horizontal");
+  const double wheel_rate = 1e8 / setup.model.parameters.geometry.wheel_radius_m;
+  setup.scenario.initial_u[coord::x] = 1e8;
+  for (int leg = 0; leg < kNumLegs; ++leg) {
+    setup.scenario.wheel_speed_ref_radps[static_cast<std::size_t>(leg)] = wheel_rate;
+    setup.scenario.initial_u[coord::spin(leg)] = wheel_rate;
+  }
+  ASSERT_EQ(setup.scenario.wall_time_budget_s, 3600.0);
+  const Trajectory tr = simulate(setup.model, setup.scenario, setup.inputs);
+  EXPECT_EQ(tr.status, SimulationStatus::kTimeBudgetExceeded) << tr.message;
+  EXPECT_LT(tr.wall_time_s, 0.01 * setup.scenario.wall_time_budget_s);
+  EXPECT_GE(tr.wall_time_s, RunPaceWatch::kGraceWall_s);  // wall time >= compute time
+  EXPECT_NE(tr.message.find("of computing the run reached t = "), std::string::npos) << tr.message;
+  EXPECT_NE(tr.message.find("at this pace it needs ~"), std::string::npos) << tr.message;
+  EXPECT_NE(tr.message.find("beyond the wall-time budget of 1 h"), std::string::npos) << tr.message;
+  EXPECT_EQ(static_cast<std::size_t>(tr.q.rows()), tr.t.size());
+}
+
+TEST(Simulate, ThePaceCheckDoesNotChangeANormalRun) {
+  io::ScenarioSetup setup = shipped("drop_horizontal");
+  setup.scenario.integrator = default_integrator_settings(IntegratorMethod::kRosenbrockW);
+  const Trajectory checked = simulate(setup.model, setup.scenario, setup.inputs);
+  setup.scenario.wall_time_budget_s = std::numeric_limits<double>::infinity();  // never projected
+  const Trajectory unchecked = simulate(setup.model, setup.scenario, setup.inputs);
+  ASSERT_TRUE(checked.ok()) << checked.message;
+  ASSERT_TRUE(unchecked.ok()) << unchecked.message;
+  EXPECT_EQ(checked.B_l_z, unchecked.B_l_z);
+  EXPECT_EQ(checked.q, unchecked.q);
+  EXPECT_EQ(checked.steps, unchecked.steps);
+  EXPECT_EQ(checked.rhs_evaluations, unchecked.rhs_evaluations);
+}
+
 TEST(Simulate, AbsurdInputsFailWithAStatusNotACrashOrHang) {
   // A budget far above the expected time turns a hang into a visible failure.
   const auto start = std::chrono::steady_clock::now();
@@ -324,6 +407,8 @@ TEST(Simulate, ACollapsedStepSizeStopsTheRun) {
   setup.scenario.integrator = default_integrator_settings(IntegratorMethod::kDormandPrince45);
   setup.scenario.integrator.initial_step_s = 1e-11;
   setup.scenario.integrator.max_step_s = 1e-10;
+  // No budget: on a slow machine the pace check (RunPaceWatch) would come first.
+  setup.scenario.wall_time_budget_s = std::numeric_limits<double>::infinity();
   tr = simulate(setup.model, setup.scenario, setup.inputs);
   EXPECT_EQ(tr.status, SimulationStatus::kStepSizeCollapsed) << tr.message;
   EXPECT_EQ(tr.steps, StallWatch::kWindowSteps);

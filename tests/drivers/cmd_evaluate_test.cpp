@@ -1,7 +1,9 @@
 // `rover evaluate` through the built binary: row order, CSV and HDF5 outputs,
 // equality with `rover simulate` at the same inputs, bad designs refused before
 // any run with the file, line and column.
+#include <cmath>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
 
@@ -73,6 +75,29 @@ TEST(CmdEvaluate, RowsComeBackInOrderAndMatchSimulate) {
   EXPECT_EQ(h5.read_doubles("/qoi/at_rest")[1], z.back());
   // A higher drop ends at the same rest height but falls further first.
   EXPECT_NEAR(csv["at_rest"][0], csv["at_rest"][1], 2e-3);
+}
+
+// A row that cannot finish within its wall-time budget (1e8 m/s) is stopped
+// after seconds and recorded as failed with the reason; the other rows run.
+TEST(CmdEvaluate, ARowThatCannotFinishIsAFailedRowWithItsReason) {
+  const std::string dir = rover::testing::temp_dir();
+  write_file(dir + "/x.csv", "scenario.forward_speed\n1e8\n0\n");
+  // The short drop with a budget of 10 s: at 1e8 m/s it would need about an hour.
+  const std::string scenario = write_file(dir + "/budget.json", R"({"name": "short_drop", "rover": ")" +
+                                                                    source_path("configs/rover.json") +
+                                                                    R"(", "duration": 0.25, "output_rate": 200,
+      "wall_time_budget": 10, "initial_q": {"z": 0.281, "chi": 0.039, "psi": 0.0042}})");
+  std::string log;
+  EXPECT_EQ(run_command(rover_binary() + " evaluate --scenario " + scenario + " --integrator dopri5 --design " +
+                            dir + "/x.csv --qoi B_l_z_min --out " + dir + "/y.csv", &log), 2) << log;
+  auto csv = read_output(dir + "/y.csv");
+  EXPECT_EQ(csv["status"], (std::vector<double>{3, 0}));  // time budget exceeded; ok
+  EXPECT_TRUE(std::isnan(csv["B_l_z_min"][0]));
+  EXPECT_GT(csv["B_l_z_min"][1], 0.1);
+  std::ifstream in(dir + "/y.csv");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("at this pace it needs ~"), std::string::npos) << text;
+  EXPECT_NE(text.find("beyond the wall-time budget of 10 s"), std::string::npos) << text;
 }
 
 TEST(CmdEvaluate, BadDesignsNameFileLineAndColumnBeforeAnyRun) {

@@ -147,6 +147,40 @@ TEST(CmdStudies, InterruptSavesTheCheckpointAndTellsHowToResume) {
   }
 }
 
+// Ctrl-C of mpirun: Open MPI 4.1 sends the ranks SIGTERM one second later
+// and SIGKILL one second after that, and MPI_Finalize no longer returns.
+// Whatever finished must be in the checkpoint by then (the policy here
+// flushes every 20 runs; the interrupt comes once the first 20 are saved),
+// the resume hint must be printed, and the resumed study must equal an
+// uninterrupted one bit for bit.
+TEST(CmdStudies, InterruptOfMpirunSavesTheCheckpointAndResumesToTheSameResult) {
+  const std::string dir = rover::testing::temp_dir();
+  const std::string study = mc_study(dir, 1.0, 160);
+  std::string log;
+  ASSERT_EQ(run_command(mpiexec() + " -np 2 " + rover_binary() + " montecarlo --study " + study +
+                            " --no-plot --out " + dir + "/whole.h5", &log), 0) << log;
+  const std::string out = dir + "/part.h5";
+  const int status = run_command("cd " + dir + " && (" + mpiexec() + " -np 2 " + rover_binary() +
+                                     " montecarlo --study " + study + " --checkpoint-every 20 --no-plot --out " +
+                                     out + " & pid=$!; for i in $(seq 1000); do [ -s " + out +
+                                     ".checkpoint ] && break; sleep 0.02; done; kill -INT $pid; wait $pid)", &log);
+  if (std::ifstream(out).good()) GTEST_SKIP() << "the study finished before the interrupt: " << log;
+  EXPECT_NE(status, 0) << log;  // mpirun's own status (1 with Open MPI 4.1), not the ranks'
+  EXPECT_NE(log.find("interrupt"), std::string::npos) << log;
+  EXPECT_NE(log.find("montecarlo --study " + study + " --out " + out + " --resume"), std::string::npos) << log;
+  ASSERT_TRUE(std::ifstream(out + ".checkpoint").good()) << log;
+  ASSERT_EQ(run_command(mpiexec() + " -np 2 " + rover_binary() + " montecarlo --study " + study +
+                            " --no-plot --resume --out " + out, &log), 0) << log;
+  const std::size_t pos = log.find("resuming, ");
+  ASSERT_NE(pos, std::string::npos) << log;
+  const int reused = std::stoi(log.substr(pos + 10));
+  EXPECT_GT(reused, 20) << log;  // the runs finished after the interrupt were saved too
+  EXPECT_LT(reused, 160) << log;
+  const io::Hdf5Reader a(dir + "/whole.h5"), b(out);
+  for (const std::string& name : kMonteCarloDatasets) EXPECT_EQ(a.read_doubles(name), b.read_doubles(name)) << name;
+  EXPECT_EQ(a.read_ints("/samples/status"), b.read_ints("/samples/status"));
+}
+
 TEST(CmdStudies, AnOutputPathThatCannotBeWrittenIsRefusedBeforeAnyRun) {
   const std::string dir = rover::testing::temp_dir();
   const std::string study = mc_study(dir, 1.0, 3);
