@@ -59,7 +59,7 @@ const RegisterCommand registration{
           "the parameters and the time offset, and NLopt's return status), /data, /fit and a PNG.\n"
           "--method mcmc samples the posterior (priors from the study's \"priors\", noise sd\n"
           "known or sampled) with an ensemble sampler: /chain, /posterior, /diagnostics,\n"
-          "/predictive (99.73 % band of each curve's channel), traces, corner panels and the band as PNGs.\n\n"
+          "/predictive (99.73 % band of each curve's channel), traces, the corner plot and the band as PNGs.\n\n"
           "Examples:\n"
           "  rover calibrate --data configs/data/drop_horizontal_synthetic.csv --fit c_q --algorithm LN_BOBYQA\n"
           "  rover calibrate --fit c_q,M0_scale --algorithm GN_DIRECT_L --max-evaluations 60\n"

@@ -1,8 +1,11 @@
 // PNG plots through gnuplot: the data go into inline data blocks of one
 // script file, gnuplot renders into a temp file next to the target, and the
-// temp file is renamed onto the target only when gnuplot succeeded.
+// temp file is renamed onto the target only when gnuplot succeeded. A panel
+// grid is one script too: `set multiplot layout`, and before every panel a
+// `reset`, so no setting of one panel leaks into the next.
 #include "io/plot.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -63,9 +66,10 @@ std::string title_spec(const std::string& label) {
   return label.empty() ? "notitle" : "title " + quoted(label);
 }
 
-void check_size(const std::string& what, std::size_t size, std::size_t expected) {
+void check_size(const std::string& context, const std::string& what, std::size_t size,
+                std::size_t expected) {
   if (size != expected)
-    throw std::invalid_argument("plot: " + what + " has " + std::to_string(size) +
+    throw std::invalid_argument(context + what + " has " + std::to_string(size) +
                                 " values, expected " + std::to_string(expected));
 }
 
@@ -104,18 +108,126 @@ std::string series_spec(const Series& s) {
   return style + "lw " + number(s.line_width) + " " + color_spec(s.color) + title_spec(s.label);
 }
 
-void write_common(std::ostream& out, const std::string& output, int width_px, int height_px,
-                  const std::string& title, const std::string& x_label,
-                  const std::string& y_label, bool log_x, bool log_y) {
+// The pngcairo terminal writing `output`.
+void write_terminal(std::ostream& out, const std::string& output, int width_px, int height_px) {
   out << "set terminal pngcairo size " << width_px << "," << height_px
       << " noenhanced font 'sans,11'\n"
       << "set output " << quoted(output) << "\n"
       << "set encoding utf8\n";
+}
+
+void write_axes(std::ostream& out, const std::string& title, const std::string& x_label,
+                const std::string& y_label, bool log_x, bool log_y) {
   if (!title.empty()) out << "set title " << quoted(title) << "\n";
   out << "set xlabel " << quoted(x_label) << "\n"
       << "set ylabel " << quoted(y_label) << "\n";
   if (log_x) out << "set logscale x\n";
   if (log_y) out << "set logscale y\n";
+}
+
+void write_common(std::ostream& out, const std::string& output, int width_px, int height_px,
+                  const std::string& title, const std::string& x_label,
+                  const std::string& y_label, bool log_x, bool log_y) {
+  write_terminal(out, output, width_px, height_px);
+  write_axes(out, title, x_label, y_label, log_x, log_y);
+}
+
+// Refuses a line plot with inconsistent data, an unusable colour or nothing to
+// draw, before any script is written; `context` starts every message
+// ("plot: <path>: " or "plot: <path>: panel (row 1, column 2): ").
+void check_line_plot(const LinePlot& plot, const std::string& context) {
+  bool any_data = false;
+  for (const Series& s : plot.series) {
+    check_size(context, "series '" + s.label + "' y", s.y.size(), s.x.size());
+    any_data = any_data || !s.x.empty();
+  }
+  for (const Band& b : plot.bands) {
+    check_size(context, "band '" + b.label + "' lower", b.lower.size(), b.x.size());
+    check_size(context, "band '" + b.label + "' upper", b.upper.size(), b.x.size());
+    if (!(b.opacity >= 0.0 && b.opacity <= 1.0))
+      throw std::invalid_argument(context + "band '" + b.label + "' opacity " + number(b.opacity) +
+                                  " not in [0, 1]");
+    any_data = any_data || !b.x.empty();
+  }
+  if (!any_data) throw std::invalid_argument(context + "nothing to plot");
+  if (plot.max_ticks < 0)
+    throw std::invalid_argument(context + "max_ticks " + std::to_string(plot.max_ticks) + " < 0");
+  for (const Series& s : plot.series) static_cast<void>(color_spec(s.color));
+  for (const Band& b : plot.bands) static_cast<void>(color_spec(b.color));
+}
+
+// The smallest and largest finite value of some columns; nullopt when none.
+std::optional<AxisRange> extent(const std::vector<const std::vector<double>*>& columns) {
+  std::optional<AxisRange> range;
+  for (const auto* column : columns)
+    for (const double v : *column)
+      if (std::isfinite(v))
+        range = range ? AxisRange{std::min(range->first, v), std::max(range->second, v)} : AxisRange{v, v};
+  return range;
+}
+
+// "set <axis>tics <step>" for at most max_ticks intervals over `range`
+// (or, when empty, over the data); nothing for a log axis or an empty span.
+void write_tick_step(std::ostream& out, const std::string& axis, int max_ticks, bool log_scale,
+                     const std::optional<AxisRange>& range,
+                     const std::vector<const std::vector<double>*>& columns) {
+  if (max_ticks <= 0 || log_scale) return;
+  const std::optional<AxisRange> over = range ? range : extent(columns);
+  if (!over) return;
+  const double span = std::abs(over->second - over->first);
+  if (span > 0.0 && std::isfinite(span))
+    out << "set " << axis << "tics " << number(nice_tick_step(span, max_ticks)) << "\n";
+}
+
+// One line plot after the terminal: axes, data blocks and the plot command.
+// Data blocks are "$<block_prefix>band<k>" and "$<block_prefix>series<k>", so
+// plots of one script with distinct prefixes never share a block.
+void write_line_plot(std::ostream& out, const LinePlot& plot, const std::string& block_prefix) {
+  write_axes(out, plot.title, plot.x_label, plot.y_label, plot.log_x, plot.log_y);
+  const bool any_label =
+      std::any_of(plot.series.begin(), plot.series.end(), [](const Series& s) { return !s.label.empty(); }) ||
+      std::any_of(plot.bands.begin(), plot.bands.end(), [](const Band& b) { return !b.label.empty(); });
+  out << "set grid\n" << (any_label ? "set key top right opaque box\n" : "unset key\n");
+  if (plot.x_range)
+    out << "set xrange [" << number(plot.x_range->first) << ":" << number(plot.x_range->second)
+        << "]\n";
+  if (plot.y_range)
+    out << "set yrange [" << number(plot.y_range->first) << ":" << number(plot.y_range->second)
+        << "]\n";
+  std::vector<const std::vector<double>*> xs, ys;
+  for (const Series& s : plot.series) {
+    xs.push_back(&s.x);
+    ys.push_back(&s.y);
+  }
+  for (const Band& b : plot.bands) {
+    xs.push_back(&b.x);
+    ys.insert(ys.end(), {&b.lower, &b.upper});
+  }
+  write_tick_step(out, "x", plot.max_ticks, plot.log_x, plot.x_range, xs);
+  write_tick_step(out, "y", plot.max_ticks, plot.log_y, plot.y_range, ys);
+  for (const PointLabel& l : plot.labels)
+    if (std::isfinite(l.x) && std::isfinite(l.y))
+      out << "set label " << quoted(l.text) << " at " << number(l.x) << "," << number(l.y)
+          << " offset 0.6,0.6 font ',10'\n";
+  std::vector<std::string> items;
+  for (std::size_t k = 0; k < plot.bands.size(); ++k) {
+    const Band& b = plot.bands[k];
+    if (b.x.empty()) continue;
+    const std::string name = "$" + block_prefix + "band" + std::to_string(k);
+    write_block(out, name, {&b.x, &b.lower, &b.upper});
+    items.push_back(name + " using 1:2:3 with filledcurves fs transparent solid " +
+                    number(b.opacity) + " noborder " + color_spec(b.color) + title_spec(b.label));
+  }
+  for (std::size_t k = 0; k < plot.series.size(); ++k) {
+    const Series& s = plot.series[k];
+    if (s.x.empty()) continue;
+    const std::string name = "$" + block_prefix + "series" + std::to_string(k);
+    write_block(out, name, {&s.x, &s.y});
+    items.push_back(name + " using 1:2 " + series_spec(s));
+  }
+  out << "plot ";
+  for (std::size_t k = 0; k < items.size(); ++k) out << (k ? ", \\\n     " : "") << items[k];
+  out << "\n";
 }
 
 // A new file "<stem><random>" (mode 0666 less the umask, like any output),
@@ -198,58 +310,69 @@ void render(const std::string& png_path,
 
 }  // namespace
 
+double nice_tick_step(double span, int max_intervals) {
+  if (!(span > 0.0 && std::isfinite(span)) || max_intervals < 1)
+    throw std::invalid_argument("nice_tick_step: needs a finite span > 0 and max_intervals >= 1, got " +
+                                number(span) + " and " + std::to_string(max_intervals));
+  const double smallest = span / max_intervals;
+  const double decade = std::pow(10.0, std::floor(std::log10(smallest)));
+  // (The relative slack keeps an exact fit, span 1 in 4 steps of 0.25, from
+  // rounding up to the next step.)
+  for (const double mantissa : {1.0, 2.0, 2.5, 5.0})
+    if (mantissa * decade >= smallest * (1.0 - 1e-12)) return mantissa * decade;
+  return 10.0 * decade;
+}
+
 void write_png(const LinePlot& plot, const std::string& png_path) {
   check_canvas(plot.width_px, plot.height_px);
-  bool any_data = false;
-  for (const Series& s : plot.series) {
-    check_size("series '" + s.label + "' y", s.y.size(), s.x.size());
-    any_data = any_data || !s.x.empty();
-  }
-  for (const Band& b : plot.bands) {
-    check_size("band '" + b.label + "' lower", b.lower.size(), b.x.size());
-    check_size("band '" + b.label + "' upper", b.upper.size(), b.x.size());
-    if (!(b.opacity >= 0.0 && b.opacity <= 1.0))
-      throw std::invalid_argument("plot: band '" + b.label + "' opacity " + number(b.opacity) +
-                                  " not in [0, 1]");
-    any_data = any_data || !b.x.empty();
-  }
-  if (!any_data) throw std::invalid_argument("plot: nothing to plot for " + png_path);
+  check_line_plot(plot, "plot: " + png_path + ": ");
+  render(png_path, [&](const std::string& output) {
+    std::ostringstream out;
+    write_terminal(out, output, plot.width_px, plot.height_px);
+    write_line_plot(out, plot, "");
+    return out.str();
+  });
+}
+
+void write_png(const PanelGrid& grid, const std::string& png_path) {
+  check_canvas(grid.width_px, grid.height_px);
+  if (grid.rows < 1 || grid.cols < 1)
+    throw std::invalid_argument("plot: panel grid " + std::to_string(grid.rows) + "x" +
+                                std::to_string(grid.cols) + " needs at least one row and one column");
+  const auto cells = static_cast<std::size_t>(grid.rows) * static_cast<std::size_t>(grid.cols);
+  if (grid.panels.size() != cells)
+    throw std::invalid_argument("plot: panel grid " + std::to_string(grid.rows) + "x" +
+                                std::to_string(grid.cols) + " needs " + std::to_string(cells) +
+                                " panels (row-major, nullopt for a blank cell), got " +
+                                std::to_string(grid.panels.size()));
+  if (std::none_of(grid.panels.begin(), grid.panels.end(),
+                   [](const std::optional<LinePlot>& panel) { return panel.has_value(); }))
+    throw std::invalid_argument("plot: panel grid for " + png_path + " has only blank cells");
+  const auto cell_name = [&](std::size_t k) {
+    return "panel (row " + std::to_string(k / static_cast<std::size_t>(grid.cols) + 1) + ", column " +
+           std::to_string(k % static_cast<std::size_t>(grid.cols) + 1) + ")";
+  };
+  for (std::size_t k = 0; k < cells; ++k)
+    if (grid.panels[k]) check_line_plot(*grid.panels[k], "plot: " + png_path + ": " + cell_name(k) + ": ");
 
   render(png_path, [&](const std::string& output) {
     std::ostringstream out;
-    write_common(out, output, plot.width_px, plot.height_px, plot.title, plot.x_label,
-                 plot.y_label, plot.log_x, plot.log_y);
-    out << "set grid\nset key top right opaque box\n";
-    if (plot.x_range)
-      out << "set xrange [" << number(plot.x_range->first) << ":" << number(plot.x_range->second)
-          << "]\n";
-    if (plot.y_range)
-      out << "set yrange [" << number(plot.y_range->first) << ":" << number(plot.y_range->second)
-          << "]\n";
-    for (const PointLabel& l : plot.labels)
-      if (std::isfinite(l.x) && std::isfinite(l.y))
-        out << "set label " << quoted(l.text) << " at " << number(l.x) << "," << number(l.y)
-            << " offset 0.6,0.6 font ',10'\n";
-    std::vector<std::string> items;
-    for (std::size_t k = 0; k < plot.bands.size(); ++k) {
-      const Band& b = plot.bands[k];
-      if (b.x.empty()) continue;
-      const std::string name = "$band" + std::to_string(k);
-      write_block(out, name, {&b.x, &b.lower, &b.upper});
-      items.push_back(name + " using 1:2:3 with filledcurves fs transparent solid " +
-                      number(b.opacity) + " noborder " + color_spec(b.color) +
-                      title_spec(b.label));
-    }
-    for (std::size_t k = 0; k < plot.series.size(); ++k) {
-      const Series& s = plot.series[k];
-      if (s.x.empty()) continue;
-      const std::string name = "$series" + std::to_string(k);
-      write_block(out, name, {&s.x, &s.y});
-      items.push_back(name + " using 1:2 " + series_spec(s));
-    }
-    out << "plot ";
-    for (std::size_t k = 0; k < items.size(); ++k) out << (k ? ", \\\n     " : "") << items[k];
+    write_terminal(out, output, grid.width_px, grid.height_px);
+    out << "set multiplot layout " << grid.rows << "," << grid.cols << " rowsfirst";
+    if (!grid.title.empty()) out << " title " << quoted(grid.title) << " font ',13'";
     out << "\n";
+    for (std::size_t k = 0; k < cells; ++k) {
+      if (!grid.panels[k]) {
+        out << "set multiplot next\n";
+        continue;
+      }
+      // Back to the defaults (terminal, output and layout stay), then margins
+      // in character cells, the same for every panel, so the axes line up.
+      out << "reset\n"
+          << "set lmargin 11\nset rmargin 2\nset bmargin 3.5\nset tmargin 3\n";
+      write_line_plot(out, *grid.panels[k], std::string("panel") + std::to_string(k) + "_");
+    }
+    out << "unset multiplot\n";
     return out.str();
   });
 }
@@ -260,7 +383,7 @@ void write_png(const SurfacePlot& plot, const std::string& png_path) {
   if (nx < 2 || ny < 2)
     throw std::invalid_argument("plot: surface needs at least 2 x and 2 y values, got " +
                                 std::to_string(nx) + " and " + std::to_string(ny));
-  check_size("surface z", plot.z.size(), nx * ny);
+  check_size("plot: ", "surface z", plot.z.size(), nx * ny);
   for (const auto* axis : {&plot.x, &plot.y})
     for (std::size_t i = 1; i < axis->size(); ++i)
       if (!((*axis)[i] > (*axis)[i - 1]))
@@ -268,7 +391,7 @@ void write_png(const SurfacePlot& plot, const std::string& png_path) {
   if (plot.contour_levels < 0)
     throw std::invalid_argument("plot: contour_levels must be >= 0");
   for (const Series& s : plot.overlays)
-    check_size("overlay '" + s.label + "' y", s.y.size(), s.x.size());
+    check_size("plot: ", "overlay '" + s.label + "' y", s.y.size(), s.x.size());
 
   render(png_path, [&](const std::string& output) {
     std::ostringstream out;
@@ -318,9 +441,9 @@ void write_png(const BarPlot& plot, const std::string& png_path) {
   const std::size_t n = plot.categories.size();
   if (n == 0 || plot.groups.empty()) throw std::invalid_argument("plot: nothing to plot for " + png_path);
   for (const BarGroup& g : plot.groups) {
-    check_size("bar group '" + g.label + "'", g.value.size(), n);
-    check_size("bar group '" + g.label + "' lower", g.lower.size(), n);
-    check_size("bar group '" + g.label + "' upper", g.upper.size(), n);
+    check_size("plot: ", "bar group '" + g.label + "'", g.value.size(), n);
+    check_size("plot: ", "bar group '" + g.label + "' lower", g.lower.size(), n);
+    check_size("plot: ", "bar group '" + g.label + "' upper", g.upper.size(), n);
   }
   render(png_path, [&](const std::string& output) {
     std::ostringstream out;
@@ -378,6 +501,11 @@ bool write_png_or_warn(const LinePlot& plot, const std::string& png_path, const 
 bool write_png_or_warn(const BarPlot& plot, const std::string& png_path, const std::string& label,
                        std::ostream& log) {
   return write_or_warn(plot, png_path, label, log);
+}
+
+bool write_png_or_warn(const PanelGrid& grid, const std::string& png_path, const std::string& label,
+                       std::ostream& log) {
+  return write_or_warn(grid, png_path, label, log);
 }
 
 }  // namespace rover::io

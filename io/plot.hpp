@@ -1,6 +1,7 @@
 // PNG plots through gnuplot (pngcairo terminal): line plots with shaded bands
-// (drop curves, Monte Carlo envelopes, fits) and heat maps with contour lines
-// (response surfaces).
+// (drop curves, Monte Carlo envelopes, fits), grids of line plots in one figure
+// (corner plots of a posterior, Foreman-Mackey 2016), bar charts and heat maps
+// with contour lines (response surfaces).
 //
 // Plots are a by-product: callers write their numeric results first and treat
 // a PlotError as a warning. A plot is written atomically (temp file in the
@@ -60,6 +61,10 @@ struct LinePlot {
   std::vector<PointLabel> labels{};
   bool log_x = false, log_y = false;
   std::optional<AxisRange> x_range{}, y_range{};  // automatic when empty
+  // Ticks of a linear axis at nice_tick_step(range, max_ticks), the range
+  // being x_range / y_range or else the data's; 0 = gnuplot's choice. For
+  // small panels, whose automatic tick labels run into each other.
+  int max_ticks = 0;
   int width_px = 1000, height_px = 650;
 };
 
@@ -75,9 +80,6 @@ struct SurfacePlot {
   int width_px = 1000, height_px = 800;
 };
 
-// Write the plot to `png_path` (replacing it). Throws std::invalid_argument on
-// inconsistent data (sizes, unusable colour, empty plot) and PlotError when
-// gnuplot is missing or fails or the file cannot be written.
 // Grouped bars with interval whiskers: for every category (x tick), one bar
 // per group (e.g. S1 and ST of each input, with their confidence intervals).
 struct BarGroup {
@@ -92,9 +94,35 @@ struct BarPlot {
   int width_px = 1000, height_px = 650;
 };
 
+// Line plots on a rows x cols grid in one figure (gnuplot multiplot), e.g. a
+// corner plot: marginal histograms on the diagonal, pairwise scatter below,
+// blank cells above. Every panel is drawn as write_png(LinePlot) would draw it
+// on its own, nothing carried over from the previous panel; every panel gets
+// the same margins, so the axes of a row and of a column line up. A panel's
+// width_px and height_px are ignored: the grid's canvas is shared equally.
+struct PanelGrid {
+  std::string title{};  // over the whole figure; empty = none
+  int rows = 1, cols = 1;
+  std::vector<std::optional<LinePlot>> panels{};  // row-major, rows * cols; nullopt = blank cell
+  int width_px = 1000, height_px = 1000;
+};
+
+// Write the plot to `png_path` (replacing it). Throws std::invalid_argument on
+// inconsistent data (sizes, unusable colour, empty plot) and PlotError when
+// gnuplot is missing or fails or the file cannot be written.
 void write_png(const LinePlot& plot, const std::string& png_path);
 void write_png(const BarPlot& plot, const std::string& png_path);
 void write_png(const SurfacePlot& plot, const std::string& png_path);
+// Also refuses a grid whose panel count is not rows * cols, one without a
+// panel to draw, and any panel that write_png(LinePlot) would refuse (the
+// message names the panel by row and column, counted from 1).
+void write_png(const PanelGrid& grid, const std::string& png_path);
+
+// The smallest step of 1, 2, 2.5 or 5 times a power of ten that cuts `span`
+// into at most `max_intervals` intervals (Heckbert 1990, "Nice numbers for
+// graph labels"). Throws std::invalid_argument unless span > 0 is finite and
+// max_intervals >= 1.
+double nice_tick_step(double span, int max_intervals);
 
 // For callers whose numbers are already saved: writes the plot and logs
 // "<label>: wrote <path>", or logs "<label>: warning: no plot (<why>)" instead
@@ -102,6 +130,8 @@ void write_png(const SurfacePlot& plot, const std::string& png_path);
 bool write_png_or_warn(const LinePlot& plot, const std::string& png_path, const std::string& label,
                        std::ostream& log);
 bool write_png_or_warn(const BarPlot& plot, const std::string& png_path, const std::string& label,
+                       std::ostream& log);
+bool write_png_or_warn(const PanelGrid& grid, const std::string& png_path, const std::string& label,
                        std::ostream& log);
 
 }  // namespace rover::io

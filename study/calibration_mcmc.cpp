@@ -9,6 +9,7 @@
 #include <limits>
 #include <numbers>
 
+#include <boost/histogram.hpp>
 #include <boost/random/mersenne_twister.hpp>
 #include <boost/random/normal_distribution.hpp>
 
@@ -46,6 +47,113 @@ std::string format_duration(double seconds) {
   return s >= 60 ? std::to_string(s / 60) + "m" + std::to_string(s % 60) + "s" : std::to_string(s) + "s";
 }
 
+
+// A sampled parameter as the corner plot shows it: its name and unit
+// (study/calibration.hpp), the noise sd in mm rather than metres.
+struct CornerParameter {
+  std::string label{};  // axis label, with unit
+  double scale = 1.0;   // shown value = scale * sampled value
+};
+CornerParameter corner_parameter(const std::string& name) {
+  if (name == "c_q") return {"c_q [N m s/rad]"};
+  if (name == "f") return {"f [1/rad]"};
+  if (name == "time_offset") return {"time_offset [s]"};
+  if (name.starts_with("noise_sd")) return {name + " [mm]", 1e3};
+  return {name};  // M0_scale, a factor
+}
+
+// The corner plot (Foreman-Mackey 2016) of the samples after `discard`
+// burn-in steps, p x p panels for p parameters (samples[k]: steps x walkers):
+// on the diagonal the marginal histogram of parameter k over all kept samples
+// (square-root choice of the bin count, 5 to 40 bins) with the posterior
+// mean (solid line) and 95 % interval (dashed), also in the panel's title;
+// below it the scatter of parameter (column) against parameter (row) over at
+// most 2000 samples spread evenly over the kept steps and walkers; blank
+// above. The panels of a column share the x range of its histogram, those of
+// a row the range of its parameter, so one parameter's axes line up.
+io::PanelGrid corner_plot(const std::string& title, const std::vector<CornerParameter>& parameters,
+                          const std::vector<Eigen::MatrixXd>& samples, long discard, const std::vector<double>& mean,
+                          const std::vector<double>& q025, const std::vector<double>& q975) {
+  constexpr long kMaxScatterPoints = 2000;
+  constexpr int kMaxTicks = 5;
+  const int p = static_cast<int>(parameters.size());
+  const long steps = samples.front().rows(), walkers = samples.front().cols(), kept = steps - discard;
+  std::vector<io::AxisRange> range(static_cast<std::size_t>(p));  // the histogram's edges, shown units
+  io::PanelGrid grid{.title = title, .rows = p, .cols = p};
+  grid.panels.resize(static_cast<std::size_t>(p * p));
+  grid.width_px = grid.height_px = std::clamp(350 * p, 700, 3500);
+  for (int k = 0; k < p; ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    const double scale = parameters[i].scale;
+    const Eigen::MatrixXd tail = scale * samples[i].bottomRows(kept);
+    double lo = tail.minCoeff(), hi = tail.maxCoeff();
+    if (!(hi > lo)) {  // one value (a stuck chain): a bin around it
+      const double half = std::max(1e-12, 1e-3 * std::abs(lo));
+      lo -= half;
+      hi += half;
+    }
+    range[i] = {lo, hi};
+    const int bins = std::clamp(static_cast<int>(std::lround(std::sqrt(static_cast<double>(tail.size())))), 5, 40);
+    // The top edge nudged up so that the largest sample falls in the last bin, not the overflow.
+    auto histogram = boost::histogram::make_histogram(
+        boost::histogram::axis::regular<double>(static_cast<unsigned>(bins), lo, std::nextafter(hi, hi + 1.0)));
+    for (Eigen::Index j = 0; j < tail.size(); ++j) histogram(tail.data()[j]);
+
+    io::Band filled{.color = "#4060a0", .opacity = 0.3};
+    io::Series outline{.color = "#4060a0", .line_width = 1.2};
+    double highest = 0.0;
+    for (int b = 0; b < bins; ++b) {
+      const auto bin = histogram.axis().bin(b);
+      const double count = histogram.at(b);
+      highest = std::max(highest, count);
+      for (const double edge : {bin.lower(), bin.upper()}) {
+        filled.x.push_back(edge);
+        filled.lower.push_back(0.0);
+        filled.upper.push_back(count);
+        outline.x.push_back(edge);
+        outline.y.push_back(count);
+      }
+    }
+    const double top = 1.1 * std::max(highest, 1.0);
+    const double m = scale * mean[i], lower = scale * q025[i], upper = scale * q975[i];
+    const double gap = std::numeric_limits<double>::quiet_NaN();
+    io::LinePlot diagonal{.title = "mean " + format_number(m) + ", 95 % [" + format_number(lower) + ", " +
+                                   format_number(upper) + "]",
+                          .x_label = parameters[i].label,
+                          .y_label = "samples per bin",
+                          .x_range = range[i],
+                          .y_range = io::AxisRange{0.0, top},
+                          .max_ticks = kMaxTicks};
+    diagonal.bands.push_back(std::move(filled));
+    diagonal.series.push_back(std::move(outline));
+    diagonal.series.push_back({.x = {m, m}, .y = {0.0, top}, .color = "dark-red"});
+    diagonal.series.push_back({.x = {lower, lower, gap, upper, upper},
+                               .y = {0.0, top, gap, 0.0, top},
+                               .style = io::SeriesStyle::dashed,
+                               .color = "dark-red"});
+    grid.panels[i * static_cast<std::size_t>(p) + i] = std::move(diagonal);
+  }
+  // The scatter samples: evenly spread over the kept (step, walker) pairs, step-major.
+  const long total = kept * walkers, shown = std::min(total, kMaxScatterPoints);
+  std::vector<std::vector<double>> thinned(static_cast<std::size_t>(p));
+  for (long j = 0; j < shown; ++j) {
+    const long flat = j * total / shown, step = discard + flat / walkers, walker = flat % walkers;
+    for (std::size_t k = 0; k < thinned.size(); ++k)
+      thinned[k].push_back(parameters[k].scale * samples[k](step, walker));
+  }
+  for (std::size_t row = 1; row < thinned.size(); ++row)
+    for (std::size_t column = 0; column < row; ++column) {
+      io::LinePlot scatter{.x_label = parameters[column].label,
+                           .y_label = parameters[row].label,
+                           .x_range = range[column],
+                           .y_range = range[row],
+                           .max_ticks = kMaxTicks};
+      scatter.series.push_back(
+          {.x = thinned[column], .y = thinned[row], .style = io::SeriesStyle::points, .color = "#a0204080"});
+      grid.panels[row * static_cast<std::size_t>(p) + column] = std::move(scatter);
+    }
+  return grid;
+}
 
 // Ensemble state <-> checkpoint record (positions row-major, log densities, accepted moves).
 io::TaskRecord state_record(const EnsembleState& state, long accepted_in_step) {
@@ -444,42 +552,13 @@ std::string run_calibration_mcmc(const CalibrationStudy& s, const StudyRunContro
       }
       io::write_png_or_warn(trace, stem + "_trace_" + names[static_cast<std::size_t>(k)] + ".png", "calibrate", std::cerr);
     }
-    // Corner plot, one PNG per panel (io/plot has no panel grid): marginal
-    // histograms and pairwise scatter of the kept samples.
-    for (int a = 0; a < p; ++a) {
-      const Eigen::MatrixXd tail = samples[static_cast<std::size_t>(a)].bottomRows(kept);
-      const double lo = tail.minCoeff(), hi = tail.maxCoeff();
-      constexpr int kBins = 30;
-      std::vector<double> counts(kBins, 0.0);
-      const double width = (hi - lo) / kBins;
-      for (Eigen::Index i = 0; i < tail.size(); ++i)
-        counts[static_cast<std::size_t>(std::clamp(static_cast<int>((tail.data()[i] - lo) / (width > 0 ? width : 1.0)), 0, kBins - 1))] += 1.0;
-      io::LinePlot histogram;
-      histogram.title = s.common.name + ": posterior of " + names[static_cast<std::size_t>(a)];
-      histogram.x_label = names[static_cast<std::size_t>(a)];
-      histogram.y_label = "samples per bin";
-      io::Series bars;
-      for (int b = 0; b < kBins; ++b) {  // a step outline
-        bars.x.insert(bars.x.end(), {lo + b * width, lo + (b + 1) * width});
-        bars.y.insert(bars.y.end(), {counts[static_cast<std::size_t>(b)], counts[static_cast<std::size_t>(b)]});
-      }
-      histogram.series.push_back(std::move(bars));
-      io::write_png_or_warn(histogram, stem + "_corner_" + names[static_cast<std::size_t>(a)] + ".png", "calibrate", std::cerr);
-      for (int b = a + 1; b < p; ++b) {
-        io::LinePlot scatter;
-        scatter.title = s.common.name + ": posterior samples";
-        scatter.x_label = names[static_cast<std::size_t>(a)];
-        scatter.y_label = names[static_cast<std::size_t>(b)];
-        io::Series points;
-        points.style = io::SeriesStyle::points;
-        const Eigen::MatrixXd other = samples[static_cast<std::size_t>(b)].bottomRows(kept);
-        points.x.assign(tail.data(), tail.data() + tail.size());
-        points.y.assign(other.data(), other.data() + other.size());
-        scatter.series.push_back(std::move(points));
-        io::write_png_or_warn(scatter, stem + "_corner_" + names[static_cast<std::size_t>(a)] + "_" +
-                                           names[static_cast<std::size_t>(b)] + ".png", "calibrate", std::cerr);
-      }
-    }
+    std::vector<CornerParameter> shown;
+    for (const std::string& name : names) shown.push_back(corner_parameter(name));
+    io::write_png_or_warn(corner_plot(s.common.name + ": posterior, " + std::to_string(kept) + " steps x " +
+                                          std::to_string(walkers) + " walkers after " + std::to_string(m.discard) +
+                                          " burn-in steps",
+                                      shown, samples, m.discard, mean, q025, q975),
+                          stem + "_corner.png", "calibrate", std::cerr);
     for (std::size_t c = 0; c < curves && !model_curves.empty(); ++c) {
       io::LinePlot band;
       band.title = s.common.name + ": posterior predictive 99.73 % band of " + s.datasets[c].channel + " (" +
