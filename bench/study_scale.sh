@@ -4,7 +4,11 @@
 # integrator) and for the 1 m/s obstacle run, on 1 and 2 ranks, for
 # N = 10^3 and 10^4 samples (10^5 with ROVER_SCALE_BIG=1). Whole studies:
 # runs, QoIs, bands, HDF5, no plots.
-#   bash bench/study_scale.sh [drop|obstacle|all]
+#   bash bench/study_scale.sh [drop|obstacle|all|ceiling]
+# `ceiling` measures what the machine itself gives two processes: the
+# 1-rank drop study of 1000 samples alone, then two copies of it at once
+# (independent processes, no MPI between them). Their combined rate over the
+# single rate bounds the speed-up any farm can reach on these two cores.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 rover="$here/build/drivers/rover"
@@ -31,6 +35,18 @@ run() {  # study ranks samples
   read -r wall rss < "$out/time"
   printf "%-9s %5d %8d %9.1f %10.1f %12.0f\n" "$4" "$ranks" "$n" "$wall" "$(echo "$n / $wall" | bc -l)" "$((rss / 1024))"
 }
+
+if [[ "$which" == ceiling ]]; then
+  one() { /usr/bin/time -f "%e" -o "$out/time$1" "$rover" montecarlo --study "$here/configs/studies/preload_mc.json" \
+            --samples 1000 --no-plot --progress-interval 3600 --out "$out/c$1.h5" > "$out/log$1" 2>&1; }
+  one a
+  alone=$(cat "$out/timea")
+  one b & one c & wait
+  both=$(awk '{print ($1 > m) ? $1 : m; m = ($1 > m) ? $1 : m}' "$out/timeb" "$out/timec" | tail -1)
+  printf "one process: 1000 runs in %.1f s (%.1f runs/s); two at once: 2000 runs in %.1f s (%.1f runs/s); ratio %.2f\n" \
+    "$alone" "$(echo "1000 / $alone" | bc -l)" "$both" "$(echo "2000 / $both" | bc -l)" "$(echo "2 * $alone / $both" | bc -l)"
+  exit 0
+fi
 
 printf "%-9s %5s %8s %9s %10s %12s\n" study ranks samples "wall[s]" "runs/s" "peak_RSS[MB]"
 for n in "${sizes[@]}"; do

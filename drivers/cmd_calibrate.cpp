@@ -41,8 +41,10 @@ int run_calibrate_command(CalibrateOptions o) {
                 << ", " << s.starts << " start(s) on " << mpi.size() << " rank(s)\n";
     }
   }
-  study::run_calibration(s, o.control);
-  return 0;
+  return run_interruptible("calibrate", [&] {
+    study::run_calibration(s, o.control);
+    return 0;
+  });
 }
 
 const RegisterCommand registration{
