@@ -257,6 +257,18 @@ struct Rank0State {
   std::exception_ptr master_error;
 };
 
+// Delivers what the master queued in the inbox; the caller holds the
+// delivery's lock (lock order: the delivery's, then the state's).
+void deliver_inbox_locked(Rank0State& state, Delivery& delivery) {
+  std::deque<TaskResult> batch;
+  {
+    const std::lock_guard lock(state.mutex);
+    batch = std::move(state.inbox);
+    state.inbox.clear();
+  }
+  for (TaskResult& result : batch) delivery.deliver(std::move(result));
+}
+
 // The master: rank 0's communication thread, the only thread calling MPI
 // while it runs. Returns when no worker can send anything more.
 void master_loop(MPI_Comm comm, int size, Rank0State& state, Progress& progress, Delivery& delivery,
@@ -301,13 +313,7 @@ void master_loop(MPI_Comm comm, int size, Rank0State& state, Progress& progress,
     const auto handle_stop = [&] {
       stop_seen = true;
       auto delivering = delivery.lock();
-      std::deque<TaskResult> batch;
-      {
-        const std::lock_guard lock(state.mutex);
-        batch = std::move(state.inbox);
-        state.inbox.clear();
-      }
-      for (TaskResult& result : batch) delivery.deliver(std::move(result));
+      deliver_inbox_locked(state, delivery);
       if (on_stop) on_stop();
     };
 
@@ -442,18 +448,11 @@ std::vector<TaskResult> run_rank0(MPI_Comm comm, int size, const std::vector<int
   Delivery delivery(on_result, options.keep_results, tasks.size());
   std::thread master(master_loop, comm, size, std::ref(state), std::ref(progress), std::ref(delivery),
                      std::cref(options.on_stop));
-
-  // Delivers what the master queued. Lock order: the delivery's, then the state's.
   const auto deliver_inbox = [&] {
     auto delivering = delivery.lock();
-    std::deque<TaskResult> batch;
-    {
-      const std::lock_guard lock(state.mutex);
-      batch = std::move(state.inbox);
-      state.inbox.clear();
-    }
-    for (TaskResult& result : batch) delivery.deliver(std::move(result));
+    deliver_inbox_locked(state, delivery);
   };
+
   try {
     if (invalid) std::rethrow_exception(invalid);
     while (const std::optional<int> index = state.take()) {
