@@ -44,6 +44,8 @@ int run_synthesize(const SynthesizeOptions& o) {
   checks.throw_if_any();
 
   const std::string scenario_path = path_option(o.scenario_option, o.scenario, kDefaultScenario);
+  checks.distinct_files("--out", o.out, "--scenario", scenario_path);
+  checks.throw_if_any();
   const io::ScenarioSetup setup = io::load_scenario(scenario_path);
   if (const std::string problem = io::recording_size_problem(
           io::recorded_sample_count(setup.scenario.duration_s, o.rate_hz), kBytesPerLine, kMaxCurveBytes);
