@@ -347,10 +347,11 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
   const std::size_t sampled = s.fit.size() + (s.mcmc.sample_noise ? s.datasets.size() : 0);
   if (s.mcmc.walkers < 2 * static_cast<int>(sampled) || s.mcmc.walkers % 2 != 0)
     r.fail("mcmc.walkers", "must be even and at least twice the number of sampled parameters (" +
-                               std::to_string(2 * sampled) + ")");
-  if (s.mcmc.steps <= 0) r.fail("mcmc.steps", "must be positive");
+                               std::to_string(2 * sampled) + "), got " + std::to_string(s.mcmc.walkers));
+  if (s.mcmc.steps <= 0) r.fail("mcmc.steps", "must be positive, got " + std::to_string(s.mcmc.steps));
   if (s.mcmc.discard < 0 || s.mcmc.steps - s.mcmc.discard < 4)
-    r.fail("mcmc.discard", "must be >= 0 and leave at least 4 of the " + std::to_string(s.mcmc.steps) + " steps");
+    r.fail("mcmc.discard", "must be >= 0 and leave at least 4 of the " + std::to_string(s.mcmc.steps) +
+                               " steps, got " + std::to_string(s.mcmc.discard));
 
   // Read every key even when the command line overrides it (no "unknown key").
   const std::string configured_algorithm = r.string_or("algorithm", "LN_BOBYQA");
