@@ -22,6 +22,18 @@ struct CalibrateOptions {
 
 int run_calibrate_command(CalibrateOptions o) {
   study::MpiSession mpi(nullptr, nullptr);
+  FlagChecks checks;
+  const study::CalibrationOverrides& v = o.overrides;
+  if (v.starts && *v.starts < 1) checks.add("--starts must be at least 1, got " + std::to_string(*v.starts));
+  if (v.max_evaluations && *v.max_evaluations < 1)
+    checks.add("--max-evaluations must be at least 1, got " + std::to_string(*v.max_evaluations));
+  if (v.walkers && (*v.walkers < 2 || *v.walkers % 2 != 0))
+    checks.add("--walkers must be an even number of at least 2, got " + std::to_string(*v.walkers));
+  if (v.steps && *v.steps < 1) checks.add("--steps must be at least 1, got " + std::to_string(*v.steps));
+  if (v.discard && *v.discard < 0) checks.add("--discard must not be negative, got " + std::to_string(*v.discard));
+  check_study_output(checks, o.control, o.study_path);
+  checks.distinct_files("--out", o.control.results_path, "--data", v.data_path);
+  checks.throw_if_any();
   std::stringstream ss(o.fit);
   for (std::string name; std::getline(ss, name, ',');)
     if (!name.empty()) o.overrides.fit.push_back(name);

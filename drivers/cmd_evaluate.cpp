@@ -1,5 +1,7 @@
 // `rover evaluate`: batch evaluation of a design CSV (one run per row), the
 // interface other UQ tools drive the model through. See study/evaluate.hpp.
+// The flags are checked before any row is read: QoI and channel names, the
+// integrator, and an --out that is writable and is neither input file.
 #include <iostream>
 #include <sstream>
 
@@ -8,6 +10,7 @@
 #include "drivers/study_options.hpp"
 #include "study/evaluate.hpp"
 #include "study/mpi_session.hpp"
+#include "study/qoi.hpp"
 #include "study/study_runner.hpp"
 
 namespace rover::cli {
@@ -31,6 +34,28 @@ int run_evaluate_command(EvaluateOptions& o) {
   study::MpiSession mpi(nullptr, nullptr);
   o.request.qoi_names = split_list(o.qoi);
   o.request.channel_names = split_list(o.channels);
+  FlagChecks checks;
+  for (const std::string& q : o.request.qoi_names) {
+    try {
+      study::qoi_kind_from_name(q);
+    } catch (const std::invalid_argument& e) {
+      checks.add("--qoi: " + std::string(e.what()));
+    }
+  }
+  for (const std::string& c : o.request.channel_names) {
+    try {
+      study::channel_from_name(c);
+    } catch (const std::invalid_argument& e) {
+      checks.add("--channels: " + std::string(e.what()));
+    }
+  }
+  if (o.request.qoi_names.empty() && o.request.channel_names.empty())
+    checks.add("--qoi '" + o.qoi + "' names no quantity of interest (and no --channels are given): nothing to compute");
+  check_integrator_flag(checks, o.request.integrator);
+  checks.output_file("--out", o.request.out_path);
+  checks.distinct_files("--out", o.request.out_path, "--design", o.request.design_path);
+  checks.distinct_files("--out", o.request.out_path, "--scenario", o.request.scenario_path);
+  checks.throw_if_any();
   if (o.request.progress_interval_s < 1)
     throw std::invalid_argument("--progress-interval must be at least 1 s, got " +
                                 std::to_string(o.request.progress_interval_s));

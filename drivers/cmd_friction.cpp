@@ -1,7 +1,9 @@
 // `rover friction`: the Makkar friction curve (paper eq. 8) for a set of
 // engineering parameters, with its fit quality against the STEP target of
 // docs/model.md §6 ("Friction synthesis"), as JSON on stdout and optionally
-// as a PNG of mu(v) and the target.
+// as a PNG of mu(v) and the target. Parameters for which no gammas can be
+// synthesised (v_k not above v_s, a ratio mu_k / mu_s beyond doubles) are an
+// error naming the four values, not the optimiser's message alone.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -70,6 +72,7 @@ int run_friction(const FrictionOptions& o) {
   if (o.mu_kinetic) checks.non_negative("--mu-k", *o.mu_kinetic);
   if (o.v_kinetic_mps) checks.positive("--v-k", *o.v_kinetic_mps);
   checks.output_file("--png", o.png);
+  checks.distinct_files("--png", o.png, "--config", o.config);
   checks.throw_if_any();
 
   const std::string config = path_option(o.config_option, o.config, kDefaultConfig);
@@ -79,8 +82,19 @@ int run_friction(const FrictionOptions& o) {
   if (o.mu_kinetic) p.mu_kinetic = *o.mu_kinetic;
   if (o.v_kinetic_mps) p.v_kinetic_mps = *o.v_kinetic_mps;
 
+  if (!(p.v_kinetic_mps > p.v_static_mps))
+    throw CommandLineError({"v_k (" + number_text(p.v_kinetic_mps) + " m/s) must be above v_s (" +
+                            number_text(p.v_static_mps) + " m/s): give --v-k above --v-s (those not given are " +
+                            config + "'s)"});
   const auto start = std::chrono::steady_clock::now();
-  const MakkarGammas gammas = o.synthesize ? synthesize_friction(p) : friction_gammas_for(p);
+  MakkarGammas gammas;
+  try {
+    gammas = o.synthesize ? synthesize_friction(p) : friction_gammas_for(p);
+  } catch (const std::exception& e) {
+    throw CommandLineError({"no Makkar gammas for --mu-s " + number_text(p.mu_static) + ", --v-s " +
+                            number_text(p.v_static_mps) + ", --mu-k " + number_text(p.mu_kinetic) + ", --v-k " +
+                            number_text(p.v_kinetic_mps) + " (the synthesis failed: " + e.what() + ")"});
+  }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const bool from_config = !o.synthesize && gammas == p.gammas;

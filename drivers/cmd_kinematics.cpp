@@ -1,6 +1,8 @@
 // `rover kinematics`: the wheel commands (steering angles d_j and rolling
 // speeds dz_j/dt) of one driving-mode command (core/drive_kinematics.hpp;
-// paper section 2.1, docs/model.md §1–3 and 5), as a table or JSON.
+// paper section 2.1, docs/model.md §1–3 and 5), as a table or JSON. A command
+// the mode cannot serve, or whose wheel commands are not finite numbers, is
+// an error naming the flags given.
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
@@ -126,34 +128,48 @@ int run_kinematics(const KinematicsOptions& o) {
   const DriveKinematics kin = make_drive_kinematics(io::load_rover_parameters(config));
   WheelCommandOptions wheel_options;
   wheel_options.allow_flip = !o.no_flip;
-  const DriveCommand command = command_from_options(o, kin, *mode, wheel_options);
-  const WheelCommands wheels = wheel_commands(kin, command, wheel_options);
+  std::string given_flags;  // "--v 0.5, --radius 0", for messages
+  for (const auto& [option, value] : numbers)
+    if (given(option)) given_flags += (given_flags.empty() ? "" : ", ") + option->get_name() + " " + number_text(value);
+  DriveCommand command;
+  WheelCommands wheels;
+  try {
+    command = command_from_options(o, kin, *mode, wheel_options);
+    wheels = wheel_commands(kin, command, wheel_options);
+  } catch (const std::invalid_argument& e) {
+    throw CommandLineError({"the command (" + given_flags + "): " + e.what()});
+  }
   const BodyVelocityCommand body = body_velocity(command.motion);
   const bool has_icr = command.motion.kind == PlanarMotion::Kind::kRotation;
 
-  if (o.json) {
-    io::Json out;
-    out["mode"] = std::string(drive_mode_keyword(*mode));
-    out["config"] = config;
-    out["steering_limit_rad"] = kin.steering_limit_rad;
-    out["wheel_radius_m"] = kin.wheel_radius_m;
-    out["body_velocity"] = {{"forward_mps", body.forward_mps},
-                            {"lateral_mps", body.lateral_mps},
-                            {"yaw_rate_radps", body.yaw_rate_radps}};
-    out["icr_m"] = has_icr ? io::Json{command.motion.icr_m.x(), command.motion.icr_m.y()}
-                           : io::Json(nullptr);
-    out["wheels"] = io::Json::array();
-    for (int leg = 0; leg < kNumLegs; ++leg) {
-      out["wheels"].push_back(
-          {{"name", kWheelNames[leg]},
-           {"centre_m", {kin.wheel_centre_m[leg].x(), kin.wheel_centre_m[leg].y()}},
-           {"steer_rad", wheels.steer_rad[leg]},
-           {"steer_deg", wheels.steer_rad[leg] * kDegPerRad},
-           {"wheel_speed_radps", wheels.wheel_speed_radps[leg]},
-           {"ground_speed_mps", wheels.wheel_speed_radps[leg] * kin.wheel_radius_m},
-           {"flipped", wheels.flipped[leg]}});
-    }
+  io::Json out;
+  out["mode"] = std::string(drive_mode_keyword(*mode));
+  out["config"] = config;
+  out["steering_limit_rad"] = kin.steering_limit_rad;
+  out["wheel_radius_m"] = kin.wheel_radius_m;
+  out["body_velocity"] = {{"forward_mps", body.forward_mps},
+                          {"lateral_mps", body.lateral_mps},
+                          {"yaw_rate_radps", body.yaw_rate_radps}};
+  out["icr_m"] = has_icr ? io::Json{command.motion.icr_m.x(), command.motion.icr_m.y()}
+                         : io::Json(nullptr);
+  out["wheels"] = io::Json::array();
+  for (int leg = 0; leg < kNumLegs; ++leg) {
+    out["wheels"].push_back(
+        {{"name", kWheelNames[leg]},
+         {"centre_m", {kin.wheel_centre_m[leg].x(), kin.wheel_centre_m[leg].y()}},
+         {"steer_rad", wheels.steer_rad[leg]},
+         {"steer_deg", wheels.steer_rad[leg] * kDegPerRad},
+         {"wheel_speed_radps", wheels.wheel_speed_radps[leg]},
+         {"ground_speed_mps", wheels.wheel_speed_radps[leg] * kin.wheel_radius_m},
+         {"flipped", wheels.flipped[leg]}});
+  }
+  // A command too large for doubles (--v 1e308) is refused, table or JSON.
+  try {
     require_finite_output(out);
+  } catch (const std::runtime_error& e) {
+    throw CommandLineError({"the command (" + given_flags + ") gives " + e.what()});
+  }
+  if (o.json) {
     std::cout << out.dump(2) << "\n";
     return 0;
   }

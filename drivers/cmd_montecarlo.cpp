@@ -14,12 +14,17 @@ namespace {
 
 struct MonteCarloOptions {
   std::string study_path;
-  std::optional<long long> samples, seed;
+  std::optional<long long> samples;
+  std::string seed;  // read as the JSON "seed" is: 0 .. 2^64 - 1 exactly
   study::StudyRunControl control;
 };
 
 int run_montecarlo_command(MonteCarloOptions& o) {
   study::MpiSession mpi(nullptr, nullptr);
+  FlagChecks checks;
+  const std::uint64_t seed = o.seed.empty() ? 0 : checks.seed("--seed", o.seed);
+  check_study_output(checks, o.control, o.study_path);
+  checks.throw_if_any();
   study::MonteCarloStudy s = study::load_montecarlo_study(o.study_path);
   std::string changed;
   if (o.samples) {
@@ -30,10 +35,9 @@ int run_montecarlo_command(MonteCarloOptions& o) {
     s.spec.design.samples = static_cast<int>(*o.samples);
     changed += " --samples " + std::to_string(*o.samples);
   }
-  if (o.seed) {
-    if (*o.seed < 0) throw std::invalid_argument("--seed must not be negative, got " + std::to_string(*o.seed));
-    s.spec.design.seed = static_cast<std::uint64_t>(*o.seed);
-    changed += " --seed " + std::to_string(*o.seed);
+  if (!o.seed.empty()) {
+    s.spec.design.seed = seed;
+    changed += " --seed " + std::to_string(seed);
   }
   // Options that change results are part of the checkpoint's fingerprint.
   s.spec.fingerprint = study::extend_fingerprint(
@@ -72,7 +76,7 @@ const RegisterCommand registration{
       app.add_option("--study", o->study_path, "Study file (configs/studies/*.json, type montecarlo)")
           ->required()->check(CLI::ExistingFile);
       app.add_option("--samples", o->samples, "Override the number of samples N");
-      app.add_option("--seed", o->seed, "Override the random seed");
+      app.add_option("--seed", o->seed, "Override the random seed, an integer from 0 to 2^64 - 1");
       add_study_control(app, o->control);
       return [o] { return run_montecarlo_command(*o); };
     }};

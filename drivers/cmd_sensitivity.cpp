@@ -20,6 +20,9 @@ struct SensitivityOptions {
 
 int run_sensitivity_command(SensitivityOptions& o) {
   study::MpiSession mpi(nullptr, nullptr);
+  FlagChecks checks;
+  check_study_output(checks, o.control, o.study_path);
+  checks.throw_if_any();
   study::SensitivityStudy s = study::load_sensitivity_study(o.study_path);
   if (o.samples) {
     if (s.method != study::SensitivityMethod::kSobol)

@@ -57,6 +57,9 @@ int run_simulate(const SimulateOptions& o) {
   }
   checks.output_file("--out", o.out, /*regular_only=*/true);
   checks.output_file("--csv", o.csv);
+  checks.distinct_files("--out", o.out, "--scenario", o.scenario);
+  checks.distinct_files("--csv", o.csv, "--scenario", o.scenario);
+  checks.distinct_files("--csv", o.csv, "--out", o.out);
   checks.throw_if_any();
 
   io::ScenarioSetup setup = io::load_scenario(o.scenario);

@@ -19,6 +19,10 @@ struct SurfaceOptions {
 
 int run_surface_command(SurfaceOptions& o) {
   study::MpiSession mpi(nullptr, nullptr);
+  FlagChecks checks;
+  check_integrator_flag(checks, o.integrator);
+  check_study_output(checks, o.control, o.study_path);
+  checks.throw_if_any();
   study::SurfaceStudy s = study::load_surface_study(o.study_path);
   if (!o.integrator.empty()) {
     s.integrator = default_integrator_settings(integrator_from_name(o.integrator));

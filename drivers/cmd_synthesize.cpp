@@ -64,6 +64,8 @@ int run_synthesize(const SynthesizeOptions& o) {
   const study::CalibrationChannel& channel = study::calibration_channel(o.channel);
 
   const std::string scenario_path = path_option(o.scenario_option, o.scenario, kDefaultScenario);
+  checks.distinct_files("--out", o.out, "--scenario", scenario_path);
+  checks.throw_if_any();
   io::ScenarioSetup setup = io::load_scenario(scenario_path);
   // A different method comes with its own default tolerances, as in `rover simulate`.
   if (!o.integrator.empty())

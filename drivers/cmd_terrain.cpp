@@ -31,6 +31,7 @@ int run_obstacle(const ObstacleOptions& o) {
   FlagChecks checks;
   checks.output_file("--out", o.out);
   checks.output_file("--png", o.png);
+  checks.distinct_files("--png", o.png, "--out", o.out);
   checks.positive("--spacing", o.spacing_m);
   checks.non_negative("--margin", o.margin_m);
   checks.finite("--foot-x", o.obstacle.foot_x_m);
@@ -46,7 +47,16 @@ int run_obstacle(const ObstacleOptions& o) {
   checks.throw_if_any();
   TrapezoidObstacle obstacle = o.obstacle;
   obstacle.ramp_angle_rad = o.ramp_angle_deg * std::numbers::pi / 180.0;
-  const HeightGrid grid = trapezoid_obstacle_grid(obstacle, o.spacing_m, o.margin_m);
+  HeightGrid grid;
+  try {
+    grid = trapezoid_obstacle_grid(obstacle, o.spacing_m, o.margin_m);
+  } catch (const std::invalid_argument& e) {
+    throw CommandLineError({"--spacing " + number_text(o.spacing_m) + ", --margin " + number_text(o.margin_m) +
+                            ", --height " + number_text(obstacle.height_m) + ", --ramp-angle-deg " +
+                            number_text(o.ramp_angle_deg) + ", --top-length " + number_text(obstacle.top_length_m) +
+                            ", --y-min " + number_text(obstacle.y_min_m) + ", --y-max " +
+                            number_text(obstacle.y_max_m) + ": " + e.what()});
+  }
 
   std::ostringstream description;
   description << "Trapezoid obstacle of docs/model.md §7 (obstacle negotiation): foot at x = "

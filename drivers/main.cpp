@@ -5,6 +5,9 @@
 // Damerau 1964): "rover simulat" -> did you mean 'simulate'? Whatever a
 // subcommand printed on stdout is flushed and checked before the exit status
 // is returned, so a full disk or a closed pipe is an error, not a success.
+// Exit status: 0 done, 1 refused (a bad file, or a bad command line, also one
+// CLI11 refuses itself, or an option given an empty value), 2 some runs
+// failed (the subcommand's own), 130 interrupted.
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
@@ -62,6 +65,25 @@ std::string unknown_subcommand_message(const std::string& typed,
   return message + " (subcommands: " + names + ")";
 }
 
+// An option given an empty value (`--f ""`, typically an unset shell
+// variable) is an error, never the option's default: CLI11 reads an empty
+// value into an optional number as "not given".
+void collect_empty_values(const CLI::App& app, FlagChecks& checks) {
+  for (const CLI::Option* option : app.get_options()) {
+    if (option->count() == 0 || option->get_expected_max() == 0) continue;  // not given, or a flag
+    for (const std::string& value : option->results())
+      if (value.find_first_not_of(" \t") == std::string::npos)
+        checks.add(option->get_name() + " was given an empty value");
+  }
+  for (const CLI::App* sub : app.get_subcommands()) collect_empty_values(*sub, checks);
+}
+
+void reject_empty_values(const CLI::App& app) {
+  FlagChecks checks;
+  collect_empty_values(app, checks);
+  checks.throw_if_any();
+}
+
 }  // namespace
 }  // namespace rover::cli
 
@@ -85,18 +107,21 @@ int main(int argc, char** argv) {
       std::none_of(registry.begin(), registry.end(),
                    [&](const CommandEntry& entry) { return entry.name == argv[1]; })) {
     std::cerr << unknown_subcommand_message(argv[1], registry) << "\nRun 'rover --help' for the list.\n";
-    return static_cast<int>(CLI::ExitCodes::ExtrasError);
+    return 1;
   }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version exit 0; every refused command line exits 1, as a
+    // refused config file does (CLI11's own codes, 101-115, are not documented).
+    return app.exit(e) == 0 ? 0 : 1;
   }
   for (auto& [sub, run] : runners) {
     if (!sub->parsed()) continue;
     const std::string prefix = "rover " + sub->get_name() + ": error: ";
     int status = 1;
     try {
+      reject_empty_values(*sub);
       status = run();
     } catch (const CommandLineError& e) {
       for (const std::string& problem : e.problems()) std::cerr << prefix << problem << "\n";

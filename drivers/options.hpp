@@ -67,8 +67,9 @@ class FlagChecks {
     if (!(std::isfinite(value) && value >= 0.0))
       add(flag + " must be a finite number >= 0, got " + number_text(value));
   }
-  // An output file: not a directory; with `regular_only`, also not a device
-  // or a pipe (HDF5 needs a file it can seek in and rename into place).
+  // An output file: not a directory, in a directory that exists or can be
+  // made (it is made now, as the write would); with `regular_only`, also not
+  // a device or a pipe (HDF5 needs a file it can seek in and rename into place).
   void output_file(const std::string& flag, const std::string& path, bool regular_only = false) {
     if (path.empty()) return;
     std::error_code error;
@@ -78,7 +79,31 @@ class FlagChecks {
     } else if (regular_only && std::filesystem::exists(status) &&
                !std::filesystem::is_regular_file(status)) {
       add(flag + " '" + path + "' is not a regular file (a device or a pipe); give a file name");
+    } else if (const std::filesystem::path dir = std::filesystem::path(path).parent_path(); !dir.empty()) {
+      std::filesystem::create_directories(dir, error);
+      if (error || !std::filesystem::is_directory(dir))
+        add(flag + " '" + path + "': cannot create the directory '" + dir.string() + "'" +
+            (error ? " (" + error.message() + ")" : std::string(" (a file of that name exists)")));
     }
+  }
+
+  // An output that would replace an input: the same file, however spelt
+  // (a relative path, a symbolic or hard link).
+  void distinct_files(const std::string& output_flag, const std::string& output, const std::string& input_flag,
+                      const std::string& input) {
+    if (output.empty() || input.empty()) return;
+    namespace fs = std::filesystem;
+    std::error_code e1, e2, e3;
+    bool same = false;
+    if (fs::exists(output, e1) && fs::exists(input, e2)) {
+      same = fs::equivalent(output, input, e3) && !e3;  // also through links
+    } else {
+      const fs::path a = fs::weakly_canonical(output, e1), b = fs::weakly_canonical(input, e2);
+      same = !e1 && !e2 && a == b;  // neither written yet: the same name
+    }
+    if (same)
+      add(output_flag + " '" + output + "' is the same file as " + input_flag + " '" + input +
+          "'; writing it would destroy it");
   }
 
   // A seed flag, read as the JSON configs read "seed".

@@ -7,6 +7,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "drivers/options.hpp"
 #include "study/montecarlo.hpp"
 #include "study/study_runner.hpp"
 
@@ -23,6 +24,23 @@ inline void add_study_control(CLI::App& app, study::StudyRunControl& c) {
   app.add_option("--checkpoint-every", c.checkpoint.every_records,
                  "Flush finished runs to <out>.checkpoint after this many (or every 60 s)")
       ->capture_default_str()->check(CLI::Range(1, 1000000));
+}
+
+// The checks of a study's --out (a file, in a directory that can be made, not
+// the study file itself), before the study is loaded.
+inline void check_study_output(FlagChecks& checks, const study::StudyRunControl& c, const std::string& study_path) {
+  checks.output_file("--out", c.results_path, /*regular_only=*/true);
+  checks.distinct_files("--out", c.results_path, "--study", study_path);
+}
+
+// An --integrator flag names a method.
+inline void check_integrator_flag(FlagChecks& checks, const std::string& name) {
+  if (name.empty()) return;
+  try {
+    integrator_from_name(name);
+  } catch (const std::invalid_argument& e) {
+    checks.add(std::string("--integrator: ") + e.what());
+  }
 }
 
 // Runs a study inside the command's MPI session and reports an interrupt

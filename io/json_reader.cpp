@@ -1,12 +1,14 @@
 // See json_reader.hpp.
 #include "io/json_reader.hpp"
 
+#include <cerrno>
 #include <climits>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <sstream>
+#include <system_error>
 #include <utility>
 #include <vector>
 
@@ -172,7 +174,12 @@ Json read_json_file(const std::string& path) {
   if (!fs::exists(status)) throw ConfigError(path + ": no such file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw ConfigError(path + ": cannot open file");
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string text;
+  try {  // the stream buffer throws on a failed read(2) (EIO: /proc/self/mem)
+    text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  } catch (const std::exception&) {
+    throw ConfigError(path + ": read error (" + std::generic_category().message(errno) + ")");
+  }
   if (in.bad()) throw ConfigError(path + ": read error");
   return parse_json_text(text, path);
 }

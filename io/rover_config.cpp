@@ -66,7 +66,14 @@ RoverParameters parse_rover_parameters(const Json& config, const std::string& fi
   p.s_structure.sharpness_f = s.positive("f");
   p.s_structure.stiffness_Nm_per_rad = s.non_negative("k_q");
   p.s_structure.damping_c_q = s.non_negative("c_q");
-  s.has("preload_order");  // documentation only
+  // preload_order documents the order of preload_mean and preload_sd (docs/model.md §5);
+  // it cannot change it, so any other order is an error rather than a silent relabelling.
+  if (s.has("preload_order")) {
+    const Json expected = {"11", "12", "21", "22", "31", "32", "41", "42"};
+    if (s.raw("preload_order") != expected)
+      s.fail("preload_order", "the preloads are always in the order " + expected.dump() +
+                                  " (this key documents it and cannot change it)");
+  }
   p.s_structure.preload_mean_Nm = non_negative_array<kNumSJoints>(s, "preload_mean");
   p.s_structure.preload_sd_Nm = non_negative_array<kNumSJoints>(s, "preload_sd");
   s.finish();

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
+#include <numbers>
 #include <optional>
 #include <stdexcept>
 #include <utility>
@@ -70,8 +71,13 @@ DriveCommand natural_command(const JsonReader& s, const DriveKinematics& k, Driv
       const auto icr = s.fixed_numbers<2>("icr");
       return general_ackermann_command(speed, Vec2(icr[0], icr[1]));
     }
-    case DriveMode::kParallel:
-      return parallel_command(speed, s.number_or("crab_angle", 0.0));
+    case DriveMode::kParallel: {
+      const double crab_rad = s.number_or("crab_angle", 0.0);
+      // An angle beyond a half turn is a heading in degrees, not radians.
+      if (!(std::abs(crab_rad) <= std::numbers::pi))
+        s.fail("crab_angle", "must lie in [-pi, pi] rad (an angle in degrees?)");
+      return parallel_command(speed, crab_rad);
+    }
     case DriveMode::kLateral:
       return lateral_command(speed);
     case DriveMode::kInPlaceRotation:
@@ -245,6 +251,11 @@ IntegratorSettings parse_integrator_settings(const JsonReader& r, IntegratorSett
                                                                 : "initial_step";
     r.fail(key, why);
   }
+  // A fixed step below the adaptive methods' floor is a typo (1e-300), and its
+  // step count per output period would not fit an integer.
+  if (s.method == IntegratorMethod::kRungeKutta4 && !(s.fixed_step_s >= s.min_step_s))
+    r.fail("fixed_step", "rk4: fixed_step " + number_text(s.fixed_step_s) + " s is below min_step " +
+                             number_text(s.min_step_s) + " s");
   return s;
 }
 
@@ -261,13 +272,18 @@ ScenarioSources read_scenario_sources(const std::string& path) {
   sources.scenario = read_json_file(path);
   sources.scenario_path = path;
   const JsonReader r(sources.scenario, path);
-  sources.rover_path = resolve_relative(path, r.string("rover"));
-  if (!std::filesystem::exists(sources.rover_path))
-    r.fail("rover", "file not found: " + sources.rover_path);
+  // A referenced file: a name, of something that exists and is not a directory.
+  auto referenced_file = [&](const std::string& key) {
+    const std::string name = r.string(key);
+    if (name.empty()) r.fail(key, "expected the path of a JSON file");
+    const std::string resolved = resolve_relative(path, name);
+    if (!std::filesystem::exists(resolved)) r.fail(key, "file not found: " + resolved);
+    if (std::filesystem::is_directory(resolved)) r.fail(key, "is a directory: " + resolved);
+    return resolved;
+  };
+  sources.rover_path = referenced_file("rover");
   if (r.has("terrain")) {
-    sources.terrain_path = resolve_relative(path, r.string("terrain"));
-    if (!std::filesystem::exists(sources.terrain_path))
-      r.fail("terrain", "file not found: " + sources.terrain_path);
+    sources.terrain_path = referenced_file("terrain");
     sources.terrain = load_terrain(sources.terrain_path);
   }
   sources.rover = read_json_file(sources.rover_path);
@@ -290,8 +306,8 @@ ScenarioSetup build_scenario(const ScenarioSources& sources) {
   if (r.has("terrain")) r.string("terrain");
   setup.rover_path = sources.rover_path;
   setup.terrain_path = sources.terrain_path;
-  setup.model = make_rover_model(parse_rover_parameters(sources.rover, sources.rover_path),
-                                 sources.terrain);
+  setup.model = make_checked_rover_model(parse_rover_parameters(sources.rover, sources.rover_path),
+                                        sources.terrain, sources.rover_path);
   const double R = setup.model.parameters.geometry.wheel_radius_m;
 
   // A drive schedule replaces the constant set-points; its command at t = 0
@@ -327,7 +343,17 @@ ScenarioSetup build_scenario(const ScenarioSources& sources) {
   if (r.has("initial_ground_clearance"))
     s.initial_q[coord::z] = r.number("initial_ground_clearance") - lowest_wheel_bottom(setup.model, s.initial_q);
   if (r.has("wheel_speed_ref")) s.wheel_speed_ref_radps = r.fixed_numbers<kNumLegs>("wheel_speed_ref");
-  if (r.has("steer_ref")) s.steer_ref_rad = r.fixed_numbers<kNumLegs>("steer_ref");
+  if (r.has("steer_ref")) {
+    s.steer_ref_rad = r.fixed_numbers<kNumLegs>("steer_ref");
+    // Beyond the end-stop the servo would push into it for the whole run: an
+    // unreachable reference is refused, never clamped (as for a drive).
+    const double limit = setup.model.parameters.steering.limit_rad;
+    for (int leg = 0; leg < kNumLegs; ++leg)
+      if (!(std::abs(s.steer_ref_rad[leg]) <= limit))
+        r.fail("steer_ref", "element " + std::to_string(leg) + " (" + number_text(s.steer_ref_rad[leg]) +
+                                " rad) is beyond the steering end-stop +-" + number_text(limit) +
+                                " rad (steering.limit of " + sources.rover_path + ")");
+  }
 
   if (r.has("duration") == r.has("travel_distance"))
     r.fail("duration", "give exactly one of 'duration' [s] and 'travel_distance' [m]");
@@ -341,6 +367,10 @@ ScenarioSetup build_scenario(const ScenarioSources& sources) {
     s.duration_s = distance / r.number("forward_speed");
   }
   s.output_rate_hz = r.has("output_rate") ? r.positive("output_rate") : 1000.0;
+  if (!(s.duration_s * s.output_rate_hz >= 1.0))
+    r.fail(r.has("duration") ? "duration" : "travel_distance",
+           "a run of " + number_text(s.duration_s) + " s at output_rate " + number_text(s.output_rate_hz) +
+               " Hz records only its initial state; the run must last at least one output period");
   if (const std::string problem = recording_size_problem(
           recorded_sample_count(s.duration_s, s.output_rate_hz), kTrajectoryBytesPerSample);
       !problem.empty()) {

@@ -130,7 +130,13 @@ Terrain load_terrain(const std::string& path) {
       const JsonReader grid_reader = r.child("grid");
       const GridGeometry geometry = read_geometry(grid_reader);
       grid_reader.finish();
-      terrain = Terrain::from_grid(grid_from_control_points(points, geometry));
+      HeightGrid grid;
+      try {
+        grid = grid_from_control_points(points, geometry);
+      } catch (const std::invalid_argument& e) {
+        r.fail("points", e.what());  // collinear or repeated points
+      }
+      terrain = Terrain::from_grid(std::move(grid));
     } else {
       r.fail("type", "unknown terrain type (known: flat, grid, control_points)");
     }

@@ -376,9 +376,10 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
     r.fail("mcmc.walkers", "got " + std::to_string(s.mcmc.walkers) + "; must be even and at least " +
                                std::to_string(2 * sampled) + ", twice the " + std::to_string(sampled) +
                                " sampled parameters (" + sampled_names + ")");
-  if (s.mcmc.steps <= 0) r.fail("mcmc.steps", "must be positive");
+  if (s.mcmc.steps <= 0) r.fail("mcmc.steps", "must be positive, got " + std::to_string(s.mcmc.steps));
   if (s.mcmc.discard < 0 || s.mcmc.steps - s.mcmc.discard < 4)
-    r.fail("mcmc.discard", "must be >= 0 and leave at least 4 of the " + std::to_string(s.mcmc.steps) + " steps");
+    r.fail("mcmc.discard", "must be >= 0 and leave at least 4 of the " + std::to_string(s.mcmc.steps) +
+                               " steps, got " + std::to_string(s.mcmc.discard));
 
   // Read every key even when the command line overrides it (no "unknown key").
   const std::string configured_algorithm = r.string_or("algorithm", "LN_BOBYQA");

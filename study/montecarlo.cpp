@@ -134,7 +134,8 @@ MonteCarloStudy load_montecarlo_study(const std::string& path) {
   }
   if (r.has("bootstrap")) {
     s.bootstrap_resamples = r.integer("bootstrap");
-    if (s.bootstrap_resamples < 100) r.fail("bootstrap", "needs at least 100 resamples");
+    if (s.bootstrap_resamples < 100 || s.bootstrap_resamples > 100000)
+      r.fail("bootstrap", "give 100 .. 100000 resamples");
   }
   if (s.spec.rover && s.spec.rover->qoi_names().empty() && s.spec.rover->channel_names().empty())
     r.fail("qoi", "a Monte Carlo needs at least one of \"qoi\" and \"channels\"");

@@ -3,12 +3,14 @@
 
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <sstream>
 
 #include "core/rover_parameters.hpp"
 #include "io/checkpoint.hpp"
+#include "io/csv.hpp"
 #include "io/trajectory_io.hpp"
 
 namespace rover::study {
@@ -35,11 +37,16 @@ Distribution preload_distribution(const io::JsonReader& p, const io::Json& rover
   if (p.has("truncate")) {
     const io::Json& t = p.raw("truncate");
     if (!t.is_array() || t.size() != 2) p.fail("truncate", "expected [lower, upper] (null for no bound)");
+    for (std::size_t k = 0; k < 2; ++k)
+      if (!t[k].is_null() && !t[k].is_number())
+        p.fail("truncate", "element " + std::to_string(k) + " is neither a number nor null");
     if (!t[0].is_null()) lower = t[0].get<double>();
     if (!t[1].is_null()) upper = t[1].get<double>();
   }
-  if (sd == 0.0) return fixed_value(mean);
-  return normal(mean, sd, lower, upper);
+  const Distribution d = sd == 0.0 ? fixed_value(mean) : normal(mean, sd, lower, upper);
+  std::string why;
+  if (!d.IsValid(&why)) p.fail(p.has("truncate") ? "truncate" : "sd_scale", why);
+  return d;
 }
 
 std::vector<UncertainInput> parse_rover_parameters_block(const io::JsonReader& r,
@@ -150,9 +157,19 @@ std::vector<QoiSpec> parse_qois(const io::JsonReader& r, const std::string& stud
             o.fail("channel", e.what());
           }
           try {
-            const io::Curve c = io::read_curve(ref->path, ref->path.ends_with(".csv") ? "z" : channel);
-            ref->t = c.t;
-            ref->value = c.y;
+            if (ref->path.ends_with(".csv")) {
+              // The checks of every measured curve (io::read_measured_curve): a
+              // height in millimetres is caught; other channels have no bound.
+              const double bound = channel.ends_with("_z") ? io::kMeasuredCurveMaxAbsHeight_m
+                                                           : std::numeric_limits<double>::infinity();
+              const io::MeasuredCurve c = io::curve_from_table(io::read_csv(ref->path, {"t", "z"}), "z", bound);
+              ref->t = c.t_s;
+              ref->value = c.z_m;
+            } else {
+              const io::Curve c = io::read_curve(ref->path, channel);
+              ref->t = c.t;
+              ref->value = c.y;
+            }
           } catch (const std::exception& e) {
             o.fail("reference", e.what());
           }

@@ -21,6 +21,7 @@ std::vector<double> parse_axis(const io::JsonReader& parent, const std::string& 
   const double min = a.positive("min"), max = a.positive("max");
   const int count = a.integer("count");
   if (count < 1) a.fail("count", "the grid needs at least one point");
+  if (count > 1'000'000) a.fail("count", "more than 1e6 points on one axis");
   if (!(max >= min)) a.fail("max", "must not be below min (" + std::to_string(min) + ")");
   const std::string spacing = a.string_or("spacing", "linear");
   std::vector<double> v;

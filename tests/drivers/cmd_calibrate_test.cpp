@@ -147,8 +147,8 @@ TEST(CmdCalibrate, BadInputIsRefusedNamingTheFieldOrFile) {
     std::string options, expected;
   };
   const std::vector<Case> cases{
-      {"--starts 0", "'starts'"},
-      {"--max-evaluations -1", "'max_evaluations'"},
+      {"--starts 0", "--starts must be at least 1, got 0"},
+      {"--max-evaluations -1", "--max-evaluations must be at least 1, got -1"},
       {"--algorithm LD_MMA", "'algorithm'"},
       {"--data " + backwards, backwards},
       {"--data " + two_rows, two_rows},

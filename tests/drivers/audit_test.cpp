@@ -1,0 +1,1002 @@
+// An audit of malformed and extreme input through the built `rover`: every
+// file type (rover, scenario, terrain and drive blocks, the four study types,
+// design CSVs, measured curves, reference curves) and every subcommand's
+// flags, one changed field or flag per case. Each case runs `rover` once,
+// under `timeout`, and checks that
+//   * it neither crashes nor hangs: the exit status is 0, 1 or 2 (a signal
+//     or the timeout gives another), and no raw library or runtime message
+//     ("terminate called", a nlohmann exception, a std:: conversion name)
+//     reaches the user;
+//   * invalid input is refused with status 1 and a message naming the file
+//     (or the flag), the field and the offending value;
+//   * extreme but valid input runs (status 0; 2 where a run may fail and be
+//     recorded as failed).
+// The cases are tables; each table's runs go out four at a time (most of a
+// study command's time is waiting on MPI start-up, not computing).
+// Every case stays well under a second of computing: 0.05 s drops with the
+// stiff integrator, two-sample studies, analytic models.
+#include <atomic>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "io/json_reader.hpp"
+#include "test_support.hpp"
+
+namespace rover {
+namespace {
+
+namespace fs = std::filesystem;
+using io::Json;
+using testing::rover_binary;
+using testing::run_command;
+using testing::source_path;
+using testing::write_file;
+
+enum class Want {
+  kError,        // status 1, and the message holds every mention
+  kRuns,         // status 0
+  kRunsOrFails,  // status 0, or 2 (a run failed and was recorded as failed)
+};
+
+struct Case {
+  std::string id;
+  std::string args;  // after `rover`
+  Want want;
+  std::vector<std::string> mentions;  // substrings the output must hold
+};
+
+struct Outcome {
+  int status = -1;
+  std::string output;
+};
+
+// Messages that only a crash or an unhandled library error prints.
+const std::vector<std::string> kForbidden = {
+    "terminate called", "Segmentation", "core dumped", "Aborted", "[json.exception", "basic_string",
+    "std::", "stod", "stoi", "vector::", "bad_alloc", "Assertion", "HDF5-DIAG"};
+
+// A short horizontal drop: 0.05 s at 200 Hz with the stiff integrator.
+Json quick_scenario_json() {
+  return Json{{"name", "quick"},
+              {"rover", source_path("configs/rover.json")},
+              {"terrain", source_path("configs/terrains/flat.json")},
+              {"duration", 0.05},
+              {"output_rate", 200},
+              {"initial_q", {{"z", 0.281}, {"chi", 0.039}, {"psi", 0.0042}}},
+              {"integrator", {{"method", "rosenbrock"}}}};
+}
+
+// Writes the files of the cases into one directory.
+class Workshop {
+ public:
+  explicit Workshop(std::string dir) : dir_(std::move(dir)) {
+    quick_ = json_file("quick", quick_scenario_json());
+    shipped_rover_ = io::read_json_file(source_path("configs/rover.json"));
+  }
+  const std::string& dir() const { return dir_; }
+  const std::string& quick() const { return quick_; }
+  std::string out(const std::string& ext = "h5") { return dir_ + "/out_" + std::to_string(++n_) + "." + ext; }
+
+  std::string text_file(const std::string& stem, const std::string& text, const std::string& ext = "json") {
+    const std::string path = dir_ + "/" + stem + "_" + std::to_string(++n_) + "." + ext;
+    std::ofstream(path, std::ios::binary) << text;
+    return path;
+  }
+  std::string json_file(const std::string& stem, const Json& j) { return text_file(stem, j.dump(1)); }
+  // A private copy, for a case that might destroy its input.
+  std::string copy_of(const std::string& path) {
+    const fs::path p(path);
+    const std::string copy = dir_ + "/" + p.stem().string() + "_copy_" + std::to_string(++n_) + p.extension().string();
+    fs::copy_file(p, copy);
+    return copy;
+  }
+
+  // A copy of the shipped rover with `edit` applied.
+  std::string rover(const std::function<void(Json&)>& edit) {
+    Json j = shipped_rover_;
+    edit(j);
+    return json_file("rover", j);
+  }
+  // The quick scenario with `edit` applied.
+  std::string scenario(const std::function<void(Json&)>& edit) {
+    Json j = quick_scenario_json();
+    edit(j);
+    return json_file("scenario", j);
+  }
+  std::string scenario_with_rover(const std::string& rover_path) {
+    return scenario([&](Json& j) { j["rover"] = rover_path; });
+  }
+  std::string scenario_with_terrain(const std::string& terrain_path) {
+    return scenario([&](Json& j) { j["terrain"] = terrain_path; });
+  }
+  // The quick scenario driving `drive` for 0.05 s from 1 mm above the ground.
+  std::string drive_scenario(const Json& drive) {
+    return scenario([&](Json& j) {
+      j.erase("initial_q");
+      j["initial_ground_clearance"] = 0.001;
+      j["drive"] = drive;
+    });
+  }
+
+  // A 2-sample Monte Carlo of c_q on the quick drop, `edit` applied.
+  std::string montecarlo(const std::function<void(Json&)>& edit) {
+    Json j{{"type", "montecarlo"},
+           {"name", "m"},
+           {"scenario", quick_},
+           {"parameters", {{"c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.2}}}}},
+           {"design", {{"type", "monte_carlo"}, {"samples", 2}, {"seed", 1}}},
+           {"qoi", {"t_min"}}};
+    edit(j);
+    return json_file("mc", j);
+  }
+  // Sobol' indices of the Ishigami function from 8 base samples, `edit` applied.
+  std::string sensitivity(const std::function<void(Json&)>& edit) {
+    Json j{{"type", "sensitivity"},
+           {"method", "sobol"},
+           {"name", "s"},
+           {"model", "ishigami"},
+           {"design", {{"type", "sobol"}, {"samples", 8}, {"seed", 1}}},
+           {"bootstrap", 100}};
+    edit(j);
+    return json_file("sens", j);
+  }
+  // A 2 x 1 (f, c_q) surface on the quick drop, `edit` applied.
+  std::string surface(const std::function<void(Json&)>& edit) {
+    Json j{{"type", "surface"},
+           {"name", "s"},
+           {"scenario", quick_},
+           {"reference", {{"simulate", {{"f", 1e4}, {"c_q", 0.14}}}}},
+           {"f", {{"min", 1e3}, {"max", 1e4}, {"count", 2}, {"spacing", "log"}}},
+           {"c_q", {{"min", 0.1}, {"max", 0.2}, {"count", 1}}}};
+    edit(j);
+    return json_file("surface", j);
+  }
+  // A fit of c_q to the shipped synthetic drop, `edit` applied.
+  std::string calibration(const std::function<void(Json&)>& edit) {
+    Json j{{"type", "calibration"},
+           {"name", "c"},
+           {"scenario", quick_},
+           {"data", source_path("configs/data/drop_horizontal_synthetic.csv")},
+           {"fit", {"c_q"}},
+           {"bounds", {{"c_q", {0.02, 1.0}}, {"time_offset", {-0.2, 0.2}}}},
+           {"initial", {{"c_q", 0.1}}},
+           {"max_evaluations", 2}};
+    edit(j);
+    return json_file("cal", j);
+  }
+
+ private:
+  std::string dir_, quick_;
+  Json shipped_rover_;
+  int n_ = 0;
+};
+
+// The shipped synthetic drop's rows as text, with `line_end` after each line.
+std::string measured_text(const std::string& line_end, std::size_t rows = 40) {
+  std::ifstream in(source_path("configs/data/drop_horizontal_synthetic.csv"));
+  std::string text, line;
+  std::size_t data_rows = 0;
+  while (std::getline(in, line) && data_rows <= rows) {
+    if (line.empty() || line[0] == '#') continue;
+    text += line + line_end;
+    ++data_rows;
+  }
+  return text;
+}
+
+// `text` after a UTF-8 byte-order mark, as spreadsheet programs write it.
+std::string with_bom(const std::string& text) {
+  std::string out = "\xEF\xBB\xBF";
+  out += text;
+  return out;
+}
+
+Outcome run_one(const std::string& dir, const Case& c) {
+  Outcome o;
+  // A hang is the timeout's status 124 (137 once killed), never 0, 1 or 2.
+  // Each run is a single process: Open MPI's singleton need not start its
+  // support daemon (half of a study command's start-up time).
+  o.status = run_command("cd " + dir + " && OMPI_MCA_ess_singleton_isolated=1 timeout -k 2 30 " + rover_binary() +
+                             " " + c.args,
+                         &o.output);
+  return o;
+}
+
+void run_table(const std::string& dir, const std::vector<Case>& cases) {
+  std::vector<Outcome> outcomes(cases.size());
+  std::atomic<std::size_t> next{0};
+  std::vector<std::thread> workers;
+  for (int w = 0; w < 4; ++w)
+    workers.emplace_back([&] {
+      for (std::size_t i = next++; i < cases.size(); i = next++) outcomes[i] = run_one(dir, cases[i]);
+    });
+  for (std::thread& t : workers) t.join();
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const Case& c = cases[i];
+    const Outcome& o = outcomes[i];
+    SCOPED_TRACE(c.id + ": rover " + c.args + "\n" + o.output);
+    EXPECT_TRUE(o.status == 0 || o.status == 1 || o.status == 2) << "crash or hang: status " << o.status;
+    for (const std::string& bad : kForbidden) EXPECT_EQ(o.output.find(bad), std::string::npos) << "'" << bad << "'";
+    switch (c.want) {
+      case Want::kError: EXPECT_EQ(o.status, 1); break;
+      case Want::kRuns: EXPECT_EQ(o.status, 0); break;
+      case Want::kRunsOrFails: EXPECT_TRUE(o.status == 0 || o.status == 2) << o.status; break;
+    }
+    for (const std::string& m : c.mentions) EXPECT_NE(o.output.find(m), std::string::npos) << "missing '" << m << "'";
+  }
+}
+
+class Audit : public ::testing::Test {
+ protected:
+  void SetUp() override { w_ = std::make_unique<Workshop>(testing::temp_dir()); }
+  Workshop& w() { return *w_; }
+  // `rover simulate` of `scenario`, without a plot.
+  std::string simulate(const std::string& scenario) {
+    return "simulate --no-plot --scenario " + scenario + " --out " + w().out();
+  }
+  std::string study(const std::string& command, const std::string& path) {
+    return command + " --no-plot --study " + path + " --out " + w().out();
+  }
+
+ private:
+  std::unique_ptr<Workshop> w_;
+};
+
+// ---- rover.json: a copy with one field changed -------------------------------
+
+TEST_F(Audit, RoverFile) {
+  std::vector<Case> cases;
+  auto rover_case = [&](const std::string& id, const std::function<void(Json&)>& edit, Want want,
+                        std::vector<std::string> mentions) {
+    const std::string path = w().rover(edit);
+    if (want == Want::kError) mentions.insert(mentions.begin(), path);
+    cases.push_back({id, simulate(w().scenario_with_rover(path)), want, mentions});
+  };
+  rover_case("gravity as a string", [](Json& j) { j["gravity"] = "9.81"; }, Want::kError, {"'gravity'", "9.81"});
+  rover_case("negative gravity", [](Json& j) { j["gravity"] = -9.81; }, Want::kError, {"'gravity'", "-9.81"});
+  rover_case("zero gravity", [](Json& j) { j["gravity"] = 0.0; }, Want::kRuns, {});
+  // A failed run (step-size underflow) is a status with its reason, not a crash.
+  rover_case("huge gravity", [](Json& j) { j["gravity"] = 1e300; }, Want::kRunsOrFails, {});
+  rover_case("wheel centre as an object",
+             [](Json& j) { j["geometry"]["wheel_centre"] = {{"x", 0.168}, {"y", 0.089}, {"z", -0.033}}; },
+             Want::kError, {"'geometry.wheel_centre'", "0.168"});
+  rover_case("bogie pivot of 2 numbers", [](Json& j) { j["geometry"]["bogie_pivot"] = {0.0, 0.1325}; },
+             Want::kError, {"'geometry.bogie_pivot'", "0.1325", "expected 3 numbers, got 2"});
+  rover_case("wheel com of strings", [](Json& j) { j["bodies"]["wheel"]["com"] = {"0", "0", "0"}; }, Want::kError,
+             {"'bodies.wheel.com'", "\"0\""});
+  rover_case("inertia entry \"NaN\"", [](Json& j) { j["bodies"]["chassis"]["inertia"][1][1] = "NaN"; },
+             Want::kError, {"'bodies.chassis.inertia'", "NaN"});
+  rover_case("bodies as an array", [](Json& j) { j["bodies"] = Json::array(); }, Want::kError, {"'bodies'", "[]"});
+  rover_case("body missing", [](Json& j) { j["bodies"].erase("module1"); }, Want::kError,
+             {"'bodies.module1'", "missing"});
+  rover_case("preload order reversed",
+             [](Json& j) { j["s_structure"]["preload_order"] = {"42", "41", "32", "31", "22", "21", "12", "11"}; },
+             Want::kError, {"'s_structure.preload_order'", "\"42\""});
+  rover_case("negative preload sd", [](Json& j) { j["s_structure"]["preload_sd"][2] = -0.089; }, Want::kError,
+             {"'s_structure.preload_sd'", "-0.089"});
+  rover_case("zero sharpness", [](Json& j) { j["s_structure"]["f"] = 0.0; }, Want::kError, {"'s_structure.f'", "0"});
+  rover_case("negative k_q", [](Json& j) { j["s_structure"]["k_q"] = -9.91; }, Want::kError,
+             {"'s_structure.k_q'", "-9.91"});
+  rover_case("c_q as a string", [](Json& j) { j["s_structure"]["c_q"] = "0.14"; }, Want::kError,
+             {"'s_structure.c_q'", "0.14"});
+  rover_case("steering limit zero", [](Json& j) { j["steering"]["limit"] = 0.0; }, Want::kError,
+             {"'steering.limit'", "0"});
+  rover_case("steering limit beyond pi", [](Json& j) { j["steering"]["limit"] = 4.0; }, Want::kRuns, {});
+  rover_case("zero drive torque", [](Json& j) { j["drive"]["tau_max"] = 0.0; }, Want::kError,
+             {"'drive.tau_max'", "0"});
+  rover_case("negative contact sigma", [](Json& j) { j["contact"]["sigma"] = -1.8; }, Want::kError,
+             {"'contact.sigma'", "-1.8"});
+  rover_case("negative mu_s", [](Json& j) { j["friction"]["mu_s"] = -0.3; }, Want::kError,
+             {"'friction.mu_s'", "-0.3"});
+  rover_case("zero v_s", [](Json& j) { j["friction"]["v_s"] = 0.0; }, Want::kError, {"'friction.v_s'", "0"});
+  rover_case("v_k below v_s", [](Json& j) { j["friction"]["v_k"] = 1e-4; }, Want::kError,
+             {"'friction.v_k'", "0.0001"});
+  rover_case("5 gammas", [](Json& j) { j["friction"]["gammas"].erase(5); }, Want::kError,
+             {"'friction.gammas'", "expected 6 numbers, got 5"});
+  rover_case("gammas_fitted_to of strings",
+             [](Json& j) { j["friction"]["gammas_fitted_to"] = {"0.3", "5.5e-4", "0.2", "2.0e-3"}; }, Want::kError,
+             {"'friction.gammas_fitted_to'", "\"0.3\""});
+  rover_case("non-ASCII key in a body", [](Json& j) { j["bodies"]["wheel"]["масса"] = 0.231; }, Want::kError,
+             {"'bodies.wheel.масса'", "unknown key"});
+  rover_case("description as a number", [](Json& j) { j["description"] = 5; }, Want::kError,
+             {"'description'", "5"});
+  rover_case("huge wheel inertia",
+             [](Json& j) { j["bodies"]["wheel"]["inertia"] = {{1e300, 0, 0}, {0, 1e300, 0}, {0, 0, 1e300}}; },
+             Want::kRunsOrFails, {});
+  rover_case("friction law beyond synthesis",
+             [](Json& j) {
+               j["friction"]["mu_k"] = 1e-300;
+               j["friction"].erase("gammas");
+               j["friction"].erase("gammas_fitted_to");
+             },
+             Want::kError, {"'friction'", "mu_k 1e-300"});
+  // Raw text: duplicate keys, a trailing comma, a NUL byte, empty, an array.
+  const std::string shipped = [] {
+    std::ifstream in(source_path("configs/rover.json"));
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }();
+  auto raw_case = [&](const std::string& id, const std::string& text, std::vector<std::string> mentions) {
+    const std::string path = w().text_file("rover_raw", text);
+    mentions.insert(mentions.begin(), path);
+    cases.push_back({id, simulate(w().scenario_with_rover(path)), Want::kError, mentions});
+  };
+  std::string dup = shipped;
+  dup.replace(dup.find("\"c_g\": 100.0"), 12, "\"c_g\": 100.0, \"c_g\": 50.0");
+  raw_case("key given twice", dup, {"'contact.c_g'", "twice"});
+  // Syntax errors: "file:line:column: field '...'".
+  std::string trailing = shipped;
+  trailing.replace(trailing.find("\"sigma\": 1.8}"), 13, "\"sigma\": 1.8,}");
+  raw_case("trailing comma", trailing, {"'contact.sigma'", "syntax error"});
+  std::string nul = shipped;
+  nul[nul.find("9.81")] = '\0';
+  raw_case("NUL byte", nul, {"'gravity'", "syntax error"});
+  raw_case("empty file", "", {":1:1:"});
+  raw_case("a top-level array", "[" + shipped + "]", {"<top level>"});
+  std::string beyond = shipped;
+  beyond.replace(beyond.find("1.0e6"), 5, "1e400");
+  raw_case("number beyond a double", beyond, {"'contact.k_g'", "1e400"});
+  run_table(w().dir(), cases);
+}
+
+// ---- scenario files -----------------------------------------------------------
+
+TEST_F(Audit, ScenarioFile) {
+  std::vector<Case> cases;
+  auto scenario_case = [&](const std::string& id, const std::function<void(Json&)>& edit, Want want,
+                           std::vector<std::string> mentions) {
+    const std::string path = w().scenario(edit);
+    if (want == Want::kError) mentions.insert(mentions.begin(), path);
+    cases.push_back({id, simulate(path), want, mentions});
+  };
+  scenario_case("duration as a string", [](Json& j) { j["duration"] = "0.05"; }, Want::kError, {"'duration'", "0.05"});
+  scenario_case("tiny duration", [](Json& j) { j["duration"] = 1e-300; }, Want::kError, {"'duration'", "1e-300"});
+  scenario_case("output rate below one sample", [](Json& j) { j["output_rate"] = 1e-3; }, Want::kError,
+                {"'duration'", "output_rate 0.001 Hz"});
+  scenario_case("initial_q as an array", [](Json& j) { j["initial_q"] = Json::array({0.0, 0.0, 0.281}); },
+                Want::kError, {"'initial_q'", "0.281"});
+  scenario_case("initial_q.z as a string", [](Json& j) { j["initial_q"]["z"] = "high"; }, Want::kError,
+                {"'initial_q.z'", "high"});
+  scenario_case("fast initial speed", [](Json& j) { j["initial_u"] = {{"x", 50.0}}; }, Want::kRunsOrFails, {});
+  scenario_case("initial yaw of 1e10 rad", [](Json& j) { j["initial_q"]["theta"] = 1e10; }, Want::kRuns, {});
+  scenario_case("3 wheel speeds", [](Json& j) { j["wheel_speed_ref"] = {1.0, 1.0, 1.0}; }, Want::kError,
+                {"'wheel_speed_ref'", "expected 4 numbers, got 3"});
+  scenario_case("steering beyond the end-stop", [](Json& j) { j["steer_ref"] = {0.0, 0.0, -10.0, 0.0}; },
+                Want::kError, {"'steer_ref'", "element 2 (-10 rad)"});
+  scenario_case("integrator method a number", [](Json& j) { j["integrator"] = {{"method", 5}}; }, Want::kError,
+                {"'integrator.method'", "5"});
+  scenario_case("zero rtol", [](Json& j) { j["integrator"]["rtol"] = 0.0; }, Want::kError,
+                {"'integrator.rtol'", "0"});
+  scenario_case("initial step above the max step",
+                [](Json& j) { j["integrator"] = {{"method", "dopri5"}, {"initial_step", 0.1}, {"max_step", 0.01}}; },
+                Want::kError, {"'integrator", "initial_step"});
+  scenario_case("integrator as a string", [](Json& j) { j["integrator"] = "rosenbrock"; }, Want::kError,
+                {"'integrator'", "rosenbrock"});
+  scenario_case("rk4 step of 1e-300 s", [](Json& j) { j["integrator"] = {{"method", "rk4"}, {"fixed_step", 1e-300}}; },
+                Want::kError, {"'integrator.fixed_step'", "1e-300"});
+  scenario_case("zero wall-time budget", [](Json& j) { j["wall_time_budget"] = 0; }, Want::kError,
+                {"'wall_time_budget'", "0"});
+  scenario_case("M0 override with a string", [](Json& j) { j["inputs"] = {{"M0", {1, 1, 1, "1", 1, 1, 1, 1}}}; },
+                Want::kError, {"'inputs.M0'", "element 3"});
+  scenario_case("zero f override", [](Json& j) { j["inputs"] = {{"f", 0}}; }, Want::kError, {"'inputs.f'", "0"});
+  scenario_case("unknown input", [](Json& j) { j["inputs"] = {{"k_q", 5}}; }, Want::kError,
+                {"'inputs.k_q'", "unknown key"});
+  scenario_case("non-ASCII name", [](Json& j) { j["name"] = "падение"; }, Want::kRuns, {});
+  scenario_case("empty rover path", [](Json& j) { j["rover"] = ""; }, Want::kError, {"'rover'", "\"\""});
+  scenario_case("terrain as a number", [](Json& j) { j["terrain"] = 5; }, Want::kError, {"'terrain'", "5"});
+  scenario_case("forward speed as a word", [](Json& j) { j["forward_speed"] = "fast"; }, Want::kError,
+                {"'forward_speed'", "fast"});
+  scenario_case("travel distance backwards",
+                [](Json& j) {
+                  j.erase("duration");
+                  j["travel_distance"] = 1.0;
+                  j["forward_speed"] = -1.0;
+                },
+                Want::kError, {"'travel_distance'", "forward_speed"});
+  scenario_case("negative ground clearance", [](Json& j) { j["initial_ground_clearance"] = -1.0; }, Want::kError,
+                {"'initial_ground_clearance'", "-1"});
+  scenario_case("drop from 100 m", [](Json& j) {
+                  j.erase("initial_q");
+                  j["initial_ground_clearance"] = 100.0;
+                }, Want::kRuns, {});
+  const std::string wrong_rover = w().scenario([&](Json& j) { j["rover"] = w().quick(); });
+  cases.push_back({"a rover path that is a scenario", simulate(wrong_rover), Want::kError, {w().quick(), "'gravity'"}});
+  scenario_case("rover path a directory", [&](Json& j) { j["rover"] = w().dir(); }, Want::kError,
+                {"'rover'", "is a directory"});
+  // Raw text.
+  auto raw_case = [&](const std::string& id, const std::string& text, Want want, std::vector<std::string> mentions) {
+    const std::string path = w().text_file("scenario_raw", text);
+    if (want == Want::kError) mentions.insert(mentions.begin(), path);
+    cases.push_back({id, simulate(path), want, mentions});
+  };
+  std::string crlf;
+  for (const char c : with_bom(quick_scenario_json().dump(1))) {
+    if (c == '\n') crlf += '\r';
+    crlf += c;
+  }
+  raw_case("byte-order mark and CRLF", crlf, Want::kRuns, {});
+  raw_case("a top-level string", "\"quick\"", Want::kError, {"<top level>"});
+  raw_case("NUL inside a string", std::string("{\"name\": \"q\0x\"}", 15), Want::kError, {"'name'", "syntax error"});
+  // Paths that are not regular readable JSON files.
+  cases.push_back({"scenario is missing", simulate(w().dir() + "/none.json"), Want::kError,
+                   {"--scenario", w().dir() + "/none.json"}});
+  cases.push_back({"scenario is /dev/null", simulate("/dev/null"), Want::kError, {"/dev/null"}});
+  cases.push_back({"scenario is unreadable", simulate("/proc/self/mem"), Want::kError, {"/proc/self/mem"}});
+  run_table(w().dir(), cases);
+}
+
+// ---- terrain files ------------------------------------------------------------
+
+TEST_F(Audit, TerrainFile) {
+  std::vector<Case> cases;
+  auto terrain_case = [&](const std::string& id, const Json& terrain, Want want, std::vector<std::string> mentions) {
+    const std::string path = w().json_file("terrain", terrain);
+    if (want == Want::kError) mentions.insert(mentions.begin(), path);
+    cases.push_back({id, simulate(w().scenario_with_terrain(path)), want, mentions});
+  };
+  const Json heights2x2 = {{0.0, 0.0}, {0.0, 0.0}};
+  auto grid = [&](const Json& counts, const Json& spacing, const Json& heights) {
+    return Json{{"type", "grid"}, {"origin", {-1.0, -1.0}}, {"spacing", spacing}, {"counts", counts}, {"heights", heights}};
+  };
+  terrain_case("zero counts", grid({0, 0}, {2.0, 2.0}, Json::array()), Want::kError, {"'counts'", "0"});
+  terrain_case("rows do not match counts", grid({2, 3}, {2.0, 1.0}, heights2x2), Want::kError, {"'heights'", "3"});
+  terrain_case("zero spacing", grid({2, 2}, {0.0, 2.0}, heights2x2), Want::kError, {"'spacing'", "0"});
+  terrain_case("negative spacing", grid({2, 2}, {-2.0, 2.0}, heights2x2), Want::kError, {"'spacing'", "-2"});
+  terrain_case("null height", grid({2, 2}, {2.0, 2.0}, {{0.0, nullptr}, {0.0, 0.0}}), Want::kError,
+               {"'heights'", "null"});
+  terrain_case("a billion nodes", grid({1000000000, 1000000000}, {1e-3, 1e-3}, heights2x2), Want::kError,
+               {"'counts'", "1000000000"});
+  terrain_case("fractional count", grid({2.5, 2}, {2.0, 2.0}, heights2x2), Want::kError, {"'counts'", "2.5"});
+  terrain_case("origin of one number", Json{{"type", "grid"}, {"origin", {0.0}}, {"spacing", {2.0, 2.0}},
+                                            {"counts", {2, 2}}, {"heights", heights2x2}},
+               Want::kError, {"'origin'", "expected 2 numbers, got 1"});
+  terrain_case("type in capitals", Json{{"type", "Flat"}}, Want::kError, {"'type'", "Flat"});
+  terrain_case("height as a string", Json{{"type", "flat"}, {"height", "0"}}, Want::kError, {"'height'", "\"0\""});
+  const std::string high_ground = w().scenario_with_terrain(w().json_file("terrain", Json{{"type", "flat"}, {"height", 1000.0}}));
+  cases.push_back({"ground 1 km up", simulate(high_ground), Want::kError,
+                   {high_ground, "'initial_q'", "1000 m below the ground"}});
+  terrain_case("a 1 x 1 grid", grid({1, 1}, {1.0, 1.0}, {{0.0}}), Want::kError, {"'counts'", "[1,1]"});
+  const Json control_grid = {{"origin", {-1.0, -1.0}}, {"spacing", {0.5, 0.5}}, {"counts", {5, 5}}};
+  terrain_case("two control points",
+               Json{{"type", "control_points"}, {"points", {{0, 0, 0}, {1, 1, 0}}}, {"grid", control_grid}},
+               Want::kError, {"'points'", "2"});
+  terrain_case("collinear control points",
+               Json{{"type", "control_points"}, {"points", {{0, 0, 0}, {1, 1, 0}, {2, 2, 0}, {3, 3, 0}}},
+                    {"grid", control_grid}},
+               Want::kError, {"'points'", "one line"});
+  terrain_case("repeated control point",
+               Json{{"type", "control_points"}, {"points", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 0, 0.1}}},
+                    {"grid", control_grid}},
+               Want::kError, {"'points'", "(1, 0, 0.1)"});
+  terrain_case("unknown interpolation",
+               Json{{"type", "control_points"}, {"points", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}}, {"grid", control_grid},
+                    {"method", "kriging"}},
+               Want::kError, {"'method'", "kriging"});
+  terrain_case("no type", Json{{"height", 0.0}}, Want::kError, {"'type'", "missing"});
+  terrain_case("empty object", Json::object(), Want::kError, {"'type'"});
+  const std::string csv = w().text_file("terrain_csv", "x,y,z\n0,0,0\n", "csv");
+  cases.push_back({"a CSV as terrain", simulate(w().scenario_with_terrain(csv)), Want::kError, {csv}});
+  run_table(w().dir(), cases);
+}
+
+// ---- drive blocks -------------------------------------------------------------
+
+TEST_F(Audit, DriveBlock) {
+  std::vector<Case> cases;
+  auto drive_case = [&](const std::string& id, const Json& drive, Want want, std::vector<std::string> mentions) {
+    const std::string path = w().drive_scenario(drive);
+    if (want == Want::kError) mentions.insert(mentions.begin(), path);
+    cases.push_back({id, simulate(path), want, mentions});
+  };
+  const Json ack = {{"mode", "ackermann"}, {"speed", 0.3}, {"radius", 1.0}};
+  drive_case("no segments", {{"segments", Json::array()}}, Want::kError, {"'drive.segments'"});
+  drive_case("segments as an object", {{"segments", ack}}, Want::kError, {"'drive.segments'", "ackermann"});
+  drive_case("unknown mode", {{"segments", {{{"mode", "tank"}, {"speed", 0.3}}}}}, Want::kError,
+             {"'drive.segments[0].mode'", "tank"});
+  drive_case("starts going back",
+             {{"segments", {ack, {{"start", 0.03}, {"mode", "car"}, {"speed", 0.1}},
+                            {{"start", 0.02}, {"mode", "car"}, {"speed", 0.2}}}}},
+             Want::kError, {"'drive.segments'", "segment 2 starts at 0.02"});
+  drive_case("first start later", {{"segments", {{{"start", 0.5}, {"mode", "car"}, {"speed", 0.3}}}}}, Want::kError,
+             {"'drive.segments[0].start'", "0.5"});
+  drive_case("negative ramp", {{"ramp_time", -1.0}, {"segments", {ack}}}, Want::kError, {"'drive.ramp_time'", "-1"});
+  drive_case("ramp as a string", {{"ramp_time", "0.3"}, {"segments", {ack}}}, Want::kError,
+             {"'drive.ramp_time'", "0.3"});
+  drive_case("allow_flip \"yes\"", {{"allow_flip", "yes"}, {"segments", {ack}}}, Want::kError,
+             {"'drive.allow_flip'", "yes"});
+  drive_case("unknown initial motion", {{"initial_motion", "moving"}, {"segments", {ack}}}, Want::kError,
+             {"'drive.initial_motion'", "moving"});
+  drive_case("ackermann about G", {{"segments", {{{"mode", "ackermann"}, {"speed", 0.3}, {"radius", 0.0}}}}},
+             Want::kError, {"'drive.segments[0]", "radius"});
+  drive_case("ICR at G", {{"segments", {{{"mode", "general-ackermann"}, {"speed", 0.3}, {"icr", {0.0, 0.0}}}}}},
+             Want::kError, {"'drive.segments[0]'", "the ICR is G"});
+  drive_case("crab angle of 100 rad", {{"segments", {{{"mode", "parallel"}, {"speed", 0.2}, {"crab_angle", 100.0}}}}},
+             Want::kError, {"'drive.segments[0].crab_angle'", "100"});
+  drive_case("rotation with a forward speed", {{"segments", {{{"mode", "rotation"}, {"forward", 0.1}}}}},
+             Want::kError, {"'drive.segments[0]'", "v_x 0.1 m/s"});
+  drive_case("speed \"NaN\"", {{"segments", {{{"mode", "car"}, {"speed", "NaN"}}}}}, Want::kError,
+             {"'drive.segments[0].speed'", "NaN"});
+  drive_case("speed and forward", {{"segments", {{{"mode", "car"}, {"speed", 0.1}, {"forward", 0.1}}}}},
+             Want::kError, {"'drive.segments[0].forward'"});
+  drive_case("misspelt key", {{"segments", {{{"mode", "car"}, {"spd", 0.1}}}}}, Want::kError,
+             {"'drive.segments[0]", "spd"});
+  drive_case("speed of 1e300 m/s", {{"segments", {{{"mode", "car"}, {"speed", 1e300}}}}}, Want::kRunsOrFails, {});
+  drive_case("a standstill", {{"segments", {{{"mode", "car"}, {"speed", 0.0}}}}}, Want::kRuns, {});
+  // A drive with the references it replaces, or with a travel distance.
+  const std::string with_steer = w().scenario([&](Json& j) {
+    j["drive"] = {{"segments", {ack}}};
+    j["steer_ref"] = {0, 0, 0, 0};
+  });
+  cases.push_back({"drive and steer_ref", simulate(with_steer), Want::kError, {with_steer, "'steer_ref'"}});
+  const std::string with_distance = w().scenario([&](Json& j) {
+    j.erase("duration");
+    j["travel_distance"] = 1.0;
+    j["drive"] = {{"segments", {ack}}};
+  });
+  cases.push_back({"drive and travel distance", simulate(with_distance), Want::kError,
+                   {with_distance, "'travel_distance'"}});
+  run_table(w().dir(), cases);
+}
+
+// ---- Monte Carlo study files --------------------------------------------------
+
+TEST_F(Audit, MonteCarloStudy) {
+  std::vector<Case> cases;
+  auto mc_case = [&](const std::string& id, const std::function<void(Json&)>& edit, Want want,
+                     std::vector<std::string> mentions) {
+    const std::string path = w().montecarlo(edit);
+    if (want == Want::kError) mentions.insert(mentions.begin(), path);
+    cases.push_back({id, study("montecarlo", path), want, mentions});
+  };
+  auto param = [](const Json& spec) { return [spec](Json& j) { j["parameters"] = spec; }; };
+  auto c_q = [&](const Json& spec) { return param({{"c_q", spec}}); };
+  mc_case("no parameters", param(Json::object()), Want::kError, {"'parameters'"});
+  mc_case("parameters as an array", param(Json::array({"c_q"})), Want::kError, {"'parameters'", "c_q"});
+  mc_case("non-ASCII parameter name", param({{"ц_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.2}}}}),
+          Want::kError, {"'parameters.ц_q'"});
+  mc_case("one parameter twice by two names",
+          param({{"c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.2}}},
+                 {"s_structure.c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.2}}}}),
+          Want::kError, {"'parameters.s_structure.c_q'", "same parameter as 'c_q'"});
+  mc_case("distribution in capitals", c_q({{"distribution", "Uniform"}, {"min", 0.1}, {"max", 0.2}}), Want::kError,
+          {"'parameters.c_q.distribution'", "Uniform"});
+  mc_case("min as a string", c_q({{"distribution", "uniform"}, {"min", "0.1"}, {"max", 0.2}}), Want::kError,
+          {"'parameters.c_q.min'", "0.1"});
+  mc_case("zero sd", c_q({{"distribution", "normal"}, {"sd", 0.0}}), Want::kError, {"'parameters.c_q.sd'", "0"});
+  mc_case("negative sd_percent", c_q({{"distribution", "normal"}, {"sd_percent", -5}}), Want::kError,
+          {"'parameters.c_q.sd_percent'", "-5"});
+  mc_case("lognormal of negative mean", c_q({{"distribution", "lognormal"}, {"mean", -1.0}, {"sd", 0.1}}),
+          Want::kError, {"'parameters.c_q.mean'", "-1"});
+  mc_case("zero log_sd", c_q({{"distribution", "lognormal"}, {"log_mean", -2.0}, {"log_sd", 0.0}}), Want::kError,
+          {"'parameters.c_q.log_sd'", "0"});
+  mc_case("log_uniform from 0", c_q({{"distribution", "log_uniform"}, {"min", 0.0}, {"max", 0.2}}), Want::kError,
+          {"'parameters.c_q.min'", "0"});
+  mc_case("fixed value a word", c_q({{"distribution", "fixed"}, {"value", "x"}}), Want::kError,
+          {"'parameters.c_q.value'", "\"x\""});
+  mc_case("truncation reversed", c_q({{"distribution", "normal"}, {"sd", 0.01}, {"truncate", {0.3, 0.1}}}),
+          Want::kError, {"'parameters.c_q.truncate'", "0.3"});
+  mc_case("preload truncation of strings", param({{"M0", {{"from_config", true}, {"truncate", {"a", nullptr}}}}}),
+          Want::kError, {"'parameters.M0.truncate'", "\"a\""});
+  mc_case("preload truncation reversed", param({{"M0", {{"from_config", true}, {"truncate", {3.0, 2.0}}}}}),
+          Want::kError, {"'parameters.M0.truncate'", "[3.0,2.0]"});
+  mc_case("preload truncation far in the tail", param({{"M0_11", {{"from_config", true}, {"truncate", {100.0, nullptr}}}}}),
+          Want::kError, {"'parameters.M0_11", "100"});
+  mc_case("negative sd_scale", param({{"M0_11", {{"from_config", true}, {"sd_scale", -1.0}}}}), Want::kError,
+          {"'parameters.M0_11.sd_scale'", "-1"});
+  mc_case("from_config on c_q", c_q({{"from_config", true}}), Want::kError, {"'parameters.c_q.from_config'"});
+  mc_case("design type halton", [](Json& j) { j["design"]["type"] = "halton"; }, Want::kError,
+          {"'design.type'", "halton"});
+  mc_case("negative samples", [](Json& j) { j["design"]["samples"] = -3; }, Want::kError, {"'design.samples'", "-3"});
+  mc_case("fractional samples", [](Json& j) { j["design"]["samples"] = 2.5; }, Want::kError,
+          {"'design.samples'", "2.5"});
+  mc_case("negative seed", [](Json& j) { j["design"]["seed"] = -1; }, Want::kError, {"'design.seed'", "-1"});
+  mc_case("seed beyond 2^64", [](Json& j) { j["design"]["seed"] = 1e300; }, Want::kError,
+          {"'design.seed'", "1e+300"});
+  mc_case("zero grid levels", [](Json& j) { j["design"] = {{"type", "grid"}, {"levels", 0}}; }, Want::kError,
+          {"'design.levels'", "0"});
+  mc_case("grid levels of another input", [](Json& j) { j["design"] = {{"type", "grid"}, {"levels", {{"f", 3}}}}; },
+          Want::kError, {"'design.levels'", "c_q"});
+  mc_case("grid of a normal",
+          [](Json& j) {
+            j["parameters"]["c_q"] = {{"distribution", "normal"}, {"sd", 0.01}};
+            j["design"] = {{"type", "grid"}, {"levels", 3}};
+          },
+          Want::kError, {"'design.type'", "normal"});
+  mc_case("grid of 1e10 points",
+          [](Json& j) {
+            j["parameters"]["f"] = {{"distribution", "uniform"}, {"min", 1e3}, {"max", 1e4}};
+            j["design"] = {{"type", "grid"}, {"levels", 100000}};
+          },
+          Want::kError, {"'design.levels'", "1e8"});
+  mc_case("no QoIs", [](Json& j) { j["qoi"] = Json::array(); }, Want::kError, {"'qoi'", "[]"});
+  mc_case("QoI a number", [](Json& j) { j["qoi"] = {5}; }, Want::kError, {"'qoi[0]'", "5"});
+  mc_case("QoI twice", [](Json& j) { j["qoi"] = {"t_min", "t_min"}; }, Want::kError, {"'qoi[1]'", "t_min"});
+  mc_case("negative settling band", [](Json& j) { j["qoi"] = {{{"name", "settling_time"}, {"band", -1e-3}}}; },
+          Want::kError, {"'qoi[0].band'", "-0.001"});
+  mc_case("rms_vs of a missing curve",
+          [&](Json& j) { j["qoi"] = {{{"name", "rms_vs"}, {"reference", w().dir() + "/missing.csv"}}}; },
+          Want::kError, {"'qoi[0].reference'", "missing.csv"});
+  mc_case("channels as a string", [](Json& j) { j["channels"] = "B_l_z"; }, Want::kError, {"'channels'", "B_l_z"});
+  mc_case("channel Fn_5", [](Json& j) { j["channels"] = {"Fn_5"}; }, Want::kError, {"'channels'", "Fn_5"});
+  mc_case("confidence 1.5", [](Json& j) { j["confidence"] = 1.5; }, Want::kError, {"'confidence'", "1.5"});
+  mc_case("confidence 0", [](Json& j) { j["confidence"] = 0; }, Want::kError, {"'confidence'", "0"});
+  mc_case("negative bootstrap", [](Json& j) { j["bootstrap"] = -1; }, Want::kError, {"'bootstrap'", "-1"});
+  mc_case("a billion bootstrap resamples", [](Json& j) { j["bootstrap"] = 1000000000; }, Want::kError,
+          {"'bootstrap'", "1000000000"});
+  mc_case("type of another study", [](Json& j) { j["type"] = "sensitivity"; }, Want::kError,
+          {"'type'", "sensitivity"});
+  mc_case("empty name", [](Json& j) { j["name"] = ""; }, Want::kError, {"'name'", "\"\""});
+  mc_case("scenario and model", [](Json& j) { j["model"] = "ishigami"; }, Want::kError, {"'scenario'"});
+  mc_case("scenario that is a study", [&](Json& j) { j["scenario"] = w().montecarlo([](Json&) {}); }, Want::kError,
+          {"'scenario'"});
+  cases.push_back({"results beyond memory", study("montecarlo", w().montecarlo([](Json& j) {
+                     j["design"]["samples"] = 100000000;
+                     j["qoi"] = {"B_l_z_min", "t_min", "deflection", "at_rest", "rebound_peak", "settling_time",
+                                 "max_abs_pitch", "max_abs_roll", "max_wheel_load", "B_r_rise", "G_rise"};
+                   })),
+                   Want::kError, {"N = 100000000", "GB", "in memory"}});
+  mc_case("non-ASCII name and description",
+          [](Json& j) {
+            j["name"] = "étude";
+            j["description"] = "Monte-Carlo über c_q";
+          },
+          Want::kRuns, {});
+  // Raw text: a parameter given twice.
+  const std::string twice = w().text_file(
+      "mc_raw", R"({"type": "montecarlo", "name": "m", "scenario": ")" + w().quick() +
+                    R"(", "parameters": {"c_q": {"distribution": "uniform", "min": 0.1, "max": 0.2},
+                    "c_q": {"distribution": "uniform", "min": 0.2, "max": 0.3}},
+                    "design": {"type": "monte_carlo", "samples": 2}, "qoi": ["t_min"]})");
+  cases.push_back({"parameter key twice", study("montecarlo", twice), Want::kError, {twice, "'parameters.c_q'", "twice"}});
+  run_table(w().dir(), cases);
+}
+
+// ---- sensitivity study files --------------------------------------------------
+
+TEST_F(Audit, SensitivityStudy) {
+  std::vector<Case> cases;
+  auto s_case = [&](const std::string& id, const std::function<void(Json&)>& edit, Want want,
+                    std::vector<std::string> mentions) {
+    const std::string path = w().sensitivity(edit);
+    if (want == Want::kError) mentions.insert(mentions.begin(), path);
+    cases.push_back({id, study("sensitivity", path), want, mentions});
+  };
+  auto morris = [](Json& j) {
+    j["method"] = "morris";
+    j["design"] = {{"trajectories", 4}, {"levels", 4}, {"seed", 1}};
+  };
+  s_case("method fast", [](Json& j) { j["method"] = "fast"; }, Want::kError, {"'method'", "fast"});
+  s_case("unknown estimator", [](Json& j) { j["estimator"] = "sobol"; }, Want::kError, {"'estimator'", "sobol"});
+  s_case("failed fraction above 1", [](Json& j) { j["max_failed_fraction"] = 2; }, Want::kError,
+         {"'max_failed_fraction'", "2"});
+  s_case("one base sample", [](Json& j) { j["design"]["samples"] = 1; }, Want::kError, {"'design.samples'", "1"});
+  s_case("second_order \"yes\"", [](Json& j) { j["second_order"] = "yes"; }, Want::kError,
+         {"'second_order'", "yes"});
+  s_case("unknown model", [](Json& j) { j["model"] = "ishigami2"; }, Want::kError, {"'model'", "ishigami2"});
+  s_case("input the model lacks",
+         [](Json& j) { j["parameters"] = {{"x4", {{"distribution", "uniform"}, {"min", 0}, {"max", 1}}}}; },
+         Want::kError, {"'parameters.x4'"});
+  s_case("one Morris level", [&](Json& j) { morris(j); j["design"]["levels"] = 1; }, Want::kError,
+         {"'design.levels'", "1"});
+  s_case("no Morris trajectories", [&](Json& j) { morris(j); j["design"]["trajectories"] = 0; }, Want::kError,
+         {"'design.trajectories'", "0"});
+  s_case("Morris with samples", [&](Json& j) { morris(j); j["design"]["samples"] = 8; }, Want::kError,
+         {"'design.samples'"});
+  s_case("a grid for Sobol'", [](Json& j) { j["design"] = {{"type", "grid"}, {"levels", 3}}; }, Want::kError,
+         {"'design.type'", "grid"});
+  s_case("bootstrap as a string", [](Json& j) { j["bootstrap"] = "10"; }, Want::kError, {"'bootstrap'", "10"});
+  s_case("Morris of the Ishigami function", morris, Want::kRuns, {});
+  s_case("Sobol' of the Ishigami function", [](Json&) {}, Want::kRuns, {});
+  run_table(w().dir(), cases);
+}
+
+// ---- surface study files ------------------------------------------------------
+
+TEST_F(Audit, SurfaceStudy) {
+  std::vector<Case> cases;
+  auto s_case = [&](const std::string& id, const std::function<void(Json&)>& edit, Want want,
+                    std::vector<std::string> mentions) {
+    const std::string path = w().surface(edit);
+    if (want == Want::kError) mentions.insert(mentions.begin(), path);
+    cases.push_back({id, study("surface", path), want, mentions});
+  };
+  s_case("a billion f points", [](Json& j) { j["f"]["count"] = 1000000000; }, Want::kError,
+         {"'f.count'", "1000000000"});
+  s_case("cubic spacing", [](Json& j) { j["c_q"]["spacing"] = "cubic"; }, Want::kError, {"'c_q.spacing'", "cubic"});
+  s_case("log spacing from 0", [](Json& j) { j["c_q"] = {{"min", 0.0}, {"max", 0.2}, {"count", 2}, {"spacing", "log"}}; },
+         Want::kError, {"'c_q.min'", "0"});
+  s_case("empty reference", [](Json& j) { j["reference"] = Json::object(); }, Want::kError, {"'reference.file'"});
+  s_case("missing reference file", [&](Json& j) { j["reference"] = {{"file", w().dir() + "/none.csv"}}; },
+         Want::kError, {"'reference.file'", "none.csv"});
+  s_case("reference with a negative f", [](Json& j) { j["reference"] = {{"simulate", {{"f", -1.0}}}}; },
+         Want::kError, {"'reference.simulate.f'", "-1"});
+  s_case("sweep c_q a word",
+         [](Json& j) { j["sweep"] = {{"f", {{"min", 1e2}, {"max", 1e4}, {"count", 2}}}, {"c_q", "x"}}; },
+         Want::kError, {"'sweep.c_q'", "x"});
+  s_case("sweep of no points",
+         [](Json& j) { j["sweep"] = {{"f", {{"min", 1e2}, {"max", 1e4}, {"count", 0}}}, {"c_q", 0.14}}; },
+         Want::kError, {"'sweep.f.count'", "0"});
+  s_case("f min a string", [](Json& j) { j["f"]["min"] = "1e3"; }, Want::kError, {"'f.min'", "1e3"});
+  s_case("f axis a number", [](Json& j) { j["f"] = 1e3; }, Want::kError, {"'f'", "1000"});
+  s_case("a single point", [](Json& j) { j["f"] = {{"min", 1e4}, {"max", 1e4}, {"count", 1}}; }, Want::kRuns, {});
+  // A reference file with NUL bytes, and one with CRLF line ends and a BOM.
+  const std::string nul = w().text_file("ref_nul", "t,z\n0,0.25\n0.01,0.2\0\n0.02,0.2\n" + std::string(1, '\0'), "csv");
+  s_case("reference with a NUL byte", [&](Json& j) { j["reference"] = {{"file", nul}}; }, Want::kError, {nul});
+  const std::string crlf = w().text_file("ref_crlf", with_bom(measured_text("\r\n")), "csv");
+  s_case("reference with CRLF", [&](Json& j) { j["reference"] = {{"file", crlf}}; }, Want::kRuns, {});
+  run_table(w().dir(), cases);
+}
+
+// ---- calibration study files --------------------------------------------------
+
+TEST_F(Audit, CalibrationStudy) {
+  std::vector<Case> cases;
+  auto c_case = [&](const std::string& id, const std::function<void(Json&)>& edit, std::vector<std::string> mentions) {
+    const std::string path = w().calibration(edit);
+    mentions.insert(mentions.begin(), path);
+    cases.push_back({id, study("calibrate", path), Want::kError, mentions});
+  };
+  c_case("fit k_g", [](Json& j) { j["fit"] = {"k_g"}; }, {"'fit'", "k_g"});
+  c_case("fit nothing", [](Json& j) { j["fit"] = Json::array(); }, {"'fit'", "[]"});
+  c_case("one bound", [](Json& j) { j["bounds"]["c_q"] = {0.1}; }, {"'bounds.c_q'", "expected 2 numbers, got 1"});
+  c_case("initial a string", [](Json& j) { j["initial"]["c_q"] = "0.1"; }, {"'initial.c_q'", "0.1"});
+  c_case("unknown algorithm", [](Json& j) { j["algorithm"] = "LN_FOO"; }, {"'algorithm'", "LN_FOO"});
+  c_case("no evaluations", [](Json& j) { j["max_evaluations"] = 0; }, {"'max_evaluations'", "0"});
+  c_case("negative starts", [](Json& j) { j["starts"] = -1; }, {"'starts'", "-1"});
+  c_case("method gibbs", [](Json& j) { j["method"] = "gibbs"; }, {"'method'", "gibbs"});
+  c_case("odd walkers", [](Json& j) { j["method"] = "mcmc"; j["mcmc"] = {{"walkers", 3}}; },
+         {"'mcmc.walkers'", "3"});
+  c_case("no steps", [](Json& j) { j["method"] = "mcmc"; j["mcmc"] = {{"steps", 0}}; }, {"'mcmc.steps'", "0"});
+  c_case("discard beyond steps", [](Json& j) { j["method"] = "mcmc"; j["mcmc"] = {{"steps", 10}, {"discard", 20}}; },
+         {"'mcmc.discard'", "20"});
+  c_case("negative noise", [](Json& j) { j["method"] = "mcmc"; j["mcmc"] = {{"noise_sd", -1e-4}}; },
+         {"'mcmc.noise_sd'", "-0.0001"});
+  c_case("prior of an unknown distribution", [](Json& j) { j["priors"] = {{"c_q", {{"distribution", "beta"}}}}; },
+         {"'priors.c_q.distribution'", "beta"});
+  c_case("prior of an unknown parameter",
+         [](Json& j) { j["priors"] = {{"k", {{"distribution", "uniform"}, {"min", 0}, {"max", 1}}}}; },
+         {"'priors.k'", "unknown key"});
+  c_case("no data", [](Json& j) { j["data"] = Json::array(); }, {"'data'", "[]"});
+  c_case("data of channel G_z",
+         [](Json& j) {
+           j["data"] = {{{"file", source_path("configs/data/drop_horizontal_synthetic.csv")}, {"channel", "G_z"}}};
+         },
+         {"'data[0].channel'", "G_z"});
+  const std::string header_only = w().text_file("header_only", "t,z\n", "csv");
+  cases.push_back({"data of a header only", study("calibrate", w().calibration([&](Json& j) { j["data"] = header_only; })),
+                   Want::kError, {header_only, "no data rows"}});
+  c_case("one profile point", [](Json& j) { j["profile_points"] = 1; }, {"'profile_points'", "1"});
+  run_table(w().dir(), cases);
+}
+
+// ---- design CSVs of `rover evaluate` ------------------------------------------
+
+TEST_F(Audit, EvaluateDesign) {
+  std::vector<Case> cases;
+  auto evaluate = [&](const std::string& design, const std::string& extra = "") {
+    return "evaluate --scenario " + w().quick() + " --design " + design + " --qoi t_min --out " + w().out("csv") +
+           extra;
+  };
+  auto design_case = [&](const std::string& id, const std::string& text, Want want, std::vector<std::string> mentions) {
+    const std::string path = w().text_file("design", text, "csv");
+    if (want == Want::kError) mentions.insert(mentions.begin(), path);
+    cases.push_back({id, evaluate(path), want, mentions});
+  };
+  design_case("a header only", "c_q,f\n", Want::kError, {"no rows"});
+  design_case("CRLF line ends", "c_q,f\r\n0.1,1e4\r\n0.2,1e3\r\n", Want::kRuns, {});
+  design_case("a trailing comma", "c_q,f\n0.1,1e4,\n", Want::kError, {":2", "expected 2 values, got 3"});
+  design_case("an extra column", "c_q\n0.1,0.2\n", Want::kError, {":2", "expected 1 values, got 2"});
+  design_case("unknown column", "c_qq\n0.1\n", Want::kError, {"c_qq"});
+  design_case("a column twice", "c_q,c_q\n0.1,0.2\n", Want::kError, {"columns 1 and 2"});
+  design_case("alias and name", "c_q,s_structure.c_q\n0.1,0.2\n", Want::kError, {"columns 1 and 2"});
+  design_case("NaN cell", "c_q\nNaN\n", Want::kError, {":2", "NaN"});
+  design_case("inf cell", "f\ninf\n", Want::kError, {":2", "inf"});
+  design_case("empty cell", "c_q,f\n0.1,\n", Want::kError, {":2", "column 2"});
+  design_case("NUL byte", std::string("c_q\n0.1\0\n", 9), Want::kError, {":2"});
+  design_case("non-ASCII column", "ц_q\n0.1\n", Want::kError, {"ц_q"});
+  design_case("negative mass", "bodies.wheel.mass\n-0.2\n", Want::kError, {":2", "-0.2", "bodies.wheel.mass"});
+  design_case("a semicolon-separated file", "c_q;f\n0.1;1e4\n", Want::kError, {"c_q;f"});
+  // Flags and paths.
+  const std::string good = w().text_file("design_good", "c_q\n0.1\n", "csv");
+  cases.push_back({"design is a directory", "evaluate --scenario " + w().quick() + " --design " + w().dir() +
+                                                " --qoi t_min --out " + w().out("csv"),
+                   Want::kError, {"--design", w().dir()}});
+  const std::string design_copy = w().copy_of(good);
+  cases.push_back({"output over the design", "evaluate --scenario " + w().quick() + " --design " + design_copy +
+                                                 " --qoi t_min --out " + design_copy,
+                   Want::kError, {"--out", design_copy, "same file as --design"}});
+  const std::string design_link = w().dir() + "/design_link.csv";
+  fs::create_symlink(design_copy, design_link);
+  cases.push_back({"output over the design by a link", "evaluate --scenario " + w().quick() + " --design " +
+                                                           design_copy + " --qoi t_min --out " + design_link,
+                   Want::kError, {"--out", design_link, "same file as --design"}});
+  const std::string scenario_copy = w().copy_of(w().quick());
+  cases.push_back({"output over the scenario", "evaluate --scenario " + scenario_copy + " --design " + good +
+                                                   " --qoi t_min --out " + scenario_copy,
+                   Want::kError, {"--out", scenario_copy}});
+  cases.push_back({"design is unreadable", "evaluate --scenario " + w().quick() +
+                                               " --design /proc/self/mem --qoi t_min --out " + w().out("csv"),
+                   Want::kError, {"/proc/self/mem"}});
+  cases.push_back({"output .txt", "evaluate --scenario " + w().quick() + " --design " + good + " --qoi t_min --out " +
+                                      w().dir() + "/y.txt",
+                   Want::kError, {"--out", "y.txt"}});
+  cases.push_back({"unknown QoI", "evaluate --scenario " + w().quick() + " --design " + good + " --qoi t_max --out " +
+                                      w().out("csv"),
+                   Want::kError, {"--qoi", "t_max"}});
+  cases.push_back({"empty QoI list", "evaluate --scenario " + w().quick() + " --design " + good + " --qoi , --out " +
+                                         w().out("csv"),
+                   Want::kError, {"--qoi"}});
+  cases.push_back({"channels into a CSV", evaluate(good, " --channels B_l_z"), Want::kError, {"--channels"}});
+  cases.push_back({"zero progress interval", evaluate(good, " --progress-interval 0"), Want::kError,
+                   {"--progress-interval", "0"}});
+  cases.push_back({"integrator in capitals", evaluate(good, " --integrator RK4"), Want::kError, {"--integrator", "RK4"}});
+  cases.push_back({"output under /proc", "evaluate --scenario " + w().quick() + " --design " + good +
+                                             " --qoi t_min --out /proc/rover_audit/y.csv",
+                   Want::kError, {"/proc/rover_audit/y.csv"}});
+  cases.push_back({"output under a file", "evaluate --scenario " + w().quick() + " --design " + good +
+                                              " --qoi t_min --out " + good + "/y.csv",
+                   Want::kError, {good + "/y.csv"}});
+  run_table(w().dir(), cases);
+}
+
+// ---- measured curves (rover compare) ------------------------------------------
+
+TEST_F(Audit, MeasuredCurve) {
+  std::vector<Case> cases;
+  const std::string shipped = source_path("configs/data/drop_horizontal_synthetic.csv");
+  auto curve_case = [&](const std::string& id, const std::string& text, Want want, std::vector<std::string> mentions) {
+    const std::string path = w().text_file("curve", text, "csv");
+    if (want == Want::kError) mentions.insert(mentions.begin(), path);
+    cases.push_back({id, "compare " + path + " " + shipped + " --rest-time 0.05", want, mentions});
+  };
+  curve_case("BOM and CRLF", with_bom(measured_text("\r\n")), Want::kRuns, {});
+  curve_case("a header only", "t,z\n", Want::kError, {"no data rows"});
+  curve_case("two rows", "t,z\n0,0.25\n0.01,0.25\n", Want::kError, {"at least 3"});
+  curve_case("time going back", "t,z\n0,0.25\n0.02,0.25\n0.01,0.25\n0.03,0.25\n", Want::kError, {":4", "0.01"});
+  curve_case("millimetres", "t,z\n0,250\n0.01,2500\n0.02,250\n", Want::kError, {":3", "2500"});
+  curve_case("a trailing comma", "t,z\n0,0.25,\n0.01,0.25,\n0.02,0.25,\n", Want::kError, {":2", "got 3"});
+  curve_case("an extra column in a row", "t,z\n0,0.25\n0.01,0.25,7\n0.02,0.25\n", Want::kError, {":3", "got 3"});
+  curve_case("a NUL byte", std::string("t,z\n0,0.25\n0.01,0.2\0\n0.02,0.25\n", 31), Want::kError, {":3"});
+  curve_case("z column missing", "t,height\n0,0.25\n0.01,0.25\n0.02,0.25\n", Want::kError, {"'z'"});
+  curve_case("a repeated time", "t,z\n0,0.25\n0,0.24\n0.02,0.25\n", Want::kError, {":3"});
+  const std::string good = w().text_file("curve_good", measured_text("\n"), "csv");
+  cases.push_back({"curve is a directory", "compare " + w().dir() + " " + shipped, Want::kError, {w().dir()}});
+  cases.push_back({"rest time nan", "compare " + good + " " + shipped + " --rest-time nan", Want::kError,
+                   {"--rest-time", "nan"}});
+  cases.push_back({"time offset beyond a double", "compare " + good + " " + shipped + " --time-offset 1e400",
+                   Want::kError, {"--time-offset", "inf"}});
+  cases.push_back({"curve is unreadable", "compare /proc/self/mem " + shipped, Want::kError, {"/proc/self/mem"}});
+  const std::string fake_h5 = w().text_file("fake", "t,z\n0,1\n", "h5");
+  cases.push_back({"text named .h5", "compare " + fake_h5 + " " + shipped, Want::kError, {fake_h5}});
+  cases.push_back({"curve is missing", "compare " + w().dir() + "/none.csv " + shipped, Want::kError,
+                   {"A", w().dir() + "/none.csv"}});
+  run_table(w().dir(), cases);
+}
+
+// ---- reference curves of rms_vs QoIs ------------------------------------------
+
+TEST_F(Audit, ReferenceCurve) {
+  std::vector<Case> cases;
+  auto reference_case = [&](const std::string& id, const std::string& text, Want want,
+                            std::vector<std::string> mentions) {
+    const std::string curve = w().text_file("reference", text, "csv");
+    const std::string path = w().montecarlo([&](Json& j) {
+      j["qoi"] = {{{"name", "rms_vs"}, {"reference", curve}, {"time_offset", 0.05}}};
+    });
+    if (want == Want::kError) mentions.insert(mentions.begin(), {path, "'qoi[0].reference'", curve});
+    cases.push_back({id, study("montecarlo", path), want, mentions});
+  };
+  reference_case("a header only", "t,z\n", Want::kError, {});
+  reference_case("CRLF and a comment", "# made by hand\r\n" + measured_text("\r\n"), Want::kRuns, {});
+  reference_case("an infinite height", "t,z\n0,0.25\n0.01,inf\n0.02,0.25\n", Want::kError, {":3"});
+  reference_case("millimetres", "t,z\n0,250\n0.01,2500\n0.02,250\n", Want::kError, {"2500"});
+  reference_case("extra columns", "t,z,w\n0,0.25\n0.01,0.25\n0.02,0.25\n", Want::kError, {":2"});
+  reference_case("a NUL byte", std::string("t,z\n0,0.25\n\0\n0.02,0.25\n", 24), Want::kError, {":3"});
+  run_table(w().dir(), cases);
+}
+
+// ---- flags of every subcommand ------------------------------------------------
+
+TEST_F(Audit, Flags) {
+  std::vector<Case> cases;
+  const std::string q = w().quick();
+  const std::string mc = w().montecarlo([](Json&) {});
+  const std::string sobol = w().sensitivity([](Json&) {});
+  const std::string surface = w().surface([](Json&) {});
+  const std::string calibration = w().calibration([](Json&) {});
+  const std::string plain = w().text_file("plain", "x", "txt");
+  const std::string state = w().json_file("state", Json{{"q", std::vector<double>(23, 0.0)}, {"u", std::vector<double>(23, 0.0)}});
+  auto flag_case = [&](const std::string& id, const std::string& args, std::vector<std::string> mentions) {
+    cases.push_back({id, args, Want::kError, mentions});
+  };
+  const std::string sim = "simulate --no-plot --scenario " + q;
+  flag_case("--f beyond a double", sim + " --out " + w().out() + " --f 1e400", {"--f", "inf"});
+  flag_case("--f empty", sim + " --out " + w().out() + " --f ''", {"--f was given an empty value"});
+  flag_case("--cq blank", sim + " --out " + w().out() + " --cq ' '", {"--cq"});
+  flag_case("--out empty", sim + " --out ''", {"--out was given an empty value"});
+  flag_case("--M0 of empty values", sim + " --out " + w().out() + " --M0 ,,,,,,,", {"--M0"});
+  const std::string q1 = w().copy_of(q), q2 = w().copy_of(q), q3 = w().copy_of(q);
+  flag_case("--out over the scenario", "simulate --no-plot --scenario " + q1 + " --out " + q1,
+            {"--out", q1, "same file as --scenario"});
+  flag_case("--csv over the scenario", "simulate --no-plot --scenario " + q2 + " --out " + w().out() + " --csv " + q2,
+            {"--csv", q2, "same file as --scenario"});
+  flag_case("--csv over --out", sim + " --out " + w().dir() + "/same.h5 --csv " + w().dir() + "/./same.h5",
+            {"--csv", "same file as --out", "same.h5"});
+  flag_case("--out under a file", sim + " --out " + plain + "/x.h5", {"--out", plain + "/x.h5"});
+  flag_case("--out under /proc", sim + " --out /proc/rover_audit/x.h5", {"--out", "/proc/rover_audit/x.h5"});
+  const std::string synth = "synthesize --scenario " + q;
+  flag_case("synthesize over its scenario", "synthesize --scenario " + q3 + " --out " + q3,
+            {"--out", q3, "same file as --scenario"});
+  flag_case("synthesize at 1e12 Hz", synth + " --out " + w().out("csv") + " --rate 1e12", {"--rate", "1e+12"});
+  flag_case("synthesize fractional seed", synth + " --out " + w().out("csv") + " --seed 1.5", {"--seed", "1.5"});
+  flag_case("synthesize nan offset", synth + " --out " + w().out("csv") + " --offset nan", {"--offset", "nan"});
+  flag_case("friction --png under /proc", "friction --png /proc/rover_audit/f.png", {"--png", "/proc/rover_audit/f.png"});
+  flag_case("friction huge mu_s", "friction --mu-s 1e308", {"--mu-s", "1e+308"});
+  flag_case("friction v_k below v_s", "friction --v-s 0.01 --v-k 0.001", {"v_k (0.001 m/s)", "v_s (0.01 m/s)", "--v-k"});
+  flag_case("friction --v-s above the config's v_k", "friction --v-s 0.5", {"v_k (0.002 m/s)", "v_s (0.5 m/s)", "--v-s"});
+  flag_case("terrain spacing of 1 nm", "terrain obstacle --out " + w().out("json") + " --spacing 1e-9",
+            {"--spacing", "1e-09"});
+  flag_case("terrain --png over --out",
+            "terrain obstacle --out " + w().dir() + "/t.json --png " + w().dir() + "/t.json", {"--png", "same file as --out"});
+  flag_case("terrain height 1e300", "terrain obstacle --out " + w().out("json") + " --height 1e300",
+            {"--height", "1e+300"});
+  flag_case("kinematics car about its axle", "kinematics --mode car --v 0.5 --radius 0", {"--radius 0", "zero turning radius"});
+  flag_case("kinematics speed of 1e308", "kinematics --mode car --v 1e308", {"--v", "1e+308"});
+  flag_case("kinematics lateral nan", "kinematics --mode lateral --v nan", {"--v", "nan"});
+  flag_case("eom state of 22 coordinates",
+            "eom --state " + w().json_file("state22", Json{{"q", std::vector<double>(22, 0.0)},
+                                                          {"u", std::vector<double>(23, 0.0)}}),
+            {"'q'", "expected 23 numbers, got 22"});
+  flag_case("eom preloads of strings",
+            "eom --state " + w().json_file("state_m0", Json{{"q", std::vector<double>(23, 0.0)},
+                                                           {"u", std::vector<double>(23, 0.0)},
+                                                           {"params", {{"M0", std::vector<std::string>(8, "1")}}}}),
+            {"'params.M0'", "element 0"});
+  flag_case("eom unknown key",
+            "eom --state " + w().json_file("state_key", Json{{"q", std::vector<double>(23, 0.0)},
+                                                            {"u", std::vector<double>(23, 0.0)},
+                                                            {"qdot", 1}}),
+            {"'qdot'", "unknown key"});
+  flag_case("eom --config a directory", "eom --state " + state + " --config " + w().dir(), {"--config", w().dir()});
+  flag_case("montecarlo --samples 1e3", study("montecarlo", mc) + " --samples 1e3", {"--samples", "1e3"});
+  flag_case("montecarlo --seed beyond 2^64", study("montecarlo", mc) + " --seed 18446744073709551616",
+            {"--seed", "18446744073709551616"});
+  flag_case("montecarlo --checkpoint-every 0", study("montecarlo", mc) + " --checkpoint-every 0",
+            {"--checkpoint-every", "0"});
+  const std::string mc_copy = w().copy_of(mc);
+  flag_case("montecarlo --out over the study", "montecarlo --no-plot --study " + mc_copy + " --out " + mc_copy,
+            {"--out", mc_copy});
+  flag_case("montecarlo --out under a file", "montecarlo --no-plot --study " + mc + " --out " + plain + "/m.h5",
+            {plain + "/m.h5"});
+  const std::string garbage_out = w().dir() + "/garbage.h5";
+  write_file(garbage_out + ".checkpoint", "this is not a checkpoint\n");
+  flag_case("montecarlo --resume of a garbage checkpoint",
+            "montecarlo --no-plot --study " + mc + " --resume --out " + garbage_out, {garbage_out + ".checkpoint"});
+  flag_case("sensitivity --samples 1", study("sensitivity", sobol) + " --samples 1", {"--samples", "1"});
+  flag_case("sensitivity --progress-interval 0", study("sensitivity", sobol) + " --progress-interval 0",
+            {"--progress-interval", "0"});
+  flag_case("surface --integrator euler", study("surface", surface) + " --integrator euler",
+            {"--integrator", "euler"});
+  flag_case("calibrate --walkers 0", study("calibrate", calibration) + " --method mcmc --walkers 0",
+            {"--walkers", "got 0"});
+  flag_case("calibrate --walkers 2 for 2 sampled parameters",
+            study("calibrate", calibration) + " --method mcmc --walkers 2", {"'mcmc.walkers'", "(4), got 2"});
+  flag_case("calibrate --fit twice", study("calibrate", calibration) + " --fit c_q,c_q", {"c_q", "twice"});
+  flag_case("calibrate --data a header only",
+            study("calibrate", calibration) + " --data " + w().text_file("hdr", "t,z\n", "csv"), {"hdr"});
+  flag_case("calibrate --max-evaluations -5", study("calibrate", calibration) + " --max-evaluations -5",
+            {"--max-evaluations must be at least 1, got -5"});
+  flag_case("calibrate --out under /proc",
+            "calibrate --no-plot --study " + calibration + " --out /proc/rover_audit/c.h5", {"/proc/rover_audit/c.h5"});
+  cases.push_back({"montecarlo --resume without a checkpoint",
+                   "montecarlo --no-plot --study " + mc + " --resume --out " + w().out(), Want::kRuns, {}});
+  run_table(w().dir(), cases);
+}
+
+}  // namespace
+}  // namespace rover
