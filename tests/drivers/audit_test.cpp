@@ -762,11 +762,11 @@ TEST_F(Audit, CalibrationStudy) {
          [](Json& j) { j["priors"] = {{"k", {{"distribution", "uniform"}, {"min", 0}, {"max", 1}}}}; },
          {"'priors.k'", "unknown key"});
   c_case("no data", [](Json& j) { j["data"] = Json::array(); }, {"'data'", "[]"});
-  c_case("data of channel G_z",
+  c_case("data of a channel that is no height (pitch)",
          [](Json& j) {
-           j["data"] = {{{"file", source_path("configs/data/drop_horizontal_synthetic.csv")}, {"channel", "G_z"}}};
+           j["data"] = {{{"file", source_path("configs/data/drop_horizontal_synthetic.csv")}, {"channel", "pitch"}}};
          },
-         {"'data[0].channel'", "G_z"});
+         {"'data[0].channel'", "pitch", "B_l_z"});
   const std::string header_only = w().text_file("header_only", "t,z\n", "csv");
   cases.push_back({"data of a header only", study("calibrate", w().calibration([&](Json& j) { j["data"] = header_only; })),
                    Want::kError, {header_only, "no data rows"}});
