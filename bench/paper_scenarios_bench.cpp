@@ -19,6 +19,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -88,6 +89,17 @@ Difference difference_mm(const std::vector<double>& a, const std::vector<double>
   return d;
 }
 
+// A positive finite number, or exit with a message naming the flag.
+double positive_number(const char* flag, const char* text) {
+  char* end = nullptr;
+  const double value = std::strtod(text, &end);
+  if (end == text || *end != '\0' || !(value > 0.0) || !std::isfinite(value)) {
+    std::fprintf(stderr, "%s: expected a positive number, got '%s'\n", flag, text);
+    std::exit(2);
+  }
+  return value;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -100,15 +112,22 @@ int main(int argc, char** argv) {
     } else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) {
       only = argv[++i];
     } else if (!std::strcmp(argv[i], "--rtol") && i + 1 < argc) {
-      stiff.relative_tolerance = std::atof(argv[++i]);
+      stiff.relative_tolerance = positive_number("--rtol", argv[i + 1]);
+      ++i;
     } else if (!std::strcmp(argv[i], "--atol") && i + 1 < argc) {
-      stiff.absolute_tolerance = std::atof(argv[++i]);
+      stiff.absolute_tolerance = positive_number("--atol", argv[i + 1]);
+      ++i;
     } else {
       std::fprintf(stderr, "usage: %s [--cache DIR] [--only SCENARIO] [--rtol R] [--atol A]\n", argv[0]);
       return 2;
     }
   }
   const char* const names[] = {"drop_horizontal", "drop_skewed", "obstacle_v034", "obstacle_v1", "obstacle_v2"};
+  if (!only.empty() && std::find(std::begin(names), std::end(names), only) == std::end(names)) {
+    std::fprintf(stderr, "--only: unknown scenario '%s' (drop_horizontal, drop_skewed, obstacle_v034, "
+                         "obstacle_v1, obstacle_v2)\n", only.c_str());
+    return 2;
+  }
   std::printf("Rosenbrock-W (rtol %.0e, atol %.0e) against dopri5 (rtol 1e-8, atol 1e-11)\n",
               stiff.relative_tolerance, stiff.absolute_tolerance);
   std::printf("%-16s %9s %7s %7s | %-17s | %-17s\n", "scenario", "wall [s]", "steps", "rhs",
