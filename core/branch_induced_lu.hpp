@@ -25,8 +25,10 @@
 // than a dense Cholesky for M.
 //
 // The blocks are factorized by LU with partial pivoting, for M (symmetric
-// positive definite) as for the iteration matrix (not symmetric): at these
-// sizes Eigen's LU is faster than its Cholesky. A matrix with an entry
+// positive definite) as for the iteration matrix (not symmetric), with
+// fixed_size_lu.hpp, whose loops the compiler unrolls at these sizes (Eigen's
+// PartialPivLU and its triangular solves run through kernels for run-time
+// sizes, which cost three times as much here). A matrix with an entry
 // coupling two legs, or a block that is singular, falls back to a dense LU
 // with partial pivoting of the whole matrix, so solve() is always valid.
 #pragma once
@@ -37,6 +39,7 @@
 #include <Eigen/LU>
 
 #include "core/coordinates.hpp"
+#include "core/fixed_size_lu.hpp"
 #include "core/rover_parameters.hpp"
 
 namespace rover {
@@ -67,10 +70,12 @@ class BranchInducedLU {
     TrunkVector rhs = b.head<kTrunk>();
     std::array<LegVector, kNumLegs> y;
     for (int l = 0; l < kNumLegs; ++l) {
-      y[l] = leg_lu_[l].solve(gather(b, l));
+      y[l] = gather(b, l);
+      leg_lu_[l].solve_in_place(y[l]);
       rhs.noalias() -= trunk_leg_[l] * y[l];
     }
-    const TrunkVector x_trunk = trunk_lu_.solve(rhs);
+    TrunkVector x_trunk = rhs;
+    trunk_lu_.solve_in_place(x_trunk);
     x.head<kTrunk>() = x_trunk;
     for (int l = 0; l < kNumLegs; ++l) {
       const LegVector x_leg = y[l] - leg_trunk_solved_[l] * x_trunk;
@@ -121,30 +126,28 @@ class BranchInducedLU {
     for (int l = 0; l < kNumLegs; ++l) {
       const std::array<int, kLeg> c = leg_coordinates(l);
       LegMatrix leg;
-      LegTrunk leg_trunk;
+      LegTrunk& leg_trunk = leg_trunk_solved_[l];
       for (int i = 0; i < kLeg; ++i) {
         for (int j = 0; j < kLeg; ++j) leg(i, j) = a(c[i], c[j]);
         leg_trunk.row(i) = a.row(c[i]).head<kTrunk>();
         trunk_leg_[l].col(i) = a.col(c[i]).head<kTrunk>();
       }
-      leg_lu_[l].compute(leg);
-      if (!(leg_lu_[l].matrixLU().diagonal().array() != 0.0).all()) return false;
-      leg_trunk_solved_[l] = leg_lu_[l].solve(leg_trunk);
+      if (!leg_lu_[l].compute(leg)) return false;
+      leg_lu_[l].solve_in_place(leg_trunk);
       schur.noalias() -= trunk_leg_[l] * leg_trunk_solved_[l];
     }
-    trunk_lu_.compute(schur);
-    if (!(trunk_lu_.matrixLU().diagonal().array() != 0.0).all()) return false;
-    // Non-finite entries or factors: let the dense LU decide.
+    // A zero pivot or non-finite entries or factors: let the dense LU decide.
+    if (!trunk_lu_.compute(schur)) return false;
     for (int l = 0; l < kNumLegs; ++l)
       if (!leg_trunk_solved_[l].allFinite()) return false;
-    return trunk_lu_.matrixLU().allFinite();
+    return true;
   }
 
   bool dense_ = true;
-  std::array<Eigen::PartialPivLU<LegMatrix>, kNumLegs> leg_lu_;
+  std::array<FixedSizeLU<kLeg>, kNumLegs> leg_lu_;
   std::array<LegTrunk, kNumLegs> leg_trunk_solved_;  // A_ll^{-1} A_lt
   std::array<TrunkLeg, kNumLegs> trunk_leg_;         // A_tl
-  Eigen::PartialPivLU<TrunkMatrix> trunk_lu_;
+  FixedSizeLU<kTrunk> trunk_lu_;
   Eigen::PartialPivLU<Matrix> dense_lu_;
 };
 
