@@ -290,23 +290,28 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
   };
 
   StallWatch stall;
-  StepPoint start, end, stage;
+  // The two step ends trade places after every step (their workspaces are
+  // large: swapping pointers, not contents).
+  std::array<StepPoint, 2> ends;
+  StepPoint* start = &ends[0];
+  StepPoint* end = &ends[1];
+  StepPoint stage;
   BranchInducedLU iteration;  // of M0 - h g D - h^2 g^2 K
-  evaluate(system, 0.0, x, start, report);
+  evaluate(system, 0.0, x, *start, report);
   double h = std::clamp(settings.initial_step_s, settings.min_step_s, settings.max_step_s);
   std::size_t next = 1;
   while (next < request.sample_count) {
-    const Linearization lin = linearize(system, start, report);
-    const Coordinates q0 = start.x.head<kNumCoordinates>(), u0 = start.x.tail<kNumCoordinates>();
-    const ContactCounts start_contacts = active_contacts(start.dynamics.contacts);
-    const std::vector<SlipRows> slips = slip_rows(system.model, start);
-    const WheelSpinRows spins = wheel_spin_rows(system.model.tree, start.dynamics.kinematics);
+    const Linearization lin = linearize(system, *start, report);
+    const Coordinates q0 = start->x.head<kNumCoordinates>(), u0 = start->x.tail<kNumCoordinates>();
+    const ContactCounts start_contacts = active_contacts(start->dynamics.contacts);
+    const std::vector<SlipRows> slips = slip_rows(system.model, *start);
+    const WheelSpinRows spins = wheel_spin_rows(system.model.tree, start->dynamics.kinematics);
     // Try steps until one passes the error test and misses no touchdown.
     double error = 0.0, t1 = 0.0;
     for (;;) {
       bool last = false;
-      if (start.t + h >= t_end * (1.0 - 1e-15)) {
-        h = t_end - start.t;
+      if (start->t + h >= t_end * (1.0 - 1e-15)) {
+        h = t_end - start->t;
         last = true;
       }
       ContactCounts seen = start_contacts;
@@ -318,38 +323,38 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
         return stage.dx.tail<kNumCoordinates>();
       };
       MechanicalLinearization<kNumCoordinates> lin_h = lin.system;
-      stiffen_s_joints_over_step(system.model.parameters, start.inputs, q0, u0, h,
+      stiffen_s_joints_over_step(system.model.parameters, start->inputs, q0, u0, h,
                                  lin_h.d_force_d_position);
       iteration.compute(ros34pw2_iteration_matrix(lin_h, h));
       const RosenbrockWStep<kNumCoordinates> step =
-          ros34pw2_step<kNumCoordinates>(lin_h, iteration, start.t, q0, u0, h, acceleration);
+          ros34pw2_step<kNumCoordinates>(lin_h, iteration, start->t, q0, u0, h, acceleration);
       StateVector x1, e;
       x1 << step.q, step.u;
       e << step.error_q, step.error_u;
       measure_wheel_spins(spins, step.error_u, e);
       error = !x1.allFinite()
                   ? std::numeric_limits<double>::infinity()
-                  : std::max(error_norm(e, error_scale(start.x, x1, lin.spring_frequency_radps,
+                  : std::max(error_norm(e, error_scale(start->x, x1, lin.spring_frequency_radps,
                                                       start_contacts, settings)),
                              slip_error_norm(slips, step.error_u, settings));
       if (error <= 1.0) {
-        t1 = last ? t_end : start.t + h;
-        evaluate(system, t1, x1, end, report);
-        if (!has_more(active_contacts(end.dynamics.contacts), seen)) break;
+        t1 = last ? t_end : start->t + h;
+        evaluate(system, t1, x1, *end, report);
+        if (!has_more(active_contacts(end->dynamics.contacts), seen)) break;
         h *= kOnsetShrink;  // a touchdown inside the step that no stage saw
-        if (h < settings.min_step_s) return underflow(start.t, h, "touchdown");
+        if (h < settings.min_step_s) return underflow(start->t, h, "touchdown");
         continue;
       }
       h *= step_factor(error, 1.0);
       if (h < settings.min_step_s)
-        return underflow(start.t, h, "error estimate " + number_text(error));
+        return underflow(start->t, h, "error estimate " + number_text(error));
     }
 
-    const double taken = t1 - start.t;
-    if (step_is_bad(report, stall, t1, taken, end.x, request)) return report;
+    const double taken = t1 - start->t;
+    if (step_is_bad(report, stall, t1, taken, end->x, request)) return report;
     while (next < request.sample_count && sample_time(next) <= t1) {
       const double ts = sample_time(next);
-      request.record(ts, ts >= t1 ? end.x : hermite(start, end, ts));
+      request.record(ts, ts >= t1 ? end->x : hermite(*start, *end, ts));
       ++next;
     }
     std::swap(start, end);
