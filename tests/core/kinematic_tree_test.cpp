@@ -48,6 +48,24 @@ TEST(KinematicTree, BogieCouplingRotatesSidesOppositely) {
               kin.nodes[node::wheel(2)].origin.z() + kin.nodes[node::wheel(3)].origin.z(), 1e-12);
 }
 
+TEST(KinematicTree, BodyMassDistributionIsTheBodyFramesTurnedToWorldAxes) {
+  std::mt19937 rng(4);
+  Coordinates q, u;
+  testing::random_state(rng, q, u);
+  const TreeKinematics kin = forward_kinematics(kTree, q, u);
+  for (int b = 0; b < kNumBodies; ++b) {
+    const Mat3& R = kin.nodes[kTree.body_node[b]].rotation;
+    const RigidBodyParameters& body = kTree.bodies[b];
+    const BodyKinematics& world = kin.bodies[b];
+    EXPECT_LT((world.com_offset - R * body.com_m).norm(), 1e-15) << "body " << b;
+    const Mat3 expected = R * body.inertia_kgm2 * R.transpose();
+    EXPECT_LT((world.inertia - expected).norm(), 1e-15 * expected.norm()) << "body " << b;
+    EXPECT_EQ(world.inertia, world.inertia.transpose()) << "body " << b;
+    // Rotation keeps the principal moments; the trace is their sum.
+    EXPECT_NEAR(world.inertia.trace(), body.inertia_kgm2.trace(), 1e-15) << "body " << b;
+  }
+}
+
 TEST(KinematicTree, PointJacobianEqualsFiniteDifferences) {
   std::mt19937 rng(7);
   for (int trial = 0; trial < 5; ++trial) {
