@@ -125,20 +125,27 @@ int elementary_axis(const Vec3& axis) {
   return -1;
 }
 
-// parent * (rotation by `angle` about the unit `axis`): an elementary rotation
-// (about e_a of the parent frame, a = `elementary`) turns the two other
-// columns of the parent in their plane; any other axis goes through
-// Eigen::AngleAxis.
-void rotate_about(const Mat3& parent, const Vec3& axis, int elementary, double angle, Mat3& r) {
-  if (elementary < 0) {
-    r = parent * Eigen::AngleAxisd(angle, axis).toRotationMatrix();
-    return;
-  }
-  const int a = elementary, b = (a + 1) % 3, c = (a + 2) % 3;
+// parent * (rotation by `angle` about e_a of the parent frame): turns the two
+// other columns of the parent in their plane.
+template <int a>
+void rotate_about_unit_axis(const Mat3& parent, double angle, Mat3& r) {
+  constexpr int b = (a + 1) % 3, c = (a + 2) % 3;
   const double cos_angle = std::cos(angle), sin_angle = std::sin(angle);
   r.col(a) = parent.col(a);
   r.col(b) = cos_angle * parent.col(b) + sin_angle * parent.col(c);
   r.col(c) = cos_angle * parent.col(c) - sin_angle * parent.col(b);
+}
+
+// parent * (rotation by `angle` about the unit `axis`); `elementary` is
+// elementary_axis(axis). The tree's rotations are all elementary; any other
+// axis goes through Eigen::AngleAxis.
+void rotate_about(const Mat3& parent, const Vec3& axis, int elementary, double angle, Mat3& r) {
+  switch (elementary) {
+    case 0: return rotate_about_unit_axis<0>(parent, angle, r);
+    case 1: return rotate_about_unit_axis<1>(parent, angle, r);
+    case 2: return rotate_about_unit_axis<2>(parent, angle, r);
+    default: r = parent * Eigen::AngleAxisd(angle, axis).toRotationMatrix();
+  }
 }
 
 // R I R^T for a symmetric I, column by column (which the compiler vectorizes,

@@ -66,6 +66,36 @@ TEST(KinematicTree, BodyMassDistributionIsTheBodyFramesTurnedToWorldAxes) {
   }
 }
 
+TEST(KinematicTree, AGeneralAxisMovesLikeItsElementaryEquivalent) {
+  // Turning by -q about -e_y is turning by q about e_y, and sliding by -q
+  // along -e_y is sliding by q along e_y. With those axes forward_kinematics
+  // leaves its elementary-axis shortcuts for the general path (parent
+  // rotation times axis, Eigen::AngleAxis) and must give the same motion.
+  KinematicTree flipped = kTree;
+  for (const int n : {1, node::bogie_left, node::wheel(0), node::wheel(3)}) {
+    flipped.nodes[n].axis = -flipped.nodes[n].axis;
+    flipped.nodes[n].sign = -flipped.nodes[n].sign;
+  }
+  std::mt19937 rng(6);
+  Coordinates q, u;
+  testing::random_state(rng, q, u);
+  const TreeKinematics a = forward_kinematics(kTree, q, u), b = forward_kinematics(flipped, q, u);
+  const double tol = 1e-14;
+  for (int n = 0; n < kNumTreeNodes; ++n) {
+    const NodeKinematics &x = a.nodes[n], &y = b.nodes[n];
+    EXPECT_LT((x.rotation - y.rotation).norm(), tol) << "node " << n;
+    EXPECT_LT((x.origin - y.origin).norm(), tol) << "node " << n;
+    EXPECT_LT((x.omega - y.omega).norm(), tol) << "node " << n;
+    EXPECT_LT((x.velocity - y.velocity).norm(), tol) << "node " << n;
+    EXPECT_LT((x.alpha_bias - y.alpha_bias).norm(), tol) << "node " << n;
+    EXPECT_LT((x.accel_bias - y.accel_bias).norm(), tol) << "node " << n;
+    EXPECT_LT((x.motion_omega - y.motion_omega).norm(), tol) << "node " << n;
+    EXPECT_LT((x.motion_velocity - y.motion_velocity).norm(), tol) << "node " << n;
+  }
+  for (int body = 0; body < kNumBodies; ++body)
+    EXPECT_LT((a.bodies[body].inertia - b.bodies[body].inertia).norm(), tol) << "body " << body;
+}
+
 TEST(KinematicTree, PointJacobianEqualsFiniteDifferences) {
   std::mt19937 rng(7);
   for (int trial = 0; trial < 5; ++trial) {
