@@ -7,60 +7,83 @@
 namespace rover {
 namespace {
 
-Mat3 skew_square(const Vec3& d) {  // |d|^2 E - d d^T (parallel-axis term)
-  return d.squaredNorm() * Mat3::Identity() - d * d.transpose();
-}
-
-// A rigid body's (or a composite's) inertia about the reference point.
+// A subtree's inertia about the reference point: mass, first moment m (c - ref)
+// and rotational inertia (world axes).
 struct SpatialInertia {
-  double mass = 0.0;
-  Vec3 first_moment = Vec3::Zero();  // m (c - ref)
-  Mat3 rotational = Mat3::Zero();    // inertia about ref, world axes
+  double mass;
+  Vec3 first_moment;
+  Mat3 rotational;
 };
 
-SpatialInertia body_inertia_at_reference(const RigidBodyParameters& body,
-                                         const NodeKinematics& frame, const Vec3& reference) {
-  const Vec3 d = frame.origin + frame.rotation * body.com_m - reference;
-  SpatialInertia s;
-  s.mass = body.mass_kg;
-  s.first_moment = body.mass_kg * d;
-  s.rotational = frame.rotation * body.inertia_kgm2 * frame.rotation.transpose() +
-                 body.mass_kg * skew_square(d);
-  return s;
+// A unit motion, momentum or wrench about the reference point as one 6-vector
+// (angular part, then linear), so that their pairings vectorize.
+using SpatialVector = Eigen::Matrix<double, 6, 1>;
+
+// One body's inertia about the reference point (parallel-axis theorem).
+void body_inertia_at_reference(double mass, const BodyKinematics& body, const Vec3& com_from_reference,
+                               SpatialInertia& s) {
+  const Vec3& d = com_from_reference;
+  s.mass = mass;
+  s.first_moment = mass * d;
+  // I_com + m (|d|^2 E - d d^T), on one triangle: it stays exactly symmetric.
+  const double d_squared = d.squaredNorm();
+  for (int c = 0; c < 3; ++c) {
+    s.rotational(c, c) = body.inertia(c, c) + mass * (d_squared - d[c] * d[c]);
+    for (int r = c + 1; r < 3; ++r)
+      s.rotational(r, c) = s.rotational(c, r) = body.inertia(r, c) - mass * d[r] * d[c];
+  }
 }
 
 }  // namespace
 
 CoordinateMatrix mass_matrix(const KinematicTree& tree, const TreeKinematics& kin) {
-  // Composite inertias of every subtree, leaves first.
+  // Composite inertias of every subtree: a node's own body first; its
+  // children (later nodes) add theirs before the node is reached below.
   std::array<SpatialInertia, kNumTreeNodes> composite;
-  for (int i = 0; i < kNumTreeNodes; ++i)
-    if (tree.nodes[i].body >= 0)
-      composite[i] = body_inertia_at_reference(tree.bodies[tree.nodes[i].body], kin.nodes[i],
-                                               kin.reference);
-  for (int i = kNumTreeNodes - 1; i > 0; --i) {
-    const int parent = tree.nodes[i].parent;
-    if (parent < 0) continue;
-    composite[parent].mass += composite[i].mass;
-    composite[parent].first_moment += composite[i].first_moment;
-    composite[parent].rotational += composite[i].rotational;
+  for (int i = 0; i < kNumTreeNodes; ++i) {
+    const int b = tree.nodes[i].body;
+    if (b >= 0) {
+      const BodyKinematics& body = kin.bodies[b];
+      body_inertia_at_reference(tree.bodies[b].mass_kg, body,
+                                kin.nodes[i].origin + body.com_offset - kin.reference, composite[i]);
+    } else {
+      composite[i].mass = 0.0;
+      composite[i].first_moment.setZero();
+      composite[i].rotational.setZero();
+    }
+  }
+
+  // Unit motion (angular; linear at ref) of every joint, as one 6-vector.
+  std::array<SpatialVector, kNumTreeNodes> motion;
+  std::array<int, kNumTreeNodes> coordinate;
+  for (int i = 0; i < kNumTreeNodes; ++i) {
+    motion[i] << kin.nodes[i].motion_omega, kin.nodes[i].motion_velocity;
+    coordinate[i] = tree.nodes[i].coordinate;
   }
 
   CoordinateMatrix M = CoordinateMatrix::Zero();
-  for (int i = 0; i < kNumTreeNodes; ++i) {
-    const SpatialInertia& c = composite[i];
+  for (int i = kNumTreeNodes - 1; i >= 0; --i) {
+    const SpatialInertia& c = composite[i];  // complete: every descendant comes after i
     const NodeKinematics& n = kin.nodes[i];
-    // Momentum (linear, angular about ref) of subtree i under unit motion of joint i.
-    const Vec3 linear = c.mass * n.motion_velocity + n.motion_omega.cross(c.first_moment);
-    const Vec3 angular = c.rotational * n.motion_omega + c.first_moment.cross(n.motion_velocity);
     const int ci = tree.nodes[i].coordinate;
-    for (int a = 0; a < tree.path_length[i]; ++a) {
+    // Momentum (angular about ref; linear) of subtree i under unit motion of
+    // joint i, projected on the unit motion of each joint on its path.
+    SpatialVector momentum;
+    momentum << c.rotational * n.motion_omega + c.first_moment.cross(n.motion_velocity),
+        c.mass * n.motion_velocity + n.motion_omega.cross(c.first_moment);
+    M(ci, ci) += motion[i].dot(momentum);
+    for (int a = 1; a < tree.path_length[i]; ++a) {  // the proper ancestors
       const int j = tree.path[i][a];
-      const NodeKinematics& m = kin.nodes[j];
-      const double value = m.motion_omega.dot(angular) + m.motion_velocity.dot(linear);
-      const int cj = tree.nodes[j].coordinate;
+      const int cj = coordinate[j];
+      const double value = motion[j].dot(momentum);
       M(cj, ci) += value;
-      if (j != i) M(ci, cj) += value;
+      M(ci, cj) += value;
+    }
+    const int parent = tree.nodes[i].parent;
+    if (parent >= 0) {
+      composite[parent].mass += c.mass;
+      composite[parent].first_moment += c.first_moment;
+      composite[parent].rotational += c.rotational;
     }
   }
   return M;
@@ -68,33 +91,34 @@ CoordinateMatrix mass_matrix(const KinematicTree& tree, const TreeKinematics& ki
 
 Coordinates gravity_and_inertia_forces(const KinematicTree& tree, const TreeKinematics& kin,
                                        double gravity_mps2) {
-  // Net wrench (force, moment about ref) on each node's subtree, leaves first.
-  std::array<Vec3, kNumTreeNodes> force, moment;
+  // Net wrench (moment about ref; force) on each node's subtree: a node's own
+  // body first, then its children's (later nodes) are added before it is reached.
+  std::array<SpatialVector, kNumTreeNodes> wrench;
   const Vec3 gravity(0.0, 0.0, -gravity_mps2);
   for (int i = 0; i < kNumTreeNodes; ++i) {
-    force[i].setZero();
-    moment[i].setZero();
     const int b = tree.nodes[i].body;
-    if (b < 0) continue;
-    const RigidBodyParameters& body = tree.bodies[b];
+    if (b < 0) {
+      wrench[i].setZero();
+      continue;
+    }
+    const double mass = tree.bodies[b].mass_kg;
+    const BodyKinematics& body = kin.bodies[b];
     const NodeKinematics& n = kin.nodes[i];
-    const Vec3 rho = n.rotation * body.com_m;
+    const Vec3& rho = body.com_offset;
     const Vec3 com_accel = n.accel_bias + n.alpha_bias.cross(rho) + n.omega.cross(n.omega.cross(rho));
-    const Mat3 inertia = n.rotation * body.inertia_kgm2 * n.rotation.transpose();
     // Active gravity minus the inertia force and torque of paper eq. 4 at du/dt = 0.
-    force[i] = body.mass_kg * (gravity - com_accel);
-    const Vec3 torque = -(inertia * n.alpha_bias + n.omega.cross(inertia * n.omega));
-    moment[i] = torque + (n.origin + rho - kin.reference).cross(force[i]);
+    const Vec3 force = mass * (gravity - com_accel);
+    const Vec3 torque = -(body.inertia * n.alpha_bias + n.omega.cross(body.inertia * n.omega));
+    wrench[i] << torque + (n.origin + rho - kin.reference).cross(force), force;
   }
   Coordinates F = Coordinates::Zero();
   for (int i = kNumTreeNodes - 1; i >= 0; --i) {
     const NodeKinematics& n = kin.nodes[i];
-    F[tree.nodes[i].coordinate] += n.motion_omega.dot(moment[i]) + n.motion_velocity.dot(force[i]);
+    SpatialVector motion;
+    motion << n.motion_omega, n.motion_velocity;
+    F[tree.nodes[i].coordinate] += motion.dot(wrench[i]);
     const int parent = tree.nodes[i].parent;
-    if (parent >= 0) {
-      force[parent] += force[i];
-      moment[parent] += moment[i];
-    }
+    if (parent >= 0) wrench[parent] += wrench[i];
   }
   return F;
 }
@@ -121,10 +145,9 @@ double kinetic_energy(const KinematicTree& tree, const TreeKinematics& kin) {
   double T = 0.0;
   for (int b = 0; b < kNumBodies; ++b) {
     const NodeKinematics& n = kin.nodes[tree.body_node[b]];
-    const RigidBodyParameters& body = tree.bodies[b];
-    const Vec3 v = n.velocity + n.omega.cross(n.rotation * body.com_m);
-    const Vec3 w_body = n.rotation.transpose() * n.omega;
-    T += 0.5 * body.mass_kg * v.squaredNorm() + 0.5 * w_body.dot(body.inertia_kgm2 * w_body);
+    const BodyKinematics& body = kin.bodies[b];
+    const Vec3 v = n.velocity + n.omega.cross(body.com_offset);
+    T += 0.5 * tree.bodies[b].mass_kg * v.squaredNorm() + 0.5 * n.omega.dot(body.inertia * n.omega);
   }
   return T;
 }
@@ -134,7 +157,7 @@ double gravity_potential_energy(const KinematicTree& tree, const TreeKinematics&
   double V = 0.0;
   for (int b = 0; b < kNumBodies; ++b) {
     const NodeKinematics& n = kin.nodes[tree.body_node[b]];
-    V += tree.bodies[b].mass_kg * gravity_mps2 * (n.origin + n.rotation * tree.bodies[b].com_m).z();
+    V += tree.bodies[b].mass_kg * gravity_mps2 * (n.origin + kin.bodies[b].com_offset).z();
   }
   return V;
 }

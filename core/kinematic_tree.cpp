@@ -118,22 +118,49 @@ TreeKinematics forward_kinematics(const KinematicTree& tree, const Coordinates& 
 
 namespace {
 
-// parent * (rotation by `angle` about the unit `axis`): the elementary
-// rotations of the tree (about x, y or z of the parent frame) turn two
-// columns of the parent in their plane; any other axis goes through
-// Eigen::AngleAxis.
-Mat3 rotated_about(const Mat3& parent, const Vec3& axis, double angle) {
-  for (int a = 0; a < 3; ++a) {
-    if (axis[a] != 1.0 || axis[(a + 1) % 3] != 0.0 || axis[(a + 2) % 3] != 0.0) continue;
-    const int b = (a + 1) % 3, c = (a + 2) % 3;
-    const double cos_angle = std::cos(angle), sin_angle = std::sin(angle);
-    Mat3 r;
-    r.col(a) = parent.col(a);
-    r.col(b) = cos_angle * parent.col(b) + sin_angle * parent.col(c);
-    r.col(c) = cos_angle * parent.col(c) - sin_angle * parent.col(b);
-    return r;
+// Index a of the unit axis e_a, or -1 for any other axis.
+int elementary_axis(const Vec3& axis) {
+  for (int a = 0; a < 3; ++a)
+    if (axis[a] == 1.0 && axis[(a + 1) % 3] == 0.0 && axis[(a + 2) % 3] == 0.0) return a;
+  return -1;
+}
+
+// parent * (rotation by `angle` about e_a of the parent frame): turns the two
+// other columns of the parent in their plane.
+template <int a>
+void rotate_about_unit_axis(const Mat3& parent, double angle, Mat3& r) {
+  constexpr int b = (a + 1) % 3, c = (a + 2) % 3;
+  const double cos_angle = std::cos(angle), sin_angle = std::sin(angle);
+  r.col(a) = parent.col(a);
+  r.col(b) = cos_angle * parent.col(b) + sin_angle * parent.col(c);
+  r.col(c) = cos_angle * parent.col(c) - sin_angle * parent.col(b);
+}
+
+// parent * (rotation by `angle` about the unit `axis`); `elementary` is
+// elementary_axis(axis). The tree's rotations are all elementary; any other
+// axis goes through Eigen::AngleAxis.
+void rotate_about(const Mat3& parent, const Vec3& axis, int elementary, double angle, Mat3& r) {
+  switch (elementary) {
+    case 0: return rotate_about_unit_axis<0>(parent, angle, r);
+    case 1: return rotate_about_unit_axis<1>(parent, angle, r);
+    case 2: return rotate_about_unit_axis<2>(parent, angle, r);
+    default: r = parent * Eigen::AngleAxisd(angle, axis).toRotationMatrix();
   }
-  return parent * Eigen::AngleAxisd(angle, axis).toRotationMatrix();
+}
+
+// R I R^T for a symmetric I, column by column (which the compiler vectorizes,
+// unlike the 3 x 3 product R * I), then mirrored: exactly symmetric.
+void rotate_inertia(const Mat3& rotation, const Mat3& inertia, Mat3& world) {
+  Mat3 rotated;  // R I
+  for (int c = 0; c < 3; ++c)
+    rotated.col(c) = rotation.col(0) * inertia(0, c) + rotation.col(1) * inertia(1, c) +
+                     rotation.col(2) * inertia(2, c);
+  for (int c = 0; c < 3; ++c)
+    world.col(c) = rotated.col(0) * rotation(c, 0) + rotated.col(1) * rotation(c, 1) +
+                   rotated.col(2) * rotation(c, 2);
+  world(0, 1) = world(1, 0);
+  world(0, 2) = world(2, 0);
+  world(1, 2) = world(2, 1);
 }
 
 }  // namespace
@@ -143,32 +170,71 @@ void forward_kinematics(const KinematicTree& tree, const Coordinates& q, const C
   for (int i = 0; i < kNumTreeNodes; ++i) {
     const TreeNode& node = tree.nodes[i];
     NodeKinematics& k = kin.nodes[i];
-    static const NodeKinematics kWorld{Mat3::Identity(), Vec3::Zero(), Vec3::Zero(),
-                                       Vec3::Zero(),     Vec3::Zero(), Vec3::Zero(),
-                                       Vec3::Zero(),     Vec3::Zero(), Vec3::Zero()};
-    const NodeKinematics& parent = node.parent >= 0 ? kin.nodes[node.parent] : kWorld;
     const double displacement = node.sign * q[node.coordinate];
     const double rate = node.sign * u[node.coordinate];
-    k.axis = parent.rotation * node.axis;
-    Vec3 r = parent.rotation * node.offset_m;
-    if (node.type == JointType::kRevolute) {
-      k.rotation = rotated_about(parent.rotation, node.axis, displacement);
-      k.omega = parent.omega + k.axis * rate;
-      k.alpha_bias = parent.alpha_bias + parent.omega.cross(k.axis * rate);
-      k.velocity = parent.velocity + parent.omega.cross(r);
-      k.accel_bias = parent.accel_bias + parent.alpha_bias.cross(r) +
-                     parent.omega.cross(parent.omega.cross(r));
+    const int elementary = elementary_axis(node.axis);
+    const bool revolute = node.type == JointType::kRevolute;
+    if (node.parent < 0) {
+      // Under the world frame (at rest, world axes) every parent term vanishes.
+      k.axis = node.axis;
+      k.origin = node.offset_m;
+      k.alpha_bias.setZero();
+      k.accel_bias.setZero();
+      if (revolute) {
+        rotate_about(Mat3::Identity(), node.axis, elementary, displacement, k.rotation);
+        k.omega = k.axis * rate;
+        k.velocity.setZero();
+      } else {
+        k.rotation.setIdentity();
+        k.origin += k.axis * displacement;
+        k.omega.setZero();
+        k.velocity = k.axis * rate;
+      }
     } else {
-      r += k.axis * displacement;
-      const Vec3 slide = k.axis * rate;
-      k.rotation = parent.rotation;
-      k.omega = parent.omega;
-      k.alpha_bias = parent.alpha_bias;
-      k.velocity = parent.velocity + parent.omega.cross(r) + slide;
-      k.accel_bias = parent.accel_bias + parent.alpha_bias.cross(r) +
-                     parent.omega.cross(parent.omega.cross(r)) + 2.0 * parent.omega.cross(slide);
+      const NodeKinematics& parent = kin.nodes[node.parent];
+      if (elementary >= 0)
+        k.axis = parent.rotation.col(elementary);
+      else
+        k.axis = parent.rotation * node.axis;
+      // r: node origin relative to the parent origin. A joint at the parent
+      // origin (r = 0) inherits the origin's velocity and bias acceleration.
+      const bool at_parent_origin = (node.offset_m.array() == 0.0).all();
+      if (revolute) {
+        const Vec3 spin = k.axis * rate;
+        rotate_about(parent.rotation, node.axis, elementary, displacement, k.rotation);
+        k.omega = parent.omega + spin;
+        k.alpha_bias = parent.alpha_bias + parent.omega.cross(spin);
+        if (at_parent_origin) {
+          k.origin = parent.origin;
+          k.velocity = parent.velocity;
+          k.accel_bias = parent.accel_bias;
+        } else {
+          const Vec3 r = parent.rotation * node.offset_m;
+          const Vec3 omega_cross_r = parent.omega.cross(r);
+          k.origin = parent.origin + r;
+          k.velocity = parent.velocity + omega_cross_r;
+          k.accel_bias = parent.accel_bias + parent.alpha_bias.cross(r) + parent.omega.cross(omega_cross_r);
+        }
+      } else {
+        Vec3 r = k.axis * displacement;
+        if (!at_parent_origin) r += parent.rotation * node.offset_m;
+        const Vec3 slide = k.axis * rate;
+        const Vec3 omega_cross_r = parent.omega.cross(r);
+        k.rotation = parent.rotation;
+        k.omega = parent.omega;
+        k.alpha_bias = parent.alpha_bias;
+        k.origin = parent.origin + r;
+        k.velocity = parent.velocity + omega_cross_r + slide;
+        k.accel_bias = parent.accel_bias + parent.alpha_bias.cross(r) +
+                       parent.omega.cross(omega_cross_r) + 2.0 * parent.omega.cross(slide);
+      }
     }
-    k.origin = parent.origin + r;
+    if (node.body >= 0) {
+      const RigidBodyParameters& body = tree.bodies[node.body];
+      BodyKinematics& b = kin.bodies[node.body];
+      b.com_offset = k.rotation * body.com_m;
+      rotate_inertia(k.rotation, body.inertia_kgm2, b.inertia);
+    }
   }
   kin.reference = kin.nodes[node::chassis].origin;
   for (int i = 0; i < kNumTreeNodes; ++i) {

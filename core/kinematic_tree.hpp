@@ -9,7 +9,8 @@
 // world axes, then Rz(theta), Ry(chi), Rx(psi), so R_WC = Rz Ry Rx.
 //
 // forward_kinematics() evaluates, for every node, the world pose, velocity and
-// the "bias" accelerations (the accelerations when du/dt = 0). They are the
+// the "bias" accelerations (the accelerations when du/dt = 0), and for every
+// body its centre-of-mass offset and inertia in world axes. They are the
 // ingredients of Kane's partial velocities and inertia forces (paper eqs. 3-4).
 // Everything is expressed in the world frame; moments are taken about a single
 // reference point (the chassis origin) so sums over bodies are plain additions.
@@ -82,8 +83,16 @@ struct NodeKinematics {
   Vec3 motion_velocity;
 };
 
+// World-frame mass distribution of one body, shared by the mass matrix, the
+// inertia forces and the energies at one state.
+struct BodyKinematics {
+  Vec3 com_offset;      // R_W,node com_m: centre of mass relative to the node origin [m]
+  Mat3 inertia;         // R_W,node I R_W,node^T: inertia about the centre of mass [kg m^2]
+};
+
 struct TreeKinematics {
   std::array<NodeKinematics, kNumTreeNodes> nodes;
+  std::array<BodyKinematics, kNumBodies> bodies;  // indexed like KinematicTree::bodies
   Vec3 reference;       // moment reference point (the chassis origin)
 };
 

@@ -63,6 +63,20 @@ TEST(Dynamics, MassMatrixEqualsSumOverBodiesOfJacobianProducts) {
   EXPECT_LT((M - M_crba).cwiseAbs().maxCoeff(), 1e-9 * M_crba.cwiseAbs().maxCoeff());
 }
 
+TEST(Dynamics, KineticEnergyIsHalfTheMassMatrixQuadraticForm) {
+  // Body by body (m |v_com|^2 + w . I w) / 2 against u^T M u / 2 from the
+  // composite-body pass: both read the world inertias of forward_kinematics.
+  std::mt19937 rng(3);
+  for (int trial = 0; trial < 10; ++trial) {
+    Coordinates q, u;
+    testing::random_state(rng, q, u);
+    const TreeKinematics kin = forward_kinematics(kTree, q, u);
+    const double T = kinetic_energy(kTree, kin);
+    EXPECT_GT(T, 0.0);
+    EXPECT_NEAR(T, 0.5 * u.dot(mass_matrix(kTree, kin) * u), 1e-12 * T);
+  }
+}
+
 TEST(Dynamics, VelocityTermsSatisfyLagrangesEquations) {
   // With T = u^T M(q) u / 2, Lagrange gives the velocity-dependent generalized
   // force -(dM/dt u - dT/dq); gravity gives -dV/dq.

@@ -48,6 +48,54 @@ TEST(KinematicTree, BogieCouplingRotatesSidesOppositely) {
               kin.nodes[node::wheel(2)].origin.z() + kin.nodes[node::wheel(3)].origin.z(), 1e-12);
 }
 
+TEST(KinematicTree, BodyMassDistributionIsTheBodyFramesTurnedToWorldAxes) {
+  std::mt19937 rng(4);
+  Coordinates q, u;
+  testing::random_state(rng, q, u);
+  const TreeKinematics kin = forward_kinematics(kTree, q, u);
+  for (int b = 0; b < kNumBodies; ++b) {
+    const Mat3& R = kin.nodes[kTree.body_node[b]].rotation;
+    const RigidBodyParameters& body = kTree.bodies[b];
+    const BodyKinematics& world = kin.bodies[b];
+    EXPECT_LT((world.com_offset - R * body.com_m).norm(), 1e-15) << "body " << b;
+    const Mat3 expected = R * body.inertia_kgm2 * R.transpose();
+    EXPECT_LT((world.inertia - expected).norm(), 1e-15 * expected.norm()) << "body " << b;
+    EXPECT_EQ(world.inertia, world.inertia.transpose()) << "body " << b;
+    // Rotation keeps the principal moments; the trace is their sum.
+    EXPECT_NEAR(world.inertia.trace(), body.inertia_kgm2.trace(), 1e-15) << "body " << b;
+  }
+}
+
+TEST(KinematicTree, AGeneralAxisMovesLikeItsElementaryEquivalent) {
+  // Turning by -q about -e_y is turning by q about e_y, and sliding by -q
+  // along -e_y is sliding by q along e_y. With those axes forward_kinematics
+  // leaves its elementary-axis shortcuts for the general path (parent
+  // rotation times axis, Eigen::AngleAxis) and must give the same motion.
+  KinematicTree flipped = kTree;
+  for (const int n : {1, node::bogie_left, node::wheel(0), node::wheel(3)}) {
+    flipped.nodes[n].axis = -flipped.nodes[n].axis;
+    flipped.nodes[n].sign = -flipped.nodes[n].sign;
+  }
+  std::mt19937 rng(6);
+  Coordinates q, u;
+  testing::random_state(rng, q, u);
+  const TreeKinematics a = forward_kinematics(kTree, q, u), b = forward_kinematics(flipped, q, u);
+  const double tol = 1e-14;
+  for (int n = 0; n < kNumTreeNodes; ++n) {
+    const NodeKinematics &x = a.nodes[n], &y = b.nodes[n];
+    EXPECT_LT((x.rotation - y.rotation).norm(), tol) << "node " << n;
+    EXPECT_LT((x.origin - y.origin).norm(), tol) << "node " << n;
+    EXPECT_LT((x.omega - y.omega).norm(), tol) << "node " << n;
+    EXPECT_LT((x.velocity - y.velocity).norm(), tol) << "node " << n;
+    EXPECT_LT((x.alpha_bias - y.alpha_bias).norm(), tol) << "node " << n;
+    EXPECT_LT((x.accel_bias - y.accel_bias).norm(), tol) << "node " << n;
+    EXPECT_LT((x.motion_omega - y.motion_omega).norm(), tol) << "node " << n;
+    EXPECT_LT((x.motion_velocity - y.motion_velocity).norm(), tol) << "node " << n;
+  }
+  for (int body = 0; body < kNumBodies; ++body)
+    EXPECT_LT((a.bodies[body].inertia - b.bodies[body].inertia).norm(), tol) << "body " << body;
+}
+
 TEST(KinematicTree, PointJacobianEqualsFiniteDifferences) {
   std::mt19937 rng(7);
   for (int trial = 0; trial < 5; ++trial) {
