@@ -31,11 +31,10 @@ ContactForceDerivatives contact_force_derivatives(const ContactPoint& c,
   Vec3 mu_e = Vec3::Zero();
   if (s > 0.0) {
     const Vec3 e = c.slip_velocity_mps / s;
-    const double mu = makkar_mu(s, friction.gammas);
-    const double mu_over_s = mu / s;
-    friction_gain = makkar_mu_derivative(s, friction.gammas) * e * e.transpose() +
-                    mu_over_s * (tangent - e * e.transpose());
-    mu_e = mu * e;
+    const MakkarMuAndDerivative m = makkar_mu_and_derivative(s, friction.gammas);
+    const double mu_over_s = m.mu / s;
+    friction_gain = m.d_mu_d_v * e * e.transpose() + mu_over_s * (tangent - e * e.transpose());
+    mu_e = m.mu * e;
   } else {
     friction_gain = makkar_mu_derivative(0.0, friction.gammas) * tangent;
   }
@@ -81,10 +80,13 @@ StiffForceJacobian stiff_force_jacobian(const RoverModel& model, const DynamicsW
   jac.spring_d_position_diagonal = joints.d_position;
   using Columns = Eigen::Matrix<double, 3, kNumCoordinates>;
   // A wheel's J_P and dv_P/dq have non-zero columns only for the coordinates
-  // on its path to the root: the products J^T A J are formed on those
-  // (11 of 23) and added into D and K there.
+  // on its path to the root (one node per coordinate there): every product is
+  // formed on those columns alone (11 of 23), at a size fixed at compile time
+  // (the columns past the path length are zero), coefficient by coefficient,
+  // and added into D and K there.
   using PathColumns = Eigen::Matrix<double, 3, kMaxTreeDepth>;
   using PathBlock = Eigen::Matrix<double, kMaxTreeDepth, kMaxTreeDepth>;
+  using PathRow = Eigen::Matrix<double, 1, kMaxTreeDepth>;
   for (int leg = 0; leg < kNumLegs; ++leg) {
     const WheelContacts& at_wheel = contacts[leg];
     bool pushing = false;
@@ -92,9 +94,6 @@ StiffForceJacobian stiff_force_jacobian(const RoverModel& model, const DynamicsW
     if (!pushing) continue;
     const int node = node::wheel(leg);
     const NodeKinematics& wheel = kin.nodes[node];
-    const Columns centre_jacobian = point_jacobian(model.tree, kin, node, wheel.origin);
-    const Columns omega_jacobian = angular_jacobian(model.tree, kin, node);
-    const FrameVelocityPositionDerivative frame = frame_velocity_position_derivative(model.tree, kin, node);
     const int path_length = model.tree.path_length[node];
     std::array<int, kMaxTreeDepth> path_coordinate{};
     for (int a = 0; a < path_length; ++a) path_coordinate[a] = model.tree.nodes[model.tree.path[node][a]].coordinate;
@@ -107,27 +106,34 @@ StiffForceJacobian stiff_force_jacobian(const RoverModel& model, const DynamicsW
       for (int b = 0; b < path_length; ++b)
         for (int a = 0; a < path_length; ++a) target(path_coordinate[a], path_coordinate[b]) += block(a, b);
     };
+    const PathColumns centre_jacobian = on_path(point_jacobian(model.tree, kin, node, wheel.origin));
+    const PathColumns omega_jacobian = on_path(angular_jacobian(model.tree, kin, node));
+    const FrameVelocityPositionDerivative frame = frame_velocity_position_derivative(model.tree, kin, node);
+    const PathColumns d_origin_velocity = on_path(frame.d_origin_velocity);
+    const PathColumns d_omega = on_path(frame.d_omega);
     for (int k = 0; k < at_wheel.count; ++k) {
       const ContactPoint& c = at_wheel.points[k];
       if (!(c.normal_force_N > 0.0)) continue;
       const ContactForceDerivatives d =
           contact_force_derivatives(c, model.parameters.contact, model.parameters.friction);
-      const Vec3 lever = c.point_m - wheel.origin;
-      const Columns J = centre_jacobian - cross_matrix(lever) * omega_jacobian;  // J_P = dv_P/du
-      const PathColumns J_path = on_path(J);
-      add_on_path(J_path.transpose() * (d.d_force_d_velocity * J_path), jac.d_speed);
+      const Mat3 lever_cross = cross_matrix(c.point_m - wheel.origin);
+      const PathColumns J = centre_jacobian - lever_cross.lazyProduct(omega_jacobian);  // J_P = dv_P/du
+      const PathBlock J_transpose_D_J = J.transpose().lazyProduct(d.d_force_d_velocity.lazyProduct(J));
+      add_on_path(J_transpose_D_J, jac.d_speed);
       // v_P = J_P u changes with q: the frame turns and P slides over the rim
-      // (contact_point_position_derivative); the penetration follows the
-      // material point (P is the deepest point), dp/dq = -n^T J_P.
-      const Columns dP_dq = contact_point_position_derivative(
-          c.point_m, wheel.origin, wheel.rotation.col(1), centre_jacobian, omega_jacobian);
-      const Columns dv_dq = frame.d_origin_velocity - cross_matrix(lever) * frame.d_omega +
-                            cross_matrix(wheel.omega) * (dP_dq - centre_jacobian);
-      const Eigen::Matrix<double, 1, kNumCoordinates> dp_dq = -c.normal.transpose() * J;
-      const Columns df_dq = d.d_force_d_velocity * dv_dq + d.d_force_d_penetration * dp_dq;
-      add_on_path(J_path.transpose() * on_path(df_dq), jac.d_position);
-      jac.spring_d_position_diagonal +=
-          (J.transpose() * d.d_force_d_penetration).cwiseProduct(dp_dq.transpose());
+      // (contact_point_turning: dP/dq - dc/dq = T J_omega); the penetration
+      // follows the material point (P is the deepest point), dp/dq = -n^T J_P.
+      const Mat3 slide = cross_matrix(wheel.omega) *
+                         contact_point_turning(c.point_m, wheel.origin, wheel.rotation.col(1));
+      const PathColumns dv_dq = d_origin_velocity - lever_cross.lazyProduct(d_omega) +
+                                slide.lazyProduct(omega_jacobian);
+      const PathRow dp_dq = -c.normal.transpose().lazyProduct(J);
+      const PathColumns df_dq =
+          d.d_force_d_velocity.lazyProduct(dv_dq) + d.d_force_d_penetration.lazyProduct(dp_dq);
+      add_on_path(J.transpose().lazyProduct(df_dq), jac.d_position);
+      const PathRow spring_diagonal =
+          (d.d_force_d_penetration.transpose().lazyProduct(J)).cwiseProduct(dp_dq);
+      for (int a = 0; a < path_length; ++a) jac.spring_d_position_diagonal[path_coordinate[a]] += spring_diagonal[a];
     }
   }
   return jac;
