@@ -185,9 +185,8 @@ Eigen::Matrix<double, 3, kNumCoordinates> contact_point_position_derivative(
          contact_point_turning(contact_point_m, wheel_centre_m, spin_axis).lazyProduct(angular_jacobian);
 }
 
-void compute_contact_forces(const TreeKinematics& kin, int wheel_node,
-                            const ContactParameters& contact, const FrictionParameters& friction,
-                            WheelContacts& contacts) {
+void compute_contact_normal_forces(const TreeKinematics& kin, int wheel_node,
+                                   const ContactParameters& contact, WheelContacts& contacts) {
   for (int k = 0; k < contacts.count; ++k) {
     ContactPoint& c = contacts.points[k];
     const Vec3 v = point_velocity(kin, wheel_node, c.point_m);
@@ -197,6 +196,15 @@ void compute_contact_forces(const TreeKinematics& kin, int wheel_node,
     const double p = std::max(c.penetration_m, 0.0);
     c.normal_force_N = std::max(0.0, contact.stiffness_k_g * std::pow(p, contact.exponent_sigma) +
                                          contact.damping_c_g * c.penetration_rate_mps);
+  }
+}
+
+void compute_contact_forces(const TreeKinematics& kin, int wheel_node,
+                            const ContactParameters& contact, const FrictionParameters& friction,
+                            WheelContacts& contacts) {
+  compute_contact_normal_forces(kin, wheel_node, contact, contacts);
+  for (int k = 0; k < contacts.count; ++k) {
+    ContactPoint& c = contacts.points[k];
     const double slip = c.slip_velocity_mps.norm();
     c.friction_force_N.setZero();
     if (slip > 0.0 && c.normal_force_N > 0.0)

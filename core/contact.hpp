@@ -75,4 +75,10 @@ void compute_contact_forces(const TreeKinematics& kin, int wheel_node,
                             const ContactParameters& contact, const FrictionParameters& friction,
                             WheelContacts& contacts);
 
+// The part of compute_contact_forces() before the friction: the penetration
+// rates, slip velocities and normal forces (the same numbers); the friction
+// forces are left as they are.
+void compute_contact_normal_forces(const TreeKinematics& kin, int wheel_node,
+                                   const ContactParameters& contact, WheelContacts& contacts);
+
 }  // namespace rover

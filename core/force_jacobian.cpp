@@ -102,9 +102,12 @@ StiffForceJacobian stiff_force_jacobian(const RoverModel& model, const DynamicsW
       for (int a = 0; a < path_length; ++a) compact.col(a) = full.col(path_coordinate[a]);
       return compact;
     };
-    const auto add_on_path = [&](const PathBlock& block, CoordinateMatrix& target) {
+    const auto add_on_path = [&](const PathBlock& d_speed, const PathBlock& d_position) {
       for (int b = 0; b < path_length; ++b)
-        for (int a = 0; a < path_length; ++a) target(path_coordinate[a], path_coordinate[b]) += block(a, b);
+        for (int a = 0; a < path_length; ++a) {
+          jac.d_speed(path_coordinate[a], path_coordinate[b]) += d_speed(a, b);
+          jac.d_position(path_coordinate[a], path_coordinate[b]) += d_position(a, b);
+        }
     };
     const PathColumns centre_jacobian = on_path(point_jacobian(model.tree, kin, node, wheel.origin));
     const PathColumns omega_jacobian = on_path(angular_jacobian(model.tree, kin, node));
@@ -119,7 +122,6 @@ StiffForceJacobian stiff_force_jacobian(const RoverModel& model, const DynamicsW
       const Mat3 lever_cross = cross_matrix(c.point_m - wheel.origin);
       const PathColumns J = centre_jacobian - lever_cross.lazyProduct(omega_jacobian);  // J_P = dv_P/du
       const PathBlock J_transpose_D_J = J.transpose().lazyProduct(d.d_force_d_velocity.lazyProduct(J));
-      add_on_path(J_transpose_D_J, jac.d_speed);
       // v_P = J_P u changes with q: the frame turns and P slides over the rim
       // (contact_point_turning: dP/dq - dc/dq = T J_omega); the penetration
       // follows the material point (P is the deepest point), dp/dq = -n^T J_P.
@@ -130,7 +132,7 @@ StiffForceJacobian stiff_force_jacobian(const RoverModel& model, const DynamicsW
       const PathRow dp_dq = -c.normal.transpose().lazyProduct(J);
       const PathColumns df_dq =
           d.d_force_d_velocity.lazyProduct(dv_dq) + d.d_force_d_penetration.lazyProduct(dp_dq);
-      add_on_path(J.transpose().lazyProduct(df_dq), jac.d_position);
+      add_on_path(J_transpose_D_J, J.transpose().lazyProduct(df_dq));
       const PathRow spring_diagonal =
           (d.d_force_d_penetration.transpose().lazyProduct(J)).cwiseProduct(dp_dq);
       for (int a = 0; a < path_length; ++a) jac.spring_d_position_diagonal[path_coordinate[a]] += spring_diagonal[a];
