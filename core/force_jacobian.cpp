@@ -82,11 +82,13 @@ StiffForceJacobian stiff_force_jacobian(const RoverModel& model, const DynamicsW
   // A wheel's J_P and dv_P/dq have non-zero columns only for the coordinates
   // on its path to the root (one node per coordinate there): every product is
   // formed on those columns alone (11 of 23), at a size fixed at compile time
-  // (the columns past the path length are zero), coefficient by coefficient,
-  // and added into D and K there.
-  using PathColumns = Eigen::Matrix<double, 3, kMaxTreeDepth>;
+  // (the ones past the path length are zero), coefficient by coefficient, and
+  // added into D and K there. The path columns are kept transposed (PathRows,
+  // one row per coordinate): then each component is a contiguous column and
+  // Eigen forms the products by packets.
+  using PathRows = Eigen::Matrix<double, kMaxTreeDepth, 3>;
   using PathBlock = Eigen::Matrix<double, kMaxTreeDepth, kMaxTreeDepth>;
-  using PathRow = Eigen::Matrix<double, 1, kMaxTreeDepth>;
+  using PathVector = Eigen::Matrix<double, kMaxTreeDepth, 1>;
   for (int leg = 0; leg < kNumLegs; ++leg) {
     const WheelContacts& at_wheel = contacts[leg];
     bool pushing = false;
@@ -97,9 +99,9 @@ StiffForceJacobian stiff_force_jacobian(const RoverModel& model, const DynamicsW
     const int path_length = model.tree.path_length[node];
     std::array<int, kMaxTreeDepth> path_coordinate{};
     for (int a = 0; a < path_length; ++a) path_coordinate[a] = model.tree.nodes[model.tree.path[node][a]].coordinate;
-    const auto on_path = [&](const Columns& full) {
-      PathColumns compact = PathColumns::Zero();
-      for (int a = 0; a < path_length; ++a) compact.col(a) = full.col(path_coordinate[a]);
+    const auto on_path_transposed = [&](const Columns& full) {
+      PathRows compact = PathRows::Zero();
+      for (int a = 0; a < path_length; ++a) compact.row(a) = full.col(path_coordinate[a]).transpose();
       return compact;
     };
     const auto add_on_path = [&](const PathBlock& d_speed, const PathBlock& d_position) {
@@ -109,32 +111,34 @@ StiffForceJacobian stiff_force_jacobian(const RoverModel& model, const DynamicsW
           jac.d_position(path_coordinate[a], path_coordinate[b]) += d_position(a, b);
         }
     };
-    const PathColumns centre_jacobian = on_path(point_jacobian(model.tree, kin, node, wheel.origin));
-    const PathColumns omega_jacobian = on_path(angular_jacobian(model.tree, kin, node));
+    const PathRows centre_jacobian_t = on_path_transposed(point_jacobian(model.tree, kin, node, wheel.origin));
+    const PathRows omega_jacobian_t = on_path_transposed(angular_jacobian(model.tree, kin, node));
     const FrameVelocityPositionDerivative frame = frame_velocity_position_derivative(model.tree, kin, node);
-    const PathColumns d_origin_velocity = on_path(frame.d_origin_velocity);
-    const PathColumns d_omega = on_path(frame.d_omega);
+    const PathRows d_origin_velocity_t = on_path_transposed(frame.d_origin_velocity);
+    const PathRows d_omega_t = on_path_transposed(frame.d_omega);
     for (int k = 0; k < at_wheel.count; ++k) {
       const ContactPoint& c = at_wheel.points[k];
       if (!(c.normal_force_N > 0.0)) continue;
       const ContactForceDerivatives d =
           contact_force_derivatives(c, model.parameters.contact, model.parameters.friction);
-      const Mat3 lever_cross = cross_matrix(c.point_m - wheel.origin);
-      const PathColumns J = centre_jacobian - lever_cross.lazyProduct(omega_jacobian);  // J_P = dv_P/du
-      const PathBlock J_transpose_D_J = J.transpose().lazyProduct(d.d_force_d_velocity.lazyProduct(J));
+      const Mat3 d_force_d_velocity_t = d.d_force_d_velocity.transpose();
+      const Mat3 lever_cross_t = cross_matrix(c.point_m - wheel.origin).transpose();
+      // J_P = dv_P/du = J_c - [P - c]x J_omega.
+      const PathRows J_t = centre_jacobian_t - omega_jacobian_t.lazyProduct(lever_cross_t);
+      const PathRows D_J_t = J_t.lazyProduct(d_force_d_velocity_t);  // (df/dv_P J_P)^T
       // v_P = J_P u changes with q: the frame turns and P slides over the rim
       // (contact_point_turning: dP/dq - dc/dq = T J_omega); the penetration
       // follows the material point (P is the deepest point), dp/dq = -n^T J_P.
-      const Mat3 slide = cross_matrix(wheel.omega) *
-                         contact_point_turning(c.point_m, wheel.origin, wheel.rotation.col(1));
-      const PathColumns dv_dq = d_origin_velocity - lever_cross.lazyProduct(d_omega) +
-                                slide.lazyProduct(omega_jacobian);
-      const PathRow dp_dq = -c.normal.transpose().lazyProduct(J);
-      const PathColumns df_dq =
-          d.d_force_d_velocity.lazyProduct(dv_dq) + d.d_force_d_penetration.lazyProduct(dp_dq);
-      add_on_path(J_transpose_D_J, J.transpose().lazyProduct(df_dq));
-      const PathRow spring_diagonal =
-          (d.d_force_d_penetration.transpose().lazyProduct(J)).cwiseProduct(dp_dq);
+      const Mat3 slide_t = (cross_matrix(wheel.omega) *
+                            contact_point_turning(c.point_m, wheel.origin, wheel.rotation.col(1)))
+                               .transpose();
+      const PathRows dv_dq_t = d_origin_velocity_t - d_omega_t.lazyProduct(lever_cross_t) +
+                               omega_jacobian_t.lazyProduct(slide_t);
+      const PathVector dp_dq_t = -J_t.lazyProduct(c.normal);
+      const PathRows df_dq_t = dv_dq_t.lazyProduct(d_force_d_velocity_t) +
+                               dp_dq_t.lazyProduct(d.d_force_d_penetration.transpose());
+      add_on_path(J_t.lazyProduct(D_J_t.transpose()), J_t.lazyProduct(df_dq_t.transpose()));
+      const PathVector spring_diagonal = J_t.lazyProduct(d.d_force_d_penetration).cwiseProduct(dp_dq_t);
       for (int a = 0; a < path_length; ++a) jac.spring_d_position_diagonal[path_coordinate[a]] += spring_diagonal[a];
     }
   }
