@@ -11,7 +11,6 @@
 #include <stdexcept>
 
 #include "core/contact.hpp"
-#include "core/equations_of_motion.hpp"
 #include "core/integrators.hpp"
 #include "core/number_text.hpp"
 
