@@ -158,28 +158,35 @@ WheelContacts find_wheel_contacts(const Terrain& terrain, const Vec3& wheel_cent
   return out;
 }
 
+Mat3 contact_point_turning(const Vec3& contact_point_m, const Vec3& wheel_centre_m,
+                           const Vec3& spin_axis) {
+  // rim_frame(): down = -w / |w| with w = z - a_z a, along = a x down, and
+  // P - c = r_down down + r_along along at fixed r_down, r_along. Per unit
+  // rotation theta of the frame the axis turns by da = -[a]x theta, and
+  //   dw = -(a z^T + a_z I) da,  d down = -(I - down down^T) dw / |w|,
+  //   d along = -[down]x da + [a]x d down.
+  const Vec3 w = Vec3::UnitZ() - spin_axis.z() * spin_axis;
+  const double w_norm = w.norm();
+  if (w_norm < 1e-12) return Mat3::Zero();  // wheel lying flat: no lowest point
+  const Vec3 down = -w / w_norm, along = spin_axis.cross(down);
+  const Mat3 d_axis = -cross_matrix(spin_axis);
+  const Mat3 d_w = -(spin_axis * Vec3::UnitZ().transpose() + spin_axis.z() * Mat3::Identity()) * d_axis;
+  const Mat3 d_down = -((Mat3::Identity() - down * down.transpose()) / w_norm) * d_w;
+  const Mat3 d_along = -cross_matrix(down) * d_axis + cross_matrix(spin_axis) * d_down;
+  const Vec3 r = contact_point_m - wheel_centre_m;
+  return r.dot(down) * d_down + r.dot(along) * d_along;
+}
+
 Eigen::Matrix<double, 3, kNumCoordinates> contact_point_position_derivative(
     const Vec3& contact_point_m, const Vec3& wheel_centre_m, const Vec3& spin_axis,
     const Eigen::Matrix<double, 3, kNumCoordinates>& centre_jacobian,
     const Eigen::Matrix<double, 3, kNumCoordinates>& angular_jacobian) {
-  using Columns = Eigen::Matrix<double, 3, kNumCoordinates>;
-  // rim_frame(): down = -w / |w| with w = z - a_z a, along = a x down.
-  const Vec3 w = Vec3::UnitZ() - spin_axis.z() * spin_axis;
-  const double w_norm = w.norm();
-  if (w_norm < 1e-12) return centre_jacobian;  // wheel lying flat: no lowest point
-  const Vec3 down = -w / w_norm, along = spin_axis.cross(down);
-  // The axis turns with the wheel frame: da = omega_hat x a per column.
-  const Columns d_axis = -cross_matrix(spin_axis) * angular_jacobian;
-  const Columns d_w = -(spin_axis * Vec3::UnitZ().transpose() + spin_axis.z() * Mat3::Identity()) * d_axis;
-  const Columns d_down = -((Mat3::Identity() - down * down.transpose()) / w_norm) * d_w;
-  const Columns d_along = -cross_matrix(down) * d_axis + cross_matrix(spin_axis) * d_down;
-  const Vec3 r = contact_point_m - wheel_centre_m;
-  return centre_jacobian + r.dot(down) * d_down + r.dot(along) * d_along;
+  return centre_jacobian +
+         contact_point_turning(contact_point_m, wheel_centre_m, spin_axis).lazyProduct(angular_jacobian);
 }
 
-void compute_contact_forces(const TreeKinematics& kin, int wheel_node,
-                            const ContactParameters& contact, const FrictionParameters& friction,
-                            WheelContacts& contacts) {
+void compute_contact_normal_forces(const TreeKinematics& kin, int wheel_node,
+                                   const ContactParameters& contact, WheelContacts& contacts) {
   for (int k = 0; k < contacts.count; ++k) {
     ContactPoint& c = contacts.points[k];
     const Vec3 v = point_velocity(kin, wheel_node, c.point_m);
@@ -189,6 +196,15 @@ void compute_contact_forces(const TreeKinematics& kin, int wheel_node,
     const double p = std::max(c.penetration_m, 0.0);
     c.normal_force_N = std::max(0.0, contact.stiffness_k_g * std::pow(p, contact.exponent_sigma) +
                                          contact.damping_c_g * c.penetration_rate_mps);
+  }
+}
+
+void compute_contact_forces(const TreeKinematics& kin, int wheel_node,
+                            const ContactParameters& contact, const FrictionParameters& friction,
+                            WheelContacts& contacts) {
+  compute_contact_normal_forces(kin, wheel_node, contact, contacts);
+  for (int k = 0; k < contacts.count; ++k) {
+    ContactPoint& c = contacts.points[k];
     const double slip = c.slip_velocity_mps.norm();
     c.friction_force_N.setZero();
     if (slip > 0.0 && c.normal_force_N > 0.0)

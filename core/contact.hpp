@@ -54,15 +54,31 @@ WheelContacts find_wheel_contacts(const Terrain& terrain, const Vec3& wheel_cent
 // wheel centre and turns with the wheel plane but not with the wheel's spin
 // (exact on flat terrain, where P is the lowest point). `centre_jacobian` and
 // `angular_jacobian` are those of the wheel frame (kinematic_tree.hpp).
+//
+// It is dP/dq = centre_jacobian + T angular_jacobian, with T the 3 x 3 matrix
+// [m/rad] of contact_point_turning() (zero for a wheel lying flat).
 Eigen::Matrix<double, 3, kNumCoordinates> contact_point_position_derivative(
     const Vec3& contact_point_m, const Vec3& wheel_centre_m, const Vec3& spin_axis,
     const Eigen::Matrix<double, 3, kNumCoordinates>& centre_jacobian,
     const Eigen::Matrix<double, 3, kNumCoordinates>& angular_jacobian);
+
+// T = dP/dtheta - dc/dtheta for a small rotation theta [rad] of the wheel frame
+// (world axes): how P moves relative to the wheel centre c as the wheel plane
+// turns. Column by column, dP/dq = dc/dq + T domega/du for the joints on the
+// wheel's path (the same rotation per unit q as omega per unit u).
+Mat3 contact_point_turning(const Vec3& contact_point_m, const Vec3& wheel_centre_m,
+                           const Vec3& spin_axis);
 
 // Completes the contacts of one wheel with velocities and forces.
 // `wheel_node` is the node of the wheel body in the kinematic tree.
 void compute_contact_forces(const TreeKinematics& kin, int wheel_node,
                             const ContactParameters& contact, const FrictionParameters& friction,
                             WheelContacts& contacts);
+
+// The part of compute_contact_forces() before the friction: the penetration
+// rates, slip velocities and normal forces (the same numbers); the friction
+// forces are left as they are.
+void compute_contact_normal_forces(const TreeKinematics& kin, int wheel_node,
+                                   const ContactParameters& contact, WheelContacts& contacts);
 
 }  // namespace rover

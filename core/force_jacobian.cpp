@@ -31,11 +31,10 @@ ContactForceDerivatives contact_force_derivatives(const ContactPoint& c,
   Vec3 mu_e = Vec3::Zero();
   if (s > 0.0) {
     const Vec3 e = c.slip_velocity_mps / s;
-    const double mu = makkar_mu(s, friction.gammas);
-    const double mu_over_s = mu / s;
-    friction_gain = makkar_mu_derivative(s, friction.gammas) * e * e.transpose() +
-                    mu_over_s * (tangent - e * e.transpose());
-    mu_e = mu * e;
+    const MakkarMuAndDerivative m = makkar_mu_and_derivative(s, friction.gammas);
+    const double mu_over_s = m.mu / s;
+    friction_gain = m.d_mu_d_v * e * e.transpose() + mu_over_s * (tangent - e * e.transpose());
+    mu_e = m.mu * e;
   } else {
     friction_gain = makkar_mu_derivative(0.0, friction.gammas) * tangent;
   }
@@ -81,10 +80,15 @@ StiffForceJacobian stiff_force_jacobian(const RoverModel& model, const DynamicsW
   jac.spring_d_position_diagonal = joints.d_position;
   using Columns = Eigen::Matrix<double, 3, kNumCoordinates>;
   // A wheel's J_P and dv_P/dq have non-zero columns only for the coordinates
-  // on its path to the root: the products J^T A J are formed on those
-  // (11 of 23) and added into D and K there.
-  using PathColumns = Eigen::Matrix<double, 3, kMaxTreeDepth>;
+  // on its path to the root (one node per coordinate there): every product is
+  // formed on those columns alone (11 of 23), at a size fixed at compile time
+  // (the ones past the path length are zero), coefficient by coefficient, and
+  // added into D and K there. The path columns are kept transposed (PathRows,
+  // one row per coordinate): then each component is a contiguous column and
+  // Eigen forms the products by packets.
+  using PathRows = Eigen::Matrix<double, kMaxTreeDepth, 3>;
   using PathBlock = Eigen::Matrix<double, kMaxTreeDepth, kMaxTreeDepth>;
+  using PathVector = Eigen::Matrix<double, kMaxTreeDepth, 1>;
   for (int leg = 0; leg < kNumLegs; ++leg) {
     const WheelContacts& at_wheel = contacts[leg];
     bool pushing = false;
@@ -92,42 +96,50 @@ StiffForceJacobian stiff_force_jacobian(const RoverModel& model, const DynamicsW
     if (!pushing) continue;
     const int node = node::wheel(leg);
     const NodeKinematics& wheel = kin.nodes[node];
-    const Columns centre_jacobian = point_jacobian(model.tree, kin, node, wheel.origin);
-    const Columns omega_jacobian = angular_jacobian(model.tree, kin, node);
-    const FrameVelocityPositionDerivative frame = frame_velocity_position_derivative(model.tree, kin, node);
     const int path_length = model.tree.path_length[node];
     std::array<int, kMaxTreeDepth> path_coordinate{};
     for (int a = 0; a < path_length; ++a) path_coordinate[a] = model.tree.nodes[model.tree.path[node][a]].coordinate;
-    const auto on_path = [&](const Columns& full) {
-      PathColumns compact = PathColumns::Zero();
-      for (int a = 0; a < path_length; ++a) compact.col(a) = full.col(path_coordinate[a]);
+    const auto on_path_transposed = [&](const Columns& full) {
+      PathRows compact = PathRows::Zero();
+      for (int a = 0; a < path_length; ++a) compact.row(a) = full.col(path_coordinate[a]).transpose();
       return compact;
     };
-    const auto add_on_path = [&](const PathBlock& block, CoordinateMatrix& target) {
+    const auto add_on_path = [&](const PathBlock& d_speed, const PathBlock& d_position) {
       for (int b = 0; b < path_length; ++b)
-        for (int a = 0; a < path_length; ++a) target(path_coordinate[a], path_coordinate[b]) += block(a, b);
+        for (int a = 0; a < path_length; ++a) {
+          jac.d_speed(path_coordinate[a], path_coordinate[b]) += d_speed(a, b);
+          jac.d_position(path_coordinate[a], path_coordinate[b]) += d_position(a, b);
+        }
     };
+    const PathRows centre_jacobian_t = on_path_transposed(point_jacobian(model.tree, kin, node, wheel.origin));
+    const PathRows omega_jacobian_t = on_path_transposed(angular_jacobian(model.tree, kin, node));
+    const FrameVelocityPositionDerivative frame = frame_velocity_position_derivative(model.tree, kin, node);
+    const PathRows d_origin_velocity_t = on_path_transposed(frame.d_origin_velocity);
+    const PathRows d_omega_t = on_path_transposed(frame.d_omega);
     for (int k = 0; k < at_wheel.count; ++k) {
       const ContactPoint& c = at_wheel.points[k];
       if (!(c.normal_force_N > 0.0)) continue;
       const ContactForceDerivatives d =
           contact_force_derivatives(c, model.parameters.contact, model.parameters.friction);
-      const Vec3 lever = c.point_m - wheel.origin;
-      const Columns J = centre_jacobian - cross_matrix(lever) * omega_jacobian;  // J_P = dv_P/du
-      const PathColumns J_path = on_path(J);
-      add_on_path(J_path.transpose() * (d.d_force_d_velocity * J_path), jac.d_speed);
+      const Mat3 d_force_d_velocity_t = d.d_force_d_velocity.transpose();
+      const Mat3 lever_cross_t = cross_matrix(c.point_m - wheel.origin).transpose();
+      // J_P = dv_P/du = J_c - [P - c]x J_omega.
+      const PathRows J_t = centre_jacobian_t - omega_jacobian_t.lazyProduct(lever_cross_t);
+      const PathRows D_J_t = J_t.lazyProduct(d_force_d_velocity_t);  // (df/dv_P J_P)^T
       // v_P = J_P u changes with q: the frame turns and P slides over the rim
-      // (contact_point_position_derivative); the penetration follows the
-      // material point (P is the deepest point), dp/dq = -n^T J_P.
-      const Columns dP_dq = contact_point_position_derivative(
-          c.point_m, wheel.origin, wheel.rotation.col(1), centre_jacobian, omega_jacobian);
-      const Columns dv_dq = frame.d_origin_velocity - cross_matrix(lever) * frame.d_omega +
-                            cross_matrix(wheel.omega) * (dP_dq - centre_jacobian);
-      const Eigen::Matrix<double, 1, kNumCoordinates> dp_dq = -c.normal.transpose() * J;
-      const Columns df_dq = d.d_force_d_velocity * dv_dq + d.d_force_d_penetration * dp_dq;
-      add_on_path(J_path.transpose() * on_path(df_dq), jac.d_position);
-      jac.spring_d_position_diagonal +=
-          (J.transpose() * d.d_force_d_penetration).cwiseProduct(dp_dq.transpose());
+      // (contact_point_turning: dP/dq - dc/dq = T J_omega); the penetration
+      // follows the material point (P is the deepest point), dp/dq = -n^T J_P.
+      const Mat3 slide_t = (cross_matrix(wheel.omega) *
+                            contact_point_turning(c.point_m, wheel.origin, wheel.rotation.col(1)))
+                               .transpose();
+      const PathRows dv_dq_t = d_origin_velocity_t - d_omega_t.lazyProduct(lever_cross_t) +
+                               omega_jacobian_t.lazyProduct(slide_t);
+      const PathVector dp_dq_t = -J_t.lazyProduct(c.normal);
+      const PathRows df_dq_t = dv_dq_t.lazyProduct(d_force_d_velocity_t) +
+                               dp_dq_t.lazyProduct(d.d_force_d_penetration.transpose());
+      add_on_path(J_t.lazyProduct(D_J_t.transpose()), J_t.lazyProduct(df_dq_t.transpose()));
+      const PathVector spring_diagonal = J_t.lazyProduct(d.d_force_d_penetration).cwiseProduct(dp_dq_t);
+      for (int a = 0; a < path_length; ++a) jac.spring_d_position_diagonal[path_coordinate[a]] += spring_diagonal[a];
     }
   }
   return jac;

@@ -6,7 +6,8 @@
 // hump (static peak falling to the kinetic level), g4 tanh(g5 v) the Coulomb
 // level, g6 v viscous dissipation. mu is odd in v and mu(0) = 0, so the
 // friction force -mu(|v_t|) F_n v_t/|v_t| is continuous at zero slip.
-// Hot path: evaluated for every contact in every right-hand side.
+// Hot path: evaluated for every contact in every right-hand side; where both
+// mu and mu' are wanted, makkar_mu_and_derivative() shares the three tanh.
 #pragma once
 
 #include <array>
@@ -33,6 +34,19 @@ inline double makkar_mu_derivative(double slip_speed_mps, const MakkarGammas& g)
   };
   return g[0] * (g[1] * sech2(g[1] * v) - g[2] * sech2(g[2] * v)) + g[3] * g[4] * sech2(g[4] * v) +
          g[5];
+}
+
+struct MakkarMuAndDerivative {
+  double mu = 0.0;        // makkar_mu()
+  double d_mu_d_v = 0.0;  // makkar_mu_derivative() [s/m]
+};
+
+// Both at once, from one tanh per term (the same values as the two functions).
+inline MakkarMuAndDerivative makkar_mu_and_derivative(double slip_speed_mps, const MakkarGammas& g) {
+  const double v = slip_speed_mps;
+  const double t2 = std::tanh(g[1] * v), t3 = std::tanh(g[2] * v), t5 = std::tanh(g[4] * v);
+  return {g[0] * (t2 - t3) + g[3] * t5 + g[5] * v,
+          g[0] * (g[1] * (1.0 - t2 * t2) - g[2] * (1.0 - t3 * t3)) + g[3] * g[4] * (1.0 - t5 * t5) + g[5]};
 }
 
 }  // namespace rover

@@ -10,7 +10,7 @@
 #include <optional>
 #include <stdexcept>
 
-#include "core/equations_of_motion.hpp"
+#include "core/contact.hpp"
 #include "core/integrators.hpp"
 #include "core/number_text.hpp"
 
@@ -84,9 +84,8 @@ class TrajectoryRecorder {
 
   void record(double t, const StateVector& x) {
     const Coordinates q = x.head<kNumCoordinates>(), u = x.tail<kNumCoordinates>();
-    compute_kinematics(model_, workspace_, q, u);
-    compute_contacts(model_, workspace_);
-    const TreeKinematics& kin = workspace_.kinematics;
+    forward_kinematics(model_.tree, q, u, kin_);
+    const TreeKinematics& kin = kin_;
     out_.t.push_back(t);
     q_rows_.push_back(q);
     u_rows_.push_back(u);
@@ -96,7 +95,13 @@ class TrajectoryRecorder {
     out_.pitch.push_back(q[coord::pitch]);
     out_.roll.push_back(q[coord::roll]);
     Eigen::Vector4d fn;
-    for (int leg = 0; leg < kNumLegs; ++leg) fn[leg] = workspace_.contacts[leg].total_normal_force_N();
+    for (int leg = 0; leg < kNumLegs; ++leg) {  // the contacts of stage 2 without their friction
+      const NodeKinematics& wheel = kin.nodes[node::wheel(leg)];
+      WheelContacts contacts = find_wheel_contacts(model_.terrain, wheel.origin, wheel.rotation.col(1),
+                                                   model_.parameters.geometry.wheel_radius_m);
+      compute_contact_normal_forces(kin, node::wheel(leg), model_.parameters.contact, contacts);
+      fn[leg] = contacts.total_normal_force_N();
+    }
     fn_rows_.push_back(fn);
   }
 
@@ -114,7 +119,7 @@ class TrajectoryRecorder {
 
  private:
   const RoverModel& model_;
-  DynamicsWorkspace workspace_;  // stages 1 and 2 only
+  TreeKinematics kin_;  // at the sample being recorded
   Trajectory& out_;
   std::vector<Coordinates> q_rows_, u_rows_;
   std::vector<Eigen::Vector4d> fn_rows_;

@@ -2,8 +2,9 @@
 // of the deepest rim point against analytic results on flat and planar
 // terrain, several contact regions at the foot of a ramp, the slope normal,
 // the mean-slope normal at a convex edge on a grid line, and the forces: never
-// pulling, friction against the slip, and generalized forces consistent with
-// the virtual power of the contact forces and with finite differences.
+// pulling (and the same without the friction), friction against the slip, and
+// generalized forces consistent with the virtual power of the contact forces
+// and with finite differences.
 #include "core/contact.hpp"
 
 #include <cmath>
@@ -292,6 +293,32 @@ TEST(Contact, FrictionOpposesSlip) {
     EXPECT_LT(c.friction_force_N.cross(slip).norm(), 1e-12 * c.friction_force_N.norm() * slip.norm());
     EXPECT_NEAR(c.friction_force_N.norm(),
                 makkar_mu(slip.norm(), f.model.parameters.friction.gammas) * c.normal_force_N, 1e-12);
+  }
+}
+
+TEST(Contact, NormalForcesAloneAreThoseOfTheFullContact) {
+  // compute_contact_normal_forces() is compute_contact_forces() up to the
+  // friction: the same rates, slips and normal forces, bit for bit.
+  Coordinates q = Coordinates::Zero(), u = Coordinates::Zero();
+  q[coord::z] = kBottomBelowG - 0.002;
+  u[coord::x] = 0.3;
+  u[coord::z] = -0.05;
+  u[coord::yaw] = 0.2;
+  const ForcesAt f = forces_at(q, u);
+  for (int leg = 0; leg < kNumLegs; ++leg) {
+    const NodeKinematics& wheel = f.kin.nodes[node::wheel(leg)];
+    WheelContacts normal_only = find_wheel_contacts(f.model.terrain, wheel.origin, wheel.rotation.col(1),
+                                                    f.model.parameters.geometry.wheel_radius_m);
+    compute_contact_normal_forces(f.kin, node::wheel(leg), f.model.parameters.contact, normal_only);
+    ASSERT_EQ(normal_only.count, 1);
+    ASSERT_EQ(f.contacts[leg].count, 1);
+    const ContactPoint& a = normal_only.points[0];
+    const ContactPoint& b = f.contacts[leg].points[0];
+    EXPECT_GT(a.normal_force_N, 0.0);
+    EXPECT_EQ(a.normal_force_N, b.normal_force_N) << "leg " << leg;
+    EXPECT_EQ(a.penetration_rate_mps, b.penetration_rate_mps) << "leg " << leg;
+    EXPECT_EQ(a.slip_velocity_mps, b.slip_velocity_mps) << "leg " << leg;
+    EXPECT_EQ(a.friction_force_N, Vec3::Zero());
   }
 }
 

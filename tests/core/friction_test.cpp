@@ -24,6 +24,18 @@ TEST(MakkarFriction, SlopeAtZeroIsTheSumOfTheRates) {
   EXPECT_DOUBLE_EQ(makkar_mu_derivative(0.0, g), g[0] * (g[1] - g[2]) + g[3] * g[4] + g[5]);
 }
 
+TEST(MakkarFriction, TheJointEvaluationGivesBothValuesExactly) {
+  // makkar_mu_and_derivative() shares the tanh of makkar_mu() and
+  // makkar_mu_derivative(): the same numbers, bit for bit.
+  for (const MakkarGammas& g : {kReference, kViscous}) {
+    for (double v : {0.0, 1e-6, 3e-4, 5.5e-4, 2e-3, 0.05, 1.0, -2e-3}) {
+      const MakkarMuAndDerivative both = makkar_mu_and_derivative(v, g);
+      EXPECT_EQ(both.mu, makkar_mu(v, g)) << "v = " << v;
+      EXPECT_EQ(both.d_mu_d_v, makkar_mu_derivative(v, g)) << "v = " << v;
+    }
+  }
+}
+
 TEST(MakkarFriction, IsOddWithAnEvenDerivative) {
   for (const MakkarGammas& g : {kReference, kViscous}) {
     for (double v : {1e-6, 3e-4, 5.5e-4, 2e-3, 0.05, 1.0}) {
