@@ -5,13 +5,14 @@
 # N = 10^3 and 10^4 samples (10^5 with ROVER_SCALE_BIG=1). Whole studies:
 # runs, QoIs, bands, HDF5, no plots.
 #   bash bench/study_scale.sh [drop|obstacle|all|ceiling]
+# ROVER_BIN=path/to/rover measures another build (default build/drivers/rover).
 # `ceiling` measures what the machine itself gives two processes: the
 # 1-rank drop study of 1000 samples alone, then two copies of it at once
 # (independent processes, no MPI between them). Their combined rate over the
 # single rate bounds the speed-up any farm can reach on these two cores.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-rover="$here/build/drivers/rover"
+rover="${ROVER_BIN:-$here/build/drivers/rover}"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 out="$(mktemp -d)"
 trap 'rm -rf "$out"' EXIT
