@@ -146,7 +146,12 @@ double nlopt_objective(const std::vector<double>& x, std::vector<double>& /*grad
 }
 
 // Runs `opt` from x; a round-off stop still leaves the best point in x.
+// Runs `opt` from x, clamped into its bounds first: a point on a bound can
+// come back from a search a rounding error outside it, which NLopt refuses
+// ("bounds fail").
 void run(nlopt::opt& opt, std::vector<double>& x) {
+  const std::vector<double> lower = opt.get_lower_bounds(), upper = opt.get_upper_bounds();
+  for (std::size_t k = 0; k < x.size(); ++k) x[k] = std::clamp(x[k], lower[k], upper[k]);
   double f = 0.0;
   try {
     opt.optimize(x, f);
@@ -260,8 +265,14 @@ MakkarGammas synthesize_friction(const FrictionParameters& p,
   const Rates r = rates_from(x);
   const ProjectedLeastSquares::Vec a = problem.amplitudes(r, nullptr);
   const double mu_s = p.mu_static, v_s = p.v_static_mps;
-  return {mu_s * a(0), r.b2 / v_s, r.b3 / v_s,
-          mu_s * a(1), r.b5 / v_s, mu_s * a(2) / (problem.s_max() * v_s)};
+  const MakkarGammas gammas{mu_s * a(0), r.b2 / v_s, r.b3 / v_s,
+                            mu_s * a(1), r.b5 / v_s, mu_s * a(2) / (problem.s_max() * v_s)};
+  for (const double g : gammas)
+    if (!std::isfinite(g))
+      throw std::invalid_argument("the gammas of this law overflow a double (gamma = " + number_text(g) +
+                                  " from the dimensionless fit scaled by mu_s = " + number_text(mu_s) +
+                                  ", v_s = " + number_text(v_s) + " m/s)");
+  return gammas;
 }
 
 MakkarGammas friction_gammas_for(const FrictionParameters& p) {

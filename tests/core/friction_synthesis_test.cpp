@@ -151,6 +151,25 @@ TEST(FrictionSynthesis, RejectsInconsistentParameters) {
                std::invalid_argument);
 }
 
+// A law whose kinetic level is zero (or nearly) is valid (mu_k >= 0). Its best
+// fit sits on a bound of the search (the hump's two rates as close as they
+// may be), from which the polish once started a rounding error outside it
+// and NLopt refused to run.
+TEST(FrictionSynthesis, AZeroKineticLevelIsSynthesised) {
+  for (const double mu_k : {0.0, 1e-300}) {
+    const FrictionParameters p = engineering(0.3, 5.5e-4, mu_k, 2e-3);
+    MakkarGammas g{};
+    ASSERT_NO_THROW(g = synthesize_friction(p)) << "mu_k " << mu_k;
+    for (double gamma : g) EXPECT_TRUE(std::isfinite(gamma) && gamma >= 0.0) << "mu_k " << mu_k;
+    EXPECT_NEAR(friction_fit_quality(g, p).peak_mu, p.mu_static, kFrictionMaxPeakError * p.mu_static);
+  }
+}
+
+// A law whose gammas do not fit in a double is refused, not returned as infinities.
+TEST(FrictionSynthesis, RefusesALawWhoseGammasOverflow) {
+  EXPECT_THROW(synthesize_friction(engineering(1e308, 5.5e-4, 0.2, 2e-3)), std::invalid_argument);
+}
+
 TEST(FrictionSynthesis, FrictionlessContactGivesZeroGammas) {
   const FrictionParameters p = engineering(0.0, 5e-4, 0.0, 2e-3);
   EXPECT_EQ(synthesize_friction(p), MakkarGammas{});
