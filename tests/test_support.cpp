@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <random>
 #include <sys/wait.h>
+#include <unistd.h>
+#include <string>
 #include <system_error>
 #include <vector>
 
@@ -20,11 +22,35 @@ std::string source_path(const std::string& relative) {
 }
 
 namespace {
-// Open MPI refuses root unless told, and CI runs as root with 2 cores.
+// Open MPI's session directories of this test process, removed when it ends.
+std::filesystem::path& mpi_session_base() {
+  static std::filesystem::path base;
+  return base;
+}
+
+// Open MPI refuses root unless told, and CI runs as root with 2 cores. Each
+// test process gives the MPI programs it starts a session-directory tree of
+// their own: singletons started at the same moment by two tests (ctest runs
+// two at once) can otherwise share /tmp/ompi.<host>.<uid>/jf.0, where one's
+// clean-up removes the directory the other is creating ("A call to mkdir was
+// unable to create the desired directory", orte_init failed).
 const bool kMpiEnvironment = [] {
   setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 0);
   setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 0);
   setenv("OMPI_MCA_rmaps_base_oversubscribe", "1", 0);
+  if (std::getenv("OMPI_MCA_orte_tmpdir_base") == nullptr) {
+    std::error_code error;
+    const std::filesystem::path base =
+        std::filesystem::temp_directory_path(error) / ("rover_test_ompi_" + std::to_string(getpid()));
+    if (!error && std::filesystem::create_directories(base, error) && !error) {
+      mpi_session_base() = base;
+      setenv("OMPI_MCA_orte_tmpdir_base", base.c_str(), 1);
+      std::atexit([] {
+        std::error_code ignored;
+        std::filesystem::remove_all(mpi_session_base(), ignored);
+      });
+    }
+  }
   return true;
 }();
 }  // namespace
