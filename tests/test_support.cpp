@@ -3,6 +3,7 @@
 #include <fstream>
 
 #include <array>
+#include <atomic>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -22,37 +23,24 @@ std::string source_path(const std::string& relative) {
 }
 
 namespace {
-// Open MPI's session directories of this test process, removed when it ends.
-std::filesystem::path& mpi_session_base() {
-  static std::filesystem::path base;
-  return base;
-}
-
-// Open MPI refuses root unless told, and CI runs as root with 2 cores. Each
-// test process gives the MPI programs it starts a session-directory tree of
-// their own: singletons started at the same moment by two tests (ctest runs
-// two at once) can otherwise share /tmp/ompi.<host>.<uid>/jf.0, where one's
-// clean-up removes the directory the other is creating ("A call to mkdir was
-// unable to create the desired directory", orte_init failed).
+// Open MPI refuses root unless told, and CI runs as root with 2 cores.
 const bool kMpiEnvironment = [] {
   setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 0);
   setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 0);
   setenv("OMPI_MCA_rmaps_base_oversubscribe", "1", 0);
-  if (std::getenv("OMPI_MCA_orte_tmpdir_base") == nullptr) {
-    std::error_code error;
-    const std::filesystem::path base =
-        std::filesystem::temp_directory_path(error) / ("rover_test_ompi_" + std::to_string(getpid()));
-    if (!error && std::filesystem::create_directories(base, error) && !error) {
-      mpi_session_base() = base;
-      setenv("OMPI_MCA_orte_tmpdir_base", base.c_str(), 1);
-      std::atexit([] {
-        std::error_code ignored;
-        std::filesystem::remove_all(mpi_session_base(), ignored);
-      });
-    }
-  }
   return true;
 }();
+
+// A fresh directory for the Open MPI session tree of one command.
+std::filesystem::path new_mpi_session_base() {
+  static std::atomic<long> count{0};
+  std::error_code error;
+  const std::filesystem::path base =
+      std::filesystem::temp_directory_path(error) /
+      ("rover_test_ompi_" + std::to_string(getpid()) + "_" + std::to_string(count++));
+  std::filesystem::create_directories(base, error);
+  return error ? std::filesystem::path() : base;
+}
 }  // namespace
 
 std::string rover_binary() {
@@ -118,13 +106,26 @@ std::string temp_dir() {
   return dir.string();
 }
 
+// Each command's MPI programs get a session-directory tree of their own
+// (OMPI_MCA_orte_tmpdir_base), removed after it: MPI singletons started at the
+// same moment (tests running side by side, a test's cases run on threads)
+// otherwise create and remove the same /tmp/ompi.<host>.<uid>/jf.0 and fail
+// orte_init ("A call to mkdir was unable to create the desired directory").
 int run_command(const std::string& command, std::string* output) {
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  (void)kMpiEnvironment;
+  const std::filesystem::path session = std::getenv("OMPI_MCA_orte_tmpdir_base") ? std::filesystem::path()
+                                                                                 : new_mpi_session_base();
+  const std::string prefix = session.empty() ? "" : "export OMPI_MCA_orte_tmpdir_base='" + session.string() + "'; ";
+  FILE* pipe = popen((prefix + command + " 2>&1").c_str(), "r");
   if (!pipe) return -1;
   std::array<char, 4096> buffer{};
   std::string text;
   while (fgets(buffer.data(), buffer.size(), pipe)) text += buffer.data();
   const int status = pclose(pipe);
+  if (!session.empty()) {
+    std::error_code ignored;
+    std::filesystem::remove_all(session, ignored);
+  }
   if (output) *output = text;
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
