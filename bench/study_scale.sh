@@ -13,10 +13,15 @@
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 rover="${ROVER_BIN:-$here/build/drivers/rover}"
+[[ -x "$rover" ]] || { echo "study_scale: no rover program at '$rover' (ROVER_BIN, or build first: bash scripts/setup.sh)" >&2; exit 1; }
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 out="$(mktemp -d)"
 trap 'rm -rf "$out"' EXIT
 which="${1:-all}"
+case "$which" in
+  drop|obstacle|all|ceiling) ;;
+  *) echo "study_scale: unknown mode '$which' (drop, obstacle, all or ceiling)" >&2; exit 1 ;;
+esac
 sizes=(1000 10000)
 [[ "${ROVER_SCALE_BIG:-0}" == 1 ]] && sizes+=(100000)
 

@@ -4,6 +4,11 @@
 # Safe to run again: apt-get skips what is installed, CMake rebuilds what changed.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+native="${ROVER_NATIVE:-ON}"
+case "$native" in
+  ON|OFF|1|0) ;;
+  *) echo "setup: ROVER_NATIVE must be ON or OFF (or 1 or 0), got '$native'" >&2; exit 1 ;;
+esac
 
 packages=(
   build-essential cmake pkg-config
@@ -31,7 +36,6 @@ fi
 # them, about 15 % faster runs). Building on one machine to run on another (a
 # cluster's login node for its compute nodes): ROVER_NATIVE=OFF.
 build_type="${ROVER_BUILD_TYPE:-Release}"
-native="${ROVER_NATIVE:-ON}"
 cmake -S "$here" -B "$here/build" -DCMAKE_BUILD_TYPE="$build_type" -DROVER_NATIVE="$native" >/dev/null
 cmake --build "$here/build" --parallel "$(nproc)"
 echo "setup: built in $here/build"
