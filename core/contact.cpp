@@ -158,6 +158,12 @@ WheelContacts find_wheel_contacts(const Terrain& terrain, const Vec3& wheel_cent
   return out;
 }
 
+WheelContacts find_leg_wheel_contacts(const Terrain& terrain, const TreeKinematics& kin, int leg,
+                                      double wheel_radius_m) {
+  const NodeKinematics& wheel = kin.nodes[node::wheel(leg)];
+  return find_wheel_contacts(terrain, wheel.origin, wheel.rotation.col(1), wheel_radius_m);
+}
+
 Mat3 contact_point_turning(const Vec3& contact_point_m, const Vec3& wheel_centre_m,
                            const Vec3& spin_axis) {
   // rim_frame(): down = -w / |w| with w = z - a_z a, along = a x down, and

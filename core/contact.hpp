@@ -49,6 +49,10 @@ struct WheelContacts {
 WheelContacts find_wheel_contacts(const Terrain& terrain, const Vec3& wheel_centre_m,
                                   const Vec3& spin_axis, double wheel_radius_m);
 
+// find_wheel_contacts() for the wheel of `leg`, at its frame in `kin`.
+WheelContacts find_leg_wheel_contacts(const Terrain& terrain, const TreeKinematics& kin, int leg,
+                                      double wheel_radius_m);
+
 // dP/dq (3 x 23) of a contact point P found by find_wheel_contacts(): the rim
 // point at a fixed angle from the lowest rim point, which moves with the
 // wheel centre and turns with the wheel plane but not with the wheel's spin

@@ -8,9 +8,7 @@ namespace {
 void fill_wheel_contacts(const RoverModel& model, const TreeKinematics& kin,
                          std::array<WheelContacts, kNumLegs>& contacts) {
   for (int leg = 0; leg < kNumLegs; ++leg) {
-    const NodeKinematics& wheel = kin.nodes[node::wheel(leg)];
-    contacts[leg] = find_wheel_contacts(model.terrain, wheel.origin, wheel.rotation.col(1),
-                                        model.parameters.geometry.wheel_radius_m);
+    contacts[leg] = find_leg_wheel_contacts(model.terrain, kin, leg, model.parameters.geometry.wheel_radius_m);
     compute_contact_forces(kin, node::wheel(leg), model.parameters.contact,
                            model.parameters.friction, contacts[leg]);
   }

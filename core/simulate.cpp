@@ -96,9 +96,8 @@ class TrajectoryRecorder {
     out_.roll.push_back(q[coord::roll]);
     Eigen::Vector4d fn;
     for (int leg = 0; leg < kNumLegs; ++leg) {  // the contacts of stage 2 without their friction
-      const NodeKinematics& wheel = kin.nodes[node::wheel(leg)];
-      WheelContacts contacts = find_wheel_contacts(model_.terrain, wheel.origin, wheel.rotation.col(1),
-                                                   model_.parameters.geometry.wheel_radius_m);
+      WheelContacts contacts =
+          find_leg_wheel_contacts(model_.terrain, kin, leg, model_.parameters.geometry.wheel_radius_m);
       compute_contact_normal_forces(kin, node::wheel(leg), model_.parameters.contact, contacts);
       fn[leg] = contacts.total_normal_force_N();
     }
