@@ -130,6 +130,15 @@ int run_command(const std::string& command, std::string* output) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+std::string signal_once_checkpoint_grows(const std::string& command, const std::string& checkpoint,
+                                         const std::string& signal) {
+  const std::string file = "'" + checkpoint + "'";
+  return "(" + command + " & pid=$!; first=; for i in $(seq 6000); do "
+         "if [ -s " + file + " ]; then size=$(stat -c %s " + file + "); "
+         "[ -z \"$first\" ] && first=$size; [ \"$size\" -gt \"$first\" ] && break; fi; "
+         "kill -0 $pid 2>/dev/null || break; sleep 0.01; done; kill -" + signal + " $pid 2>/dev/null; wait $pid)";
+}
+
 std::string write_file(const std::string& path, const std::string& text) {
   std::ofstream(path) << text;
   return path;

@@ -17,5 +17,12 @@ std::string write_file(const std::string& path, const std::string& text);
 std::string short_drop_scenario(const std::string& dir);
 // Runs a shell command; returns its exit status and captures stdout+stderr.
 int run_command(const std::string& command, std::string* output = nullptr);
+// A shell command that starts `command` in the background and sends it
+// `signal` ("KILL", "INT", ...) once `checkpoint` has grown past the size it
+// first had: at least one record was appended after the header, whatever the
+// speed of the machine. Gives up waiting after 60 s or when the command ends;
+// the command's exit status is the script's.
+std::string signal_once_checkpoint_grows(const std::string& command, const std::string& checkpoint,
+                                         const std::string& signal);
 
 }  // namespace rover::testing

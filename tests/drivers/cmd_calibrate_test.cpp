@@ -16,6 +16,7 @@ namespace {
 using rover::testing::mpiexec;
 using rover::testing::rover_binary;
 using rover::testing::run_command;
+using rover::testing::signal_once_checkpoint_grows;
 using rover::testing::source_path;
 
 using rover::testing::write_file;
@@ -123,11 +124,12 @@ TEST(CmdCalibrate, KilledPosteriorResumesToTheUninterruptedChain) {
   ASSERT_EQ(run_command(rover_binary() + " calibrate --study " + study + " --no-plot --out " + dir + "/whole.h5", &log), 0)
       << log;
   // SIGKILL once some steps are checkpointed (the ensemble is saved every step).
-  run_command("cd " + dir + " && (" + rover_binary() + " calibrate --study " + study + " --no-plot --out " + dir +
-                  "/part.h5 & pid=$!; for i in $(seq 200); do [ -s " + dir +
-                  "/part.h5.checkpoint ] && break; sleep 0.05; done; sleep 0.5; kill -9 $pid; wait $pid)",
+  run_command("cd " + dir + " && " +
+                  signal_once_checkpoint_grows(rover_binary() + " calibrate --study " + study + " --no-plot --out " +
+                                                   dir + "/part.h5",
+                                               dir + "/part.h5.checkpoint", "KILL"),
               &log);
-  if (std::ifstream(dir + "/part.h5").good()) GTEST_SKIP() << "the study finished before the kill";
+  ASSERT_FALSE(std::ifstream(dir + "/part.h5").good()) << "the study finished before the kill: " << log;
   ASSERT_TRUE(std::ifstream(dir + "/part.h5.checkpoint").good()) << log;
   ASSERT_EQ(run_command(rover_binary() + " calibrate --study " + study + " --no-plot --resume --out " + dir +
                             "/part.h5", &log), 0) << log;

@@ -15,6 +15,7 @@ namespace {
 using rover::testing::mpiexec;
 using rover::testing::rover_binary;
 using rover::testing::run_command;
+using rover::testing::signal_once_checkpoint_grows;
 using rover::testing::source_path;
 
 using rover::testing::write_file;
@@ -87,15 +88,17 @@ TEST(CmdStudies, MonteCarloOfFourInputsIsIdenticalOnOneTwoThreeAndEightRanks) {
 
 TEST(CmdStudies, MonteCarloResumedAfterAKillRecomputesOnlyWhatIsMissing) {
   const std::string dir = rover::testing::temp_dir();
-  const std::string study = mc_study(dir, 1.0, 40);
+  constexpr int kRuns = 100;
+  const std::string study = mc_study(dir, 1.0, kRuns);
   std::string log;
   ASSERT_EQ(run_command(rover_binary() + " montecarlo --study " + study + " --no-plot --out " + dir + "/whole.h5", &log), 0)
       << log;
   // Killed (SIGKILL) once part of the runs is checkpointed: the checkpoint is
   // written every record here (--checkpoint-every 1).
-  run_command("cd " + dir + " && (" + rover_binary() + " montecarlo --study " + study +
-                  " --checkpoint-every 1 --no-plot --out " + dir + "/part.h5 & pid=$!; for i in $(seq 200); do "
-                  "[ -s " + dir + "/part.h5.checkpoint ] && break; sleep 0.05; done; sleep 0.3; kill -9 $pid; wait $pid)",
+  run_command("cd " + dir + " && " +
+                  signal_once_checkpoint_grows(rover_binary() + " montecarlo --study " + study +
+                                                   " --checkpoint-every 1 --no-plot --out " + dir + "/part.h5",
+                                               dir + "/part.h5.checkpoint", "KILL"),
               &log);
   ASSERT_FALSE(std::ifstream(dir + "/part.h5").good()) << "the killed run must not leave a result file";
   ASSERT_TRUE(std::ifstream(dir + "/part.h5.checkpoint").good()) << log;
@@ -105,7 +108,7 @@ TEST(CmdStudies, MonteCarloResumedAfterAKillRecomputesOnlyWhatIsMissing) {
   ASSERT_NE(pos, std::string::npos) << log;
   const int reused = std::stoi(log.substr(pos + 10));
   EXPECT_GT(reused, 0) << log;
-  EXPECT_LT(reused, 40) << log;
+  EXPECT_LT(reused, kRuns) << log;
   const io::Hdf5Reader a(dir + "/whole.h5"), b(dir + "/part.h5");
   for (const std::string& name : kMonteCarloDatasets) {
     if (name.find("G_z") == std::string::npos) {
@@ -116,13 +119,16 @@ TEST(CmdStudies, MonteCarloResumedAfterAKillRecomputesOnlyWhatIsMissing) {
 
 TEST(CmdStudies, MonteCarloResumeRefusesChangedOptions) {
   const std::string dir = rover::testing::temp_dir();
-  const std::string study = mc_study(dir, 1.0, 3);
+  const std::string study = mc_study(dir, 1.0, 50);
   std::string log;
-  // Leave a checkpoint behind: interrupt right away.
-  run_command("cd " + dir + " && (" + rover_binary() + " montecarlo --study " + study +
-                  " --checkpoint-every 1 --no-plot --out " + dir + "/r.h5 & pid=$!; for i in $(seq 200); do "
-                  "[ -s " + dir + "/r.h5.checkpoint ] && break; sleep 0.02; done; kill -9 $pid; wait $pid)", &log);
-  if (!std::ifstream(dir + "/r.h5.checkpoint").good()) GTEST_SKIP() << "the study finished before the kill";
+  // Leave a checkpoint behind: kill once it holds a run.
+  run_command("cd " + dir + " && " +
+                  signal_once_checkpoint_grows(rover_binary() + " montecarlo --study " + study +
+                                                   " --checkpoint-every 1 --no-plot --out " + dir + "/r.h5",
+                                               dir + "/r.h5.checkpoint", "KILL"),
+              &log);
+  ASSERT_TRUE(std::ifstream(dir + "/r.h5.checkpoint").good()) << log;
+  ASSERT_FALSE(std::ifstream(dir + "/r.h5").good()) << "the study finished before the kill: " << log;
   EXPECT_NE(run_command(rover_binary() + " montecarlo --study " + study + " --seed 5 --no-plot --resume --out " +
                             dir + "/r.h5", &log), 0);
   EXPECT_NE(log.find("fingerprint"), std::string::npos) << log;
@@ -135,9 +141,10 @@ TEST(CmdStudies, InterruptSavesTheCheckpointAndTellsHowToResume) {
     std::string log;
     const std::string out = dir + "/int_" + sig + ".h5";
     const int status = run_command(
-        "cd " + dir + " && (" + rover_binary() + " montecarlo --study " + study + " --checkpoint-every 1 --no-plot --out " +
-            out + " & pid=$!; for i in $(seq 400); do [ -s " + out + ".checkpoint ] && break; sleep 0.02; done; kill -" +
-            sig + " $pid; wait $pid)",
+        "cd " + dir + " && " +
+            signal_once_checkpoint_grows(rover_binary() + " montecarlo --study " + study +
+                                             " --checkpoint-every 1 --no-plot --out " + out,
+                                         out + ".checkpoint", sig),
         &log);
     EXPECT_EQ(status, 130) << log;
     EXPECT_NE(log.find("interrupted"), std::string::npos) << log;
@@ -163,11 +170,13 @@ TEST(CmdStudies, InterruptOfMpirunSavesTheCheckpointAndResumesToTheSameResult) {
   ASSERT_EQ(run_command(mpiexec() + " -np 2 " + rover_binary() + " montecarlo --study " + study +
                             " --no-plot --out " + dir + "/whole.h5", &log), 0) << log;
   const std::string out = dir + "/part.h5";
-  const int status = run_command("cd " + dir + " && (" + mpiexec() + " -np 2 " + rover_binary() +
-                                     " montecarlo --study " + study + " --checkpoint-every 20 --no-plot --out " +
-                                     out + " & pid=$!; for i in $(seq 1000); do [ -s " + out +
-                                     ".checkpoint ] && break; sleep 0.02; done; kill -INT $pid; wait $pid)", &log);
-  if (std::ifstream(out).good()) GTEST_SKIP() << "the study finished before the interrupt: " << log;
+  const int status = run_command("cd " + dir + " && " +
+                                     signal_once_checkpoint_grows(mpiexec() + " -np 2 " + rover_binary() +
+                                                                      " montecarlo --study " + study +
+                                                                      " --checkpoint-every 20 --no-plot --out " + out,
+                                                                  out + ".checkpoint", "INT"),
+                                 &log);
+  ASSERT_FALSE(std::ifstream(out).good()) << "the study finished before the interrupt: " << log;
   EXPECT_NE(status, 0) << log;  // mpirun's own status (1 with Open MPI 4.1), not the ranks'
   EXPECT_NE(log.find("interrupt"), std::string::npos) << log;
   EXPECT_NE(log.find("montecarlo --study " + study + " --out " + out + " --resume"), std::string::npos) << log;
