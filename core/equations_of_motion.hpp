@@ -16,7 +16,7 @@
 
 #include <array>
 
-#include "core/branch_induced_lu.hpp"
+#include "core/branch_induced_llt.hpp"
 #include "core/contact.hpp"
 #include "core/dynamics.hpp"
 #include "core/model_inputs.hpp"
@@ -37,9 +37,10 @@ struct DynamicsWorkspace {
   // velocity-product inertia terms, joint torques), then F with them.
   Coordinates forcing_without_contact;
   Coordinates forcing;
-  // Stage 5, compute_acceleration(): the factors of M, without fill-in on the
-  // coordinate tree (branch_induced_lu.hpp), and du/dt = M^{-1} F (23).
-  BranchInducedLU mass_factorization;
+  // Stage 5, compute_acceleration(): the Cholesky factors of M, without
+  // fill-in on the coordinate tree (branch_induced_llt.hpp), and
+  // du/dt = M^{-1} F (23).
+  BranchInducedLLT mass_factorization;
   Coordinates acceleration;
 };
 
