@@ -26,6 +26,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 
 #include <Eigen/Core>
 #include <Eigen/LU>
@@ -92,21 +93,36 @@ class BranchInducedLLT {
   using TrunkMatrix = Eigen::Matrix<double, kTrunk, kTrunk>;
   using LegVector = Eigen::Matrix<double, kLeg, 1>;
   using LegMatrix = Eigen::Matrix<double, kLeg, kLeg>;
-  using LegTrunk = Eigen::Matrix<double, kLeg, kTrunk>;
+  // Row-major: the forward substitution updates whole rows of W_l, and
+  // W_l^T W_l reads its rows as contiguous columns.
+  using LegTrunk = Eigen::Matrix<double, kLeg, kTrunk, Eigen::RowMajor>;
 
   static LegVector gather(const Vector& v, int leg) {
     const std::array<int, kLeg> c = BranchInducedLU::leg_coordinates(leg);
     return LegVector(v[c[0]], v[c[1]], v[c[2]], v[c[3]]);
   }
 
-  // Entries between two different legs, in the lower triangle, must be zero.
-  static bool legs_uncoupled(const Matrix& a) {
+  // The positions, in the column-major storage of a 23 x 23 matrix, of the
+  // entries of its lower triangle that couple two different legs.
+  static constexpr int kNumCouplingEntries = kLeg * kLeg * kNumLegs * (kNumLegs - 1) / 2;
+  static constexpr std::array<int, kNumCouplingEntries> coupling_entries() {
+    std::array<int, kNumCouplingEntries> entries{};
+    int n = 0;
     for (int l = 1; l < kNumLegs; ++l)
       for (int m = 0; m < l; ++m)
         for (const int i : BranchInducedLU::leg_coordinates(l))
           for (const int j : BranchInducedLU::leg_coordinates(m))
-            if (a(std::max(i, j), std::min(i, j)) != 0.0) return false;
-    return true;
+            entries[n++] = std::min(i, j) * kNumCoordinates + std::max(i, j);
+    return entries;
+  }
+
+  // Entries between two different legs, in the lower triangle, must be zero
+  // (a NaN there counts as coupling).
+  static bool legs_uncoupled(const Matrix& a) {
+    static constexpr std::array<int, kNumCouplingEntries> kEntries = coupling_entries();
+    double magnitude = 0.0;
+    for (const int e : kEntries) magnitude += std::abs(a.data()[e]);
+    return magnitude == 0.0;
   }
 
   // The leg coordinates come after the trunk's and rise down each leg, so the

@@ -22,6 +22,7 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 
 #include <Eigen/Core>
 
@@ -46,38 +47,36 @@ class FixedSizeLLT {
       }
       double pivot = a(k, k);
       for (int m = 0; m < k; ++m) pivot -= l_(k, m) * l_(k, m);
-      if (!(pivot > 0.0) || !std::isfinite(pivot)) return false;  // also NaN
+      // Positive and finite; false for NaN too.
+      if (!(pivot > 0.0 && pivot <= std::numeric_limits<double>::max())) return false;
       l_(k, k) = std::sqrt(pivot);
       inverse_diagonal_[k] = 1.0 / l_(k, k);
     }
     return true;
   }
 
-  // Solves L y = b for every column of b, in place (forward substitution).
-  template <int Columns>
-  void solve_lower_in_place(Eigen::Matrix<double, N, Columns>& b) const {
-    for (int c = 0; c < b.cols(); ++c)
-      for (int i = 0; i < N; ++i) {
-        double sum = b(i, c);
-        for (int j = 0; j < i; ++j) sum -= l_(i, j) * b(j, c);
-        b(i, c) = sum * inverse_diagonal_[i];
-      }
+  // Solves L y = b for every column of b, in place (forward substitution),
+  // row by row: a row-major b is updated a whole row at a time.
+  template <int Columns, int Options>
+  void solve_lower_in_place(Eigen::Matrix<double, N, Columns, Options>& b) const {
+    for (int i = 0; i < N; ++i) {
+      for (int j = 0; j < i; ++j) b.row(i) -= l_(i, j) * b.row(j);
+      b.row(i) *= inverse_diagonal_[i];
+    }
   }
 
   // Solves L^T x = y for every column of y, in place (back substitution).
-  template <int Columns>
-  void solve_lower_transposed_in_place(Eigen::Matrix<double, N, Columns>& y) const {
-    for (int c = 0; c < y.cols(); ++c)
-      for (int i = N - 1; i >= 0; --i) {
-        double sum = y(i, c);
-        for (int j = i + 1; j < N; ++j) sum -= l_(j, i) * y(j, c);
-        y(i, c) = sum * inverse_diagonal_[i];
-      }
+  template <int Columns, int Options>
+  void solve_lower_transposed_in_place(Eigen::Matrix<double, N, Columns, Options>& y) const {
+    for (int i = N - 1; i >= 0; --i) {
+      for (int j = i + 1; j < N; ++j) y.row(i) -= l_(j, i) * y.row(j);
+      y.row(i) *= inverse_diagonal_[i];
+    }
   }
 
   // Solves a x = b for every column of b, in place.
-  template <int Columns>
-  void solve_in_place(Eigen::Matrix<double, N, Columns>& b) const {
+  template <int Columns, int Options>
+  void solve_in_place(Eigen::Matrix<double, N, Columns, Options>& b) const {
     solve_lower_in_place(b);
     solve_lower_transposed_in_place(b);
   }
