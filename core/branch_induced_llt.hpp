@@ -17,11 +17,11 @@
 // one of the two off-diagonal blocks (M_tl = M_lt^T), and one triangular solve
 // less per leg in the elimination.
 //
-// Only the lower triangle of the matrix is read (the symmetric matrix it
-// defines is the one factorized). A matrix with an entry coupling two legs,
-// or one whose blocks are not positive definite or not finite, falls back to a
-// dense LU with partial pivoting of the whole (symmetric) matrix, so solve()
-// is always valid for a regular matrix.
+// Only the lower triangle of the matrix enters the result (the symmetric
+// matrix it defines is the one factorized). A lower triangle with an entry
+// coupling two legs, or blocks that are not positive definite or not finite,
+// falls back to a dense LU with partial pivoting of that symmetric matrix, so
+// solve() is always valid for a regular matrix.
 #pragma once
 
 #include <algorithm>

@@ -9,8 +9,11 @@
 // pivot search is needed, and the arithmetic is half that of an LU
 // (fixed_size_lu.hpp). Eigen's LLT does the same arithmetic through kernels
 // for run-time sizes (dynamic-size blocks, the matrix 1-norm kept for a
-// condition estimate), which cost more at these sizes; here every loop has a
-// compile-time trip count and the compiler unrolls it.
+// condition estimate): under callgrind (g++ -O3) its factorization of a
+// 4 x 4 block takes about 390 instructions against 120 here, of a 7 x 7 about
+// 1200 against 510, and a 4 x 7 triangular solve through it several times
+// the arithmetic. Here every loop has a compile-time trip count and the
+// compiler unrolls it.
 //
 // The reciprocals of the diagonal of L are kept, so that the triangular
 // solves multiply instead of divide.
