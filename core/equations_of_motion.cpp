@@ -1,6 +1,8 @@
 // The stages of the equations of motion (see equations_of_motion.hpp).
 #include "core/equations_of_motion.hpp"
 
+#include "core/articulated_body.hpp"
+
 namespace rover {
 
 namespace {
@@ -62,6 +64,15 @@ void compute_acceleration(DynamicsWorkspace& workspace) {
   workspace.acceleration = workspace.mass_factorization.solve(workspace.forcing);
 }
 
+void compute_acceleration_articulated(const RoverModel& model, DynamicsWorkspace& workspace) {
+  if (const std::optional<Coordinates> a = articulated_body_solve(model.tree, workspace.kinematics, workspace.forcing)) {
+    workspace.acceleration = *a;
+    return;
+  }
+  compute_mass_matrix(model, workspace);
+  compute_acceleration(workspace);
+}
+
 void compute_dynamics(const RoverModel& model, DynamicsWorkspace& workspace,
                       const ModelInputs& inputs, const Coordinates& q, const Coordinates& u) {
   compute_kinematics(model, workspace, q, u);
@@ -76,6 +87,19 @@ StateVector state_derivative(const RoverModel& model, DynamicsWorkspace& workspa
   const Coordinates q = x.head<kNumCoordinates>();
   const Coordinates u = x.tail<kNumCoordinates>();
   compute_dynamics(model, workspace, inputs, q, u);
+  StateVector dx;
+  dx << u, workspace.acceleration;
+  return dx;
+}
+
+StateVector state_derivative_articulated(const RoverModel& model, DynamicsWorkspace& workspace,
+                                         const ModelInputs& inputs, const StateVector& x) {
+  const Coordinates q = x.head<kNumCoordinates>();
+  const Coordinates u = x.tail<kNumCoordinates>();
+  compute_kinematics(model, workspace, q, u);
+  compute_contacts(model, workspace);
+  compute_forcing(model, workspace, inputs, q, u);
+  compute_acceleration_articulated(model, workspace);
   StateVector dx;
   dx << u, workspace.acceleration;
   return dx;

@@ -4,7 +4,9 @@
 //
 // Every evaluation goes through one workspace, filled in stages in a fixed
 // order, as MuJoCo's mjData is filled by mj_forward (Todorov et al. 2012):
-//   kinematics -> contacts -> M -> F -> factorisation of M and du/dt.
+//   kinematics -> contacts -> M -> F -> factorisation of M and du/dt,
+// or, where M itself is not needed, kinematics -> contacts -> F -> du/dt by
+// the articulated-body recursion.
 // Every stage takes its arguments in one order, (model, workspace, inputs, q, u),
 // the order of Pinocchio's algo(model, data, q, v) (Carpentier et al. 2019),
 // leaving out what the stage does not read. A later stage reads what the
@@ -56,6 +58,11 @@ void compute_forcing(const RoverModel& model, DynamicsWorkspace& workspace,
                      const ModelInputs& inputs, const Coordinates& q, const Coordinates& u);
 // Stage 5: factorises M and solves for du/dt (needs stages 3 and 4).
 void compute_acceleration(DynamicsWorkspace& workspace);
+// Stage 5 without stage 3: du/dt = M^{-1} F by the articulated-body recursion
+// (articulated_body.hpp), which never forms M (needs stages 1 and 4). The
+// workspace's mass_matrix and mass_factorization keep what they held. A
+// tree the recursion finds degenerate falls back to stages 3 and 5.
+void compute_acceleration_articulated(const RoverModel& model, DynamicsWorkspace& workspace);
 
 // All five stages at (q, u).
 void compute_dynamics(const RoverModel& model, DynamicsWorkspace& workspace,
@@ -66,6 +73,12 @@ void compute_dynamics(const RoverModel& model, DynamicsWorkspace& workspace,
 // path of every simulation.
 StateVector state_derivative(const RoverModel& model, DynamicsWorkspace& workspace,
                              const ModelInputs& inputs, const StateVector& x);
+// The same right-hand side through stages 1, 2, 4 and
+// compute_acceleration_articulated(): for integrators that need du/dt but
+// not M itself (Dormand-Prince, the Rosenbrock stages). Equal to
+// state_derivative() to round-off.
+StateVector state_derivative_articulated(const RoverModel& model, DynamicsWorkspace& workspace,
+                                         const ModelInputs& inputs, const StateVector& x);
 
 // Contacts of all four wheels with their forces, at given kinematics (the
 // work of stage 2).

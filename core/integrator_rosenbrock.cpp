@@ -39,7 +39,8 @@
 // Work per accepted step: the right-hand side at the step start (which also
 // gives M0, F0 and the contacts), one assembly of D and K from the contacts'
 // point Jacobians, one sparse 23 x 23 LU, and three right-hand sides for the
-// stages.
+// stages, which need du/dt but not M and so take it from the articulated-body
+// recursion (articulated_body.hpp) without forming M.
 // Every right-hand side is counted in the report's rhs_evaluations, and so is
 // each Jacobian assembly, as one evaluation (it costs about as much as one
 // right-hand side; bench/integrator_bench.cpp times both).
@@ -95,13 +96,19 @@ struct StepPoint {
   DynamicsWorkspace dynamics;
 };
 
+// The right-hand side at a step end, with M (the next step's iteration
+// matrix needs it), or at a stage point, where du/dt is all that is needed
+// and the articulated-body recursion gives it without forming M.
+enum class NeedsMass { kYes, kNo };
+
 void evaluate(const OdeSystem& system, double t, const StateVector& x, StepPoint& point,
-              IntegrationReport& report) {
+              IntegrationReport& report, NeedsMass needs_mass) {
   ++report.rhs_evaluations;
   point.t = t;
   point.x = x;
   point.inputs = system.inputs_at(t);
-  point.dx = state_derivative(system.model, point.dynamics, point.inputs, x);
+  point.dx = needs_mass == NeedsMass::kYes ? state_derivative(system.model, point.dynamics, point.inputs, x)
+                                          : state_derivative_articulated(system.model, point.dynamics, point.inputs, x);
 }
 
 // M0, F0 and the stiff-force Jacobian at an evaluated step start, and the
@@ -297,7 +304,7 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
   StepPoint* end = &ends[1];
   StepPoint stage;
   BranchInducedLU iteration;  // of M0 - h g D - h^2 g^2 K
-  evaluate(system, 0.0, x, *start, report);
+  evaluate(system, 0.0, x, *start, report, NeedsMass::kYes);
   double h = std::clamp(settings.initial_step_s, settings.min_step_s, settings.max_step_s);
   std::size_t next = 1;
   while (next < request.sample_count) {
@@ -318,7 +325,7 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
       auto acceleration = [&](double t, const Coordinates& q, const Coordinates& u) -> Coordinates {
         StateVector s;
         s << q, u;
-        evaluate(system, t, s, stage, report);
+        evaluate(system, t, s, stage, report, NeedsMass::kNo);
         keep_maximum(seen, active_contacts(stage.dynamics.contacts));
         return stage.dx.tail<kNumCoordinates>();
       };
@@ -339,7 +346,7 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
                              slip_error_norm(slips, step.error_u, settings));
       if (error <= 1.0) {
         t1 = last ? t_end : start->t + h;
-        evaluate(system, t1, x1, *end, report);
+        evaluate(system, t1, x1, *end, report, NeedsMass::kYes);
         if (!has_more(active_contacts(end->dynamics.contacts), seen)) break;
         h *= kOnsetShrink;  // a touchdown inside the step that no stage saw
         if (h < settings.min_step_s) return underflow(start->t, h, "touchdown");

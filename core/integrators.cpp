@@ -32,8 +32,8 @@ ModelInputs OdeSystem::inputs_at(double t) const {
 
 StateVector ode_derivative(const OdeSystem& system, DynamicsWorkspace& workspace, double t,
                            const StateVector& x) {
-  if (system.drive_schedule == nullptr) return state_derivative(system.model, workspace, system.inputs, x);
-  return state_derivative(system.model, workspace, system.inputs_at(t), x);
+  if (system.drive_schedule == nullptr) return state_derivative_articulated(system.model, workspace, system.inputs, x);
+  return state_derivative_articulated(system.model, workspace, system.inputs_at(t), x);
 }
 
 const char* status_name(SimulationStatus status) {

@@ -28,7 +28,8 @@ struct OdeSystem {
   ModelInputs inputs_at(double t) const;
 };
 
-// dx/dt of `system` at (t, x), computed in `workspace` (all five stages).
+// dx/dt of `system` at (t, x), computed in `workspace` without forming M
+// (state_derivative_articulated()).
 StateVector ode_derivative(const OdeSystem& system, DynamicsWorkspace& workspace, double t,
                            const StateVector& x);
 

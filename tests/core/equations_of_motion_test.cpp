@@ -136,6 +136,31 @@ TEST(EquationsOfMotion, RightHandSideSolvesTheStagedEquations) {
   EXPECT_NE(eom.forcing, eom.forcing_without_contact);
 }
 
+// The right-hand side without M (the articulated-body recursion) equals the
+// one through M and its factors, with wheels on the ground, and leaves the
+// workspace's M as it found it.
+TEST(EquationsOfMotion, ArticulatedRightHandSideEqualsTheOneThroughTheMassMatrix) {
+  const RoverModel model = make_rover_model(default_rover_parameters());
+  const ModelInputs in = nominal_inputs(model.parameters);
+  std::mt19937 rng(21);
+  for (int trial = 0; trial < 20; ++trial) {
+    Coordinates q, u;
+    testing::random_state(rng, q, u);
+    q[coord::z] = 0.21;
+    StateVector x;
+    x << q, u;
+    DynamicsWorkspace with_mass, without_mass;
+    const StateVector expected = state_derivative(model, with_mass, in, x);
+    without_mass.mass_matrix.setConstant(7.0);
+    const StateVector dx = state_derivative_articulated(model, without_mass, in, x);
+    EXPECT_EQ(dx.head<kNumCoordinates>(), u);
+    EXPECT_LT((dx - expected).tail<kNumCoordinates>().norm(), 1e-10 * expected.tail<kNumCoordinates>().norm())
+        << "trial " << trial;
+    EXPECT_TRUE((without_mass.mass_matrix.array() == 7.0).all());
+    EXPECT_EQ(without_mass.forcing, with_mass.forcing);
+  }
+}
+
 TEST(EquationsOfMotion, StandingStillOnFlatGroundFeelsOnlyTheWeightThroughTheWheels) {
   // Static check: at rest on the ground, the vertical contact force balances
   // the weight when the accelerations vanish: sum of F_n = m g at equilibrium
