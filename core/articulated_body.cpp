@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 
+#include "core/dynamics.hpp"
 #include "core/fixed_size_llt.hpp"
 
 namespace rover {
@@ -26,10 +27,9 @@ Mat3 cross_matrix(const Vec3& v) {
 // A body's spatial inertia about the reference point, in the convention of
 // mass_matrix(): momentum = (I_ref w + h x v, m v + w x h), h = m (c - ref).
 Matrix6 spatial_inertia(double mass, const Mat3& inertia_com, const Vec3& com_from_reference) {
-  const Vec3& d = com_from_reference;
-  const Mat3 h = cross_matrix(mass * d);
+  const Mat3 h = cross_matrix(mass * com_from_reference);
   Matrix6 I;
-  I.topLeftCorner<3, 3>() = inertia_com + mass * (d.squaredNorm() * Mat3::Identity() - d * d.transpose());
+  I.topLeftCorner<3, 3>() = inertia_about_offset(mass, inertia_com, com_from_reference);
   I.topRightCorner<3, 3>() = h;
   I.bottomLeftCorner<3, 3>() = h.transpose();
   I.bottomRightCorner<3, 3>() = mass * Mat3::Identity();
@@ -78,9 +78,10 @@ std::optional<Coordinates> articulated_body_solve(const KinematicTree& tree, con
 
   // The trunk, as the composite-rigid-body algorithm forms a mass matrix
   // (dynamics.cpp): each trunk node carries the articulated inertia of its
-  // subtree, children added before their parent is reached; A(c_j, c_i) =
-  // S_j^T I^C_i S_i for every trunk node j on node i's path. The two nodes of
-  // phi add into its row and column.
+  // subtree, children added before their parent is reached; A(c_i, c_j) =
+  // S_j^T I^C_i S_i for every trunk node j on node i's path (c_j < c_i: the
+  // lower triangle, all that FixedSizeLLT reads). The two nodes of phi add
+  // into its row and column.
   TrunkMatrix A = TrunkMatrix::Zero();
   TrunkVector rhs = tau.head<kTrunk>();
   for (int i = kNumTreeNodes - 1; i >= 0; --i) {
@@ -92,9 +93,7 @@ std::optional<Coordinates> articulated_body_solve(const KinematicTree& tree, con
     for (int k = 1; k < tree.path_length[i]; ++k) {
       const int j = tree.path[i][k];
       const int cj = tree.nodes[j].coordinate;
-      const double value = motion[j].dot(momentum);
-      A(cj, ci) += value;
-      A(ci, cj) += value;
+      A(ci, cj) += motion[j].dot(momentum);
     }
     const int p = tree.nodes[i].parent;
     if (p >= 0) {

@@ -59,7 +59,7 @@ class BranchInducedLLT {
     TrunkVector x_trunk = b.head<kTrunk>();
     std::array<LegVector, kNumLegs> y;
     for (int l = 0; l < kNumLegs; ++l) {
-      y[l] = gather(b, l);
+      y[l] = BranchInducedLU::gather(b, l);
       leg_llt_[l].solve_lower_in_place(y[l]);
       x_trunk.noalias() -= reduced_leg_trunk_[l].transpose() * y[l];
     }
@@ -96,11 +96,6 @@ class BranchInducedLLT {
   // Row-major: the forward substitution updates whole rows of W_l, and
   // W_l^T W_l reads its rows as contiguous columns.
   using LegTrunk = Eigen::Matrix<double, kLeg, kTrunk, Eigen::RowMajor>;
-
-  static LegVector gather(const Vector& v, int leg) {
-    const std::array<int, kLeg> c = BranchInducedLU::leg_coordinates(leg);
-    return LegVector(v[c[0]], v[c[1]], v[c[2]], v[c[3]]);
-  }
 
   // The positions, in the column-major storage of a 23 x 23 matrix, of the
   // entries of its lower triangle that couple two different legs.

@@ -56,6 +56,12 @@ class BranchInducedLU {
     return {coord::s_joint(leg, 0), coord::s_joint(leg, 1), coord::steer(leg), coord::spin(leg)};
   }
 
+  // The entries of v at the coordinates of leg l, from the top down.
+  static Eigen::Matrix<double, kLeg, 1> gather(const Vector& v, int leg) {
+    const std::array<int, kLeg> c = leg_coordinates(leg);
+    return Eigen::Matrix<double, kLeg, 1>(v[c[0]], v[c[1]], v[c[2]], v[c[3]]);
+  }
+
   // Returns true if the block elimination was used, false if the dense
   // fallback was.
   bool compute(const Matrix& a) {
@@ -104,10 +110,6 @@ class BranchInducedLU {
   using LegTrunk = Eigen::Matrix<double, kLeg, kTrunk>;
   using TrunkLeg = Eigen::Matrix<double, kTrunk, kLeg>;
 
-  static LegVector gather(const Vector& v, int leg) {
-    const std::array<int, kLeg> c = leg_coordinates(leg);
-    return LegVector(v[c[0]], v[c[1]], v[c[2]], v[c[3]]);
-  }
 
   // Entries between two different legs must be zero.
   static bool legs_uncoupled(const Matrix& a) {

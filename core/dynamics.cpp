@@ -22,16 +22,9 @@ using SpatialVector = Eigen::Matrix<double, 6, 1>;
 // One body's inertia about the reference point (parallel-axis theorem).
 void body_inertia_at_reference(double mass, const BodyKinematics& body, const Vec3& com_from_reference,
                                SpatialInertia& s) {
-  const Vec3& d = com_from_reference;
   s.mass = mass;
-  s.first_moment = mass * d;
-  // I_com + m (|d|^2 E - d d^T), on one triangle: it stays exactly symmetric.
-  const double d_squared = d.squaredNorm();
-  for (int c = 0; c < 3; ++c) {
-    s.rotational(c, c) = body.inertia(c, c) + mass * (d_squared - d[c] * d[c]);
-    for (int r = c + 1; r < 3; ++r)
-      s.rotational(r, c) = s.rotational(c, r) = body.inertia(r, c) - mass * d[r] * d[c];
-  }
+  s.first_moment = mass * com_from_reference;
+  s.rotational = inertia_about_offset(mass, body.inertia, com_from_reference);
 }
 
 }  // namespace

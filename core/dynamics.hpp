@@ -15,6 +15,21 @@
 
 namespace rover {
 
+// A body's rotational inertia about a point at `offset` from its centre of
+// mass (parallel-axis theorem), I_com + m (|d|^2 E - d d^T), written on one
+// triangle so that it stays exactly symmetric. Used by mass_matrix() and
+// articulated_body_solve().
+inline Mat3 inertia_about_offset(double mass_kg, const Mat3& inertia_com, const Vec3& offset) {
+  const Vec3& d = offset;
+  const double d_squared = d.squaredNorm();
+  Mat3 I;
+  for (int c = 0; c < 3; ++c) {
+    I(c, c) = inertia_com(c, c) + mass_kg * (d_squared - d[c] * d[c]);
+    for (int r = c + 1; r < 3; ++r) I(r, c) = I(c, r) = inertia_com(r, c) - mass_kg * d[r] * d[c];
+  }
+  return I;
+}
+
 // M(q): sum over bodies of m J_v^T J_v + J_w^T I J_w (symmetric positive definite).
 CoordinateMatrix mass_matrix(const KinematicTree& tree, const TreeKinematics& kin);
 

@@ -2,6 +2,7 @@
 // sampled height grids.
 #pragma once
 
+#include <array>
 #include <random>
 
 #include "core/coordinates.hpp"
@@ -25,6 +26,17 @@ inline void random_state(std::mt19937& rng, Coordinates& q, Coordinates& u) {
 // The default model, with the ground pushed far below so nothing touches it.
 inline RoverModel airborne_model(RoverParameters p = default_rover_parameters()) {
   return make_rover_model(std::move(p), Terrain::flat(-100.0));
+}
+
+// Whether coordinate i is an ancestor of j or j of i on the coordinate tree
+// `parent` (KinematicTree::coordinate_parent): where M and the stiff force
+// Jacobians may be non-zero.
+inline bool coordinates_related(int i, int j, const std::array<int, kNumCoordinates>& parent) {
+  for (int k = i; k >= 0; k = parent[k])
+    if (k == j) return true;
+  for (int k = j; k >= 0; k = parent[k])
+    if (k == i) return true;
+  return false;
 }
 
 // A height grid sampling h(x, y) at its nodes.

@@ -24,14 +24,6 @@ namespace {
 using Parents = std::array<int, kNumCoordinates>;
 using Rhs = Eigen::Matrix<double, kNumCoordinates, 3>;
 
-bool related(int i, int j, const Parents& parent) {
-  for (int k = i; k >= 0; k = parent[k])
-    if (k == j) return true;
-  for (int k = j; k >= 0; k = parent[k])
-    if (k == i) return true;
-  return false;
-}
-
 // A random symmetric matrix with non-zeros exactly on the pattern, made
 // strictly diagonally dominant with a positive diagonal: positive definite
 // (Gershgorin).
@@ -40,7 +32,7 @@ CoordinateMatrix random_patterned_spd(const Parents& parent, std::mt19937& rng) 
   CoordinateMatrix a = CoordinateMatrix::Zero();
   for (int i = 0; i < kNumCoordinates; ++i)
     for (int j = 0; j < i; ++j)
-      if (related(i, j, parent)) a(i, j) = a(j, i) = entry(rng);
+      if (testing::coordinates_related(i, j, parent)) a(i, j) = a(j, i) = entry(rng);
   a.diagonal().array() += kNumCoordinates;
   return a;
 }

@@ -23,14 +23,6 @@ namespace {
 
 using Parents = std::array<int, kNumCoordinates>;
 
-bool related(int i, int j, const Parents& parent) {
-  for (int k = i; k >= 0; k = parent[k])
-    if (k == j) return true;
-  for (int k = j; k >= 0; k = parent[k])
-    if (k == i) return true;
-  return false;
-}
-
 // A random matrix with non-zeros exactly on the pattern, made diagonally
 // dominant (so elimination without pivoting is safe), not symmetric.
 CoordinateMatrix random_patterned_matrix(const Parents& parent, std::mt19937& rng) {
@@ -38,7 +30,7 @@ CoordinateMatrix random_patterned_matrix(const Parents& parent, std::mt19937& rn
   CoordinateMatrix a = CoordinateMatrix::Zero();
   for (int i = 0; i < kNumCoordinates; ++i)
     for (int j = 0; j < kNumCoordinates; ++j)
-      if (related(i, j, parent)) a(i, j) = entry(rng);
+      if (testing::coordinates_related(i, j, parent)) a(i, j) = entry(rng);
   a.diagonal().array() += 2.0 * kNumCoordinates;
   return a;
 }
@@ -79,7 +71,7 @@ TEST(BranchInducedLU, MassMatrixHasThePatternAndIsSolvedAsByCholesky) {
     const CoordinateMatrix M = mass_matrix(model.tree, forward_kinematics(model.tree, q, u));
     for (int i = 0; i < kNumCoordinates; ++i)
       for (int j = 0; j < kNumCoordinates; ++j)
-        if (!related(i, j, model.tree.coordinate_parent)) {
+        if (!testing::coordinates_related(i, j, model.tree.coordinate_parent)) {
           EXPECT_EQ(M(i, j), 0.0) << i << ", " << j;
         }
     BranchInducedLU lu;
