@@ -163,10 +163,12 @@ void rotate_inertia(const Mat3& rotation, const Mat3& inertia, Mat3& world) {
   world(1, 2) = world(2, 1);
 }
 
-}  // namespace
-
-void forward_kinematics(const KinematicTree& tree, const Coordinates& q, const Coordinates& u,
-                        TreeKinematics& kin) {
+// The recursion of forward_kinematics(); with kPoseAndVelocityOnly, only the
+// rotation, origin, axis, omega and velocity of the nodes.
+template <bool kPoseAndVelocityOnly>
+void node_kinematics(const KinematicTree& tree, const Coordinates& q, const Coordinates& u,
+                     TreeKinematics& kin) {
+  constexpr bool kFull = !kPoseAndVelocityOnly;
   for (int i = 0; i < kNumTreeNodes; ++i) {
     const TreeNode& node = tree.nodes[i];
     NodeKinematics& k = kin.nodes[i];
@@ -178,8 +180,10 @@ void forward_kinematics(const KinematicTree& tree, const Coordinates& q, const C
       // Under the world frame (at rest, world axes) every parent term vanishes.
       k.axis = node.axis;
       k.origin = node.offset_m;
-      k.alpha_bias.setZero();
-      k.accel_bias.setZero();
+      if constexpr (kFull) {
+        k.alpha_bias.setZero();
+        k.accel_bias.setZero();
+      }
       if (revolute) {
         rotate_about(Mat3::Identity(), node.axis, elementary, displacement, k.rotation);
         k.omega = k.axis * rate;
@@ -203,17 +207,18 @@ void forward_kinematics(const KinematicTree& tree, const Coordinates& q, const C
         const Vec3 spin = k.axis * rate;
         rotate_about(parent.rotation, node.axis, elementary, displacement, k.rotation);
         k.omega = parent.omega + spin;
-        k.alpha_bias = parent.alpha_bias + parent.omega.cross(spin);
+        if constexpr (kFull) k.alpha_bias = parent.alpha_bias + parent.omega.cross(spin);
         if (at_parent_origin) {
           k.origin = parent.origin;
           k.velocity = parent.velocity;
-          k.accel_bias = parent.accel_bias;
+          if constexpr (kFull) k.accel_bias = parent.accel_bias;
         } else {
           const Vec3 r = parent.rotation * node.offset_m;
           const Vec3 omega_cross_r = parent.omega.cross(r);
           k.origin = parent.origin + r;
           k.velocity = parent.velocity + omega_cross_r;
-          k.accel_bias = parent.accel_bias + parent.alpha_bias.cross(r) + parent.omega.cross(omega_cross_r);
+          if constexpr (kFull)
+            k.accel_bias = parent.accel_bias + parent.alpha_bias.cross(r) + parent.omega.cross(omega_cross_r);
         }
       } else {
         Vec3 r = k.axis * displacement;
@@ -222,14 +227,16 @@ void forward_kinematics(const KinematicTree& tree, const Coordinates& q, const C
         const Vec3 omega_cross_r = parent.omega.cross(r);
         k.rotation = parent.rotation;
         k.omega = parent.omega;
-        k.alpha_bias = parent.alpha_bias;
         k.origin = parent.origin + r;
         k.velocity = parent.velocity + omega_cross_r + slide;
-        k.accel_bias = parent.accel_bias + parent.alpha_bias.cross(r) +
-                       parent.omega.cross(omega_cross_r) + 2.0 * parent.omega.cross(slide);
+        if constexpr (kFull) {
+          k.alpha_bias = parent.alpha_bias;
+          k.accel_bias = parent.accel_bias + parent.alpha_bias.cross(r) +
+                         parent.omega.cross(omega_cross_r) + 2.0 * parent.omega.cross(slide);
+        }
       }
     }
-    if (node.body >= 0) {
+    if (kFull && node.body >= 0) {
       const RigidBodyParameters& body = tree.bodies[node.body];
       BodyKinematics& b = kin.bodies[node.body];
       b.com_offset = k.rotation * body.com_m;
@@ -237,6 +244,18 @@ void forward_kinematics(const KinematicTree& tree, const Coordinates& q, const C
     }
   }
   kin.reference = kin.nodes[node::chassis].origin;
+}
+
+}  // namespace
+
+void forward_pose_and_velocity(const KinematicTree& tree, const Coordinates& q, const Coordinates& u,
+                               TreeKinematics& kin) {
+  node_kinematics<true>(tree, q, u, kin);
+}
+
+void forward_kinematics(const KinematicTree& tree, const Coordinates& q, const Coordinates& u,
+                        TreeKinematics& kin) {
+  node_kinematics<false>(tree, q, u, kin);
   for (int i = 0; i < kNumTreeNodes; ++i) {
     NodeKinematics& k = kin.nodes[i];
     const double s = tree.nodes[i].sign;

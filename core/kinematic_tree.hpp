@@ -102,6 +102,13 @@ TreeKinematics forward_kinematics(const KinematicTree& tree, const Coordinates& 
 void forward_kinematics(const KinematicTree& tree, const Coordinates& q, const Coordinates& u,
                         TreeKinematics& kin);
 
+// Only the pose and the velocity of every node (rotation, origin, axis, omega,
+// velocity) and the reference point: what positions and point velocities need
+// (the outputs of simulate(), the contacts' normal forces), at about half the
+// cost. The other fields of `kin` are left as they were.
+void forward_pose_and_velocity(const KinematicTree& tree, const Coordinates& q, const Coordinates& u,
+                               TreeKinematics& kin);
+
 // World position of the point with body-frame coordinates r_local on `node`.
 inline Vec3 point_position(const TreeKinematics& kin, int node_index, const Vec3& r_local) {
   const NodeKinematics& n = kin.nodes[node_index];

@@ -84,7 +84,7 @@ class TrajectoryRecorder {
 
   void record(double t, const StateVector& x) {
     const Coordinates q = x.head<kNumCoordinates>(), u = x.tail<kNumCoordinates>();
-    forward_kinematics(model_.tree, q, u, kin_);
+    forward_pose_and_velocity(model_.tree, q, u, kin_);
     const TreeKinematics& kin = kin_;
     out_.t.push_back(t);
     q_rows_.push_back(q);

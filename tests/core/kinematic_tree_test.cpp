@@ -137,6 +137,26 @@ TEST(KinematicTree, AngularVelocityEqualsRotationRate) {
   }
 }
 
+TEST(KinematicTree, PoseAndVelocityAloneAreThoseOfTheFullKinematics) {
+  std::mt19937 rng(12);
+  for (int trial = 0; trial < 20; ++trial) {
+    Coordinates q, u;
+    testing::random_state(rng, q, u);
+    const TreeKinematics full = forward_kinematics(kTree, q, u);
+    TreeKinematics lean = forward_kinematics(kTree, Coordinates::Zero(), Coordinates::Zero());
+    forward_pose_and_velocity(kTree, q, u, lean);
+    EXPECT_EQ(lean.reference, full.reference);
+    for (int n = 0; n < kNumTreeNodes; ++n) {
+      const NodeKinematics &a = lean.nodes[n], &b = full.nodes[n];
+      EXPECT_EQ(a.rotation, b.rotation) << "node " << n;
+      EXPECT_EQ(a.origin, b.origin) << "node " << n;
+      EXPECT_EQ(a.axis, b.axis) << "node " << n;
+      EXPECT_EQ(a.omega, b.omega) << "node " << n;
+      EXPECT_EQ(a.velocity, b.velocity) << "node " << n;
+    }
+  }
+}
+
 TEST(KinematicTree, BiasAccelerationIsTheDerivativeOfVelocityAlongTheMotion) {
   std::mt19937 rng(3);
   Coordinates q, u;
