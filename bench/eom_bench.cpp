@@ -7,6 +7,8 @@
 #include <Eigen/Cholesky>
 #include <benchmark/benchmark.h>
 
+#include "core/articulated_body.hpp"
+#include "core/branch_induced_llt.hpp"
 #include "core/equations_of_motion.hpp"
 #include "io/rover_config.hpp"
 #include "io/terrain_json.hpp"
@@ -120,6 +122,41 @@ void BM_LltSolve(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(Coordinates(eom.mass_matrix.llt().solve(eom.forcing)));
 }
 
+// M^{-1} F two ways: the articulated-body recursion (the Rosenbrock stages),
+// and forming M and its block Cholesky (the step ends).
+void BM_ArticulatedBodySolve(benchmark::State& state) {
+  const RoverModel& model = flat_model();
+  const StateVector x = flat_state();
+  const Coordinates q = x.head<kNumCoordinates>(), u = x.tail<kNumCoordinates>();
+  DynamicsWorkspace eom;
+  compute_dynamics(model, eom, nominal_inputs(model.parameters), q, u);
+  for (auto _ : state) benchmark::DoNotOptimize(articulated_body_solve(model.tree, eom.kinematics, eom.forcing));
+}
+
+void BM_MassMatrixBlockCholeskySolve(benchmark::State& state) {
+  const RoverModel& model = flat_model();
+  const StateVector x = flat_state();
+  const Coordinates q = x.head<kNumCoordinates>(), u = x.tail<kNumCoordinates>();
+  DynamicsWorkspace eom;
+  compute_dynamics(model, eom, nominal_inputs(model.parameters), q, u);
+  BranchInducedLLT llt;
+  for (auto _ : state) {
+    llt.compute(mass_matrix(model.tree, eom.kinematics));
+    benchmark::DoNotOptimize(llt.solve(eom.forcing));
+  }
+}
+
+void BM_StateDerivativeArticulatedFlat(benchmark::State& state) {
+  const RoverModel& model = flat_model();
+  const ModelInputs in = nominal_inputs(model.parameters);
+  StateVector x = flat_state();
+  DynamicsWorkspace workspace;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(x);
+    benchmark::DoNotOptimize(state_derivative_articulated(model, workspace, in, x));
+  }
+}
+
 void BM_WheelContactsObstacleRamp(benchmark::State& state) {
   const RoverModel& model = obstacle_model();
   const StateVector x = ramp_state();
@@ -134,6 +171,9 @@ BENCHMARK(BM_ForwardKinematics);
 BENCHMARK(BM_MassMatrix);
 BENCHMARK(BM_LltSolve);
 BENCHMARK(BM_WheelContactsObstacleRamp);
+BENCHMARK(BM_ArticulatedBodySolve);
+BENCHMARK(BM_MassMatrixBlockCholeskySolve);
+BENCHMARK(BM_StateDerivativeArticulatedFlat);
 
 }  // namespace
 

@@ -18,45 +18,58 @@ constexpr int kTrunk = coord::bogie + 1;
 using TrunkVector = Eigen::Matrix<double, kTrunk, 1>;
 using TrunkMatrix = Eigen::Matrix<double, kTrunk, kTrunk>;
 
-Mat3 cross_matrix(const Vec3& v) {
-  Mat3 m;
-  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
-  return m;
+// A body's spatial inertia about the reference point, in the convention of
+// mass_matrix(): momentum = (I_ref w + h x v, m v + w x h), h = m (c - ref),
+// written into `I`.
+void set_spatial_inertia(double mass, const Mat3& inertia_com, const Vec3& com_from_reference, Matrix6& I) {
+  const Vec3 h = mass * com_from_reference;
+  set_inertia_about_offset(mass, inertia_com, com_from_reference, I.topLeftCorner<3, 3>());
+  I.bottomRightCorner<3, 3>() = mass * Mat3::Identity();
+  // [h]x above the diagonal and its transpose below, entry by entry.
+  for (int c = 0; c < 3; ++c) I(c, 3 + c) = I(3 + c, c) = 0.0;
+  I(0, 4) = I(4, 0) = -h.z();
+  I(0, 5) = I(5, 0) = h.y();
+  I(1, 3) = I(3, 1) = h.z();
+  I(1, 5) = I(5, 1) = -h.x();
+  I(2, 3) = I(3, 2) = -h.y();
+  I(2, 4) = I(4, 2) = h.x();
 }
 
-// A body's spatial inertia about the reference point, in the convention of
-// mass_matrix(): momentum = (I_ref w + h x v, m v + w x h), h = m (c - ref).
-Matrix6 spatial_inertia(double mass, const Mat3& inertia_com, const Vec3& com_from_reference) {
-  const Mat3 h = cross_matrix(mass * com_from_reference);
-  Matrix6 I;
-  I.topLeftCorner<3, 3>() = inertia_about_offset(mass, inertia_com, com_from_reference);
-  I.topRightCorner<3, 3>() = h;
-  I.bottomLeftCorner<3, 3>() = h.transpose();
-  I.bottomRightCorner<3, 3>() = mass * Mat3::Identity();
-  return I;
-}
+// The articulated inertia and bias of every node's subtree, filled as the
+// passes reach them: a node holds nothing until its body or a child's
+// contribution arrives, and the first arrival is assigned, not added.
+struct Subtrees {
+  std::array<Matrix6, kNumTreeNodes> inertia;  // I^A
+  std::array<Vector6, kNumTreeNodes> bias;     // p^A
+  std::array<bool, kNumTreeNodes> loaded{};
+
+  void add(int node, const Matrix6& child_inertia, const Vector6& child_bias) {
+    if (loaded[node]) {
+      inertia[node] += child_inertia;
+      bias[node] += child_bias;
+    } else {
+      inertia[node] = child_inertia;
+      bias[node] = child_bias;
+      loaded[node] = true;
+    }
+  }
+};
 
 }  // namespace
 
 std::optional<Coordinates> articulated_body_solve(const KinematicTree& tree, const TreeKinematics& kin,
                                                   const Coordinates& tau) {
-  std::array<Matrix6, kNumTreeNodes> inertia;  // I^A of each node's subtree
-  std::array<Vector6, kNumTreeNodes> bias;     // p^A
-  std::array<bool, kNumTreeNodes> loaded{};    // whether I^A, p^A carry anything
-  std::array<Vector6, kNumTreeNodes> motion;   // S_i
-  for (int i = 0; i < kNumTreeNodes; ++i) {
-    const NodeKinematics& n = kin.nodes[i];
-    motion[i] << n.motion_omega, n.motion_velocity;
-    const int b = tree.nodes[i].body;
-    if (b >= 0) {
-      const BodyKinematics& body = kin.bodies[b];
-      inertia[i] = spatial_inertia(tree.bodies[b].mass_kg, body.inertia, n.origin + body.com_offset - kin.reference);
-      loaded[i] = true;
-    } else {
-      inertia[i].setZero();
-    }
-    bias[i].setZero();
+  Subtrees sub;
+  for (int b = 0; b < kNumBodies; ++b) {
+    const int i = tree.body_node[b];
+    const BodyKinematics& body = kin.bodies[b];
+    set_spatial_inertia(tree.bodies[b].mass_kg, body.inertia,
+                        kin.nodes[i].origin + body.com_offset - kin.reference, sub.inertia[i]);
+    sub.bias[i].setZero();
+    sub.loaded[i] = true;
   }
+  std::array<Vector6, kNumTreeNodes> motion;  // S_i
+  for (int i = 0; i < kNumTreeNodes; ++i) motion[i] << kin.nodes[i].motion_omega, kin.nodes[i].motion_velocity;
 
   // Pass 2 over the legs, leaves first (children come after their parents).
   std::array<Vector6, kNumTreeNodes> U;
@@ -64,16 +77,24 @@ std::optional<Coordinates> articulated_body_solve(const KinematicTree& tree, con
   for (int i = kNumTreeNodes - 1; i >= 0; --i) {
     const int c = tree.nodes[i].coordinate;
     if (c < kTrunk) continue;
-    U[i].noalias() = inertia[i] * motion[i];
+    if (!sub.loaded[i]) return std::nullopt;  // a massless subtree
+    U[i].noalias() = sub.inertia[i] * motion[i];
     D[i] = motion[i].dot(U[i]);
     if (!(D[i] > 0.0) || !std::isfinite(D[i])) return std::nullopt;
-    u[i] = tau[c] - motion[i].dot(bias[i]);
-    const int p = tree.nodes[i].parent;
+    u[i] = tau[c] - motion[i].dot(sub.bias[i]);
     const double inverse = 1.0 / D[i];
     const Vector6 scaled = inverse * U[i];
-    for (int col = 0; col < 6; ++col) inertia[p].col(col) += inertia[i].col(col) - U[i][col] * scaled;
-    bias[p] += bias[i] + (u[i] * inverse) * U[i];
-    loaded[p] = true;
+    // I^A_i - U_i U_i^T / D_i to the parent, column by column (one axpy each).
+    const int p = tree.nodes[i].parent;
+    Matrix6& parent = sub.inertia[p];
+    if (sub.loaded[p]) {
+      for (int col = 0; col < 6; ++col) parent.col(col) += sub.inertia[i].col(col) - U[i][col] * scaled;
+      sub.bias[p] += sub.bias[i] + u[i] * scaled;
+    } else {
+      for (int col = 0; col < 6; ++col) parent.col(col) = sub.inertia[i].col(col) - U[i][col] * scaled;
+      sub.bias[p] = sub.bias[i] + u[i] * scaled;
+      sub.loaded[p] = true;
+    }
   }
 
   // The trunk, as the composite-rigid-body algorithm forms a mass matrix
@@ -86,40 +107,41 @@ std::optional<Coordinates> articulated_body_solve(const KinematicTree& tree, con
   TrunkVector rhs = tau.head<kTrunk>();
   for (int i = kNumTreeNodes - 1; i >= 0; --i) {
     const int ci = tree.nodes[i].coordinate;
-    if (ci >= kTrunk || !loaded[i]) continue;
-    const Vector6 momentum = inertia[i] * motion[i];
-    rhs[ci] -= motion[i].dot(bias[i]);
+    if (ci >= kTrunk || !sub.loaded[i]) continue;
+    const Vector6 momentum = sub.inertia[i] * motion[i];
+    rhs[ci] -= motion[i].dot(sub.bias[i]);
     A(ci, ci) += motion[i].dot(momentum);
     for (int k = 1; k < tree.path_length[i]; ++k) {
       const int j = tree.path[i][k];
-      const int cj = tree.nodes[j].coordinate;
-      A(ci, cj) += motion[j].dot(momentum);
+      A(ci, tree.nodes[j].coordinate) += motion[j].dot(momentum);
     }
     const int p = tree.nodes[i].parent;
-    if (p >= 0) {
-      inertia[p] += inertia[i];
-      bias[p] += bias[i];
-      loaded[p] = true;
-    }
+    if (p >= 0) sub.add(p, sub.inertia[i], sub.bias[i]);
   }
   FixedSizeLLT<kTrunk> trunk;
   if (!trunk.compute(A)) return std::nullopt;
-  TrunkVector trunk_acceleration = rhs;
-  trunk.solve_in_place(trunk_acceleration);
+  trunk.solve_in_place(rhs);
 
-  // Pass 3 over the legs, root first.
-  Coordinates a;
-  a.head<kTrunk>() = trunk_acceleration;
+  // Pass 3 over the legs, root first: the acceleration of each node's frame
+  // (the sum of S_j a_j over its path), then the legs' joint accelerations.
+  std::optional<Coordinates> result(std::in_place);
+  Coordinates& a = *result;
+  a.head<kTrunk>() = rhs;
   std::array<Vector6, kNumTreeNodes> acceleration;
   for (int i = 0; i < kNumTreeNodes; ++i) {
     const int c = tree.nodes[i].coordinate;
     const int p = tree.nodes[i].parent;
-    const Vector6 above = p >= 0 ? acceleration[p] : Vector6::Zero();
+    if (p < 0) {  // a root: at rest above it
+      if (c >= kTrunk) a[c] = u[i] / D[i];
+      acceleration[i] = a[c] * motion[i];
+      continue;
+    }
+    const Vector6& above = acceleration[p];
     if (c >= kTrunk) a[c] = (u[i] - U[i].dot(above)) / D[i];
     acceleration[i] = above + a[c] * motion[i];
   }
   if (!a.allFinite()) return std::nullopt;
-  return a;
+  return result;
 }
 
 }  // namespace rover

@@ -15,16 +15,12 @@ struct SpatialInertia {
   Mat3 rotational;
 };
 
-// A unit motion, momentum or wrench about the reference point as one 6-vector
-// (angular part, then linear), so that their pairings vectorize.
-using SpatialVector = Eigen::Matrix<double, 6, 1>;
-
 // One body's inertia about the reference point (parallel-axis theorem).
 void body_inertia_at_reference(double mass, const BodyKinematics& body, const Vec3& com_from_reference,
                                SpatialInertia& s) {
   s.mass = mass;
   s.first_moment = mass * com_from_reference;
-  s.rotational = inertia_about_offset(mass, body.inertia, com_from_reference);
+  set_inertia_about_offset(mass, body.inertia, com_from_reference, s.rotational);
 }
 
 }  // namespace
@@ -46,29 +42,22 @@ CoordinateMatrix mass_matrix(const KinematicTree& tree, const TreeKinematics& ki
     }
   }
 
-  // Unit motion (angular; linear at ref) of every joint, as one 6-vector.
-  std::array<SpatialVector, kNumTreeNodes> motion;
-  std::array<int, kNumTreeNodes> coordinate;
-  for (int i = 0; i < kNumTreeNodes; ++i) {
-    motion[i] << kin.nodes[i].motion_omega, kin.nodes[i].motion_velocity;
-    coordinate[i] = tree.nodes[i].coordinate;
-  }
-
   CoordinateMatrix M = CoordinateMatrix::Zero();
   for (int i = kNumTreeNodes - 1; i >= 0; --i) {
     const SpatialInertia& c = composite[i];  // complete: every descendant comes after i
     const NodeKinematics& n = kin.nodes[i];
     const int ci = tree.nodes[i].coordinate;
     // Momentum (angular about ref; linear) of subtree i under unit motion of
-    // joint i, projected on the unit motion of each joint on its path.
-    SpatialVector momentum;
-    momentum << c.rotational * n.motion_omega + c.first_moment.cross(n.motion_velocity),
-        c.mass * n.motion_velocity + n.motion_omega.cross(c.first_moment);
-    M(ci, ci) += motion[i].dot(momentum);
+    // joint i, projected on the unit motion of each joint on its path. (Two
+    // 3-vectors: a 6-vector written in halves and read at once in pairs
+    // would wait for its stores.)
+    const Vec3 angular = c.rotational * n.motion_omega + c.first_moment.cross(n.motion_velocity);
+    const Vec3 linear = c.mass * n.motion_velocity + n.motion_omega.cross(c.first_moment);
+    M(ci, ci) += n.motion_omega.dot(angular) + n.motion_velocity.dot(linear);
     for (int a = 1; a < tree.path_length[i]; ++a) {  // the proper ancestors
       const int j = tree.path[i][a];
-      const int cj = coordinate[j];
-      const double value = motion[j].dot(momentum);
+      const int cj = tree.nodes[j].coordinate;
+      const double value = kin.nodes[j].motion_omega.dot(angular) + kin.nodes[j].motion_velocity.dot(linear);
       M(cj, ci) += value;
       M(ci, cj) += value;
     }
@@ -86,12 +75,13 @@ Coordinates gravity_and_inertia_forces(const KinematicTree& tree, const TreeKine
                                        double gravity_mps2) {
   // Net wrench (moment about ref; force) on each node's subtree: a node's own
   // body first, then its children's (later nodes) are added before it is reached.
-  std::array<SpatialVector, kNumTreeNodes> wrench;
+  std::array<Vec3, kNumTreeNodes> moment, force;  // about ref, for each subtree (see mass_matrix() on 6-vectors)
   const Vec3 gravity(0.0, 0.0, -gravity_mps2);
   for (int i = 0; i < kNumTreeNodes; ++i) {
     const int b = tree.nodes[i].body;
     if (b < 0) {
-      wrench[i].setZero();
+      moment[i].setZero();
+      force[i].setZero();
       continue;
     }
     const double mass = tree.bodies[b].mass_kg;
@@ -100,18 +90,19 @@ Coordinates gravity_and_inertia_forces(const KinematicTree& tree, const TreeKine
     const Vec3& rho = body.com_offset;
     const Vec3 com_accel = n.accel_bias + n.alpha_bias.cross(rho) + n.omega.cross(n.omega.cross(rho));
     // Active gravity minus the inertia force and torque of paper eq. 4 at du/dt = 0.
-    const Vec3 force = mass * (gravity - com_accel);
+    force[i] = mass * (gravity - com_accel);
     const Vec3 torque = -(body.inertia * n.alpha_bias + n.omega.cross(body.inertia * n.omega));
-    wrench[i] << torque + (n.origin + rho - kin.reference).cross(force), force;
+    moment[i] = torque + (n.origin + rho - kin.reference).cross(force[i]);
   }
   Coordinates F = Coordinates::Zero();
   for (int i = kNumTreeNodes - 1; i >= 0; --i) {
     const NodeKinematics& n = kin.nodes[i];
-    SpatialVector motion;
-    motion << n.motion_omega, n.motion_velocity;
-    F[tree.nodes[i].coordinate] += motion.dot(wrench[i]);
+    F[tree.nodes[i].coordinate] += n.motion_omega.dot(moment[i]) + n.motion_velocity.dot(force[i]);
     const int parent = tree.nodes[i].parent;
-    if (parent >= 0) wrench[parent] += wrench[i];
+    if (parent >= 0) {
+      moment[parent] += moment[i];
+      force[parent] += force[i];
+    }
   }
   return F;
 }

@@ -17,16 +17,24 @@ namespace rover {
 
 // A body's rotational inertia about a point at `offset` from its centre of
 // mass (parallel-axis theorem), I_com + m (|d|^2 E - d d^T), written on one
-// triangle so that it stays exactly symmetric. Used by mass_matrix() and
-// articulated_body_solve().
-inline Mat3 inertia_about_offset(double mass_kg, const Mat3& inertia_com, const Vec3& offset) {
+// triangle so that it stays exactly symmetric, into the 3 x 3 matrix or
+// block `I` (a block of a larger matrix is written in place: a copy of a
+// freshly written 3 x 3 would read it back before its stores are done).
+// Used by mass_matrix() and articulated_body_solve().
+template <class Matrix3>
+inline void set_inertia_about_offset(double mass_kg, const Mat3& inertia_com, const Vec3& offset,
+                                     Matrix3&& I) {
   const Vec3& d = offset;
   const double d_squared = d.squaredNorm();
-  Mat3 I;
   for (int c = 0; c < 3; ++c) {
     I(c, c) = inertia_com(c, c) + mass_kg * (d_squared - d[c] * d[c]);
     for (int r = c + 1; r < 3; ++r) I(r, c) = I(c, r) = inertia_com(r, c) - mass_kg * d[r] * d[c];
   }
+}
+
+inline Mat3 inertia_about_offset(double mass_kg, const Mat3& inertia_com, const Vec3& offset) {
+  Mat3 I;
+  set_inertia_about_offset(mass_kg, inertia_com, offset, I);
   return I;
 }
 
