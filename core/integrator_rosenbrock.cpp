@@ -8,7 +8,15 @@
 //
 // Error control, on the embedded second-order solution:
 //  * positions: the max norm of the dopri5 control, e_i / (atol + rtol |x_i|);
-//  * speeds: the same, except that a speed error is measured by the
+//  * speeds: the same, except that
+//    - the turning rate of a whole body is held to atol / r, so that the
+//      speed it gives the points at distance r is held to atol, as the
+//      chassis's own speed is: the chassis's yaw, pitch and roll rates with r
+//      the distance from the chassis origin to the farthest wheel centre (at
+//      the start), a wheel's spin rate with r its radius. Held to atol in
+//      rad/s, the rim of a wheel in the air (r = 0.085 m by default) would be
+//      followed twelve times more tightly than the chassis;
+//    - a speed error is measured by the
 //    displacement it makes within the time it acts, min(1 / omega_c, 1 s),
 //    where omega_c = sqrt(-k_cc / M_cc) is the local frequency of coordinate c
 //    on its stiff springs (an S-structure in its preload region, a loaded
@@ -24,8 +32,9 @@
 //  * wheel spin: a disk wheel's rolling angle enters no force, and its rate
 //    matters through the speed of its rim. A wheel on the ground is measured
 //    by its slip alone; a wheel in the air by its absolute rate about its
-//    axis, not by the rate relative to the leg, which follows every ringing
-//    of the S-joints above it (wheel_spin_rows() below).
+//    axis (held to atol / radius, above), not by the rate relative to the
+//    leg, which follows every ringing of the S-joints above it
+//    (wheel_spin_rows() below).
 // The third-order solution that is kept is much better than the estimate, so
 // this integrator wants looser tolerances than dopri5 for the same accuracy
 // (default_integrator_settings(): rtol 1e-5, atol 2e-4).
@@ -142,14 +151,33 @@ StateVector hermite(const StepPoint& a, const StepPoint& b, double t) {
          (3.0 * s2 - 2.0 * s3) * b.x + (h * (s3 - s2)) * b.dx;
 }
 
+// The absolute tolerance of each state component: atol, except the turning
+// rates of the chassis and of the wheels, atol / lever (see the top), the
+// levers taken at the start state `kin`.
+StateVector absolute_tolerances(const RoverModel& model, const TreeKinematics& kin,
+                                const IntegratorSettings& settings) {
+  double chassis_lever_m = 0.0;
+  for (int leg = 0; leg < kNumLegs; ++leg)
+    chassis_lever_m = std::max(chassis_lever_m, (kin.nodes[node::wheel(leg)].origin -
+                                                 kin.nodes[node::chassis].origin).norm());
+  StateVector tolerance = StateVector::Constant(settings.absolute_tolerance);
+  if (chassis_lever_m > 0.0)
+    for (const int c : {coord::yaw, coord::pitch, coord::roll})
+      tolerance[kNumCoordinates + c] = settings.absolute_tolerance / chassis_lever_m;
+  for (int leg = 0; leg < kNumLegs; ++leg)
+    tolerance[kNumCoordinates + coord::spin(leg)] =
+        settings.absolute_tolerance / model.parameters.geometry.wheel_radius_m;
+  return tolerance;
+}
+
 // Tolerance of each state component for a step from x0 to x1 (see the top);
 // the spin angle and rate of a wheel touching the ground are left to the slip
 // test (infinite tolerance here).
-StateVector error_scale(const StateVector& x0, const StateVector& x1,
+StateVector error_scale(const StateVector& x0, const StateVector& x1, const StateVector& absolute_tolerance,
                         const Coordinates& spring_frequency_radps, const ContactCounts& touching,
                         const IntegratorSettings& settings) {
   constexpr double kLongestActing_s = 1.0;
-  StateVector scale = settings.absolute_tolerance +
+  StateVector scale = absolute_tolerance.array() +
                       settings.relative_tolerance * x0.cwiseAbs().cwiseMax(x1.cwiseAbs()).array();
   for (int c = 0; c < kNumCoordinates; ++c)
     scale[kNumCoordinates + c] +=
@@ -219,6 +247,9 @@ double friction_speed_scale(double slip_speed_mps, const FrictionParameters& fri
 std::vector<SlipRows> slip_rows(const RoverModel& model, const StepPoint& e) {
   std::vector<SlipRows> rows;
   const std::array<WheelContacts, kNumLegs>& contacts = e.dynamics.contacts;
+  std::size_t count = 0;
+  for (const WheelContacts& wheel : contacts) count += static_cast<std::size_t>(wheel.count);
+  rows.reserve(count);
   for (int leg = 0; leg < kNumLegs; ++leg)
     for (int k = 0; k < contacts[leg].count; ++k) {
       const ContactPoint& c = contacts[leg].points[k];
@@ -305,10 +336,14 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
   StepPoint stage;
   BranchInducedLU iteration;  // of M0 - h g D - h^2 g^2 K
   evaluate(system, 0.0, x, *start, report, NeedsMass::kYes);
+  const StateVector absolute_tolerance = absolute_tolerances(system.model, start->dynamics.kinematics, settings);
   double h = std::clamp(settings.initial_step_s, settings.min_step_s, settings.max_step_s);
   std::size_t next = 1;
   while (next < request.sample_count) {
-    const Linearization lin = linearize(system, *start, report);
+    Linearization lin = linearize(system, *start, report);
+    // K's diagonal at the step start; each try stiffens its S-joint entries
+    // over its own h (stiffen_s_joints_over_step), from this.
+    const Coordinates start_stiffness = lin.system.d_force_d_position.diagonal();
     const Coordinates q0 = start->x.head<kNumCoordinates>(), u0 = start->x.tail<kNumCoordinates>();
     const ContactCounts start_contacts = active_contacts(start->dynamics.contacts);
     const std::vector<SlipRows> slips = slip_rows(system.model, *start);
@@ -329,19 +364,19 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
         keep_maximum(seen, active_contacts(stage.dynamics.contacts));
         return stage.dx.tail<kNumCoordinates>();
       };
-      MechanicalLinearization<kNumCoordinates> lin_h = lin.system;
+      lin.system.d_force_d_position.diagonal() = start_stiffness;
       stiffen_s_joints_over_step(system.model.parameters, start->inputs, q0, u0, h,
-                                 lin_h.d_force_d_position);
-      iteration.compute(ros34pw2_iteration_matrix(lin_h, h));
+                                 lin.system.d_force_d_position);
+      iteration.compute(ros34pw2_iteration_matrix(lin.system, h));
       const RosenbrockWStep<kNumCoordinates> step =
-          ros34pw2_step<kNumCoordinates>(lin_h, iteration, start->t, q0, u0, h, acceleration);
+          ros34pw2_step<kNumCoordinates>(lin.system, iteration, start->t, q0, u0, h, acceleration);
       StateVector x1, e;
       x1 << step.q, step.u;
       e << step.error_q, step.error_u;
       measure_wheel_spins(spins, step.error_u, e);
       error = !x1.allFinite()
                   ? std::numeric_limits<double>::infinity()
-                  : std::max(error_norm(e, error_scale(start->x, x1, lin.spring_frequency_radps,
+                  : std::max(error_norm(e, error_scale(start->x, x1, absolute_tolerance, lin.spring_frequency_radps,
                                                       start_contacts, settings)),
                              slip_error_norm(slips, step.error_u, settings));
       if (error <= 1.0) {
