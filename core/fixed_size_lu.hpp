@@ -62,8 +62,9 @@ class FixedSizeLU {
   // Solves a x = b for every column of b, in place.
   template <int Columns>
   void solve_in_place(Eigen::Matrix<double, N, Columns>& b) const {
-    for (int k = 0; k < N; ++k)
-      if (row_of_step_[k] != k) b.row(k).swap(b.row(row_of_step_[k]));
+    if constexpr (N > 1)  // (a 1 x 1 has no row to exchange)
+      for (int k = 0; k < N; ++k)
+        if (row_of_step_[k] != k) b.row(k).swap(b.row(row_of_step_[k]));
     for (int c = 0; c < b.cols(); ++c) {
       for (int i = 1; i < N; ++i) {
         double sum = b(i, c);
