@@ -8,6 +8,13 @@
 // Exit status: 0 done, 1 refused (a bad file, or a bad command line, also one
 // CLI11 refuses itself, or an option given an empty value), 2 some runs
 // failed (the subcommand's own), 130 interrupted.
+//
+// A study allocates the same few hundred kilobytes for every run (the
+// trajectory's rows) and frees them at its end. glibc would hand that memory
+// back to the kernel after each run (its trim and mmap thresholds) and take
+// it again, zero-filled, page by page, for the next: keep_freed_memory()
+// raises both thresholds so that it is reused (measured on a 2-rank drop
+// study: 0.4 ms of system time a run, 3.6 % of its wall time).
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
@@ -16,6 +23,10 @@
 #include <map>
 #include <string_view>
 #include <vector>
+
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 #include "drivers/command_registry.hpp"
 #include "drivers/options.hpp"
@@ -27,6 +38,13 @@ std::vector<CommandEntry>& command_registry() {
   return registry;
 }
 namespace {
+
+void keep_freed_memory() {
+#ifdef __GLIBC__
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);  // glibc's largest
+  mallopt(M_TRIM_THRESHOLD, 256 << 20);
+#endif
+}
 
 // Optimal string alignment distance: insertions, deletions, substitutions and
 // transpositions of adjacent characters, each costing 1.
@@ -89,6 +107,7 @@ void reject_empty_values(const CLI::App& app) {
 
 int main(int argc, char** argv) {
   using namespace rover::cli;
+  keep_freed_memory();
   CLI::App app{
       "rover: semi-analytical dynamics of the Archimede rover (Caruso et al.) and the\n"
       "uncertainty/sensitivity studies built on it. Model: docs/model.md.\n"
