@@ -113,12 +113,18 @@ void BM_MassMatrix(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(mass_matrix(model.tree, kin));
 }
 
-void BM_LltSolve(benchmark::State& state) {
+// M, F and the kinematics at flat_state().
+DynamicsWorkspace flat_dynamics() {
   const RoverModel& model = flat_model();
   const StateVector x = flat_state();
-  const Coordinates q = x.head<kNumCoordinates>(), u = x.tail<kNumCoordinates>();
   DynamicsWorkspace eom;
-  compute_dynamics(model, eom, nominal_inputs(model.parameters), q, u);
+  compute_dynamics(model, eom, nominal_inputs(model.parameters), x.head<kNumCoordinates>(),
+                   x.tail<kNumCoordinates>());
+  return eom;
+}
+
+void BM_LltSolve(benchmark::State& state) {
+  const DynamicsWorkspace eom = flat_dynamics();
   for (auto _ : state) benchmark::DoNotOptimize(Coordinates(eom.mass_matrix.llt().solve(eom.forcing)));
 }
 
@@ -126,19 +132,13 @@ void BM_LltSolve(benchmark::State& state) {
 // and forming M and its block Cholesky (the step ends).
 void BM_ArticulatedBodySolve(benchmark::State& state) {
   const RoverModel& model = flat_model();
-  const StateVector x = flat_state();
-  const Coordinates q = x.head<kNumCoordinates>(), u = x.tail<kNumCoordinates>();
-  DynamicsWorkspace eom;
-  compute_dynamics(model, eom, nominal_inputs(model.parameters), q, u);
+  const DynamicsWorkspace eom = flat_dynamics();
   for (auto _ : state) benchmark::DoNotOptimize(articulated_body_solve(model.tree, eom.kinematics, eom.forcing));
 }
 
 void BM_MassMatrixBlockCholeskySolve(benchmark::State& state) {
   const RoverModel& model = flat_model();
-  const StateVector x = flat_state();
-  const Coordinates q = x.head<kNumCoordinates>(), u = x.tail<kNumCoordinates>();
-  DynamicsWorkspace eom;
-  compute_dynamics(model, eom, nominal_inputs(model.parameters), q, u);
+  const DynamicsWorkspace eom = flat_dynamics();
   BranchInducedLLT llt;
   for (auto _ : state) {
     llt.compute(mass_matrix(model.tree, eom.kinematics));
