@@ -8,11 +8,12 @@ namespace rover::study {
 namespace {
 
 // A run's record (its QoIs and one 1,001-sample channel, about 8 kB) is above
-// Open MPI's shared-memory eager limit (4 kB): each send would wait, spinning,
-// until rank 0's communication thread, which polls every millisecond, takes
-// it (4.5 % of a 2-rank drop study's time). 32 kB sends such records at
-// once. The default only: a user's own setting (OMPI_MCA_... in the
-// environment, or mpirun --mca) wins; other MPI libraries ignore the name.
+// Open MPI's shared-memory eager limit (4 kB): it would go in a rendezvous,
+// a handshake with rank 0's communication thread (which polls every
+// millisecond) before the data move. 32 kB sends such records in one message
+// (a 2-rank drop study: 0.97x the wall time, on top of the workers' MPI_Isend).
+// The default only: a user's own setting (OMPI_MCA_... in the environment, or
+// mpirun --mca) wins; other MPI libraries ignore the name.
 void prefer_eager_shared_memory_sends() {
   setenv("OMPI_MCA_btl_vader_eager_limit", "32768", /*overwrite=*/0);
 }
