@@ -70,15 +70,23 @@ void BM_EvaluateEquationsOfMotion(benchmark::State& state) {
   }
 }
 
-void BM_StateDerivativeFlat(benchmark::State& state) {
+using StateDerivative = StateVector (*)(const RoverModel&, DynamicsWorkspace&, const ModelInputs&,
+                                        const StateVector&);
+
+// du/dt of the flat-ground drop state through one of the two paths.
+void time_flat_state_derivative(benchmark::State& state, StateDerivative derivative) {
   const RoverModel& model = flat_model();
   const ModelInputs in = nominal_inputs(model.parameters);
   StateVector x = flat_state();
   DynamicsWorkspace workspace;
   for (auto _ : state) {
     benchmark::DoNotOptimize(x);
-    benchmark::DoNotOptimize(state_derivative(model, workspace, in, x));
+    benchmark::DoNotOptimize(derivative(model, workspace, in, x));
   }
+}
+
+void BM_StateDerivativeFlat(benchmark::State& state) {
+  time_flat_state_derivative(state, &state_derivative);
 }
 
 void BM_StateDerivativeObstacleRamp(benchmark::State& state) {
@@ -147,14 +155,7 @@ void BM_MassMatrixBlockCholeskySolve(benchmark::State& state) {
 }
 
 void BM_StateDerivativeArticulatedFlat(benchmark::State& state) {
-  const RoverModel& model = flat_model();
-  const ModelInputs in = nominal_inputs(model.parameters);
-  StateVector x = flat_state();
-  DynamicsWorkspace workspace;
-  for (auto _ : state) {
-    benchmark::DoNotOptimize(x);
-    benchmark::DoNotOptimize(state_derivative_articulated(model, workspace, in, x));
-  }
+  time_flat_state_derivative(state, &state_derivative_articulated);
 }
 
 void BM_WheelContactsObstacleRamp(benchmark::State& state) {
