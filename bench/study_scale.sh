@@ -4,12 +4,16 @@
 # integrator) and for the 1 m/s obstacle run, on 1 and 2 ranks, for
 # N = 10^3 and 10^4 samples (10^5 with ROVER_SCALE_BIG=1). Whole studies:
 # runs, QoIs, bands, HDF5, no plots.
-#   bash bench/study_scale.sh [drop|obstacle|all|ceiling]
+#   bash bench/study_scale.sh [drop|obstacle|all|ceiling|speedup]
 # ROVER_BIN=path/to/rover measures another build (default build/drivers/rover).
 # `ceiling` measures what the machine itself gives two processes: the
 # 1-rank drop study of 1000 samples alone, then two copies of it at once
 # (independent processes, no MPI between them). Their combined rate over the
 # single rate bounds the speed-up any farm can reach on these two cores.
+# `speedup` measures the 1 -> 2 rank speed-up as pairs, so that a shared
+# machine's drifting speed cancels: 1,000 drops on 1 rank, then 2,000 on
+# 2 ranks, ROVER_SCALE_PAIRS times (default 5); each pair's speed-up is
+# 2 x (1-rank wall) / (2-rank wall), and the median is the figure to quote.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 rover="${ROVER_BIN:-$here/build/drivers/rover}"
@@ -19,8 +23,8 @@ out="$(mktemp -d)"
 trap 'rm -rf "$out"' EXIT
 which="${1:-all}"
 case "$which" in
-  drop|obstacle|all|ceiling) ;;
-  *) echo "study_scale: unknown mode '$which' (drop, obstacle, all or ceiling)" >&2; exit 1 ;;
+  drop|obstacle|all|ceiling|speedup) ;;
+  *) echo "study_scale: unknown mode '$which' (drop, obstacle, all, ceiling or speedup)" >&2; exit 1 ;;
 esac
 sizes=(1000 10000)
 [[ "${ROVER_SCALE_BIG:-0}" == 1 ]] && sizes+=(100000)
@@ -34,11 +38,13 @@ cat > "$out/obstacle_mc.json" <<JSON
  "qoi": ["B_r_rise", "G_rise", "max_abs_roll", "lateral_drift"], "channels": ["B_r_z"]}
 JSON
 
-run() {  # study ranks samples
+declare -A walls  # "study samples ranks" -> wall seconds
+run() {  # study ranks samples label
   local study="$1" ranks="$2" n="$3" log="$out/log"
   /usr/bin/time -f "%e %M" -o "$out/time" mpirun --oversubscribe -np "$ranks" "$rover" montecarlo \
     --study "$study" --samples "$n" --no-plot --progress-interval 3600 --out "$out/r.h5" > "$log" 2>&1
   read -r wall rss < "$out/time"
+  walls["$4 $n $ranks"]="$wall"
   printf "%-9s %5d %8d %9.1f %10.1f %12.0f\n" "$4" "$ranks" "$n" "$wall" "$(echo "$n / $wall" | bc -l)" "$((rss / 1024))"
 }
 
@@ -54,6 +60,31 @@ if [[ "$which" == ceiling ]]; then
   exit 0
 fi
 
+if [[ "$which" == speedup ]]; then
+  pairs="${ROVER_SCALE_PAIRS:-5}"
+  [[ "$pairs" =~ ^[1-9][0-9]*$ ]] || { echo "study_scale: ROVER_SCALE_PAIRS must be a positive integer, got '$pairs'" >&2; exit 1; }
+  drop="$here/configs/studies/preload_mc.json"
+  wall_of() {  # ranks samples
+    /usr/bin/time -f "%e" -o "$out/time" mpirun --oversubscribe -np "$1" "$rover" montecarlo --study "$drop" \
+      --samples "$2" --no-plot --progress-interval 3600 --out "$out/s.h5" > "$out/log" 2>&1
+    cat "$out/time"
+  }
+  wall_of 1 200 > /dev/null  # warm-up: caches, the page cache of the binary
+  printf "%4s %14s %14s %9s\n" pair "1 rank [s]" "2 ranks [s]" speed-up
+  ratios=()
+  for ((p = 1; p <= pairs; ++p)); do
+    one=$(wall_of 1 1000)
+    two=$(wall_of 2 2000)
+    ratio=$(echo "2 * $one / $two" | bc -l)
+    ratios+=("$ratio")
+    printf "%4d %14.1f %14.1f %9.2f\n" "$p" "$one" "$two" "$ratio"
+  done
+  printf "%s\n" "${ratios[@]}" | sort -g | awk '{r[NR] = $1} END {
+    m = (NR % 2) ? r[(NR + 1) / 2] : (r[NR / 2] + r[NR / 2 + 1]) / 2
+    printf "median speed-up 1 -> 2 ranks: %.2f (%d pairs, %.2f to %.2f)\n", m, NR, r[1], r[NR]}'
+  exit 0
+fi
+
 printf "%-9s %5s %8s %9s %10s %12s\n" study ranks samples "wall[s]" "runs/s" "peak_RSS[MB]"
 for n in "${sizes[@]}"; do
   for ranks in 1 2; do
@@ -63,3 +94,9 @@ for n in "${sizes[@]}"; do
     fi
   done
 done
+for key in "${!walls[@]}"; do
+  read -r study n ranks <<< "$key"
+  [[ "$ranks" == 1 && -n "${walls["$study $n 2"]:-}" ]] || continue
+  printf "speed-up 1 -> 2 ranks, %s, %d samples: %.2f\n" "$study" "$n" "$(echo "${walls[$key]} / ${walls["$study $n 2"]}" | bc -l)"
+done | sort
+echo "(single whole studies; on a shared machine whose speed drifts, 'speedup' pairs the runs)"
