@@ -434,8 +434,8 @@ void worker_loop(MPI_Comm comm, const std::function<TaskResult(int)>& compute,
     sender.send(std::move(bytes));
     ++pending;  // a result asks for the next task
   }
-  // Rank 0 answered the last result with kStop, so it has received it.
-  sender.wait();
+  // The sender's destructor waits for the last result, which rank 0 has
+  // received: it answered it with kStop.
 }
 
 void sort_by_index(std::vector<TaskResult>& results) {
