@@ -41,49 +41,68 @@ cat > "$out/obstacle_mc.json" <<JSON
  "qoi": ["B_r_rise", "G_rise", "max_abs_roll", "lateral_drift"], "channels": ["B_r_z"]}
 JSON
 
+# Runs a command under /usr/bin/time (format, file); its output goes to log.
+# A run that fails or is interrupted stops the benchmark with the command and the end of its output.
+timed() {  # format time_file log command...
+  local format="$1" time_file="$2" log="$3"
+  shift 3
+  if ! /usr/bin/time -f "$format" -o "$time_file" "$@" > "$log" 2>&1; then
+    { echo "study_scale: this run did not finish: $*"; echo "its last lines:"; tail -n 20 "$log"; } >&2
+    exit 1
+  fi
+}
+
 declare -A walls  # "study samples ranks" -> wall seconds
 run() {  # study ranks samples label
-  local study="$1" ranks="$2" n="$3" log="$out/log"
-  /usr/bin/time -f "%e %M" -o "$out/time" mpirun --oversubscribe -np "$ranks" "$rover" montecarlo \
-    --study "$study" --samples "$n" --no-plot --progress-interval 3600 --out "$out/r.h5" > "$log" 2>&1
+  local study="$1" ranks="$2" n="$3"
+  timed "%e %M" "$out/time" "$out/log" mpirun --oversubscribe -np "$ranks" "$rover" montecarlo \
+    --study "$study" --samples "$n" --no-plot --progress-interval 3600 --out "$out/r.h5"
   read -r wall rss < "$out/time"
   walls["$4 $n $ranks"]="$wall"
   printf "%-9s %5d %8d %9.1f %10.1f %12.0f\n" "$4" "$ranks" "$n" "$wall" "$(echo "$n / $wall" | bc -l)" "$((rss / 1024))"
 }
 
+drop="$here/configs/studies/preload_mc.json"
+# 1,000 drops in a process of its own, without mpirun (whose default binding
+# would put two such runs on one core); its wall time goes to $out/time<tag>.
+alone() {  # tag
+  timed "%e" "$out/time$1" "$out/log$1" "$rover" montecarlo --study "$drop" --samples 1000 --no-plot \
+    --progress-interval 3600 --out "$out/s$1.h5"
+}
+# Two such processes at once; prints the wall time of the slower.
+two_at_once() {
+  local first second status=0
+  alone c & first=$!
+  alone d & second=$!
+  wait "$first" || status=1
+  wait "$second" || status=1
+  (( status == 0 )) || exit 1
+  sort -g "$out/timec" "$out/timed" | tail -1
+}
+
 if [[ "$which" == ceiling ]]; then
-  one() { /usr/bin/time -f "%e" -o "$out/time$1" "$rover" montecarlo --study "$here/configs/studies/preload_mc.json" \
-            --samples 1000 --no-plot --progress-interval 3600 --out "$out/c$1.h5" > "$out/log$1" 2>&1; }
-  one a
-  alone=$(cat "$out/timea")
-  one b & one c & wait
-  both=$(awk '{print ($1 > m) ? $1 : m; m = ($1 > m) ? $1 : m}' "$out/timeb" "$out/timec" | tail -1)
+  alone a
+  one=$(cat "$out/timea")
+  both=$(two_at_once)
   printf "one process: 1000 runs in %.1f s (%.1f runs/s); two at once: 2000 runs in %.1f s (%.1f runs/s); ratio %.2f\n" \
-    "$alone" "$(echo "1000 / $alone" | bc -l)" "$both" "$(echo "2000 / $both" | bc -l)" "$(echo "2 * $alone / $both" | bc -l)"
+    "$one" "$(echo "1000 / $one" | bc -l)" "$both" "$(echo "2000 / $both" | bc -l)" "$(echo "2 * $one / $both" | bc -l)"
   exit 0
 fi
 
 if [[ "$which" == speedup ]]; then
   pairs="${ROVER_SCALE_PAIRS:-5}"
   [[ "$pairs" =~ ^[1-9][0-9]*$ ]] || { echo "study_scale: ROVER_SCALE_PAIRS must be a positive integer, got '$pairs'" >&2; exit 1; }
-  drop="$here/configs/studies/preload_mc.json"
   wall_of() {  # ranks samples tag: the study's wall time in seconds
-    /usr/bin/time -f "%e" -o "$out/time$3" mpirun --oversubscribe -np "$1" "$rover" montecarlo --study "$drop" \
-      --samples "$2" --no-plot --progress-interval 3600 --out "$out/s$3.h5" > "$out/log$3" 2>&1
+    timed "%e" "$out/time$3" "$out/log$3" mpirun --oversubscribe -np "$1" "$rover" montecarlo --study "$drop" \
+      --samples "$2" --no-plot --progress-interval 3600 --out "$out/s$3.h5"
     cat "$out/time$3"
-  }
-  alone() {  # tag: 1,000 drops in a process of its own, without mpirun (whose
-             # default binding would put two such runs on one core)
-    /usr/bin/time -f "%e" -o "$out/time$1" "$rover" montecarlo --study "$drop" --samples 1000 --no-plot \
-      --progress-interval 3600 --out "$out/s$1.h5" > "$out/log$1" 2>&1
   }
   wall_of 1 200 w > /dev/null  # warm-up: caches, the page cache of the binary
   printf "%5s %10s %10s %12s %9s %8s %10s\n" round "1 rank" "2 ranks" "2 processes" speed-up ceiling "farm/ceil"
   for ((p = 1; p <= pairs; ++p)); do
     one=$(wall_of 1 1000 a)
     two=$(wall_of 2 2000 b)
-    alone c & alone d & wait
-    both=$(sort -g "$out/timec" "$out/timed" | tail -1)
+    both=$(two_at_once)
     echo "$one $two $both" >> "$out/rounds"
     printf "%5d %9.1fs %9.1fs %11.1fs %9.2f %8.2f %10.3f\n" "$p" "$one" "$two" "$both" \
       "$(echo "2 * $one / $two" | bc -l)" "$(echo "2 * $one / $both" | bc -l)" "$(echo "$both / $two" | bc -l)"
@@ -100,7 +119,7 @@ fi
 printf "%-9s %5s %8s %9s %10s %12s\n" study ranks samples "wall[s]" "runs/s" "peak_RSS[MB]"
 for n in "${sizes[@]}"; do
   for ranks in 1 2; do
-    [[ "$which" == all || "$which" == drop ]] && run "$here/configs/studies/preload_mc.json" "$ranks" "$n" drop
+    [[ "$which" == all || "$which" == drop ]] && run "$drop" "$ranks" "$n" drop
     if [[ "$which" == all || "$which" == obstacle ]] && (( n <= 1000 )); then
       run "$out/obstacle_mc.json" "$ranks" "$n" obstacle
     fi
