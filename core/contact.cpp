@@ -1,7 +1,9 @@
 // Wheel-terrain contact detection and forces (see contact.hpp).
 #include "core/contact.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include <boost/math/tools/minima.hpp>
@@ -81,50 +83,44 @@ double snap_to_grid_line(const Terrain& terrain, const RimFrame& rim, double ang
   return best_angle;
 }
 
-}  // namespace
-
-WheelContacts find_wheel_contacts(const Terrain& terrain, const Vec3& wheel_centre_m,
-                                  const Vec3& spin_axis, double wheel_radius_m) {
-  WheelContacts out;
-  const RimFrame rim = rim_frame(wheel_centre_m, spin_axis, wheel_radius_m);
-
+// The regions of the rim below the terrain. On a flat plane the lowest rim
+// point is the deepest, exactly. On a height grid only the rim arc below the
+// highest terrain point nearby can touch, z(angle) = c_z + R cos(angle) down_z
+// with down_z <= 0, and regions are runs of samples kRimSamplingStep_rad
+// apart below the terrain: a region thinner than that is at most
+// R (1 - cos(step / 2)) deep (0.013 mm for 2 degrees and R = 85 mm: a force
+// of about 2 mN), and is picked up as it deepens. For each region (at most
+// kMaxContactsPerWheel), on_region(angle, depth, lo, hi) gets the angle and
+// depth of its deepest sample and the angles of the samples on either side of
+// it (on a flat plane the lowest point, exact: lo = hi = angle = 0); returns
+// their number.
+template <class OnRegion>
+int for_each_region(const Terrain& terrain, const RimFrame& rim, const Vec3& spin_axis, OnRegion&& on_region) {
   if (terrain.is_flat()) {
-    // Horizontal plane: the lowest rim point is the deepest, exactly.
-    const Vec3 p = rim.point(0.0);
-    const double depth = terrain.flat_height() - p.z();
-    if (depth > 0.0) {
-      ContactPoint& c = out.points[out.count++];
-      c.point_m = p;
-      c.normal = Vec3::UnitZ();
-      c.depth_m = depth;
-      c.penetration_m = depth;
-    }
-    return out;
+    const double depth = terrain.flat_height() - rim.point(0.0).z();
+    if (!(depth > 0.0)) return 0;
+    on_region(0.0, depth, 0.0, 0.0);
+    return 1;
   }
-
-  // Height grid. Only the rim arc below the highest terrain point nearby can
-  // touch: z(angle) = c_z + R cos(angle) down_z with down_z <= 0.
-  const double reach_x = wheel_radius_m * std::sqrt(std::max(0.0, 1.0 - spin_axis.x() * spin_axis.x()));
-  const double reach_y = wheel_radius_m * std::sqrt(std::max(0.0, 1.0 - spin_axis.y() * spin_axis.y()));
+  const Vec3& centre = rim.centre;
+  const double reach_x = rim.radius * std::sqrt(std::max(0.0, 1.0 - spin_axis.x() * spin_axis.x()));
+  const double reach_y = rim.radius * std::sqrt(std::max(0.0, 1.0 - spin_axis.y() * spin_axis.y()));
   const double max_height =
-      terrain.max_height_in(wheel_centre_m.x() - reach_x, wheel_centre_m.x() + reach_x,
-                            wheel_centre_m.y() - reach_y, wheel_centre_m.y() + reach_y);
+      terrain.max_height_in(centre.x() - reach_x, centre.x() + reach_x, centre.y() - reach_y, centre.y() + reach_y);
   const double down_z = rim.down.z();
   double half_arc = std::numbers::pi;
   if (down_z < -1e-12) {
-    const double c = (max_height - wheel_centre_m.z()) / (wheel_radius_m * down_z);
-    if (c >= 1.0) return out;  // the whole rim is above the terrain
+    const double c = (max_height - centre.z()) / (rim.radius * down_z);
+    if (c >= 1.0) return 0;  // the whole rim is above the terrain
     half_arc = c <= -1.0 ? std::numbers::pi : std::acos(c);
   }
-  // Regions are found on samples kRimSamplingStep_rad apart; a region thinner
-  // than that is at most R (1 - cos(step / 2)) deep (0.013 mm for 2 degrees
-  // and R = 85 mm: a force of about 2 mN), and is picked up as it deepens.
   const int n = std::max(2, static_cast<int>(std::ceil(2.0 * half_arc / kRimSamplingStep_rad)));
   const double h = 2.0 * half_arc / n;
   auto depth_at = [&](double angle) { return vertical_depth(terrain, rim.point(angle)); };
 
+  int regions = 0;
   int i = 0;
-  while (i <= n && out.count < kMaxContactsPerWheel) {
+  while (i <= n && regions < kMaxContactsPerWheel) {
     double d = depth_at(-half_arc + i * h);
     if (!(d > 0.0)) {
       ++i;
@@ -141,21 +137,45 @@ WheelContacts find_wheel_contacts(const Terrain& terrain, const Vec3& wheel_cent
         best = i;
       }
     }
+    on_region(-half_arc + best * h, best_depth, -half_arc + (best - 1) * h, -half_arc + (best + 1) * h);
+    ++regions;
+  }
+  return regions;
+}
+
+}  // namespace
+
+WheelContacts find_wheel_contacts(const Terrain& terrain, const Vec3& wheel_centre_m,
+                                  const Vec3& spin_axis, double wheel_radius_m) {
+  WheelContacts out;
+  const RimFrame rim = rim_frame(wheel_centre_m, spin_axis, wheel_radius_m);
+  auto depth_at = [&](double angle) { return vertical_depth(terrain, rim.point(angle)); };
+  for_each_region(terrain, rim, spin_axis, [&](double sample_angle, double sample_depth, double lo, double hi) {
+    ContactPoint& c = out.points[out.count++];
+    if (terrain.is_flat()) {  // the lowest rim point, exactly
+      c.point_m = rim.point(0.0);
+      c.normal = Vec3::UnitZ();
+      c.depth_m = sample_depth;
+      c.penetration_m = sample_depth;
+      return;
+    }
     // Refine the deepest point between the neighbouring samples (Brent).
-    const double lo = -half_arc + (best - 1) * h, hi = -half_arc + (best + 1) * h;
     const auto [angle, neg_depth] = boost::math::tools::brent_find_minima(
         [&](double a) { return -depth_at(a); }, lo, hi, std::numeric_limits<double>::digits / 2);
-    double best_angle = angle;
-    if (-neg_depth < best_depth) best_angle = -half_arc + best * h;  // keep the better sample
+    double best_angle = -neg_depth < sample_depth ? sample_angle : angle;  // keep the better sample
     best_angle = snap_to_grid_line(terrain, rim, best_angle);
-    const Vec3 p = rim.point(best_angle);
-    ContactPoint& c = out.points[out.count++];
-    c.point_m = p;
-    c.depth_m = vertical_depth(terrain, p);
-    c.normal = terrain.normal(p.x(), p.y());
+    c.point_m = rim.point(best_angle);
+    c.depth_m = vertical_depth(terrain, c.point_m);
+    c.normal = terrain.normal(c.point_m.x(), c.point_m.y());
     c.penetration_m = c.depth_m * c.normal.z();
-  }
+  });
   return out;
+}
+
+int count_wheel_contact_regions(const Terrain& terrain, const Vec3& wheel_centre_m, const Vec3& spin_axis,
+                                double wheel_radius_m) {
+  return for_each_region(terrain, rim_frame(wheel_centre_m, spin_axis, wheel_radius_m), spin_axis,
+                         [](double, double, double, double) {});
 }
 
 WheelContacts find_leg_wheel_contacts(const Terrain& terrain, const TreeKinematics& kin, int leg,

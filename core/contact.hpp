@@ -49,6 +49,12 @@ struct WheelContacts {
 WheelContacts find_wheel_contacts(const Terrain& terrain, const Vec3& wheel_centre_m,
                                   const Vec3& spin_axis, double wheel_radius_m);
 
+// The number of regions find_wheel_contacts() finds (its `count`), without
+// locating their deepest points: for checks that ask only whether and where
+// a wheel touches (the stiff integrator's look inside a step).
+int count_wheel_contact_regions(const Terrain& terrain, const Vec3& wheel_centre_m, const Vec3& spin_axis,
+                                double wheel_radius_m);
+
 // find_wheel_contacts() for the wheel of `leg`, at its frame in `kin`.
 WheelContacts find_leg_wheel_contacts(const Terrain& terrain, const TreeKinematics& kin, int leg,
                                       double wheel_radius_m);

@@ -43,7 +43,15 @@
 // touch. A step whose stages all miss the contact, but whose end state has it,
 // has skipped part of the impact without its error estimate noticing; such a
 // step is rejected and retried at half the size, until a stage sees the
-// contact and the error estimate takes over.
+// contact and the error estimate takes over. A contact can also begin and end
+// inside one step, between its stages (a wheel that strikes the foot of a ramp
+// and bounces off it within a millisecond): the accepted step is looked inside,
+// at a quarter, half and three quarters of it on the cubic Hermite output, and
+// a contact region there that no evaluated point of the step had (poses only,
+// count_wheel_contact_regions()) rejects the step in the same way. A wheel
+// that already had as many regions as it can have (one on a flat plane) is not
+// looked at, so the drops pay little for it (docs/performance.md, "Contacts
+// inside a step").
 //
 // Work per accepted step: the right-hand side at the step start (which also
 // gives M0, F0 and the contacts), one assembly of D and K from the contacts'
@@ -84,6 +92,33 @@ ContactCounts active_contacts(const std::array<WheelContacts, kNumLegs>& contact
     for (int k = 0; k < contacts[leg].count; ++k)
       n[leg] += contacts[leg].points[k].normal_force_N > 0.0 ? 1 : 0;
   return n;
+}
+
+// Contact regions, pushing or not, per wheel.
+ContactCounts contact_regions(const std::array<WheelContacts, kNumLegs>& contacts) {
+  ContactCounts n{};
+  for (int leg = 0; leg < kNumLegs; ++leg) n[leg] = contacts[leg].count;
+  return n;
+}
+
+// Whether a state that was not evaluated has a contact region that no
+// evaluated point of its step had (`seen`), from the poses alone
+// (`kinematics` is scratch). A wheel that already had as many regions as it
+// can have (one on a flat plane) is not looked at, nor is the tree when no
+// wheel is left.
+bool has_unseen_region(const RoverModel& model, const StateVector& x, const ContactCounts& seen,
+                       TreeKinematics& kinematics) {
+  const int most = model.terrain.is_flat() ? 1 : kMaxContactsPerWheel;
+  if (std::all_of(seen.begin(), seen.end(), [&](int n) { return n >= most; })) return false;
+  forward_pose_and_velocity(model.tree, x.head<kNumCoordinates>(), x.tail<kNumCoordinates>(), kinematics);
+  for (int leg = 0; leg < kNumLegs; ++leg) {
+    if (seen[leg] >= most) continue;
+    const NodeKinematics& wheel = kinematics.nodes[node::wheel(leg)];
+    if (count_wheel_contact_regions(model.terrain, wheel.origin, wheel.rotation.col(1),
+                                    model.parameters.geometry.wheel_radius_m) > seen[leg])
+      return true;
+  }
+  return false;
 }
 
 void keep_maximum(ContactCounts& seen, const ContactCounts& n) {
@@ -310,6 +345,7 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
                                        const IntegratorSettings& settings,
                                        const IntegrationRequest& request) {
   constexpr double kMaxGrowth = 5.0, kOnsetShrink = 0.5;
+  constexpr std::array<double, 3> kLookInside = {0.25, 0.5, 0.75};  // of an accepted step, for contacts
   IntegrationReport report;
   request.record(0.0, x);
   if (request.sample_count < 2) return report;
@@ -342,6 +378,7 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
     const Coordinates start_stiffness = lin.system.d_force_d_position.diagonal();
     const Coordinates q0 = start->x.head<kNumCoordinates>(), u0 = start->x.tail<kNumCoordinates>();
     const ContactCounts start_contacts = active_contacts(start->dynamics.contacts);
+    const ContactCounts start_regions = contact_regions(start->dynamics.contacts);
     const std::vector<SlipRows> slips = slip_rows(system.model, *start);
     const WheelSpinRows spins = wheel_spin_rows(system.model.tree, start->dynamics.kinematics);
     // Try steps until one passes the error test and misses no touchdown.
@@ -352,12 +389,13 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
         h = t_end - start->t;
         last = true;
       }
-      ContactCounts seen = start_contacts;
+      ContactCounts seen = start_contacts, seen_regions = start_regions;
       auto acceleration = [&](double t, const Coordinates& q, const Coordinates& u) -> Coordinates {
         StateVector s;
         s << q, u;
         evaluate(system, t, s, stage, report, NeedsMass::kNo);
         keep_maximum(seen, active_contacts(stage.dynamics.contacts));
+        keep_maximum(seen_regions, contact_regions(stage.dynamics.contacts));
         return stage.dx.tail<kNumCoordinates>();
       };
       lin.system.d_force_d_position.diagonal() = start_stiffness;
@@ -378,7 +416,14 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
       if (error <= 1.0) {
         t1 = last ? t_end : start->t + h;
         evaluate(system, t1, x1, *end, report, NeedsMass::kYes);
-        if (!has_more(active_contacts(end->dynamics.contacts), seen)) break;
+        keep_maximum(seen_regions, contact_regions(end->dynamics.contacts));
+        bool missed = has_more(active_contacts(end->dynamics.contacts), seen);
+        for (const double s : kLookInside) {
+          if (missed) break;
+          missed = has_unseen_region(system.model, hermite(*start, *end, start->t + s * (t1 - start->t)),
+                                     seen_regions, stage.dynamics.kinematics);
+        }
+        if (!missed) break;
         h *= kOnsetShrink;  // a touchdown inside the step that no stage saw
         if (h < settings.min_step_s) return underflow(start->t, h, "touchdown");
         continue;

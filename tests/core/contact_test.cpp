@@ -1,6 +1,7 @@
 // Wheel-terrain contact (core/contact.cpp; docs/model.md §6): the geometry
 // of the deepest rim point against analytic results on flat and planar
-// terrain, several contact regions at the foot of a ramp, the slope normal,
+// terrain, several contact regions at the foot of a ramp (and their count
+// without locating them), the slope normal,
 // the mean-slope normal at a convex edge on a grid line, and the forces: never
 // pulling (and the same without the friction), friction against the slip, and
 // generalized forces consistent with the virtual power of the contact forces
@@ -199,6 +200,33 @@ TEST(Contact, WheelAtTheFootOfTheRampHasTwoRegions) {
   EXPECT_NEAR(ramp.penetration_m, kRadius - ramp_distance, 1e-9);
   EXPECT_LT((ramp.point_m - (centre - kRadius * n_ramp)).norm(), 1e-7);
   for (const ContactPoint& c : {ground, ramp}) expect_on_rim(c, centre, spin, kRadius);
+}
+
+TEST(Contact, RegionCountIsThatOfTheFoundContacts) {
+  // Wheels swept over the whole trapezoid (foot, ramps, convex edges, top)
+  // at depths from clear to 20 mm, tilted and steered, and on flat ground:
+  // the count alone is the count of the regions find_wheel_contacts()
+  // locates, and the sweep meets none, one and two regions.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> along(1.30, 2.30), depth(-0.005, 0.020), tilt(-0.3, 0.3);
+  const Terrain flat_ground = Terrain::flat();
+  int seen[3] = {0, 0, 0};
+  for (int trial = 0; trial < 4000; ++trial) {
+    const bool flat = trial % 8 == 0;
+    const Terrain& terrain = flat ? flat_ground : obstacle_terrain();
+    const double x = along(rng);
+    const Vec3 spin = (Eigen::AngleAxisd(tilt(rng), Vec3::UnitZ()) * Eigen::AngleAxisd(tilt(rng), Vec3::UnitX()) *
+                       Vec3::UnitY()).normalized();
+    const double ground = flat ? 0.0 : terrain.height(x, -0.2215);
+    const Vec3 centre(x, -0.2215, ground + kRadius - depth(rng));
+    const WheelContacts found = find_wheel_contacts(terrain, centre, spin, kRadius);
+    ASSERT_EQ(count_wheel_contact_regions(terrain, centre, spin, kRadius), found.count)
+        << "x = " << x << ", centre z = " << centre.z() << (flat ? " (flat)" : "");
+    ++seen[std::min(found.count, 2)];
+  }
+  EXPECT_GT(seen[0], 0);
+  EXPECT_GT(seen[1], 0);
+  EXPECT_GT(seen[2], 0);
 }
 
 TEST(Contact, ConvexEdgeOnAGridLineGivesTheMeanSlopeNormal) {
