@@ -28,6 +28,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "core/coordinates.hpp"
@@ -109,17 +110,37 @@ double positive_number(const char* flag, const char* text) {
 }
 
 // t [s], the run's and the reference's B_l z and B_r z [m], one row a sample.
+// Written to FILE.part and renamed, so that FILE is whole or absent.
 void write_trace(const std::string& file, double output_rate_hz, const Trajectory& run, const Curves& ref) {
-  std::ofstream out(file);
-  out.precision(12);
-  out << "t_s,B_l_z_m,B_l_z_reference_m,B_r_z_m,B_r_z_reference_m\n";
-  const std::size_t n = std::min(run.B_l_z.size(), ref.B_l_z.size());
-  for (std::size_t k = 0; k < n; ++k)
-    out << static_cast<double>(k) / output_rate_hz << ',' << run.B_l_z[k] << ',' << ref.B_l_z[k] << ','
-        << run.B_r_z[k] << ',' << ref.B_r_z[k] << '\n';
-  if (!out) {
-    std::fprintf(stderr, "--trace: could not write %s\n", file.c_str());
-    std::exit(1);
+  const std::string part = file + ".part";
+  {
+    std::ofstream out(part);
+    out.precision(12);
+    out << "t_s,B_l_z_m,B_l_z_reference_m,B_r_z_m,B_r_z_reference_m\n";
+    const std::size_t n = std::min(run.B_l_z.size(), ref.B_l_z.size());
+    for (std::size_t k = 0; k < n; ++k)
+      out << static_cast<double>(k) / output_rate_hz << ',' << run.B_l_z[k] << ',' << ref.B_l_z[k] << ','
+          << run.B_r_z[k] << ',' << ref.B_r_z[k] << '\n';
+    out.flush();
+    if (out) {
+      std::error_code error;
+      std::filesystem::rename(part, file, error);
+      if (!error) return;
+    }
+  }
+  std::filesystem::remove(part);
+  std::fprintf(stderr, "--trace: could not write %s\n", file.c_str());
+  std::exit(1);
+}
+
+// Stops at once, before minutes of reference runs, if `file` cannot be written.
+void check_writable(const std::string& file) {
+  const std::string part = file + ".part";
+  const bool ok = static_cast<bool>(std::ofstream(part));
+  std::filesystem::remove(part);
+  if (!ok) {
+    std::fprintf(stderr, "--trace: cannot write %s (does its directory exist?)\n", file.c_str());
+    std::exit(2);
   }
 }
 
@@ -167,6 +188,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "--trace needs --only SCENARIO\n");
     return 2;
   }
+  if (!trace.empty()) check_writable(trace);
   if (dopri5 && !tolerances_given)
     std::printf("dopri5 (each scenario's own tolerances)");
   else
