@@ -331,7 +331,13 @@ void stiffen_s_joints_over_step(const RoverParameters& parameters, const ModelIn
 }
 
 // Step-size factor from the error of an order-2 embedded solution (local
-// error ~ h^3), with the usual safety factor and bounds.
+// error ~ h^3), with the usual safety factor and bounds. A step accepted
+// after its error test rejected a longer one does not grow the next step
+// (max_growth 1, as in Hairer and Wanner's RODAS): the next step would
+// otherwise reach again into the event that failed the longer one (a contact
+// beginning, an S-joint crossing its preload kink), whose error grows far
+// faster than h^3, and be rejected again, often several times in a row
+// before the event (docs/performance.md, "Fifth pass").
 double step_factor(double error, double max_growth) {
   constexpr double kSafety = 0.9, kMinShrink = 0.2;
   if (!(error < std::numeric_limits<double>::infinity())) return kMinShrink;
@@ -383,6 +389,7 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
     const WheelSpinRows spins = wheel_spin_rows(system.model.tree, start->dynamics.kinematics);
     // Try steps until one passes the error test and misses no touchdown.
     double error = 0.0, t1 = 0.0;
+    bool rejected = false;  // by the error test, at a longer step
     for (;;) {
       bool last = false;
       if (start->t + h >= t_end * (1.0 - 1e-15)) {
@@ -428,6 +435,7 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
         if (h < settings.min_step_s) return underflow(start->t, h, "touchdown");
         continue;
       }
+      rejected = true;
       h *= step_factor(error, 1.0);
       if (h < settings.min_step_s)
         return underflow(start->t, h, "error estimate " + number_text(error));
@@ -442,7 +450,7 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
     }
     std::swap(start, end);
     if (request.progress) request.progress(t1);
-    h = std::min(taken * step_factor(error, kMaxGrowth), settings.max_step_s);
+    h = std::min(taken * step_factor(error, rejected ? 1.0 : kMaxGrowth), settings.max_step_s);
   }
   return report;
 }
