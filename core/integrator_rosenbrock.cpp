@@ -50,8 +50,9 @@
 // a contact region there that no evaluated point of the step had (poses only,
 // count_wheel_contact_regions()) rejects the step in the same way. A wheel
 // that already had as many regions as it can have (one on a flat plane) is not
-// looked at, so the drops pay little for it (docs/performance.md, "Contacts
-// inside a step").
+// looked at: the horizontal drop, whose wheels are down after the landing,
+// spends 2 % of its instructions on it (docs/performance.md, "Contacts inside
+// a step").
 //
 // Work per accepted step: the right-hand side at the step start (which also
 // gives M0, F0 and the contacts), one assembly of D and K from the contacts'
