@@ -12,7 +12,7 @@
 //         reference's RMS over t of sd(t);
 //   QoI   mean and sd of the QoI (default B_l_z_min, the peak compression),
 //         error = estimate - reference, divided by the reference's sd of it.
-// The error at N is the RMS over the replicates (study/replicate_error.hpp);
+// The error at N is the RMS over the replicates (study/estimators/replicate_error.hpp);
 // the replicates' spread about their own mean is the reference-free
 // estimate of it (L'Ecuyer and Lemieux 2002). A power law c N^p is fitted to
 // each error curve on N >= --fit-min, and gives the runs for --target
@@ -40,7 +40,7 @@
 #include "io/csv.hpp"
 #include "io/hdf5_file.hpp"
 #include "io/plot.hpp"
-#include "study/replicate_error.hpp"
+#include "study/estimators/replicate_error.hpp"
 
 namespace {
 

@@ -38,7 +38,7 @@
 #include "core/friction_synthesis.hpp"
 #include "core/simulate.hpp"
 #include "io/scenario_config.hpp"
-#include "study/sampling.hpp"
+#include "study/design/sampling.hpp"
 #include "drop_fixture.hpp"
 
 namespace {

@@ -11,8 +11,8 @@
 // Run on one quiet core: `taskset -c 0 build/bench/study_bench`.
 #include <benchmark/benchmark.h>
 
-#include "study/montecarlo.hpp"
-#include "study/streaming_band.hpp"
+#include "study/studies/montecarlo.hpp"
+#include "study/estimators/streaming_band.hpp"
 
 namespace {
 

@@ -1,14 +1,14 @@
 // `rover calibrate`: fit c_q (and f, M0_scale, time_offset) to a measured drop
 // curve with any derivative-free NLopt algorithm, with Gauss-Newton intervals
 // at the optimum, or sample their posterior (--method mcmc). See
-// study/calibration.hpp and study/calibration_mcmc.hpp for the formats.
+// study/studies/calibration.hpp and study/studies/calibration_mcmc.hpp for the formats.
 #include <iostream>
 #include <sstream>
 
 #include "drivers/command_registry.hpp"
 #include "drivers/study_options.hpp"
-#include "study/calibration.hpp"
-#include "study/mpi_session.hpp"
+#include "study/studies/calibration.hpp"
+#include "study/runtime/mpi_session.hpp"
 
 namespace rover::cli {
 namespace {

@@ -1,5 +1,5 @@
 // `rover evaluate`: batch evaluation of a design CSV (one run per row), the
-// interface other UQ tools drive the model through. See study/evaluate.hpp.
+// interface other UQ tools drive the model through. See study/studies/evaluate.hpp.
 // The flags are checked before any row is read: QoI and channel names, the
 // integrator, and an --out that is writable and is neither input file.
 #include <iostream>
@@ -8,10 +8,10 @@
 #include "drivers/command_registry.hpp"
 #include "drivers/options.hpp"
 #include "drivers/study_options.hpp"
-#include "study/evaluate.hpp"
-#include "study/mpi_session.hpp"
-#include "study/qoi.hpp"
-#include "study/study_runner.hpp"
+#include "study/studies/evaluate.hpp"
+#include "study/runtime/mpi_session.hpp"
+#include "study/model/qoi.hpp"
+#include "study/runtime/study_runner.hpp"
 
 namespace rover::cli {
 namespace {

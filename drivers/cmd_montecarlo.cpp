@@ -1,13 +1,13 @@
 // `rover montecarlo`: Monte Carlo over any uncertain parameters of the rover
 // and scenario (the preloads of paper Fig. 13d by default): bands of the output
-// channels and summaries of the QoIs. See study/montecarlo.hpp for the formats.
+// channels and summaries of the QoIs. See study/studies/montecarlo.hpp for the formats.
 #include <iostream>
 
 #include "drivers/command_registry.hpp"
 #include "drivers/study_options.hpp"
-#include "study/montecarlo.hpp"
-#include "study/mpi_session.hpp"
-#include "study/study_runner.hpp"
+#include "study/studies/montecarlo.hpp"
+#include "study/runtime/mpi_session.hpp"
+#include "study/runtime/study_runner.hpp"
 
 namespace rover::cli {
 namespace {

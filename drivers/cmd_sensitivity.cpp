@@ -1,13 +1,13 @@
 // `rover sensitivity`: global sensitivity analysis (Sobol' indices with
 // bootstrap intervals, along time too; Morris screening) of the rover or of an
-// analytic test model. See study/sensitivity.hpp for the formats.
+// analytic test model. See study/studies/sensitivity.hpp for the formats.
 #include <iostream>
 
 #include "drivers/command_registry.hpp"
 #include "drivers/study_options.hpp"
-#include "study/mpi_session.hpp"
-#include "study/sensitivity.hpp"
-#include "study/study_runner.hpp"
+#include "study/runtime/mpi_session.hpp"
+#include "study/studies/sensitivity.hpp"
+#include "study/runtime/study_runner.hpp"
 
 namespace rover::cli {
 namespace {

@@ -5,9 +5,9 @@
 #include "drivers/command_registry.hpp"
 #include "drivers/options.hpp"
 #include "drivers/study_options.hpp"
-#include "study/mpi_session.hpp"
-#include "study/study_runner.hpp"
-#include "study/surface.hpp"
+#include "study/runtime/mpi_session.hpp"
+#include "study/runtime/study_runner.hpp"
+#include "study/studies/surface.hpp"
 
 namespace rover::cli {
 namespace {

@@ -2,7 +2,7 @@
 // model at known parameters, with Gaussian measurement noise and an unknown
 // time offset, for testing calibrations. Clearly labelled SYNTHETIC.
 // Any scenario file, any channel a calibration's "data" entry may name
-// (study/calibration.hpp: B_l_z, B_r_z, G_z) and any integrator; the file's
+// (study/studies/calibration.hpp: B_l_z, B_r_z, G_z) and any integrator; the file's
 // comment header records all of them. Every bad flag is reported before the
 // simulation, and a sample count whose file would be absurdly large is
 // refused with its size.
@@ -18,7 +18,7 @@
 #include "drivers/options.hpp"
 #include "io/csv.hpp"
 #include "io/scenario_config.hpp"
-#include "study/calibration.hpp"
+#include "study/studies/calibration.hpp"
 
 namespace rover::cli {
 namespace {

@@ -30,7 +30,7 @@
 
 #include "drivers/command_registry.hpp"
 #include "drivers/options.hpp"
-#include "study/study_runner.hpp"
+#include "study/runtime/study_runner.hpp"
 
 namespace rover::cli {
 std::vector<CommandEntry>& command_registry() {

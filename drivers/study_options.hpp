@@ -8,8 +8,8 @@
 #include <CLI/CLI.hpp>
 
 #include "drivers/options.hpp"
-#include "study/montecarlo.hpp"
-#include "study/study_runner.hpp"
+#include "study/studies/montecarlo.hpp"
+#include "study/runtime/study_runner.hpp"
 
 namespace rover::cli {
 

@@ -12,7 +12,7 @@
 // are written with create_matrix() and write_row(): memory is one chunk cache,
 // whatever the number of rows. Rows may come in any order; the bytes of the
 // file depend on that order (chunks are laid out as they fill), so write them
-// in index order (study/ordered_sink.hpp) for files identical on any number
+// in index order (study/runtime/ordered_sink.hpp) for files identical on any number
 // of MPI ranks.
 //
 // A full disk (ENOSPC, EDQUOT) or file size limit (EFBIG) makes the failing

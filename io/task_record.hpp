@@ -1,5 +1,5 @@
 // The outcome of one task of a study, as it travels between MPI ranks
-// (study/task_farm) and into checkpoints (io/checkpoint): a plain record with
+// (study/runtime/task_farm) and into checkpoints (io/checkpoint): a plain record with
 // no dependency, so the task farm does not need the checkpoint's header.
 #pragma once
 
@@ -10,7 +10,7 @@ namespace rover::io {
 
 // status 0 = ok; nonzero = the run failed (message says why); a failed run is
 // a result too and is not retried. `values` is the study's payload
-// (study/run_record.hpp encodes and decodes it).
+// (study/runtime/run_record.hpp encodes and decodes it).
 struct TaskRecord {
   int index = 0;
   int status = 0;

@@ -1,0 +1,51 @@
+// Elementary-effects screening (Morris 1991) with the absolute-mean measure
+// mu* of Campolongo, Cariboni & Saltelli (2007) and a bootstrap percentile
+// interval for mu* over trajectories (Efron & Tibshirani 1993).
+//
+// A trajectory starts at a random point of a p-level grid in the unit cube and
+// moves each input once, in random order, by the jump Delta = 1/2 (p/2 levels):
+// an input in the lower half of the grid moves up, one in the upper half down,
+// so every point stays on the grid and the direction of each jump is random
+// (Morris's random orientation of the trajectory).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "study/estimators/design_matrix.hpp"
+
+namespace rover::study {
+
+// Morris (1991) one-at-a-time trajectories on a p-level grid in the unit cube. Levels are CENTRED,
+// (k + 0.5) / p for k = 0..p-1, so distributions with infinite support map to finite values; the
+// jump is p/2 levels (p even) = 1/2 in unit coordinates. Trajectory t is rows t(d+1) .. t(d+1)+d.
+struct MorrisDesign {
+  DesignMatrix points;             // r (d + 1) x d, unit coordinates
+  std::vector<int> changed_input;  // r d entries: which input changes between consecutive rows
+  std::vector<double> step;        // r d entries: signed jump in unit coordinates
+  int trajectories = 0, dimensions = 0, levels = 0;
+};
+// Throws std::invalid_argument unless dimensions >= 1, trajectories >= 1 and levels is even, >= 2.
+MorrisDesign morris_design(int dimensions, int trajectories, int levels, std::uint64_t seed);
+
+struct MorrisOptions {
+  int bootstrap_resamples = 1000;  // 0: no interval (NaN bounds)
+  double confidence = 0.95;
+  std::uint64_t seed = 1;
+};
+struct MorrisResult {
+  Eigen::VectorXd mu, mu_star, sigma, mu_star_lower, mu_star_upper;  // d each; EE in unit coords
+  std::vector<int> ranking;  // inputs by mu_star, largest first (ties: lower index first)
+  int trajectories_used = 0;
+  std::vector<int> dropped_trajectories;  // with a non-finite output, dropped whole
+};
+// y: one output per row of design.points. Elementary effect of input i on trajectory t:
+// EE = (y(after) - y(before)) / step. mu and mu_star are means over the trajectories used, sigma
+// their sample standard deviation (n - 1; NaN with one trajectory). Throws std::invalid_argument if
+// y does not match the design or no trajectory is complete.
+MorrisResult morris_effects(const MorrisDesign& design, const Eigen::VectorXd& y,
+                            const MorrisOptions& options);
+
+}  // namespace rover::study

@@ -1,0 +1,183 @@
+// See qoi.hpp.
+#include "study/model/qoi.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "core/metrics.hpp"
+
+namespace rover::study {
+namespace {
+
+struct ChannelInfo {
+  Channel channel;
+  const char* name;
+  const char* unit;
+};
+constexpr ChannelInfo kChannels[] = {
+    {Channel::kBlz, "B_l_z", "m"},   {Channel::kBrz, "B_r_z", "m"},  {Channel::kGz, "G_z", "m"},
+    {Channel::kPitch, "pitch", "rad"}, {Channel::kRoll, "roll", "rad"}, {Channel::kFn1, "Fn_1", "N"},
+    {Channel::kFn2, "Fn_2", "N"},    {Channel::kFn3, "Fn_3", "N"},   {Channel::kFn4, "Fn_4", "N"}};
+
+struct QoiInfo {
+  QoiKind kind;
+  const char* name;
+  const char* unit;
+  const char* description;
+};
+constexpr QoiInfo kQois[] = {
+    {QoiKind::kBlzMin, "B_l_z_min", "m", "minimum of B_l z"},
+    {QoiKind::kTMin, "t_min", "s", "time of the minimum of B_l z"},
+    {QoiKind::kAtRest, "at_rest", "m", "B_l z at the end of the run"},
+    {QoiKind::kDeflection, "deflection", "m", "B_l z at the end minus its minimum"},
+    {QoiKind::kReboundPeak, "rebound_peak", "m", "maximum of B_l z after its minimum"},
+    {QoiKind::kSettlingTime, "settling_time", "s",
+     "last exit of B_l z from a band around its final value"},
+    {QoiKind::kMaxAbsPitch, "max_abs_pitch", "rad", "maximum |pitch|"},
+    {QoiKind::kMaxAbsRoll, "max_abs_roll", "rad", "maximum |roll|"},
+    {QoiKind::kMaxWheelLoad, "max_wheel_load", "N", "largest normal force on any wheel"},
+    {QoiKind::kBrRise, "B_r_rise", "m", "maximum rise of B_r z above its start"},
+    {QoiKind::kGRise, "G_rise", "m", "maximum rise of G z above its start"},
+    {QoiKind::kLateralDrift, "lateral_drift", "m", "y at the end minus y at the start"},
+    {QoiKind::kYawDrift, "yaw_drift", "rad", "yaw at the end minus yaw at the start"},
+    {QoiKind::kRmsVs, "rms_vs", "m", "RMS difference from a reference curve"}};
+
+const QoiInfo& info(QoiKind kind) {
+  for (const QoiInfo& q : kQois)
+    if (q.kind == kind) return q;
+  throw std::logic_error("unknown QoI kind");
+}
+
+const ChannelInfo& info(Channel channel) {
+  for (const ChannelInfo& c : kChannels)
+    if (c.channel == channel) return c;
+  throw std::logic_error("unknown channel");
+}
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
+std::size_t argmin(const std::vector<double>& v) {
+  return static_cast<std::size_t>(std::min_element(v.begin(), v.end()) - v.begin());
+}
+
+double max_abs(const std::vector<double>& v) {
+  double m = 0.0;
+  for (double x : v) m = std::max(m, std::abs(x));
+  return m;
+}
+
+double max_rise(const std::vector<double>& v) {
+  return *std::max_element(v.begin(), v.end()) - v.front();
+}
+
+double settling_time(const std::vector<double>& t, const std::vector<double>& z, double band) {
+  const double final_value = z.back();
+  for (std::size_t k = z.size(); k-- > 0;)
+    if (std::abs(z[k] - final_value) > band) return k + 1 < t.size() ? t[k + 1] : t[k];
+  return t.front();
+}
+
+double rms_against(const Trajectory& tr, const QoiSpec& spec) {
+  const ReferenceCurve& ref = *spec.reference;
+  std::vector<double> t_sim(tr.t.size());
+  for (std::size_t k = 0; k < t_sim.size(); ++k) t_sim[k] = tr.t[k] + ref.time_offset_s;
+  return rms_difference(t_sim, channel_values(tr, spec.channel), ref.t, ref.value);
+}
+
+}  // namespace
+
+const std::vector<std::string>& channel_names() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n;
+    for (const ChannelInfo& c : kChannels) n.emplace_back(c.name);
+    return n;
+  }();
+  return names;
+}
+
+Channel channel_from_name(const std::string& name) {
+  for (const ChannelInfo& c : kChannels)
+    if (name == c.name) return c.channel;
+  throw std::invalid_argument("unknown channel '" + name + "' (valid: " + joined(channel_names()) + ")");
+}
+
+const char* channel_name(Channel channel) { return info(channel).name; }
+const char* channel_unit(Channel channel) { return info(channel).unit; }
+
+std::vector<double> channel_values(const Trajectory& tr, Channel channel) {
+  switch (channel) {
+    case Channel::kBlz: return tr.B_l_z;
+    case Channel::kBrz: return tr.B_r_z;
+    case Channel::kGz: return tr.G_z;
+    case Channel::kPitch: return tr.pitch;
+    case Channel::kRoll: return tr.roll;
+    default: break;
+  }
+  const auto wheel = static_cast<Eigen::Index>(static_cast<int>(channel) - static_cast<int>(Channel::kFn1));
+  std::vector<double> out(static_cast<std::size_t>(tr.normal_force_N.rows()));
+  for (Eigen::Index k = 0; k < tr.normal_force_N.rows(); ++k)
+    out[static_cast<std::size_t>(k)] = tr.normal_force_N(k, wheel);
+  return out;
+}
+
+const std::vector<std::string>& qoi_kind_names() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n;
+    for (const QoiInfo& q : kQois) n.emplace_back(q.name);
+    return n;
+  }();
+  return names;
+}
+
+QoiKind qoi_kind_from_name(const std::string& name) {
+  for (const QoiInfo& q : kQois)
+    if (name == q.name) return q.kind;
+  throw std::invalid_argument("unknown quantity of interest '" + name + "' (valid: " +
+                              joined(qoi_kind_names()) + ")");
+}
+
+const char* qoi_unit(const QoiSpec& spec) {
+  if (spec.kind == QoiKind::kRmsVs) return channel_unit(spec.channel);
+  return info(spec.kind).unit;
+}
+
+std::string qoi_description(const QoiSpec& spec) {
+  std::string d = info(spec.kind).description;
+  if (spec.kind == QoiKind::kSettlingTime)
+    d += " (band " + std::to_string(spec.settling_band) + " m)";
+  if (spec.kind == QoiKind::kRmsVs && spec.reference)
+    d += " " + spec.reference->path + " (channel " + channel_name(spec.channel) + ")";
+  return d;
+}
+
+double compute_qoi(const QoiSpec& spec, const Trajectory& tr) {
+  if (tr.t.empty()) return std::nan("");
+  const std::vector<double>& z = tr.B_l_z;
+  switch (spec.kind) {
+    case QoiKind::kBlzMin: return z[argmin(z)];
+    case QoiKind::kTMin: return tr.t[argmin(z)];
+    case QoiKind::kAtRest: return z.back();
+    case QoiKind::kDeflection: return z.back() - z[argmin(z)];
+    case QoiKind::kReboundPeak: {
+      const std::size_t k = argmin(z);
+      return *std::max_element(z.begin() + static_cast<std::ptrdiff_t>(k), z.end());
+    }
+    case QoiKind::kSettlingTime: return settling_time(tr.t, z, spec.settling_band);
+    case QoiKind::kMaxAbsPitch: return max_abs(tr.pitch);
+    case QoiKind::kMaxAbsRoll: return max_abs(tr.roll);
+    case QoiKind::kMaxWheelLoad: return tr.normal_force_N.size() ? tr.normal_force_N.maxCoeff() : 0.0;
+    case QoiKind::kBrRise: return max_rise(tr.B_r_z);
+    case QoiKind::kGRise: return max_rise(tr.G_z);
+    case QoiKind::kLateralDrift: return tr.q(tr.q.rows() - 1, coord::y) - tr.q(0, coord::y);
+    case QoiKind::kYawDrift: return tr.q(tr.q.rows() - 1, coord::yaw) - tr.q(0, coord::yaw);
+    case QoiKind::kRmsVs: return rms_against(tr, spec);
+  }
+  return std::nan("");
+}
+
+}  // namespace rover::study

@@ -1,0 +1,22 @@
+// See calibration_mpi.hpp.
+#include "study/runtime/calibration_mpi.hpp"
+
+#include <mpi.h>
+
+namespace rover::study {
+
+void broadcast_from_rank0(std::vector<double>& values) {
+  int initialized = 0, finalized = 0;
+  MPI_Initialized(&initialized);
+  MPI_Finalized(&finalized);
+  if (!initialized || finalized) return;
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  if (size == 1) return;
+  unsigned long long count = values.size();
+  MPI_Bcast(&count, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD);
+  values.resize(static_cast<std::size_t>(count));
+  if (count > 0) MPI_Bcast(values.data(), static_cast<int>(count), MPI_DOUBLE, 0, MPI_COMM_WORLD);
+}
+
+}  // namespace rover::study

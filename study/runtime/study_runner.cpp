@@ -1,0 +1,137 @@
+#include "study/runtime/study_runner.hpp"
+
+#include <filesystem>
+#include <iostream>
+
+#include <mpi.h>
+
+#include <csignal>
+
+#include "io/checkpoint.hpp"
+#include "study/runtime/ordered_sink.hpp"
+
+namespace rover::study {
+
+int world_rank() {
+  int initialized = 0;
+  MPI_Initialized(&initialized);
+  int rank = 0;
+  if (initialized) MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  return rank;
+}
+
+int world_size() {
+  int initialized = 0;
+  MPI_Initialized(&initialized);
+  int size = 1;
+  if (initialized) MPI_Comm_size(MPI_COMM_WORLD, &size);
+  return size;
+}
+
+std::vector<TaskResult> run_study_tasks(int task_count,
+                                        const std::function<TaskResult(int)>& compute,
+                                        const StudyRunOptions& options) {
+  std::vector<TaskResult> all;
+  stream_study_tasks(task_count, compute, [&](TaskResult&& r) { all.push_back(std::move(r)); }, options);
+  return all;
+}
+
+namespace {
+
+// The one piece of process-wide state: a signal handler can only reach a
+// static. Set by SIGINT/SIGTERM while an InterruptGuard is alive.
+std::atomic<bool> g_interrupted{false};
+using Handler = void (*)(int);
+Handler g_previous_int = SIG_DFL, g_previous_term = SIG_DFL;
+
+extern "C" void on_interrupt(int signal_number) {
+  g_interrupted.store(true);
+  // A second signal of the same kind kills as usual.
+  std::signal(signal_number, signal_number == SIGINT ? g_previous_int : g_previous_term);
+}
+
+}  // namespace
+
+InterruptGuard::InterruptGuard() {
+  g_interrupted.store(false);
+  g_previous_int = std::signal(SIGINT, on_interrupt);
+  g_previous_term = std::signal(SIGTERM, on_interrupt);
+}
+
+InterruptGuard::~InterruptGuard() {
+  std::signal(SIGINT, g_previous_int == SIG_ERR ? SIG_DFL : g_previous_int);
+  std::signal(SIGTERM, g_previous_term == SIG_ERR ? SIG_DFL : g_previous_term);
+}
+
+const std::atomic<bool>& InterruptGuard::flag() { return g_interrupted; }
+
+void stream_study_tasks(int task_count, const std::function<TaskResult(int)>& compute,
+                        const std::function<void(TaskResult&&)>& consume,
+                        const StudyRunOptions& options) {
+  const bool root = world_rank() == 0;
+  std::unique_ptr<io::ResultCheckpoint> checkpoint;
+  OrderedSink<TaskResult> sink([&](int, TaskResult&& r) { consume(std::move(r)); });
+  std::vector<int> todo;
+  if (root) {
+    if (const auto dir = std::filesystem::path(options.results_path).parent_path(); !dir.empty())
+      std::filesystem::create_directories(dir);
+    checkpoint = std::make_unique<io::ResultCheckpoint>(options.results_path, options.fingerprint,
+                                                        options.checkpoint);
+    std::vector<TaskResult> done;
+    if (options.resume) {
+      done = checkpoint->load();
+      std::cerr << options.label << ": resuming, " << done.size() << " of " << task_count
+                << " runs already done (" << checkpoint->path() << ")\n";
+    } else if (std::filesystem::exists(checkpoint->path())) {
+      std::cerr << options.label << ": starting afresh; the old checkpoint " << checkpoint->path()
+                << " is replaced (use --resume to continue it)\n";
+      checkpoint->remove();
+    }
+    todo = io::missing_indices(task_count, done);
+    for (TaskResult& r : done)
+      if (r.index >= 0 && r.index < task_count) sink.push(r.index, std::move(r));
+  }
+  TaskFarmOptions farm;
+  farm.label = options.label;
+  farm.progress_interval_s = options.progress_interval_s;
+  farm.keep_results = false;
+  farm.stop = &g_interrupted;
+  const std::string resume_hint =
+      "Continue with:\n  " + (options.resume_command.empty() ? std::string("the same command with --resume")
+                                                             : options.resume_command);
+  // At the signal, at once (under mpirun, rank 0's own run may still be
+  // computing; Open MPI kills the ranks 1 s after its SIGTERM): what is
+  // finished goes to disk and the user learns how to resume. From then on
+  // every arriving run is written as it comes.
+  farm.on_stop = [&] {
+    checkpoint->save();
+    std::cerr << options.label << ": interrupt: no new runs are handed out; " << checkpoint->size() << " of "
+              << task_count << " runs are saved in " << checkpoint->path()
+              << " and the runs in progress are added as they finish. " << resume_hint << std::endl;
+  };
+  run_task_farm(
+      todo, compute,
+      [&](const TaskResult& r) {
+        checkpoint->add(r);
+        if (g_interrupted.load()) checkpoint->save();
+        sink.push(r.index, TaskResult(r));
+      },
+      farm);
+  if (!root) return;
+  checkpoint->save();
+  if (g_interrupted.load()) {
+    throw StudyInterrupted(options.label + ": interrupted; " + std::to_string(checkpoint->size()) + " of " +
+                           std::to_string(task_count) + " runs are saved in " + checkpoint->path() + ". " +
+                           resume_hint);
+  }
+  if (sink.buffered() != 0)
+    throw std::logic_error(options.label + ": " + std::to_string(sink.buffered()) +
+                           " results wait for a missing run");
+}
+
+void remove_checkpoint(const std::string& results_path) {
+  std::error_code ignored;
+  std::filesystem::remove(io::ResultCheckpoint::path_for(results_path), ignored);
+}
+
+}  // namespace rover::study

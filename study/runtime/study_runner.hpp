@@ -1,0 +1,74 @@
+// The part every study shares: fan the runs out over MPI ranks (task_farm),
+// checkpoint the finished ones beside the result file, and on --resume compute
+// only what is missing. Results are written by rank 0 only.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "io/checkpoint.hpp"
+#include "study/runtime/task_farm.hpp"
+
+namespace rover::study {
+
+// Rank of this process in MPI_COMM_WORLD (0 without MPI) and the rank count.
+int world_rank();
+int world_size();
+
+struct StudyRunOptions {
+  std::string results_path;   // the study's HDF5 file; the checkpoint lives beside it
+  std::string fingerprint;    // identifies the configuration (config_fingerprint of its text)
+  bool resume = false;        // reuse the checkpoint's finished runs
+  std::string label = "study";
+  int progress_interval_s = 5;
+  std::string resume_command;  // the command line that resumes the study (for messages)
+  io::CheckpointPolicy checkpoint;  // how often finished runs are flushed to the checkpoint
+};
+
+// Collective: every rank calls it. stream_study_tasks() (below) collecting
+// the records: returns on rank 0 the results of all task_count runs, sorted by
+// index (empty on the other ranks), for studies whose runs are few. The checkpoint stays until remove_checkpoint() is called,
+// after the results are committed.
+std::vector<TaskResult> run_study_tasks(int task_count,
+                                        const std::function<TaskResult(int)>& compute,
+                                        const StudyRunOptions& options);
+
+void remove_checkpoint(const std::string& results_path);
+
+// A study stopped by SIGINT or SIGTERM: what is done is in the checkpoint.
+// what() says so and gives the --resume hint; the program exits with
+// kExitCode.
+class StudyInterrupted : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+  static constexpr int kExitCode = 130;
+};
+
+// While alive, SIGINT and SIGTERM set a flag that makes the running study stop
+// handing out work instead of killing the process (the finished runs are kept).
+// A second signal kills as usual.
+class InterruptGuard {
+ public:
+  InterruptGuard();
+  ~InterruptGuard();
+  InterruptGuard(const InterruptGuard&) = delete;
+  InterruptGuard& operator=(const InterruptGuard&) = delete;
+  static const std::atomic<bool>& flag();
+};
+
+// Collective: every rank calls it. Runs compute(i) for every i in
+// [0, task_count) that the checkpoint does not hold (all, without --resume),
+// and on rank 0 calls consume(record) exactly once for EVERY index, the
+// checkpointed ones included, in index order, while results come in. Nothing
+// is kept but the records that arrive ahead of a missing index, so memory does
+// not grow with task_count, and every accumulation in consume() sees the same
+// order on any number of ranks. On rank 0, a signal ends it with
+// StudyInterrupted after the checkpoint is saved (`resume_command` is quoted).
+void stream_study_tasks(int task_count, const std::function<TaskResult(int)>& compute,
+                        const std::function<void(TaskResult&&)>& consume,
+                        const StudyRunOptions& options);
+
+}  // namespace rover::study

@@ -1,0 +1,428 @@
+// See sensitivity.hpp.
+#include "study/studies/sensitivity.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <iostream>
+#include <numeric>
+#include <sstream>
+
+#include "io/hdf5_file.hpp"
+#include "io/plot.hpp"
+#include "study/studies/study_output.hpp"
+#include "study/runtime/study_runner.hpp"
+
+namespace rover::study {
+namespace {
+
+std::vector<double> to_vector(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
+
+std::string fixed(double x, int digits = 3) {
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(digits) << x;
+  return os.str();
+}
+
+int varied_count(const StudySpec& spec) { return static_cast<int>(spec.inputs.size()); }
+
+// Where in input space runs failed: per input, the range of the failed runs'
+// values against the whole design's.
+std::string failure_report(const StudySpec& spec, const DesignMatrix& x, const std::vector<int>& status) {
+  std::vector<Eigen::Index> failed;
+  for (std::size_t i = 0; i < status.size(); ++i)
+    if (status[i] != run_status::kOk) failed.push_back(static_cast<Eigen::Index>(i));
+  if (failed.empty()) return "";
+  std::ostringstream os;
+  os << failed.size() << " of " << status.size() << " runs failed; their inputs span:";
+  for (Eigen::Index j = 0; j < x.cols(); ++j) {
+    double lo = INFINITY, hi = -INFINITY;
+    for (Eigen::Index i : failed) {
+      lo = std::min(lo, x(i, j));
+      hi = std::max(hi, x(i, j));
+    }
+    os << "\n    " << spec.inputs[static_cast<std::size_t>(j)].label << " in [" << lo << ", " << hi << "] (design ["
+       << x.col(j).minCoeff() << ", " << x.col(j).maxCoeff() << "])";
+  }
+  return os.str();
+}
+
+// How many base samples would make the widest interval about `target` wide
+// (intervals shrink like N^-1/2).
+long suggested_samples(int n, double widest, double target) {
+  return static_cast<long>(std::ceil(n * std::pow(widest / target, 2)));
+}
+
+std::vector<std::string> sobol_warnings(const std::string& qoi, const SobolIndices& s,
+                                        const std::vector<std::string>& labels, int n) {
+  std::vector<std::string> w;
+  double widest = 0.0;
+  for (Eigen::Index i = 0; i < s.S1.size(); ++i) {
+    const double width = std::max(s.S1_upper[i] - s.S1_lower[i], s.ST_upper[i] - s.ST_lower[i]);
+    widest = std::max(widest, width);
+    const double index = std::max(std::abs(s.S1[i]), std::abs(s.ST[i]));
+    if (width > index && index > 0.01)
+      w.push_back(qoi + ": the interval of " + labels[static_cast<std::size_t>(i)] + " (width " + fixed(width) +
+                  ") is wider than its index (" + fixed(index) + ")");
+  }
+  const double s1_sum = s.S1.sum();
+  const double s1_sum_upper_slack = (s.S1_upper - s.S1).sum();
+  if (s1_sum - 1.0 > s1_sum_upper_slack)
+    w.push_back(qoi + ": the first-order indices sum to " + fixed(s1_sum) + ", above 1 beyond their intervals");
+  if (!w.empty() && widest > 0.05)
+    w.push_back(qoi + ": for intervals about 0.05 wide, use about N = " + std::to_string(suggested_samples(n, widest, 0.05)) +
+                " base samples (now " + std::to_string(n) + ")");
+  return w;
+}
+
+void plot_sobol(const std::string& png, const std::string& qoi, const SobolIndices& s,
+                const std::vector<std::string>& labels) {
+  io::BarPlot plot;
+  plot.title = qoi + ": Sobol' indices (" + std::to_string(s.groups_used) + " groups), 95 % intervals";
+  plot.y_label = "index";
+  plot.categories = labels;
+  plot.groups.push_back({"S1 (first order)", to_vector(s.S1), to_vector(s.S1_lower), to_vector(s.S1_upper)});
+  plot.groups.push_back({"ST (total)", to_vector(s.ST), to_vector(s.ST_lower), to_vector(s.ST_upper)});
+  io::write_png_or_warn(plot, png, "sensitivity", std::cerr);
+}
+
+// S_i(t) of the inputs that matter, under the output variance V(t).
+void plot_sobol_t(const std::string& png, const std::string& channel, const SobolIndicesAlongTime& s,
+                  const std::vector<double>& t, const std::vector<std::string>& labels) {
+  io::LinePlot indices;
+  indices.title = channel + ": first-order (solid) and total (dashed) Sobol' indices along time";
+  indices.x_label = "t [s]";
+  indices.y_label = "index";
+  indices.y_range = io::AxisRange{-0.05, 1.05};
+  for (Eigen::Index i = 0; i < s.S1.rows(); ++i) {
+    if (!(s.aggregated_ST[i] > 0.01)) continue;
+    const std::string& name = labels[static_cast<std::size_t>(i)];
+    std::vector<double> s1, st;
+    for (Eigen::Index k = 0; k < s.S1.cols(); ++k) {
+      s1.push_back(s.S1(i, k));
+      st.push_back(s.ST(i, k));
+    }
+    indices.series.push_back({name + " S1", t, s1});
+    indices.series.push_back({name + " ST", t, st, io::SeriesStyle::dashed});
+  }
+  if (!indices.series.empty()) io::write_png_or_warn(indices, png, "sensitivity", std::cerr);
+  io::LinePlot variance;
+  variance.title = channel + ": output variance along time";
+  variance.x_label = "t [s]";
+  variance.y_label = "Var " + channel;
+  variance.series.push_back({"V(t)", t, to_vector(s.variance)});
+  io::write_png_or_warn(variance, sibling_path(png, "_variance.png"), "sensitivity", std::cerr);
+}
+
+void plot_morris(const std::string& png, const std::string& qoi, const MorrisResult& m,
+                 const std::vector<std::string>& labels) {
+  io::LinePlot plot;
+  plot.title = qoi + ": Morris screening (" + std::to_string(m.trajectories_used) + " trajectories)";
+  plot.x_label = "mu* (mean |elementary effect|)";
+  plot.y_label = "sigma (sd of the elementary effects)";
+  io::Series points{"inputs"};
+  points.style = io::SeriesStyle::points;
+  for (Eigen::Index i = 0; i < m.mu_star.size(); ++i) {
+    points.x.push_back(m.mu_star[i]);
+    points.y.push_back(m.sigma[i]);
+    plot.labels.push_back({m.mu_star[i], m.sigma[i], labels[static_cast<std::size_t>(i)]});
+  }
+  plot.series.push_back(points);
+  // Room for the labels of the largest effects.
+  plot.x_range = io::AxisRange{0.0, 1.3 * m.mu_star.maxCoeff()};
+  plot.y_range = io::AxisRange{0.0, 1.15 * std::max(m.sigma.maxCoeff(), m.mu_star.maxCoeff())};
+  plot.series.push_back({"sigma = mu*", {0.0, m.mu_star.maxCoeff()}, {0.0, m.mu_star.maxCoeff()}, io::SeriesStyle::dashed});
+  io::write_png_or_warn(plot, png, "sensitivity", std::cerr);
+}
+
+void print_sobol(std::ostream& out, const std::string& qoi, const SobolIndices& s,
+                 const std::vector<std::string>& labels, double confidence) {
+  std::vector<Eigen::Index> order(static_cast<std::size_t>(s.ST.size()));
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) { return s.ST[a] > s.ST[b]; });
+  out << qoi << " (mean " << s.mean << ", variance " << s.variance << ", " << s.groups_used << " of "
+      << s.groups_total << " groups; " << static_cast<int>(100 * confidence) << " % intervals), by total index:\n";
+  for (Eigen::Index i : order)
+    out << "  " << std::left << std::setw(28) << labels[static_cast<std::size_t>(i)] << std::right << " S1 "
+        << std::setw(6) << fixed(s.S1[i]) << " [" << fixed(s.S1_lower[i]) << ", " << fixed(s.S1_upper[i]) << "]   ST "
+        << std::setw(6) << fixed(s.ST[i]) << " [" << fixed(s.ST_lower[i]) << ", " << fixed(s.ST_upper[i]) << "]\n";
+}
+
+void print_morris(std::ostream& out, const std::string& qoi, const MorrisResult& m,
+                  const std::vector<std::string>& labels) {
+  out << qoi << " (Morris, " << m.trajectories_used << " trajectories), by mu*:\n";
+  for (int i : m.ranking)
+    out << "  " << std::left << std::setw(28) << labels[static_cast<std::size_t>(i)] << std::right << " mu* "
+        << std::setw(10) << m.mu_star[i] << " [" << m.mu_star_lower[i] << ", " << m.mu_star_upper[i] << "]  mu "
+        << std::setw(10) << m.mu[i] << "  sigma " << m.sigma[i] << "\n";
+}
+
+}  // namespace
+
+SensitivityStudy load_sensitivity_study(const std::string& path) {
+  const io::Json json = io::read_json_file(path);
+  const io::JsonReader r(json, path);
+  SensitivityStudy s;
+  s.spec = parse_study_spec(r, {"sensitivity"}, DesignKey::kByCaller);
+  if (s.spec.inputs.size() < 2) r.fail("parameters", "a sensitivity analysis needs at least 2 uncertain inputs");
+  for (const UncertainInput& in : s.spec.inputs)
+    if (in.distribution.kind == DistributionKind::kFixed)
+      r.fail("parameters", "'" + in.label + "' is fixed: a sensitivity analysis varies every input it lists");
+  if (s.spec.model->qoi_names().empty() && s.spec.model->channel_names().empty())
+    r.fail("qoi", "name at least one QoI or channel");
+  const std::string method = r.string("method");
+  if (method == "sobol") {
+    s.method = SensitivityMethod::kSobol;
+  } else if (method == "morris") {
+    s.method = SensitivityMethod::kMorris;
+  } else {
+    r.fail("method", "expected \"sobol\" or \"morris\", got \"" + method + "\"");
+  }
+  const int bootstrap = r.has("bootstrap") ? r.integer("bootstrap") : 1000;
+  if (bootstrap < 0 || (bootstrap > 0 && bootstrap < 100) || bootstrap > 100000)
+    r.fail("bootstrap", "give 0 (no intervals) or 100 .. 100000 resamples");
+  const double confidence = r.number_or("confidence", 0.95);
+  if (!(confidence > 0.5 && confidence < 1.0)) r.fail("confidence", "must lie in (0.5, 1)");
+  s.max_failed_fraction = r.number_or("max_failed_fraction", 0.05);
+  if (!(s.max_failed_fraction >= 0.0 && s.max_failed_fraction < 1.0))
+    r.fail("max_failed_fraction", "must lie in [0, 1)");
+  const io::JsonReader d = r.child("design");
+  const double seed = d.number_or("seed", 1.0);
+  if (!(seed >= 0 && seed < 9.007199254740992e15 && seed == std::floor(seed)))
+    d.fail("seed", "must be a whole number from 0 to 2^53");
+  s.spec.design.seed = static_cast<std::uint64_t>(seed);
+  const int d_inputs = varied_count(s.spec);
+  if (s.method == SensitivityMethod::kSobol) {
+    const std::string type = d.string_or("type", "sobol");
+    if (type != "sobol" && type != "monte_carlo")
+      d.fail("type", "the base matrices of a Sobol' analysis come from \"sobol\" or \"monte_carlo\"");
+    s.spec.design.type = design_type_from_name(type);
+    const double n = d.number("samples");
+    if (!(n >= 2 && n <= 1e7 && n == std::floor(n))) d.fail("samples", "must be a whole number from 2 to 1e7");
+    s.layout.base_samples = static_cast<int>(n);
+    s.layout.dimensions = d_inputs;
+    s.layout.second_order = r.boolean_or("second_order", false);
+    s.spec.design.samples = s.layout.total_runs();
+    const std::string estimator = r.string_or("estimator", "saltelli_jansen");
+    if (estimator == "saltelli_jansen") s.sobol.estimator = SobolEstimator::kSaltelliJansen;
+    else if (estimator == "martinez") s.sobol.estimator = SobolEstimator::kMartinez;
+    else r.fail("estimator", "expected \"saltelli_jansen\" or \"martinez\"");
+    s.sobol.bootstrap_resamples = bootstrap;
+    s.sobol.confidence = confidence;
+    s.sobol.seed = s.spec.design.seed;
+  } else {
+    s.trajectories = d.integer("trajectories");
+    if (s.trajectories < 2 || s.trajectories > 100000) d.fail("trajectories", "must be from 2 to 100000");
+    s.levels = d.has("levels") ? d.integer("levels") : 4;
+    if (s.levels < 2 || s.levels % 2 != 0) d.fail("levels", "must be an even number >= 2");
+    s.spec.design.samples = s.trajectories * (d_inputs + 1);
+    s.morris.bootstrap_resamples = bootstrap;
+    s.morris.confidence = confidence;
+    s.morris.seed = s.spec.design.seed;
+    if (r.has("second_order")) r.fail("second_order", "applies to the Sobol' method only");
+  }
+  d.finish();
+  r.finish();
+  s.spec.fingerprint = extend_fingerprint(s.spec.fingerprint, "sensitivity");
+  return s;
+}
+
+DesignMatrix sensitivity_design(const SensitivityStudy& study) {
+  const StudySpec& spec = study.spec;
+  const int d = varied_count(spec);
+  DesignMatrix unit;
+  if (study.method == SensitivityMethod::kSobol) {
+    const DesignMatrix base = unit_design(spec.design.type, study.layout.base_samples, 2 * d, spec.design.seed);
+    const DesignMatrix A = base.leftCols(d), B = base.rightCols(d);
+    unit = pick_freeze_design(A, B, study.layout.second_order);
+  } else {
+    unit = morris_design(d, study.trajectories, study.levels, spec.design.seed).points;
+  }
+  DesignMatrix x(unit.rows(), unit.cols());
+  for (Eigen::Index j = 0; j < unit.cols(); ++j) {
+    const Distribution& dist = spec.inputs[static_cast<std::size_t>(j)].distribution;
+    for (Eigen::Index i = 0; i < unit.rows(); ++i) x(i, j) = dist.quantile(unit(i, j));
+  }
+  return x;
+}
+
+SensitivityResult analyse_sensitivity(const SensitivityStudy& study, const DesignMatrix& x,
+                                      const std::vector<RunRecord>& records) {
+  const StudyModel& model = *study.spec.model;
+  const RecordLayout layout = model.layout();
+  const auto runs = static_cast<Eigen::Index>(records.size());
+  const std::vector<std::string> labels = input_labels(study.spec);
+  SensitivityResult out;
+  out.qoi.assign(static_cast<std::size_t>(layout.qoi_count), std::vector<double>(records.size()));
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    const RunRecord& r = records[i];
+    out.status.push_back(r.status);
+    out.messages.push_back(r.message);
+    out.failed_runs += r.ok() ? 0 : 1;
+    for (int q = 0; q < layout.qoi_count; ++q)
+      out.qoi[static_cast<std::size_t>(q)][i] = r.ok() ? r.qoi[static_cast<std::size_t>(q)] : std::nan("");
+  }
+  out.failure_report = failure_report(study.spec, x, out.status);
+
+  // Whole groups / trajectories fail together; more than the stated fraction stops the study.
+  const int per_unit = study.method == SensitivityMethod::kSobol ? study.layout.runs_per_group() : varied_count(study.spec) + 1;
+  const int units = static_cast<int>(records.size()) / per_unit;
+  int failed_units = 0;
+  for (int g = 0; g < units; ++g) {
+    bool failed = false;
+    for (int k = 0; k < per_unit; ++k) failed = failed || !records[static_cast<std::size_t>(g * per_unit + k)].ok();
+    failed_units += failed ? 1 : 0;
+  }
+  const char* unit_name = study.method == SensitivityMethod::kSobol ? "pick-freeze groups" : "trajectories";
+  if (failed_units > study.max_failed_fraction * units)
+    throw std::runtime_error(std::to_string(failed_units) + " of " + std::to_string(units) + " " + unit_name +
+                             " have a failed run, more than max_failed_fraction = " +
+                             fixed(study.max_failed_fraction, 2) + "; the indices would not describe the model. " +
+                             out.failure_report);
+  if (failed_units > 0)
+    out.warnings.push_back(std::to_string(failed_units) + " of " + std::to_string(units) + " " + unit_name +
+                           " were dropped whole because a run failed (see /samples/status)");
+
+  const MorrisDesign morris = study.method == SensitivityMethod::kMorris
+                                  ? morris_design(varied_count(study.spec), study.trajectories, study.levels,
+                                                  study.spec.design.seed)
+                                  : MorrisDesign{};
+  for (int q = 0; q < layout.qoi_count; ++q) {
+    const Eigen::Map<const Eigen::VectorXd> y(out.qoi[static_cast<std::size_t>(q)].data(), runs);
+    const std::string& name = model.qoi_names()[static_cast<std::size_t>(q)];
+    if (study.method == SensitivityMethod::kSobol) {
+      out.sobol.push_back(estimate_sobol_indices(study.layout, y, study.sobol));
+      for (std::string& w : sobol_warnings(name, out.sobol.back(), labels, study.layout.base_samples))
+        out.warnings.push_back(std::move(w));
+    } else {
+      out.morris.push_back(morris_effects(morris, y, study.morris));
+    }
+  }
+  if (study.method == SensitivityMethod::kSobol)
+    for (int c = 0; c < layout.channel_count; ++c) {
+      Eigen::MatrixXd Y(runs, layout.time_samples);
+      for (Eigen::Index i = 0; i < runs; ++i) {
+        const double* curve = records[static_cast<std::size_t>(i)].curve(c, layout.time_samples);
+        for (int k = 0; k < layout.time_samples; ++k) Y(i, k) = curve[k];
+      }
+      out.sobol_t.push_back(estimate_sobol_indices_along_time(study.layout, Y, study.sobol.estimator));
+    }
+  return out;
+}
+
+std::string run_sensitivity(const SensitivityStudy& study, const StudyRunControl& control) {
+  const StudySpec& spec = study.spec;
+  const StudyModel& model = *spec.model;
+  const bool root = world_rank() == 0;
+  const std::string out = checked_results_path(spec.name, control.results_path);
+  const RecordLayout layout = model.layout();
+  // Every run's record (QoIs and curves) is held until the indices are estimated.
+  require_memory("run records (" + std::to_string(spec.design.samples) + " runs with " +
+                     std::to_string(layout.channel_count) + " curves of " + std::to_string(layout.time_samples) +
+                     " samples)",
+                 8.0 * spec.design.samples * static_cast<double>(layout.value_count() + spec.inputs.size()) * 1.2);
+  const DesignMatrix x = sensitivity_design(study);
+  std::vector<RunRecord> records;
+  if (root) records.reserve(static_cast<std::size_t>(x.rows()));
+  auto compute = [&](int i) { return encode_record(i, model.run(x.row(i).data())); };
+  auto consume = [&](TaskResult&& task) { records.push_back(decode_record(layout, std::move(task))); };
+  StudyRunOptions options{out, spec.fingerprint, control.resume, "sensitivity", control.progress_interval_s,
+                          control.resume_command, control.checkpoint};
+  const auto started = std::chrono::steady_clock::now();
+  stream_study_tasks(static_cast<int>(x.rows()), compute, consume, options);
+  if (!root) return out;
+  const double runs_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+
+  const auto analysis_start = std::chrono::steady_clock::now();
+  const SensitivityResult result = analyse_sensitivity(study, x, records);
+  const double analysis_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - analysis_start).count();
+  const std::vector<std::string> labels = input_labels(spec);
+
+  io::Hdf5Writer h5(out);
+  write_study_provenance(h5, spec, spec.fingerprint);
+  write_study_inputs(h5, spec, x);
+  h5.attribute("/", "method", study.method == SensitivityMethod::kSobol ? "sobol" : "morris");
+  h5.attribute("/", "runs", static_cast<long long>(x.rows()));
+  h5.attribute("/", "failed_runs", static_cast<long long>(result.failed_runs));
+  h5.attribute("/", "runs_wall_time_s", runs_s);
+  h5.attribute("/", "analysis_wall_time_s", analysis_s);
+  for (std::size_t q = 0; q < result.qoi.size(); ++q) h5.write("/qoi/" + model.qoi_names()[q], result.qoi[q]);
+  h5.write("/samples/status", result.status);
+  h5.write("/samples/message", result.messages);
+  for (std::size_t q = 0; q < result.sobol.size(); ++q) {
+    const SobolIndices& s = result.sobol[q];
+    const std::string g = "/indices/" + model.qoi_names()[q] + "/";
+    h5.write(g + "S1", to_vector(s.S1));
+    h5.write(g + "ST", to_vector(s.ST));
+    h5.write(g + "S1_lower", to_vector(s.S1_lower));
+    h5.write(g + "S1_upper", to_vector(s.S1_upper));
+    h5.write(g + "ST_lower", to_vector(s.ST_lower));
+    h5.write(g + "ST_upper", to_vector(s.ST_upper));
+    h5.write(g + "mean", std::vector<double>{s.mean});
+    h5.write(g + "variance", std::vector<double>{s.variance});
+    if (s.S2.size()) {
+      h5.write(g + "S2", s.S2);
+      h5.write(g + "S2_lower", s.S2_lower);
+      h5.write(g + "S2_upper", s.S2_upper);
+    }
+    h5.attribute(g + "S1", "groups_used", static_cast<long long>(s.groups_used));
+    h5.attribute(g + "S1", "groups_total", static_cast<long long>(s.groups_total));
+    h5.attribute(g + "S1", "confidence", study.sobol.confidence);
+    h5.attribute(g + "S1", "bootstrap_resamples", static_cast<long long>(study.sobol.bootstrap_resamples));
+  }
+  if (!result.sobol_t.empty()) h5.write("/t", model.time_s());
+  for (std::size_t c = 0; c < result.sobol_t.size(); ++c) {
+    const SobolIndicesAlongTime& s = result.sobol_t[c];
+    const std::string& channel = model.channel_names()[c];
+    h5.write("/indices_t/" + channel + "/S1", s.S1);
+    h5.write("/indices_t/" + channel + "/ST", s.ST);
+    h5.write("/indices_t/" + channel + "/variance", to_vector(s.variance));
+    h5.write("/aggregated/" + channel + "/S1", to_vector(s.aggregated_S1));
+    h5.write("/aggregated/" + channel + "/ST", to_vector(s.aggregated_ST));
+  }
+  for (std::size_t q = 0; q < result.morris.size(); ++q) {
+    const MorrisResult& m = result.morris[q];
+    const std::string g = "/morris/" + model.qoi_names()[q] + "/";
+    h5.write(g + "mu", to_vector(m.mu));
+    h5.write(g + "mu_star", to_vector(m.mu_star));
+    h5.write(g + "sigma", to_vector(m.sigma));
+    h5.write(g + "mu_star_lower", to_vector(m.mu_star_lower));
+    h5.write(g + "mu_star_upper", to_vector(m.mu_star_upper));
+    h5.write(g + "ranking", m.ranking);
+    h5.attribute(g + "mu", "trajectories_used", static_cast<long long>(m.trajectories_used));
+  }
+  h5.commit();
+  remove_checkpoint(out);
+
+  std::ostream& log = std::cerr;
+  log << "sensitivity: " << x.rows() << " runs (" << result.failed_runs << " failed) in " << fixed(runs_s, 1)
+      << " s, analysis " << fixed(analysis_s, 2) << " s; wrote " << out << "\n";
+  if (!result.failure_report.empty()) log << "  " << result.failure_report << "\n";
+  for (std::size_t q = 0; q < result.sobol.size(); ++q)
+    print_sobol(log, model.qoi_names()[q], result.sobol[q], labels, study.sobol.confidence);
+  for (std::size_t q = 0; q < result.morris.size(); ++q)
+    print_morris(log, model.qoi_names()[q], result.morris[q], labels);
+  for (std::size_t c = 0; c < result.sobol_t.size(); ++c) {
+    log << model.channel_names()[c] << " along time, variance-weighted: ";
+    for (Eigen::Index i = 0; i < result.sobol_t[c].aggregated_ST.size(); ++i)
+      log << labels[static_cast<std::size_t>(i)] << " S1 " << fixed(result.sobol_t[c].aggregated_S1[i]) << " ST "
+          << fixed(result.sobol_t[c].aggregated_ST[i]) << (i + 1 < result.sobol_t[c].aggregated_ST.size() ? "; " : "\n");
+  }
+  for (const std::string& w : result.warnings) log << "sensitivity: warning: " << w << "\n";
+
+  if (control.plot) {
+    for (std::size_t q = 0; q < result.sobol.size(); ++q)
+      plot_sobol(sibling_path(out, "_sobol_" + model.qoi_names()[q] + ".png"), model.qoi_names()[q], result.sobol[q],
+                 labels);
+    for (std::size_t c = 0; c < result.sobol_t.size(); ++c)
+      plot_sobol_t(sibling_path(out, "_sobol_t_" + model.channel_names()[c] + ".png"), model.channel_names()[c],
+                   result.sobol_t[c], model.time_s(), labels);
+    for (std::size_t q = 0; q < result.morris.size(); ++q)
+      plot_morris(sibling_path(out, "_morris_" + model.qoi_names()[q] + ".png"), model.qoi_names()[q],
+                  result.morris[q], labels);
+  }
+  return out;
+}
+
+}  // namespace rover::study

@@ -1,0 +1,77 @@
+// Global sensitivity analysis on the study core: variance-based Sobol' indices
+// (pick-freeze design, Saltelli 2010 first-order and Jansen 1999 total
+// estimators, bootstrap confidence intervals) for every QoI and along time for
+// every channel, and Morris (1991) elementary-effects screening. The rover and
+// the analytic test models (study_model.hpp) run through the same code.
+//
+// Study file (the keys of study_spec.hpp, with):
+//   "type": "sensitivity", "method": "sobol" | "morris",
+//   "design": sobol:  {"type": "sobol" | "monte_carlo", "samples": N, "seed": s}  (base matrices)
+//             morris: {"trajectories": r, "levels": p, "seed": s}
+//   "second_order": false, "estimator": "saltelli_jansen" | "martinez",
+//   "bootstrap": 1000, "confidence": 0.95,
+//   "max_failed_fraction": 0.05   (more failed pick-freeze groups or trajectories: the study fails)
+//
+// Failed runs never enter an index: a failed run drops its whole pick-freeze
+// group (A, B and every A_B^(i) of that row) or its Morris trajectory, and the
+// result says how many and where in input space.
+//
+// HDF5: /inputs/{names,values}, /qoi/<name>, /samples/{status,message};
+// sobol: /indices/<qoi>/{S1,ST,S1_lower,S1_upper,ST_lower,ST_upper,mean,variance}
+// (+ S2, S2_lower, S2_upper, d x d), /indices_t/<channel>/{S1,ST} (d x T),
+// /indices_t/<channel>/variance (T), /aggregated/<channel>/{S1,ST}, /t;
+// morris: /morris/<qoi>/{mu,mu_star,sigma,mu_star_lower,mu_star_upper,ranking}.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "study/estimators/morris.hpp"
+#include "study/studies/montecarlo.hpp"
+#include "study/estimators/sobol_indices.hpp"
+#include "study/studies/study_spec.hpp"
+
+namespace rover::study {
+
+enum class SensitivityMethod { kSobol, kMorris };
+
+struct SensitivityStudy {
+  StudySpec spec;
+  SensitivityMethod method = SensitivityMethod::kSobol;
+  // Sobol'
+  PickFreezeLayout layout;
+  SobolOptions sobol;
+  // Morris
+  int trajectories = 0, levels = 4;
+  MorrisOptions morris;
+  double max_failed_fraction = 0.05;
+};
+
+SensitivityStudy load_sensitivity_study(const std::string& path);
+
+// The runs of the study in physical units (rows in run order).
+DesignMatrix sensitivity_design(const SensitivityStudy& study);
+
+struct SensitivityResult {
+  std::vector<SobolIndices> sobol;                 // [qoi]
+  std::vector<SobolIndicesAlongTime> sobol_t;      // [channel]
+  std::vector<MorrisResult> morris;                // [qoi]
+  std::vector<std::vector<double>> qoi;            // [qoi][run]
+  std::vector<int> status;                         // [run]
+  std::vector<std::string> messages;               // [run]
+  int failed_runs = 0;
+  std::string failure_report;                      // where in input space runs failed
+  std::vector<std::string> warnings;               // intervals too wide, S1 sum above 1, ...
+};
+
+// Compute: the indices from the records of every run, in run order (in-process,
+// testable without MPI or files). Throws std::runtime_error when more than
+// max_failed_fraction of the groups or trajectories failed.
+SensitivityResult analyse_sensitivity(const SensitivityStudy& study, const DesignMatrix& x,
+                                      const std::vector<RunRecord>& records);
+
+// Collective over MPI ranks; rank 0 writes the HDF5 file, the PNGs and the
+// ranked console summary. Returns the results path.
+std::string run_sensitivity(const SensitivityStudy& study, const StudyRunControl& control);
+
+}  // namespace rover::study

@@ -1,0 +1,100 @@
+// See study_output.hpp.
+#include "study/studies/study_output.hpp"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include "study/runtime/study_runner.hpp"
+
+namespace rover::study {
+
+std::string checked_results_path(const std::string& name, const std::string& requested) {
+  const std::string path = requested.empty() ? "results/" + name + ".h5" : requested;
+  const std::filesystem::path p(path);
+  if (std::filesystem::is_directory(p))
+    throw std::invalid_argument("--out '" + path + "' is a directory; give a file name ending in .h5");
+  if (p.extension() != ".h5")
+    throw std::invalid_argument("--out '" + path + "' must end in .h5 (an HDF5 file)");
+  if (const auto dir = p.parent_path(); !dir.empty()) {
+    std::error_code error;
+    std::filesystem::create_directories(dir, error);
+    if (error || !std::filesystem::is_directory(dir))
+      throw std::invalid_argument("cannot create the directory '" + dir.string() + "' for '" + path +
+                                  "': " + error.message());
+  }
+  // Can a file be created there? (Found now, not after the study ran.)
+  const std::string probe = path + ".probe";
+  if (!std::ofstream(probe, std::ios::binary | std::ios::trunc))
+    throw std::invalid_argument("cannot write '" + path + "': " + std::strerror(errno));
+  std::filesystem::remove(probe);
+  return path;
+}
+
+void require_memory(const std::string& what, double bytes, double max_bytes) {
+  if (bytes <= max_bytes) return;
+  char text[160];
+  std::snprintf(text, sizeof text, "would hold %.3g GB of %s in memory, more than the %.3g GB allowed", bytes / 1e9,
+                what.c_str(), max_bytes / 1e9);
+  throw std::invalid_argument(text);
+}
+
+std::string sibling_path(const std::string& results_path, const std::string& suffix) {
+  std::filesystem::path p(results_path);
+  const std::string stem = p.stem().string();
+  return (p.parent_path() / (stem + suffix)).string();
+}
+
+void write_base_provenance(io::Hdf5Writer& h5, const std::string& type, const std::string& name,
+                           const std::string& study_path, const IntegratorSettings* integrator,
+                           const std::string& fingerprint) {
+  h5.attribute("/", "study", type);
+  h5.attribute("/", "name", name);
+  h5.attribute("/", "study_file", study_path);
+  h5.attribute("/", "study_json", file_text(study_path));
+  if (integrator != nullptr) {
+    h5.attribute("/", "integrator", integrator_name(integrator->method));
+    h5.attribute("/", "rtol", integrator->relative_tolerance);
+    h5.attribute("/", "atol", integrator->absolute_tolerance);
+  }
+  h5.attribute("/", "ranks", static_cast<long long>(world_size()));
+  h5.attribute("/", "fingerprint", fingerprint);
+  h5.attribute("/", "project_version", ROVER_VERSION);
+}
+
+void write_study_provenance(io::Hdf5Writer& h5, const StudySpec& spec, const std::string& fingerprint) {
+  const IntegratorSettings* integrator = spec.rover ? &spec.rover->nominal().scenario.integrator : nullptr;
+  write_base_provenance(h5, spec.type, spec.name, spec.path, integrator, fingerprint);
+  h5.attribute("/", "description", spec.description);
+  if (spec.rover) {
+    const auto& setup = spec.rover->nominal();
+    h5.attribute("/", "scenario", setup.scenario.name);
+    h5.attribute("/", "scenario_file", setup.scenario_path);
+    h5.attribute("/", "rover_file", setup.rover_path);
+    h5.attribute("/", "terrain_file", setup.terrain_path);
+  } else {
+    h5.attribute("/", "model", spec.model->describe());
+  }
+  h5.attribute("/", "design", design_type_name(spec.design.type));
+  h5.attribute("/", "seed", static_cast<long long>(spec.design.seed));
+  h5.attribute("/", "samples", static_cast<long long>(spec.design.samples));
+}
+
+void write_study_inputs(io::Hdf5Writer& h5, const StudySpec& spec, const DesignMatrix& x) {
+  std::vector<std::string> names, labels, distributions;
+  for (const UncertainInput& in : spec.inputs) {
+    names.push_back(in.name);
+    labels.push_back(in.label);
+    distributions.push_back(in.distribution.describe());
+  }
+  if (names.empty()) return;
+  h5.write("/inputs/names", names);
+  h5.write("/inputs/labels", labels);
+  h5.write("/inputs/distributions", distributions);
+  h5.write("/inputs/values", Eigen::MatrixXd(x));
+}
+
+}  // namespace rover::study

@@ -1,0 +1,42 @@
+// What every study writes the same way: where results go (checked before the
+// first run), file names beside the result file, the provenance attributes, and
+// the design's inputs.
+#pragma once
+
+#include <string>
+
+#include "io/hdf5_file.hpp"
+#include "study/studies/study_spec.hpp"
+
+namespace rover::study {
+
+// The result file: `requested`, or results/<name>.h5. Throws
+// std::invalid_argument before any run if it names a directory, does not end
+// in .h5, or its directory cannot be created.
+std::string checked_results_path(const std::string& name, const std::string& requested);
+
+// Refuses up front, with the estimate, a study whose rank-0 working set would
+// exceed max_bytes (8 GiB): "sensitivity would hold 12.3 GB of run records
+// (...)". `what` says what the bytes are.
+void require_memory(const std::string& what, double bytes, double max_bytes = 8.0 * 1024 * 1024 * 1024);
+
+// "results/x.h5" + "_band_B_l_z.png" -> "results/x_band_B_l_z.png".
+std::string sibling_path(const std::string& results_path, const std::string& suffix);
+
+// The root attributes every study result carries: study (its type), name,
+// study_file, study_json (the file's text), integrator, rtol, atol (when a
+// scenario is simulated: `integrator` not null), ranks, fingerprint,
+// project_version.
+void write_base_provenance(io::Hdf5Writer& h5, const std::string& type, const std::string& name,
+                           const std::string& study_path, const IntegratorSettings* integrator,
+                           const std::string& fingerprint);
+
+// Root attributes: study (type), name, description, study_file, study_json,
+// scenario / model, integrator, rtol, atol, ranks, fingerprint, project_version.
+void write_study_provenance(io::Hdf5Writer& h5, const StudySpec& spec, const std::string& fingerprint);
+
+// /inputs/names (d), /inputs/labels (d), /inputs/distributions (d, described)
+// and /inputs/values (N x d).
+void write_study_inputs(io::Hdf5Writer& h5, const StudySpec& spec, const DesignMatrix& x);
+
+}  // namespace rover::study

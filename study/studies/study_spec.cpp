@@ -1,0 +1,377 @@
+// See study_spec.hpp.
+#include "study/studies/study_spec.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <numbers>
+#include <optional>
+#include <sstream>
+
+#include "core/rover_parameters.hpp"
+#include "io/checkpoint.hpp"
+#include "io/csv.hpp"
+#include "io/trajectory_io.hpp"
+#include "study/model/distribution_json.hpp"
+
+namespace rover::study {
+namespace {
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
+int preload_index(const std::string& label) {
+  for (int i = 0; i < kNumSJoints; ++i)
+    if (label == preload_alias(i) || label == "s_structure." + preload_alias(i)) return i;
+  return -1;
+}
+
+// "from_config": Normal(preload_mean_i, sd_scale * preload_sd_i), optionally truncated.
+Distribution preload_distribution(const io::JsonReader& p, const io::Json& rover, double mean, int i) {
+  const double sd_scale = p.has("sd_scale") ? p.non_negative("sd_scale") : 1.0;
+  const io::Json& sds = rover.at("s_structure").at("preload_sd");
+  const double sd = sd_scale * sds.at(static_cast<std::size_t>(i)).get<double>();
+  double lower = -std::numeric_limits<double>::infinity(), upper = std::numeric_limits<double>::infinity();
+  if (p.has("truncate")) {
+    const io::Json& t = p.raw("truncate");
+    if (!t.is_array() || t.size() != 2) p.fail("truncate", "expected [lower, upper] (null for no bound)");
+    for (std::size_t k = 0; k < 2; ++k)
+      if (!t[k].is_null() && !t[k].is_number())
+        p.fail("truncate", "element " + std::to_string(k) + " is neither a number nor null");
+    if (!t[0].is_null()) lower = t[0].get<double>();
+    if (!t[1].is_null()) upper = t[1].get<double>();
+  }
+  const Distribution d = sd == 0.0 ? fixed_value(mean) : normal(mean, sd, lower, upper);
+  std::string why;
+  if (!d.IsValid(&why)) p.fail(p.has("truncate") ? "truncate" : "sd_scale", why);
+  return d;
+}
+
+std::vector<UncertainInput> parse_rover_parameters_block(const io::JsonReader& r,
+                                                         const io::ScenarioSources& sources) {
+  std::vector<UncertainInput> inputs;
+  const ParameterSpace space(sources.rover, sources.scenario);
+  const io::Json& block = r.raw("parameters");
+  if (!block.is_object() || block.empty())
+    r.fail("parameters", "expected an object {\"<parameter>\": {\"distribution\": ...}, ...}");
+  const io::JsonReader params = r.child("parameters");
+  for (const auto& [label, spec] : block.items()) {
+    const io::JsonReader p = params.child(label);
+    const bool from_config = p.boolean_or("from_config", false);
+    if (label == "M0" || label == "s_structure.M0") {
+      if (!from_config && !p.has("distribution"))
+        p.fail("from_config", "the preload group \"M0\" takes its means and sds from the rover file: "
+                              "give \"from_config\": true");
+      p.string_or("distribution", "normal");
+      for (int i = 0; i < kNumSJoints; ++i) {
+        const std::string name = space.canonical(preload_alias(i));
+        inputs.push_back({name, preload_alias(i),
+                          preload_distribution(p, sources.rover, space.nominal(name), i),
+                          space.nominal(name)});
+      }
+      p.finish();
+      continue;
+    }
+    std::string name;
+    try {
+      name = space.canonical(label);
+    } catch (const std::invalid_argument& e) {
+      params.fail(label, e.what());
+    }
+    const double nominal = space.nominal(name);
+    Distribution d;
+    if (from_config) {
+      const int i = preload_index(label);
+      if (i < 0) p.fail("from_config", "only the preloads (M0, M0_11 .. M0_42) have sds in the rover file");
+      p.string_or("distribution", "normal");
+      d = preload_distribution(p, sources.rover, nominal, i);
+    } else {
+      d = parse_distribution(p, nominal);
+    }
+    std::string why;
+    if (!d.IsValid(&why)) p.fail("distribution", why);
+    p.finish();
+    for (const UncertainInput& seen : inputs)
+      if (seen.name == name) params.fail(label, "is the same parameter as '" + seen.label + "'");
+    inputs.push_back({name, label, d, nominal});
+  }
+  return inputs;
+}
+
+std::vector<UncertainInput> analytic_inputs(const io::JsonReader& r, const AnalyticStudyModel& m) {
+  std::vector<UncertainInput> inputs;
+  for (std::size_t i = 0; i < m.input_names().size(); ++i) {
+    const std::string& x = m.input_names()[i];
+    Distribution d = m.name() == "ishigami" ? uniform(-std::numbers::pi, std::numbers::pi)
+                     : m.name() == "sobol_g" ? uniform(0.0, 1.0)
+                                             : normal(0.0, 1.0);
+    inputs.push_back({x, x, d, d.mean()});
+  }
+  if (!r.has("parameters")) return inputs;
+  const io::JsonReader params = r.child("parameters");
+  for (const auto& [label, spec] : r.raw("parameters").items()) {
+    auto it = std::find_if(inputs.begin(), inputs.end(), [&](const UncertainInput& u) { return u.name == label; });
+    if (it == inputs.end())
+      params.fail(label, "is not an input of the " + m.name() + " model (" + joined(m.input_names()) + ")");
+    const io::JsonReader p = params.child(label);
+    it->distribution = parse_distribution(p, it->nominal);
+    std::string why;
+    if (!it->distribution.IsValid(&why)) p.fail("distribution", why);
+    p.finish();
+  }
+  return inputs;
+}
+
+std::vector<QoiSpec> parse_qois(const io::JsonReader& r, const std::string& study_path) {
+  std::vector<QoiSpec> qois;
+  const io::Json& list = r.raw("qoi");
+  if (!list.is_array() || list.empty())
+    r.fail("qoi", "expected a list of quantities of interest, e.g. [\"B_l_z_min\", \"deflection\"] (valid: " +
+                      joined(qoi_kind_names()) + ")");
+  for (std::size_t k = 0; k < list.size(); ++k) {
+    const std::string field = "qoi[" + std::to_string(k) + "]";
+    QoiSpec q;
+    try {
+      if (list[k].is_string()) {
+        q.name = list[k].get<std::string>();
+        q.kind = qoi_kind_from_name(q.name);
+      } else if (list[k].is_object()) {
+        const io::JsonReader o(list[k], r.file(), r.field(field));
+        const std::string kind = o.string("name");
+        try {
+          q.kind = qoi_kind_from_name(kind);
+        } catch (const std::invalid_argument& e) {
+          o.fail("name", e.what());
+        }
+        q.name = o.string_or("label", kind);
+        if (q.kind == QoiKind::kSettlingTime && o.has("band")) q.settling_band = o.positive("band");
+        if (q.kind == QoiKind::kRmsVs) {
+          auto ref = std::make_shared<ReferenceCurve>();
+          ref->path = io::resolve_relative(study_path, o.string("reference"));
+          const std::string channel = o.string_or("channel", "B_l_z");
+          try {
+            q.channel = channel_from_name(channel);
+          } catch (const std::invalid_argument& e) {
+            o.fail("channel", e.what());
+          }
+          try {
+            if (ref->path.ends_with(".csv")) {
+              // The checks of every measured curve (io::read_measured_curve): a
+              // height in millimetres is caught; other channels have no bound.
+              const double bound = channel.ends_with("_z") ? io::kMeasuredCurveMaxAbsHeight_m
+                                                           : std::numeric_limits<double>::infinity();
+              const io::MeasuredCurve c = io::curve_from_table(io::read_csv(ref->path, {"t", "z"}), "z", bound);
+              ref->t = c.t_s;
+              ref->value = c.z_m;
+            } else {
+              const io::Curve c = io::read_curve(ref->path, channel);
+              ref->t = c.t;
+              ref->value = c.y;
+            }
+          } catch (const std::exception& e) {
+            o.fail("reference", e.what());
+          }
+          for (std::size_t i = 1; i < ref->t.size(); ++i)
+            if (!(ref->t[i] > ref->t[i - 1]))
+              o.fail("reference", ref->path + ": times must increase strictly (row " + std::to_string(i + 1) + ")");
+          if (ref->t.size() < 3) o.fail("reference", ref->path + ": needs at least 3 samples");
+          ref->time_offset_s = o.number_or("time_offset", 0.0);
+          q.reference = ref;
+        }
+        o.finish();
+      } else {
+        r.fail(field, "expected a QoI name or {\"name\": ...}");
+      }
+    } catch (const std::invalid_argument& e) {
+      r.fail(field, e.what());
+    }
+    if (q.kind == QoiKind::kRmsVs && !q.reference)
+      r.fail(field, "rms_vs needs a reference: {\"name\": \"rms_vs\", \"reference\": \"curve.csv\"}");
+    for (const QoiSpec& seen : qois)
+      if (seen.name == q.name) r.fail(field, "QoI '" + q.name + "' appears twice (give one a \"label\")");
+    qois.push_back(q);
+  }
+  return qois;
+}
+
+std::vector<Channel> parse_channels(const io::JsonReader& r) {
+  std::vector<Channel> channels;
+  if (!r.has("channels")) return channels;
+  const std::vector<std::string> names = [&] {
+    const io::Json& list = r.raw("channels");
+    if (!list.is_array()) r.fail("channels", "expected a list of channel names (" + joined(channel_names()) + ")");
+    std::vector<std::string> n;
+    for (const auto& v : list) {
+      if (!v.is_string()) r.fail("channels", "expected channel names (" + joined(channel_names()) + ")");
+      n.push_back(v.get<std::string>());
+    }
+    return n;
+  }();
+  for (const std::string& n : names) {
+    try {
+      channels.push_back(channel_from_name(n));
+    } catch (const std::invalid_argument& e) {
+      r.fail("channels", e.what());
+    }
+  }
+  return channels;
+}
+
+DesignSpec parse_design(const io::JsonReader& d, const std::vector<UncertainInput>& inputs) {
+  DesignSpec spec;
+  try {
+    spec.type = design_type_from_name(d.string("type"));
+  } catch (const std::invalid_argument& e) {
+    d.fail("type", e.what());
+  }
+  if (spec.type == DesignType::kGrid) {
+    if (d.has("samples")) d.fail("samples", "a grid's size is the product of its \"levels\"");
+    const io::Json& levels = d.raw("levels");
+    std::optional<io::JsonReader> per_input;
+    if (levels.is_object()) per_input.emplace(d.child("levels"));
+    long long total = 1;
+    for (const UncertainInput& in : inputs) {
+      int n = 1;
+      if (in.distribution.kind != DistributionKind::kFixed) {
+        if (levels.is_number_integer()) {
+          n = d.integer("levels");
+        } else if (per_input && levels.contains(in.label)) {
+          n = per_input->integer(in.label);
+        } else {
+          d.fail("levels", "give the number of levels of '" + in.label + "' (or one number for every input)");
+        }
+        if (n < 1) d.fail("levels", "must be at least 1, got " + std::to_string(n));
+        if (n > 1 && (!std::isfinite(in.distribution.support_lower()) || !std::isfinite(in.distribution.support_upper())))
+          d.fail("type", "a grid needs bounded distributions (uniform, log_uniform); '" + in.label + "' is " +
+                             in.distribution.describe());
+      }
+      spec.grid_levels.push_back(n);
+      total *= n;
+      if (total > 100'000'000) d.fail("levels", "the grid would have more than 1e8 points");
+    }
+    if (per_input) per_input->finish();
+    spec.samples = static_cast<int>(total);
+  } else {
+    const double n = d.number("samples");
+    if (!(n >= 1 && n <= 1e8 && n == std::floor(n)))
+      d.fail("samples", "must be a whole number of samples from 1 to 1e8");
+    spec.samples = static_cast<int>(n);
+  }
+  const double seed = d.number_or("seed", 1.0);
+  if (!(seed >= 0 && seed < 9.007199254740992e15 && seed == std::floor(seed)))
+    d.fail("seed", "must be a whole number from 0 to 2^53");
+  spec.seed = static_cast<std::uint64_t>(seed);
+  d.finish();
+  return spec;
+}
+
+}  // namespace
+
+std::string file_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::string extend_fingerprint(const std::string& fingerprint, const std::string& text) {
+  return io::config_fingerprint(fingerprint + "\n" + text);
+}
+
+StudySpec parse_study_spec(const io::JsonReader& r, const std::vector<std::string>& types,
+                           DesignKey design_key) {
+  StudySpec s;
+  s.path = r.file();
+  s.type = r.string("type");
+  if (std::find(types.begin(), types.end(), s.type) == types.end())
+    r.fail("type", "this command runs studies of type " + joined(types));
+  s.name = r.string("name");
+  if (s.name.empty() || s.name.find_first_of("/\\") != std::string::npos || s.name == "." || s.name == "..")
+    r.fail("name", "must be a plain file name (results go to results/<name>.h5)");
+  s.description = r.string_or("description", "");
+  std::string fingerprint_text = file_text(s.path);
+  if (r.has("scenario") == r.has("model"))
+    r.fail("scenario", "give exactly one of \"scenario\" (the rover) and \"model\" (an analytic test model)");
+  std::vector<QoiSpec> qois;
+  if (r.has("model")) {
+    std::shared_ptr<AnalyticStudyModel> m;
+    try {
+      m = std::make_shared<AnalyticStudyModel>(r.string("model"));
+    } catch (const std::invalid_argument& e) {
+      r.fail("model", e.what());
+    }
+    s.inputs = analytic_inputs(r, *m);
+    if (r.has("qoi")) r.raw("qoi");  // analytic models have the one QoI "y"
+    s.model = m;
+  } else {
+    const std::string scenario = io::resolve_relative(s.path, r.string("scenario"));
+    io::ScenarioSources sources;
+    IntegratorSettings scenario_integrator;
+    try {
+      sources = io::read_scenario_sources(scenario);
+      scenario_integrator = io::build_scenario(sources).scenario.integrator;
+    } catch (const io::ConfigError& e) {
+      r.fail("scenario", e.what());
+    }
+    std::optional<IntegratorSettings> integrator;
+    if (r.has("integrator"))
+      integrator = io::parse_integrator_settings(r.child("integrator"), scenario_integrator);
+    qois = parse_qois(r, s.path);
+    const std::vector<Channel> channels = parse_channels(r);
+    if (r.has("parameters")) s.inputs = parse_rover_parameters_block(r, sources);
+    std::vector<std::string> names;
+    for (const UncertainInput& in : s.inputs) names.push_back(in.name);
+    fingerprint_text += file_text(scenario) + file_text(sources.rover_path) + file_text(sources.terrain_path);
+    for (const QoiSpec& q : qois)
+      if (q.reference) fingerprint_text += file_text(q.reference->path);
+    auto rover = std::make_shared<RoverStudyModel>(std::move(sources), names, qois, channels, integrator);
+    s.rover = rover;
+    s.model = rover;
+  }
+  if (design_key == DesignKey::kByCaller) {
+    // the caller reads "design"
+  } else if (r.has("design")) {
+    s.design = parse_design(r.child("design"), s.inputs);
+  } else {
+    r.fail("design", "missing: {\"type\": \"monte_carlo\" | \"latin_hypercube\" | \"sobol\" | \"grid\", "
+                     "\"samples\": N, \"seed\": S}");
+  }
+  s.fingerprint = io::config_fingerprint(fingerprint_text);
+  return s;
+}
+
+DesignMatrix study_design(const StudySpec& spec) {
+  const auto d = static_cast<Eigen::Index>(spec.inputs.size());
+  const auto n = static_cast<Eigen::Index>(spec.design.samples);
+  std::vector<int> varied;
+  for (std::size_t i = 0; i < spec.inputs.size(); ++i)
+    if (spec.inputs[i].distribution.kind != DistributionKind::kFixed) varied.push_back(static_cast<int>(i));
+  DesignMatrix x(n, d);
+  for (Eigen::Index j = 0; j < d; ++j) x.col(j).setConstant(spec.inputs[static_cast<std::size_t>(j)].distribution.a);
+  if (varied.empty()) return x;
+  DesignMatrix unit;
+  if (spec.design.type == DesignType::kGrid) {
+    std::vector<int> levels;
+    for (int i : varied) levels.push_back(spec.design.grid_levels[static_cast<std::size_t>(i)]);
+    unit = unit_grid(levels);
+  } else {
+    unit = unit_design(spec.design.type, spec.design.samples, static_cast<int>(varied.size()), spec.design.seed);
+  }
+  for (std::size_t k = 0; k < varied.size(); ++k) {
+    const Distribution& dist = spec.inputs[static_cast<std::size_t>(varied[k])].distribution;
+    for (Eigen::Index row = 0; row < n; ++row)
+      x(row, varied[k]) = dist.quantile(unit(row, static_cast<Eigen::Index>(k)));
+  }
+  return x;
+}
+
+std::vector<std::string> input_labels(const StudySpec& spec) {
+  std::vector<std::string> labels;
+  for (const UncertainInput& in : spec.inputs) labels.push_back(in.label);
+  return labels;
+}
+
+}  // namespace rover::study

@@ -1,0 +1,60 @@
+// Response surfaces over (f, c_q) (paper section 3.5, Fig. 13a-c): at each
+// grid point the RMS of B_l z against a reference drop curve and the
+// computation time t_c of the run; plus the one-dimensional sweep of t_c over
+// f with its linear regression t_c = a + b f (Fig. 13a).
+//
+// Study file (configs/studies/f_cq_surface.json):
+//   {"type": "surface", "name": "f_cq_surface", "scenario": "../scenarios/drop_horizontal.json",
+//    "reference": {"file": "../data/drop_horizontal_synthetic.csv", "time_offset": 0.0}
+//              or {"simulate": {"f": 1e4, "c_q": 0.14}},
+//    "f":   {"min": 1e2, "max": 1e5, "count": 7, "spacing": "log"},
+//    "c_q": {"min": 0.05, "max": 0.5, "count": 6, "spacing": "linear"},
+//    "sweep": {"f": {"min": 1e2, "max": 1e5, "count": 8, "spacing": "log"}, "c_q": 0.14},
+//    "integrator": {...optional...}}
+// A reference file is CSV "t,z" or an HDF5 trajectory; time_offset is
+// subtracted from its times (measured curves rarely start at the release).
+//
+// Config -> compute -> output: load_surface_study() only reads (a simulated
+// reference is run by run_surface()); the runs are a grid design of the study
+// core (study/model/study_model.hpp) with the rms_vs QoI, over the MPI farm with
+// checkpoint and --resume.
+//
+// HDF5 result: /f (nf), /c_q (nc), /rms (nf x nc, m), /t_c (nf x nc, s),
+// /status (nf x nc), /rhs_evaluations (nf x nc), /reference/t, /reference/z,
+// /sweep/f, /sweep/t_c, /sweep/rhs_evaluations, /sweep/regression
+// [intercept a (s), slope b (s), r^2]; attributes include the integrator that
+// produced t_c, and the number of MPI ranks (t_c is wall time per run).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/metrics.hpp"
+#include "study/studies/montecarlo.hpp"
+#include "study/studies/study_spec.hpp"
+
+namespace rover::study {
+
+struct SurfaceStudy {
+  std::string path, name, fingerprint;
+  io::ScenarioSources sources;
+  std::optional<IntegratorSettings> integrator;
+  std::vector<double> f, c_q;        // the grid
+  std::vector<double> sweep_f;       // the 1-D sweep (may be empty)
+  double sweep_c_q = 0.14;
+  // The reference: a curve read from a file (time offset applied), or the
+  // run at (reference_f, reference_c_q) when simulate_reference.
+  std::vector<double> reference_t, reference_z;
+  bool simulate_reference = false;
+  double reference_f = 0.0, reference_c_q = 0.0;
+  std::string reference_description;
+};
+
+SurfaceStudy load_surface_study(const std::string& path);
+
+// Least squares y = a + b x; returns {a, b, r^2}.
+std::array<double, 3> linear_regression(const std::vector<double>& x, const std::vector<double>& y);
+
+std::string run_surface(const SurfaceStudy& study, const StudyRunControl& control);
+
+}  // namespace rover::study

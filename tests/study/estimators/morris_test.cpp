@@ -1,0 +1,159 @@
+// Morris elementary effects (study/estimators/morris.cpp): the trajectory design's
+// structure, exact effects of linear models, screening of the g-function, and
+// failed trajectories.
+#include "study/estimators/morris.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+#include <stdexcept>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "study/estimators/test_models.hpp"
+
+namespace rover::study {
+namespace {
+
+template <class Model>
+Eigen::VectorXd outputs(const MorrisDesign& design, Model f) {
+  Eigen::VectorXd y(design.points.rows());
+  for (Eigen::Index r = 0; r < y.size(); ++r) y[r] = f(design.points.row(r).data());
+  return y;
+}
+
+TEST(Morris, TrajectoriesMoveEachInputOnceByHalfTheCubeOnTheCentredGrid) {
+  const int d = 5, r = 40, p = 6;
+  const MorrisDesign design = morris_design(d, r, p, 3);
+  ASSERT_EQ(design.points.rows(), r * (d + 1));
+  ASSERT_EQ(design.points.cols(), d);
+  ASSERT_EQ(design.changed_input.size(), static_cast<std::size_t>(r * d));
+  ASSERT_EQ(design.step.size(), static_cast<std::size_t>(r * d));
+  EXPECT_EQ(design.trajectories, r);
+  EXPECT_EQ(design.dimensions, d);
+  EXPECT_EQ(design.levels, p);
+  int upward = 0;
+  for (Eigen::Index row = 0; row < design.points.rows(); ++row)
+    for (int i = 0; i < d; ++i) {
+      const double level = design.points(row, i) * p - 0.5;  // integer in 0 .. p-1
+      EXPECT_NEAR(level, std::round(level), 1e-12);
+      EXPECT_GE(std::round(level), 0.0);
+      EXPECT_LE(std::round(level), p - 1.0);
+    }
+  for (int t = 0; t < r; ++t) {
+    std::set<int> moved;
+    for (int k = 0; k < d; ++k) {
+      const int move = t * d + k, i = design.changed_input[move];
+      const Eigen::Index before = t * (d + 1) + k;
+      moved.insert(i);
+      EXPECT_EQ(std::abs(design.step[move]), 0.5);
+      upward += design.step[move] > 0;
+      for (int j = 0; j < d; ++j)
+        EXPECT_NEAR(design.points(before + 1, j) - design.points(before, j),
+                    j == i ? design.step[move] : 0.0, 1e-15);
+    }
+    EXPECT_EQ(moved.size(), static_cast<std::size_t>(d));
+  }
+  // Up and down equally likely: 200 jumps, mean 100, sd 7.1.
+  EXPECT_NEAR(upward, r * d / 2, 30);
+  // Deterministic in the seed.
+  EXPECT_EQ(morris_design(d, r, p, 3).points, design.points);
+  EXPECT_NE(morris_design(d, r, p, 4).points, design.points);
+  EXPECT_THROW(morris_design(d, r, 5, 3), std::invalid_argument);
+  EXPECT_THROW(morris_design(0, r, 4, 3), std::invalid_argument);
+}
+
+TEST(Morris, LinearModelEffectsAreExactAndUnscattered) {
+  const std::vector<double> c{3.0, -1.5, 0.25, 0.0};
+  const MorrisDesign design = morris_design(4, 20, 4, 8);
+  const MorrisResult m = morris_effects(
+      design, outputs(design, [&](const double* u) { return linear_model(u, c); }), {});
+  EXPECT_EQ(m.trajectories_used, 20);
+  EXPECT_TRUE(m.dropped_trajectories.empty());
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_NEAR(m.mu[i], c[i], 1e-12) << i;
+    EXPECT_NEAR(m.mu_star[i], std::abs(c[i]), 1e-12) << i;
+    EXPECT_NEAR(m.sigma[i], 0.0, 1e-12) << i;
+    EXPECT_NEAR(m.mu_star_lower[i], std::abs(c[i]), 1e-12) << i;
+    EXPECT_NEAR(m.mu_star_upper[i], std::abs(c[i]), 1e-12) << i;
+  }
+  EXPECT_EQ(m.ranking, (std::vector<int>{0, 1, 2, 3}));
+}
+
+TEST(Morris, AnInputOutsideTheModelHasNoEffectAndInteractionsShowInSigma) {
+  // f = u0 u1 + u2^2: input 3 does not enter; u0 and u1 interact.
+  auto f = [](const double* u) { return u[0] * u[1] + u[2] * u[2]; };
+  const MorrisDesign design = morris_design(4, 30, 4, 2);
+  const MorrisResult m = morris_effects(design, outputs(design, f), {});
+  EXPECT_EQ(m.mu_star[3], 0.0);
+  EXPECT_EQ(m.sigma[3], 0.0);
+  EXPECT_EQ(m.mu_star_lower[3], 0.0);
+  EXPECT_EQ(m.mu_star_upper[3], 0.0);
+  EXPECT_EQ(m.ranking.back(), 3);
+  // The effect of u0 is u1 (on the grid {1/8, 3/8, 5/8, 7/8}); it varies, so sigma > 0.
+  EXPECT_GT(m.sigma[0], 0.1);
+  EXPECT_GT(m.mu_star[0], 0.1);
+  EXPECT_LE(m.mu_star[0], 7.0 / 8.0);
+  EXPECT_LE(m.mu_star_lower[0], m.mu_star[0]);
+  EXPECT_GE(m.mu_star_upper[0], m.mu_star[0]);
+}
+
+TEST(Morris, RanksTheGFunctionInputsInTheOrderOfTheirCoefficients) {
+  const std::vector<double> a{0.0, 1.0, 4.5, 9.0, 99.0, 99.0, 99.0, 99.0};
+  const MorrisDesign design = morris_design(8, 50, 4, 12);
+  const MorrisResult m =
+      morris_effects(design, outputs(design, [&](const double* u) { return sobol_g(u, a); }), {});
+  EXPECT_EQ(std::vector<int>(m.ranking.begin(), m.ranking.begin() + 4),
+            (std::vector<int>{0, 1, 2, 3}));
+  EXPECT_EQ(std::set<int>(m.ranking.begin() + 4, m.ranking.end()), (std::set<int>{4, 5, 6, 7}));
+  // The important inputs are separated from the negligible ones by their intervals.
+  for (int i = 4; i < 8; ++i) EXPECT_LT(m.mu_star_upper[i], m.mu_star_lower[3]) << i;
+}
+
+TEST(Morris, FailedRunsDropTheirTrajectories) {
+  const std::vector<double> c{1.0, 2.0, -3.0};
+  const MorrisDesign design = morris_design(3, 10, 4, 5);
+  Eigen::VectorXd y = outputs(design, [&](const double* u) { return linear_model(u, c); });
+  const Eigen::VectorXd clean = y;
+  y[2 * 4 + 1] = std::numeric_limits<double>::quiet_NaN();   // trajectory 2
+  y[7 * 4 + 3] = std::numeric_limits<double>::infinity();    // trajectory 7
+  const MorrisResult m = morris_effects(design, y, {});
+  EXPECT_EQ(m.dropped_trajectories, (std::vector<int>{2, 7}));
+  EXPECT_EQ(m.trajectories_used, 8);
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(m.mu[i], c[i], 1e-12);
+  // g-function: the same as the design without those trajectories.
+  const std::vector<double> a{0.0, 1.0, 9.0};
+  Eigen::VectorXd g = outputs(design, [&](const double* u) { return sobol_g(u, a); });
+  const MorrisResult all = morris_effects(design, g, {});
+  g[2 * 4] = std::numeric_limits<double>::quiet_NaN();
+  const MorrisResult without = morris_effects(design, g, {});
+  MorrisDesign reduced = design;
+  reduced.trajectories = 9;
+  reduced.points.resize(9 * 4, 3);
+  reduced.changed_input.clear();
+  reduced.step.clear();
+  Eigen::VectorXd g_reduced(9 * 4);
+  for (int t = 0, kept = 0; t < 10; ++t) {
+    if (t == 2) continue;
+    reduced.points.middleRows(kept * 4, 4) = design.points.middleRows(t * 4, 4);
+    g_reduced.segment(kept * 4, 4) = g.segment(t * 4, 4);
+    for (int k = 0; k < 3; ++k) {
+      reduced.changed_input.push_back(design.changed_input[t * 3 + k]);
+      reduced.step.push_back(design.step[t * 3 + k]);
+    }
+    ++kept;
+  }
+  const MorrisResult reference = morris_effects(reduced, g_reduced, {});
+  EXPECT_LT((without.mu_star - reference.mu_star).cwiseAbs().maxCoeff(), 1e-14);
+  EXPECT_LT((without.sigma - reference.sigma).cwiseAbs().maxCoeff(), 1e-14);
+  EXPECT_GT((without.mu_star - all.mu_star).cwiseAbs().maxCoeff(), 0.0);
+  // Nothing left: an error, not NaN effects.
+  EXPECT_THROW(morris_effects(design, Eigen::VectorXd::Constant(y.size(), std::nan("")), {}),
+               std::invalid_argument);
+  EXPECT_THROW(morris_effects(design, Eigen::VectorXd::Zero(5), {}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rover::study

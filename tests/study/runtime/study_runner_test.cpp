@@ -1,0 +1,84 @@
+// Checkpoint and resume of the study runner (study/runtime/study_runner.cpp), single process.
+#include "study/runtime/study_runner.hpp"
+
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+#include "io/checkpoint.hpp"
+#include "test_support.hpp"
+
+namespace rover::study {
+namespace {
+
+TEST(StudyRunner, ResumeComputesOnlyWhatIsMissing) {
+  const std::string results = rover::testing::temp_dir() + "/study.h5";
+  // An interrupted study: 3 of 8 runs in the checkpoint.
+  {
+    io::ResultCheckpoint checkpoint(results, "fp-1");
+    for (int i : {0, 4, 7}) checkpoint.add({i, 0, "", {10.0 * i}});
+    checkpoint.save();
+  }
+  std::vector<int> computed;
+  auto compute = [&](int i) {
+    computed.push_back(i);
+    return TaskResult{i, 0, "", {10.0 * i}};
+  };
+  StudyRunOptions options;
+  options.results_path = results;
+  options.fingerprint = "fp-1";
+  options.resume = true;
+  options.label = "test";
+  options.progress_interval_s = 0;
+  const auto all = run_study_tasks(8, compute, options);
+  EXPECT_EQ(computed, (std::vector<int>{1, 2, 3, 5, 6}));
+  ASSERT_EQ(all.size(), 8u);
+  for (int i = 0; i < 8; ++i) {
+    EXPECT_EQ(all[i].index, i);
+    EXPECT_EQ(all[i].values, std::vector<double>{10.0 * i});
+  }
+  // A second resume has nothing left to do.
+  computed.clear();
+  run_study_tasks(8, compute, options);
+  EXPECT_TRUE(computed.empty());
+  remove_checkpoint(results);
+  EXPECT_FALSE(std::filesystem::exists(io::ResultCheckpoint::path_for(results)));
+}
+
+TEST(StudyRunner, ResumeRefusesACheckpointOfAnotherConfiguration) {
+  const std::string results = rover::testing::temp_dir() + "/study.h5";
+  {
+    io::ResultCheckpoint checkpoint(results, "fp-old");
+    checkpoint.add({0, 0, "", {1.0}});
+    checkpoint.save();
+  }
+  StudyRunOptions options;
+  options.results_path = results;
+  options.fingerprint = "fp-new";
+  options.resume = true;
+  options.label = "test";
+  options.progress_interval_s = 0;
+  EXPECT_THROW(run_study_tasks(2, [](int i) { return TaskResult{i, 0, "", {}}; }, options),
+               std::runtime_error);
+}
+
+TEST(StudyRunner, WithoutResumeEverythingIsComputedAgain) {
+  const std::string results = rover::testing::temp_dir() + "/study.h5";
+  {
+    io::ResultCheckpoint checkpoint(results, "fp");
+    checkpoint.add({0, 0, "", {1.0}});
+    checkpoint.save();
+  }
+  int calls = 0;
+  StudyRunOptions options;
+  options.results_path = results;
+  options.fingerprint = "fp";
+  options.resume = false;
+  options.label = "test";
+  options.progress_interval_s = 0;
+  run_study_tasks(3, [&](int i) { ++calls; return TaskResult{i, 0, "", {}}; }, options);
+  EXPECT_EQ(calls, 3);
+}
+
+}  // namespace
+}  // namespace rover::study

@@ -1,0 +1,268 @@
+// Calibration (study/studies/calibration.cpp, study/studies/calibration_mcmc.cpp): the time
+// offset, the Gaussian likelihood and the posterior against closed forms, and
+// the study file's checks; and the regression of the response-surface sweep
+// (study/studies/surface.cpp).
+#include "study/studies/calibration.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "io/json_reader.hpp"
+#include "study/studies/calibration_mcmc.hpp"
+#include "study/estimators/ensemble_sampler.hpp"
+#include "study/studies/surface.hpp"
+#include "test_support.hpp"
+
+namespace rover::study {
+namespace {
+
+TEST(Calibration, BestOffsetRecoversAKnownShift) {
+  // A drop-like curve: constant, a smooth dip, constant.
+  std::vector<double> t, z;
+  for (int k = 0; k <= 1000; ++k) {
+    t.push_back(k * 1e-3);
+    z.push_back(0.25 - 0.05 * std::exp(-std::pow((t.back() - 0.3) / 0.08, 2)));
+  }
+  const double offset = 0.0437;
+  std::vector<double> td, zd;
+  for (int k = 0; k <= 400; ++k) {
+    td.push_back(k * 2.5e-3);
+    zd.push_back(0.25 - 0.05 * std::exp(-std::pow((td.back() - offset - 0.3) / 0.08, 2)));
+  }
+  const double found = best_offset(t, z, td, zd, -0.2, 0.2);
+  EXPECT_NEAR(found, offset, 2e-5);
+  EXPECT_LT(shifted_rms(t, z, td, zd, found), 1e-5);
+  EXPECT_GT(shifted_rms(t, z, td, zd, 0.0), 1e-3);
+  // The residuals are the RMS's terms.
+  const std::vector<double> r = shifted_residuals(t, z, td, zd, 0.0);
+  double ss = 0;
+  for (double v : r) ss += v * v;
+  EXPECT_NEAR(std::sqrt(ss / static_cast<double>(r.size())), shifted_rms(t, z, td, zd, 0.0), 1e-15);
+}
+
+TEST(Calibration, GaussianLogLikelihoodIsTheNormalDensity) {
+  // Two residuals 0.1 and -0.2 with sd 0.5: sum of log N(r; 0, 0.25).
+  const double sd = 0.5;
+  double expected = 0;
+  for (double r : {0.1, -0.2})
+    expected += -0.5 * std::log(2 * std::numbers::pi * sd * sd) - r * r / (2 * sd * sd);
+  EXPECT_NEAR(gaussian_log_likelihood({0.1, -0.2}, sd), expected, 1e-14);
+  // Maximised over sd at the RMS: d/dsd = 0 there.
+  const std::vector<double> r{0.3, -0.1, 0.2, 0.05};
+  double ss = 0;
+  for (double v : r) ss += v * v;
+  const double rms = std::sqrt(ss / 4), h = 1e-6;
+  EXPECT_GT(gaussian_log_likelihood(r, rms), gaussian_log_likelihood(r, rms * (1 + 1e-2)));
+  EXPECT_GT(gaussian_log_likelihood(r, rms), gaussian_log_likelihood(r, rms * (1 - 1e-2)));
+  EXPECT_NEAR((gaussian_log_likelihood(r, rms + h) - gaussian_log_likelihood(r, rms - h)) / (2 * h), 0.0, 1e-6);
+}
+
+TEST(Calibration, LogDensityOutsideThePriorSkipsTheModel) {
+  int calls = 0;
+  const ResidualFunction residuals = [&](const std::vector<double>&) {
+    ++calls;
+    return std::optional<std::vector<std::vector<double>>>(std::vector<std::vector<double>>{{0.0}});
+  };
+  const std::vector<Distribution> priors{uniform(0.0, 1.0)};
+  EXPECT_EQ(calibration_log_density(priors, log_uniform(1e-3, 1.0), std::nullopt, 1, Eigen::Vector2d(1.5, 0.1), residuals),
+            -std::numeric_limits<double>::infinity());
+  EXPECT_EQ(calibration_log_density(priors, log_uniform(1e-3, 1.0), std::nullopt, 1, Eigen::Vector2d(0.5, 2.0), residuals),
+            -std::numeric_limits<double>::infinity());
+  EXPECT_EQ(calls, 0);
+  // A failed model run is -inf too.
+  EXPECT_EQ(calibration_log_density(priors, {}, 0.1, 1, Eigen::VectorXd::Constant(1, 0.5),
+                                    [](const std::vector<double>&) { return std::optional<std::vector<std::vector<double>>>(); }),
+            -std::numeric_limits<double>::infinity());
+  // Inside: prior + likelihood.
+  EXPECT_NEAR(calibration_log_density(priors, {}, 0.1, 1, Eigen::VectorXd::Constant(1, 0.5), residuals),
+              std::log(1.0) + gaussian_log_likelihood({0.0}, 0.1), 1e-14);
+  // Two curves, each with its own sampled noise sd: the sum of their likelihoods.
+  const ResidualFunction two = [](const std::vector<double>&) {
+    return std::optional<std::vector<std::vector<double>>>(std::vector<std::vector<double>>{{0.1, -0.1}, {0.3}});
+  };
+  EXPECT_NEAR(calibration_log_density(priors, log_uniform(1e-3, 1.0), std::nullopt, 2, Eigen::Vector3d(0.5, 0.2, 0.4), two),
+              log_uniform(1e-3, 1.0).log_pdf(0.2) + log_uniform(1e-3, 1.0).log_pdf(0.4) +
+                  gaussian_log_likelihood({0.1, -0.1}, 0.2) + gaussian_log_likelihood({0.3}, 0.4),
+              1e-12);
+}
+
+// y_i = a + b x_i + e_i with known sd and a flat prior: the posterior is
+// Normal((X^T X)^-1 X^T y, sd^2 (X^T X)^-1) (Gelman et al. 2013, section 14.2).
+// Sampled through calibration_log_density and the ensemble sampler.
+TEST(Calibration, LinearGaussianPosteriorMatchesTheClosedForm) {
+  const int n = 20;
+  const double sd = 0.3;
+  Eigen::MatrixXd X(n, 2);
+  Eigen::VectorXd y(n);
+  for (int i = 0; i < n; ++i) {
+    const double x = -1.0 + 2.0 * i / (n - 1);
+    X(i, 0) = 1.0;
+    X(i, 1) = x;
+    y[i] = 0.7 - 1.3 * x + sd * std::sin(7.0 * i);  // fixed "noise"
+  }
+  const Eigen::Matrix2d precision = X.transpose() * X;
+  const Eigen::Vector2d mean = precision.ldlt().solve(X.transpose() * y);
+  const Eigen::Matrix2d covariance = sd * sd * precision.inverse();
+
+  const std::vector<Distribution> priors{uniform(-20, 20), uniform(-20, 20)};
+  const BatchLogDensity batch = [&](const DesignMatrix& points) {
+    Eigen::VectorXd lp(points.rows());
+    for (Eigen::Index w = 0; w < points.rows(); ++w)
+      lp[w] = calibration_log_density(priors, {}, sd, 1, points.row(w).transpose(), [&](const std::vector<double>& ab) {
+        std::vector<double> r(n);
+        for (int i = 0; i < n; ++i) r[i] = ab[0] + ab[1] * X(i, 1) - y[i];
+        return std::optional<std::vector<std::vector<double>>>(std::vector<std::vector<double>>{r});
+      });
+    return lp;
+  };
+  const int walkers = 16;
+  DesignMatrix start(walkers, 2);
+  for (int w = 0; w < walkers; ++w) {
+    start(w, 0) = 0.1 * std::cos(w);
+    start(w, 1) = 0.1 * std::sin(3.0 * w);
+  }
+  const EnsembleChain chain =
+      run_ensemble(initial_ensemble_state(start, batch), batch, {.walkers = walkers, .seed = 42}, 3000);
+  const long burn = 500;
+  for (int k = 0; k < 2; ++k) {
+    const Eigen::MatrixXd kept = chain.samples[k].bottomRows(3000 - burn);
+    const double m = kept.mean();
+    const double s = std::sqrt((kept.array() - m).square().mean());
+    const double exact_sd = std::sqrt(covariance(k, k));
+    // ~40000 draws with tau ~ 30 steps: ESS ~ 1300, so the mean is known to
+    // ~ 0.03 sd and the sd to ~ 2 %.
+    EXPECT_NEAR(m, mean[k], 0.15 * exact_sd) << k;
+    EXPECT_NEAR(s, exact_sd, 0.08 * exact_sd) << k;
+  }
+}
+
+// Every channel a measured curve may be is a height of study/model/qoi.hpp, in
+// metres (the data's unit); the names are the study file's.
+TEST(Calibration, ChannelsAreTheHeightChannels) {
+  std::vector<std::string> names;
+  for (const CalibrationChannel& c : calibration_channels()) {
+    names.push_back(c.name);
+    EXPECT_EQ(c.name, channel_name(c.channel));
+    EXPECT_STREQ(channel_unit(c.channel), "m") << c.name;
+    EXPECT_EQ(&calibration_channel(c.name), &c);
+  }
+  EXPECT_EQ(names, (std::vector<std::string>{"B_l_z", "B_r_z", "G_z"}));
+  try {
+    (void)calibration_channel("pitch");
+    ADD_FAILURE() << "pitch (radians) accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "unknown channel 'pitch' (valid: B_l_z, B_r_z, G_z)");
+  }
+}
+
+// --- the study file's checks -------------------------------------------------
+
+std::string write_file(const std::string& dir, const std::string& name, const std::string& text) {
+  const std::string path = dir + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+std::string study_text(const std::string& data, const std::string& extra = "") {
+  return R"({"type": "calibration", "name": "c", "scenario": ")" +
+         rover::testing::source_path("configs/scenarios/drop_horizontal.json") + R"(", "data": ")" + data +
+         R"(", "fit": ["c_q"], "bounds": {"c_q": [0.02, 1.0]}, "initial": {"c_q": 0.1})" + extra + "}";
+}
+
+// Loading must fail with a ConfigError whose message names the field.
+void expect_refused(const std::string& path, const std::string& field, const CalibrationOverrides& o = {}) {
+  try {
+    load_calibration_study(path, o);
+    ADD_FAILURE() << "accepted; expected an error naming " << field;
+  } catch (const io::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+  }
+}
+
+TEST(Calibration, StudyFileChecksNameTheField) {
+  const std::string dir = rover::testing::temp_dir();
+  const std::string good = rover::testing::source_path("configs/data/drop_horizontal_synthetic.csv");
+  const std::string study = write_file(dir, "good.json", study_text(good));
+  const CalibrationStudy s = load_calibration_study(study);
+  ASSERT_EQ(s.datasets.size(), 1u);
+  EXPECT_EQ(s.datasets[0].t.size(), 501u);
+  EXPECT_EQ(s.datasets[0].channel, "B_l_z");
+  EXPECT_EQ(s.method, CalibrationMethod::optimize);
+
+  // Bad data: the checks of `rover compare`.
+  const std::string one_row = write_file(dir, "one_row.csv", "t,z\n0,0.25\n");
+  const std::string empty = write_file(dir, "empty.csv", "t,z\n");
+  const std::string backwards = write_file(dir, "backwards.csv", "t,z\n0,0.25\n0.2,0.24\n0.1,0.23\n");
+  const std::string duplicate = write_file(dir, "duplicate.csv", "t,z\n0,0.25\n0.1,0.24\n0.1,0.23\n");
+  const std::string huge = write_file(dir, "huge.csv", "t,z\n0,0.25\n0.1,1e300\n0.2,0.23\n");
+  for (const std::string& data : {one_row, empty, backwards, duplicate, huge})
+    expect_refused(write_file(dir, "bad_data.json", study_text(data)), data);
+
+  // Bad options.
+  expect_refused(write_file(dir, "a.json", study_text(good, R"(, "algorithm": "LD_LBFGS")")), "'algorithm'");
+  expect_refused(write_file(dir, "b.json", study_text(good, R"(, "starts": 0)")), "'starts'");
+  expect_refused(write_file(dir, "c.json", study_text(good, R"(, "max_evaluations": -1)")), "'max_evaluations'");
+  expect_refused(study, "'starts'", {.starts = 0});
+  expect_refused(study, "'max_evaluations'", {.max_evaluations = -1});
+  expect_refused(study, "'algorithm'", {.algorithm = "GD_STOGO"});
+  expect_refused(write_file(dir, "d.json", study_text(good, R"(, "priors": {"c_q": {"distribution": "uniform", "min": 0.5, "max": 0.1}})")),
+                 "'priors.c_q");
+  expect_refused(write_file(dir, "e.json", study_text(good, R"(, "method": "mcmc", "mcmc": {"walkers": 2})")),
+                 "'mcmc.walkers'");
+  // c_q and the noise sd are sampled: 4 walkers at least, and the message says why.
+  expect_refused(write_file(dir, "e.json", study_text(good, R"(, "method": "mcmc", "mcmc": {"walkers": 2})")),
+                 "got 2; must be even and at least 4, twice the 2 sampled parameters (c_q, noise_sd)");
+  expect_refused(write_file(dir, "e.json", study_text(good, R"(, "method": "mcmc", "mcmc": {"walkers": 5})")),
+                 "got 5; must be even");
+  EXPECT_EQ(load_calibration_study(write_file(dir, "e.json", study_text(good, R"(, "method": "mcmc", "mcmc": {"walkers": 4})")))
+                .mcmc.walkers, 4);
+  expect_refused(write_file(dir, "f.json", study_text(good, R"(, "method": "nuts")")), "'method'");
+  // Joint fits: a list of curves, each with a known channel.
+  const std::string skewed = rover::testing::source_path("configs/data/drop_skewed_synthetic.csv");
+  const std::string joint = R"(, "data": [{"file": ")" + good + R"("}, {"file": ")" + skewed +
+                            R"(", "scenario": ")" + rover::testing::source_path("configs/scenarios/drop_skewed.json") +
+                            R"(", "channel": "B_r_z"}])";
+  std::string text = study_text(good);
+  text = text.substr(0, text.find(R"(, "data")")) + joint + text.substr(text.find(R"(, "fit")"));
+  const CalibrationStudy two = load_calibration_study(write_file(dir, "joint.json", text));
+  ASSERT_EQ(two.datasets.size(), 2u);
+  EXPECT_EQ(two.datasets[1].channel, "B_r_z");
+  EXPECT_NE(two.datasets[1].setup.scenario.initial_q, two.datasets[0].setup.scenario.initial_q);
+  std::string bad_channel = text;
+  bad_channel.replace(bad_channel.find("B_r_z"), 5, "B_x_z");
+  expect_refused(write_file(dir, "g.json", bad_channel), "'data[1].channel'");
+  expect_refused(write_file(dir, "g.json", bad_channel), "unknown channel 'B_x_z' (valid: B_l_z, B_r_z, G_z)");
+  std::string centre = text;
+  centre.replace(centre.find("B_r_z"), 5, "G_z");
+  EXPECT_EQ(load_calibration_study(write_file(dir, "g.json", centre)).datasets[1].channel, "G_z");
+  std::string with_offset = text;
+  with_offset.replace(with_offset.find(R"("fit": ["c_q"])"), 14, R"("fit": ["c_q", "time_offset"])");
+  expect_refused(write_file(dir, "h.json", with_offset), "'fit'");
+  const std::string no_file = text.substr(0, text.find(R"(, "data")")) + R"(, "data": [{"file": ")" + good +
+                              R"("}, {"channel": "B_r_z"}])" + text.substr(text.find(R"(, "fit")"));
+  expect_refused(write_file(dir, "i.json", no_file), "'data[1].file'");
+
+  // Every option that changes a result changes the fingerprint.
+  EXPECT_NE(load_calibration_study(study, {.max_evaluations = 7}).fingerprint, s.fingerprint);
+  EXPECT_NE(load_calibration_study(study, {.algorithm = "LN_SBPLX"}).fingerprint, s.fingerprint);
+  const std::string other = write_file(dir, "other.csv", "t,z\n0,0.25\n0.1,0.24\n0.2,0.23\n");
+  EXPECT_NE(load_calibration_study(study, {.data_path = other}).fingerprint, s.fingerprint);
+  EXPECT_EQ(load_calibration_study(study).fingerprint, s.fingerprint);
+}
+
+TEST(Surface, LinearRegressionOfAnExactLine) {
+  const auto r = linear_regression({1e2, 1e3, 1e4, 1e5}, {0.5 + 2e-5 * 1e2, 0.5 + 2e-5 * 1e3,
+                                                         0.5 + 2e-5 * 1e4, 0.5 + 2e-5 * 1e5});
+  EXPECT_NEAR(r[0], 0.5, 1e-12);
+  EXPECT_NEAR(r[1], 2e-5, 1e-17);
+  EXPECT_NEAR(r[2], 1.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace rover::study
