@@ -13,6 +13,7 @@
 namespace rover::study {
 namespace {
 
+constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 Distribution parse(const std::string& text, double nominal = kNaN) {
