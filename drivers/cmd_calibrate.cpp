@@ -25,6 +25,8 @@ int run_calibrate_command(CalibrateOptions o) {
   FlagChecks checks;
   const study::CalibrationOverrides& v = o.overrides;
   if (v.starts && *v.starts < 1) checks.add("--starts must be at least 1, got " + std::to_string(*v.starts));
+  if (v.max_iterations && *v.max_iterations < 1)
+    checks.add("--max-iterations must be at least 1, got " + std::to_string(*v.max_iterations));
   if (v.max_evaluations && *v.max_evaluations < 1)
     checks.add("--max-evaluations must be at least 1, got " + std::to_string(*v.max_evaluations));
   if (v.walkers && (*v.walkers < 2 || *v.walkers % 2 != 0))
@@ -54,8 +56,8 @@ int run_calibrate_command(CalibrateOptions o) {
     }
   }
   return run_interruptible("calibrate", [&] {
-    study::run_calibration(s, o.control);
-    return 0;
+    const study::CalibrationOutcome outcome = study::run_calibration(s, o.control);
+    return outcome.trusted ? 0 : 2;
   });
 }
 
@@ -88,7 +90,10 @@ const RegisterCommand registration{
                      "Any derivative-free NLopt algorithm by name: LN_BOBYQA, LN_NELDERMEAD, LN_SBPLX, "
                      "GN_DIRECT_L, GN_CRS2_LM, GN_ISRES, G_MLSL_LDS (with a BOBYQA local search), ...");
       app.add_option("--starts", o->overrides.starts, "Number of independent starts (fanned out over ranks)");
-      app.add_option("--max-evaluations", o->overrides.max_evaluations, "Simulations per start");
+      app.add_option("--max-evaluations", o->overrides.max_evaluations,
+                     "Simulations per start of an NLopt first search (--algorithm)");
+      app.add_option("--max-iterations", o->overrides.max_iterations,
+                     "Least-squares iterations (Jacobians) at most; default 10 + 5 per fitted parameter");
       app.add_flag("--profile", o->overrides.profile,
                    "After the fit: profile-likelihood intervals of every fitted parameter (the others "
                    "re-optimised along a grid), a PNG each; says when a parameter is not identifiable");

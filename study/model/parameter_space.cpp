@@ -13,6 +13,10 @@ namespace rover::study {
 namespace {
 
 constexpr const char* kScenarioPrefix = "scenario.";
+// The common factor of the eight preloads (alias "M0_scale"): not a number of
+// the rover file but a parameter of the space, nominal 1.
+constexpr const char* kPreloadScale = "s_structure.preload_scale";
+constexpr const char* kPreloadMean = "s_structure.preload_mean";
 
 // Rover keys that are derived or labels, not parameters.
 bool excluded_rover_key(const std::string& path) {
@@ -114,7 +118,8 @@ std::string scenario_inputs_path(const std::string& rover_name) {
 }
 
 std::map<std::string, std::string> alias_table() {
-  std::map<std::string, std::string> table{{"f", "s_structure.f"}, {"c_q", "s_structure.c_q"}};
+  std::map<std::string, std::string> table{
+      {"f", "s_structure.f"}, {"c_q", "s_structure.c_q"}, {"M0_scale", kPreloadScale}};
   for (int i = 0; i < kNumSJoints; ++i) {
     const std::string target = "s_structure.preload_mean[" + std::to_string(i) + "]";
     table[preload_alias(i)] = target;
@@ -154,6 +159,7 @@ ParameterSpace::ParameterSpace(const io::Json& rover, const io::Json& scenario)
   for (const std::string& n : scenario_names)
     if (!excluded_scenario_key(n)) names_.push_back(kScenarioPrefix + n);
   for (const std::string& n : optional_scenario_keys()) names_.push_back(kScenarioPrefix + n);
+  if (find(rover, kPreloadMean) != nullptr) names_.push_back(kPreloadScale);
   std::sort(names_.begin(), names_.end());
   names_.erase(std::unique(names_.begin(), names_.end()), names_.end());
 }
@@ -193,11 +199,12 @@ std::string ParameterSpace::canonical(const std::string& name) const {
       message += (first ? "" : ", ") + n;
       first = false;
     }
-  message += "), and the aliases f, c_q, M0_11 ... M0_42";
+  message += "), and the aliases f, c_q, M0_11 ... M0_42, M0_scale";
   throw std::invalid_argument(message);
 }
 
 double ParameterSpace::nominal(const std::string& name) const {
+  if (name == kPreloadScale) return 1.0;
   const io::Json* node = nullptr;
   if (name.rfind(kScenarioPrefix, 0) == 0) {
     node = find(*scenario_, name.substr(std::string(kScenarioPrefix).size()));
@@ -211,6 +218,17 @@ double ParameterSpace::nominal(const std::string& name) const {
 
 void ParameterSpace::apply(const std::string& name, double value, io::Json& rover,
                            io::Json& scenario) const {
+  if (name == kPreloadScale) {  // every preload, as the documents hold it now, times value
+    for (int i = 0; i < kNumSJoints; ++i) {
+      const std::string preload = std::string(kPreloadMean) + "[" + std::to_string(i) + "]";
+      io::Json& m = find_or_create(rover, preload);
+      m = m.get<double>() * value;
+      const std::string shadow = scenario_inputs_path(preload);
+      if (const io::Json* node = find(scenario, shadow); node != nullptr && node->is_number())
+        find_or_create(scenario, shadow) = node->get<double>() * value;
+    }
+    return;
+  }
   if (name.rfind(kScenarioPrefix, 0) == 0) {
     find_or_create(scenario, name.substr(std::string(kScenarioPrefix).size())) = value;
     return;

@@ -4,7 +4,10 @@
 // and of the scenario file, prefixed "scenario." ("scenario.initial_q.z",
 // "scenario.forward_speed"). docs/model.md §5 gives the paper's short names,
 // kept as aliases: "f", "c_q", "M0_11" ... "M0_42" (also "s_structure.M0_11"),
-// which address s_structure.f, s_structure.c_q and s_structure.preload_mean[i].
+// which address s_structure.f, s_structure.c_q and s_structure.preload_mean[i],
+// and "M0_scale", which addresses s_structure.preload_scale: a factor (nominal
+// 1) on all eight preloads, applied to the values the documents hold when it
+// is applied (so after any single preload set before it).
 //
 // Values are applied to copies of the two JSON documents (apply()), and the
 // run's scenario is built from them by io::build_scenario(), so a sample goes

@@ -23,6 +23,7 @@
 #include "io/plot.hpp"
 #include "study/studies/calibration_mcmc.hpp"
 #include "study/runtime/calibration_mpi.hpp"
+#include "study/studies/calibration_fit.hpp"
 #include "study/model/distribution_json.hpp"
 #include "study/estimators/least_squares_uncertainty.hpp"
 #include "study/runtime/study_runner.hpp"
@@ -30,19 +31,148 @@
 namespace rover::study {
 namespace {
 
-const std::vector<std::string> kFittable{"c_q", "f", "M0_scale", "time_offset"};
+std::string format_number(double v, int digits = 4) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.*g", digits, v);
+  return buffer;
+}
 
-// Simulation inputs for parameter values in natural units.
-ModelInputs inputs_for(const CalibrationStudy& s, const std::vector<double>& values) {
-  ModelInputs in = s.common.setup.inputs;
-  for (std::size_t k = 0; k < s.fit.size(); ++k) {
-    const std::string& name = s.fit[k].name;
-    if (name == "c_q") in.damping_c_q = values[k];
-    if (name == "f") in.sharpness_f = values[k];
-    if (name == "M0_scale")
-      for (auto& m : in.preload_Nm) m *= values[k];
+constexpr const char* kTimeOffset = "time_offset";
+constexpr const char* kLeastSquaresAlgorithm = "levenberg_marquardt";
+// The reference integrator of the integration check: Dormand-Prince at the
+// tightest tolerances that run through every contact event of the drops.
+constexpr double kReferenceRelativeTolerance = 1e-8;
+constexpr double kReferenceAbsoluteTolerance = 1e-11;
+
+std::string describe_integrator(const IntegratorSettings& i) {
+  return std::string(integrator_name(i.method)) + " at rtol " + format_number(i.relative_tolerance, 3) + ", atol " +
+         format_number(i.absolute_tolerance, 3);
+}
+
+IntegratorSettings reference_integrator() {
+  IntegratorSettings settings = default_integrator_settings(IntegratorMethod::kDormandPrince45);
+  settings.relative_tolerance = kReferenceRelativeTolerance;
+  settings.absolute_tolerance = kReferenceAbsoluteTolerance;
+  return settings;
+}
+
+// Positive scale parameters are searched in log10 unless the study says
+// otherwise: the S-joints' sharpness f and every stiffness (a key k or k_*).
+bool log_scale_by_default(const std::string& canonical) {
+  const std::string key = canonical.substr(canonical.rfind('.') + 1);
+  return canonical == "s_structure.f" || key == "k" || key.rfind("k_", 0) == 0;
+}
+
+// Every dataset's model: its scenario, the simulated parameters, its channel
+// and the study's integrator.
+void build_dataset_models(CalibrationStudy& s) {
+  std::vector<std::string> canonical;
+  for (std::size_t k : s.simulated()) canonical.push_back(s.fit[k].canonical);
+  for (CalibrationDataset& d : s.datasets)
+    d.model = std::make_shared<const RoverStudyModel>(d.sources, canonical, std::vector<QoiSpec>{},
+                                                      std::vector<Channel>{calibration_channel(d.channel).channel},
+                                                      s.integrator);
+}
+
+// The names of "fit" (or of --fit, whose errors name the flag).
+std::vector<std::string> fit_names(const io::JsonReader& r, const CalibrationOverrides& o) {
+  std::vector<std::string> names;
+  if (!o.fit.empty()) {
+    (void)r.has("fit");
+    return o.fit;
   }
-  return in;
+  const io::Json& fit = r.raw("fit");
+  if (!fit.is_array() || fit.empty()) r.fail("fit", "expected a non-empty list of parameter names");
+  for (const auto& n : fit) {
+    if (!n.is_string()) r.fail("fit", "expected parameter names (strings)");
+    names.push_back(n.get<std::string>());
+  }
+  return names;
+}
+
+// The canonical name of a fitted parameter; an unknown one is refused with
+// the nearest names, blamed on --fit or on the study's "fit".
+std::string canonical_fit_name(const io::JsonReader& r, const CalibrationOverrides& o,
+                               const ParameterSpace& space, const std::string& name) {
+  if (name == kTimeOffset) return "";
+  try {
+    return space.canonical(name);
+  } catch (const std::invalid_argument& e) {
+    if (!o.fit.empty()) throw io::ConfigError(std::string("--fit: ") + e.what());
+    r.fail("fit", e.what());
+  }
+  return "";
+}
+
+void read_fit_parameters(const io::JsonReader& r, const CalibrationOverrides& o, const ParameterSpace& space,
+                         CalibrationStudy& s) {
+  const io::JsonReader bounds = r.child("bounds");
+  const io::JsonReader initial = r.child("initial");
+  const io::Json no_scales = io::Json::object();
+  const io::JsonReader log_scale = r.has("log_scale") ? r.child("log_scale") : io::JsonReader(no_scales, s.common.path);
+  for (const std::string& name : fit_names(r, o)) {
+    FitParameter p;
+    p.name = name;
+    p.canonical = canonical_fit_name(r, o, space, name);
+    for (const auto& q : s.fit)
+      if (q.name == name || (!p.canonical.empty() && q.canonical == p.canonical))
+        r.fail("fit", "parameter '" + name + "' is listed twice");
+    if (name == kTimeOffset && s.datasets.size() > 1)
+      r.fail("fit", "time_offset can be fitted for one curve only; with several each curve's offset is profiled");
+    const auto b = bounds.fixed_numbers<2>(name);
+    p.lower = b[0];
+    p.upper = b[1];
+    if (!(p.lower < p.upper))
+      bounds.fail(name, "bounds [" + format_number(p.lower, 6) + ", " + format_number(p.upper, 6) +
+                            "] reversed or empty: lower must be below upper");
+    p.log_scale = log_scale.has(name) ? log_scale.boolean(name) : log_scale_by_default(p.canonical);
+    if (p.log_scale && !(p.lower > 0))
+      bounds.fail(name, "a log-scale parameter needs positive bounds, got [" + format_number(p.lower, 6) + ", " +
+                            format_number(p.upper, 6) + "]");
+    p.initial = initial.has(name) ? initial.number(name)
+                                  : (p.canonical.empty() ? 0.0 : space.nominal(p.canonical));
+    if (!(p.initial >= p.lower && p.initial <= p.upper))
+      initial.fail(name, "initial value " + format_number(p.initial, 6) + " outside the bounds [" +
+                             format_number(p.lower, 6) + ", " + format_number(p.upper, 6) + "]");
+    p.prior = p.log_scale ? log_uniform(p.lower, p.upper) : uniform(p.lower, p.upper);
+    s.fit.push_back(p);
+  }
+  if (r.has("log_scale")) log_scale.finish();
+  (void)bounds;
+  (void)initial;
+}
+
+// Bounds and initial values of parameters not fitted are accepted (a study
+// file may list several so that --fit can choose), but each must name a
+// parameter; the offset range is always used.
+void bounds_of_unfitted_parameters(const io::JsonReader& r, const ParameterSpace& space, CalibrationStudy& s) {
+  const io::JsonReader bounds = r.child("bounds");
+  const io::JsonReader initial = r.child("initial");
+  auto check_name = [&](const io::JsonReader& where, const std::string& name) {
+    if (name == kTimeOffset) return;
+    try {
+      (void)space.canonical(name);
+    } catch (const std::invalid_argument& e) {
+      where.fail(name, e.what());
+    }
+  };
+  for (const auto& [name, value] : r.raw("bounds").items()) {
+    check_name(bounds, name);
+    const auto b = bounds.fixed_numbers<2>(name);
+    if (!(b[0] < b[1])) bounds.fail(name, "bounds reversed or empty: lower must be below upper");
+    if (name == kTimeOffset) {
+      s.offset_min_s = b[0];
+      s.offset_max_s = b[1];
+    }
+  }
+  if (r.has("initial"))
+    for (const auto& [name, value] : r.raw("initial").items()) {
+      check_name(initial, name);
+      const double v = initial.number(name);
+      if (name == kTimeOffset) s.offset_initial_s = v;
+    }
+  bounds.finish();
+  initial.finish();
 }
 
 // One evaluation of the objective: per dataset the offset, the pooled RMS,
@@ -84,16 +214,30 @@ Evaluation evaluate(const CalibrationStudy& s, const std::vector<double>& values
 double to_internal(const FitParameter& p, double v) { return p.log_scale ? std::log10(v) : v; }
 double to_natural(const FitParameter& p, double x) { return p.log_scale ? std::pow(10.0, x) : x; }
 
-std::string format_number(double v, int digits = 4) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*g", digits, v);
-  return buffer;
-}
-
 }  // namespace
 
 bool CalibrationStudy::offset_fitted() const {
   return std::any_of(fit.begin(), fit.end(), [](const FitParameter& p) { return p.name == "time_offset"; });
+}
+
+std::vector<std::size_t> CalibrationStudy::simulated() const {
+  std::vector<std::size_t> out;
+  for (std::size_t k = 0; k < fit.size(); ++k)
+    if (fit[k].name != kTimeOffset) out.push_back(k);
+  return out;
+}
+
+std::vector<double> CalibrationStudy::simulated_values(const std::vector<double>& values) const {
+  std::vector<double> out;
+  for (std::size_t k : simulated()) out.push_back(values.at(k));
+  return out;
+}
+
+CalibrationStudy CalibrationStudy::with_integrator(const IntegratorSettings& settings) const {
+  CalibrationStudy copy = *this;
+  copy.integrator = settings;
+  build_dataset_models(copy);
+  return copy;
 }
 
 std::vector<double> shifted_residuals(const std::vector<double>& t, const std::vector<double>& z,
@@ -173,17 +317,17 @@ CalibrationCurve simulate_calibration_curve(const CalibrationStudy& s, std::size
                                             const std::vector<double>& values) {
   const CalibrationDataset& d = s.datasets.at(dataset);
   CalibrationCurve curve;
-  try {
-    const Trajectory tr = simulate(d.setup.model, d.setup.scenario, inputs_for(s, values));
-    if (!tr.ok() || tr.t.size() < 2) {
-      curve.message = "simulation failed (status " + std::to_string(static_cast<int>(tr.status)) + ")";
-      return curve;
-    }
+  RunRecord failure;
+  const std::vector<double> inputs = s.simulated_values(values);
+  const std::optional<Trajectory> tr = d.model->simulate_at(inputs.data(), &failure);
+  if (!tr) {
+    curve.message = failure.message;
+  } else if (!tr->ok() || tr->t.size() < 2) {
+    curve.message = "simulation failed (" + std::string(status_name(tr->status)) + "): " + tr->message;
+  } else {
     curve.ok = true;
-    curve.t_s = tr.t;
-    curve.z_m = channel_values(tr, calibration_channel(d.channel).channel);
-  } catch (const std::exception& e) {
-    curve.message = e.what();
+    curve.t_s = tr->t;
+    curve.z_m = channel_values(*tr, calibration_channel(d.channel).channel);
   }
   return curve;
 }
@@ -217,6 +361,9 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
   const io::JsonReader r(json, path);
   CalibrationStudy s;
   s.common = parse_study_common(r, "calibration");
+  s.integrator = r.has("integrator") ? s.common.setup.scenario.integrator
+                                     : default_integrator_settings(IntegratorMethod::kRosenbrockW);
+  s.integration_check.reference = reference_integrator();
   if (o.data_path.empty() && !r.has("data")) r.fail("data", "missing: give the measured curve here or with --data");
   const std::string study_scenario = io::resolve_relative(path, r.string("scenario"));
   auto add_dataset = [&](const std::string& file, const std::string& scenario, const std::string& channel) {
@@ -224,9 +371,8 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
     d.path = file;
     d.scenario_path = scenario;
     d.channel = channel;
-    d.setup = scenario == study_scenario ? s.common.setup : io::load_scenario(scenario);
-    if (r.has("integrator"))
-      d.setup.scenario.integrator = s.common.setup.scenario.integrator;
+    d.sources = io::read_scenario_sources(scenario);
+    (void)io::build_scenario(d.sources);  // the scenario's own checks, before any run
     // The checks `rover compare` makes (monotonic times, >= 3 rows, sane values).
     const io::MeasuredCurve curve = io::read_measured_curve(file);
     d.t = curve.t_s;
@@ -272,70 +418,31 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
   else if (method == "mcmc") s.method = CalibrationMethod::mcmc;
   else r.fail("method", "unknown method '" + method + "' (optimize or mcmc)");
 
-  std::vector<std::string> names;
-  if (!o.fit.empty()) {
-    names = o.fit;
-    (void)r.has("fit");
-  } else {
-    const io::Json& fit = r.raw("fit");
-    if (!fit.is_array() || fit.empty()) r.fail("fit", "expected a non-empty list of parameter names");
-    for (const auto& n : fit) {
-      if (!n.is_string()) r.fail("fit", "expected parameter names (strings)");
-      names.push_back(n.get<std::string>());
-    }
-  }
-  const io::JsonReader bounds = r.child("bounds");
-  const io::JsonReader initial = r.child("initial");
-  for (const std::string& name : names) {
-    if (std::find(kFittable.begin(), kFittable.end(), name) == kFittable.end())
-      r.fail("fit", "unknown parameter '" + name + "' (can fit: c_q, f, M0_scale, time_offset)");
-    for (const auto& p : s.fit)
-      if (p.name == name) r.fail("fit", "parameter '" + name + "' is listed twice");
-    if (name == "time_offset" && s.datasets.size() > 1)
-      r.fail("fit", "time_offset can be fitted for one curve only; with several each curve's offset is profiled");
-
-    FitParameter p;
-    p.name = name;
-    p.log_scale = name == "f";
-    const auto b = bounds.fixed_numbers<2>(name);
-    p.lower = b[0];
-    p.upper = b[1];
-    if (!(p.lower < p.upper)) bounds.fail(name, "bounds reversed or empty: lower must be below upper");
-    if (p.log_scale && !(p.lower > 0)) bounds.fail(name, "bounds of f must be positive");
-    p.initial = initial.number(name);
-    if (p.initial < p.lower || p.initial > p.upper) initial.fail(name, "initial value outside the bounds");
-    p.prior = p.log_scale ? log_uniform(p.lower, p.upper) : uniform(p.lower, p.upper);
-    s.fit.push_back(p);
-  }
-  // Bounds and initial values of parameters not fitted are accepted (a study
-  // file lists them all so --fit can choose); the offset range is always used.
-  for (const std::string& name : kFittable) {
-    if (bounds.has(name)) {
-      const auto b = bounds.fixed_numbers<2>(name);
-      if (!(b[0] < b[1])) bounds.fail(name, "bounds reversed or empty: lower must be below upper");
-      if (name == "time_offset") {
-        s.offset_min_s = b[0];
-        s.offset_max_s = b[1];
-      }
-    }
-    if (initial.has(name) && name == "time_offset") s.offset_initial_s = initial.number(name);
-    else if (initial.has(name)) initial.number(name);
-  }
-  bounds.finish();
-  initial.finish();
+  const ParameterSpace space(s.datasets.front().sources.rover, s.datasets.front().sources.scenario);
+  read_fit_parameters(r, o, space, s);
+  bounds_of_unfitted_parameters(r, space, s);
+  build_dataset_models(s);
+  for (CalibrationDataset& d : s.datasets)
+    if (d.t.size() < s.fit.size() + 2)
+      throw io::ConfigError(d.path + ": " + std::to_string(d.t.size()) + " rows for " +
+                            std::to_string(s.fit.size()) + " fitted parameters and a time offset: need at least " +
+                            std::to_string(s.fit.size() + 2));
 
   // Priors (used by the mcmc method; checked whatever the method).
   if (r.has("priors")) {
     const io::JsonReader priors = r.child("priors");
-    for (const std::string& name : kFittable) {
-      if (!priors.has(name)) continue;
-      const io::JsonReader prior = priors.child(name);
+    for (FitParameter& p : s.fit) {
+      if (!priors.has(p.name)) continue;
+      const io::JsonReader prior = priors.child(p.name);
       const Distribution d = parse_distribution(prior, std::numeric_limits<double>::quiet_NaN());
       std::string why;
-      if (!d.IsValid(&why)) priors.fail(name, why);
+      if (!d.IsValid(&why)) priors.fail(p.name, why);
+      // The prior is truncated to the bounds: it needs mass inside them.
+      if (!(d.cdf(p.upper) - d.cdf(p.lower) > 0.0) && d.kind != DistributionKind::kFixed)
+        priors.fail(p.name, d.describe() + " has no probability inside the bounds [" + format_number(p.lower, 6) +
+                                ", " + format_number(p.upper, 6) + "]");
       prior.finish();
-      for (auto& p : s.fit)
-        if (p.name == name) p.prior = d;
+      p.prior = d;
     }
     priors.finish();
   }
@@ -383,16 +490,19 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
                                " steps, got " + std::to_string(s.mcmc.discard));
 
   // Read every key even when the command line overrides it (no "unknown key").
-  const std::string configured_algorithm = r.string_or("algorithm", "LN_BOBYQA");
+  const std::string configured_algorithm = r.string_or("algorithm", kLeastSquaresAlgorithm);
   const int configured_evaluations = r.integer_or("max_evaluations", 40);
   const int configured_starts = r.integer_or("starts", 1);
   s.algorithm = !o.algorithm.empty() ? o.algorithm : configured_algorithm;
-  if (static_cast<int>(nlopt_algorithm_from_string(s.algorithm.c_str())) < 0)
-    r.fail("algorithm", "unknown NLopt algorithm '" + s.algorithm + "' (e.g. LN_BOBYQA, LN_NELDERMEAD, GN_DIRECT_L, GN_CRS2_LM)");
+  if (s.algorithm != kLeastSquaresAlgorithm && static_cast<int>(nlopt_algorithm_from_string(s.algorithm.c_str())) < 0)
+    r.fail("algorithm", "unknown algorithm '" + s.algorithm + "' (levenberg_marquardt, or an NLopt algorithm for a first search: "
+                        "LN_BOBYQA, LN_NELDERMEAD, GN_DIRECT_L, GN_CRS2_LM, ...)");
   if (s.algorithm.rfind("LD_", 0) == 0 || s.algorithm.rfind("GD_", 0) == 0)
     r.fail("algorithm", "'" + s.algorithm + "' needs gradients, which the simulated RMS does not have; "
                         "use a derivative-free algorithm (LN_BOBYQA, LN_SBPLX, LN_NELDERMEAD, GN_DIRECT_L, ...)");
   s.max_evaluations = o.max_evaluations ? *o.max_evaluations : configured_evaluations;
+  s.max_iterations = o.max_iterations ? *o.max_iterations : r.integer_or("max_iterations", 0);
+  if (s.max_iterations < 0) r.fail("max_iterations", "must be positive (or 0: 10 + 5 per parameter), got " + std::to_string(s.max_iterations));
   if (s.max_evaluations <= 0) r.fail("max_evaluations", "must be positive, got " + std::to_string(s.max_evaluations));
   s.xtol_rel = r.has("xtol_rel") ? r.positive("xtol_rel") : 1e-3;
   s.starts = o.starts ? *o.starts : configured_starts;
@@ -408,7 +518,7 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
   key << s.common.fingerprint << '\n';
   for (const auto& d : s.datasets)
     key << read_text(d.path) << '\n' << read_text(d.scenario_path) << '\n' << d.channel << '\n';
-  key << method << '\n' << s.algorithm
+  key << method << '\n' << s.algorithm << ' ' << s.max_iterations << ' ' << describe_integrator(s.integrator)
       << ' ' << s.max_evaluations << ' ' << s.starts << ' ' << s.mcmc.walkers << ' ' << s.mcmc.steps << ' ' << s.mcmc.discard << ' ' << s.profile << ' ' << s.profile_points;
   for (const auto& p : s.fit) key << ' ' << p.name;
   s.fingerprint = io::config_fingerprint(key.str());
@@ -428,138 +538,59 @@ struct GaussNewtonResult {
   std::vector<std::string> names;
   LeastSquaresUncertainty uncertainty;
   std::vector<double> noise_rms, noise_sd;  // per curve
+  std::vector<double> weights;              // per curve: 1 / s_k (1 for one curve)
+  Eigen::MatrixXd weighted_jacobian;
 };
 
+// The Gauss-Newton uncertainty at the optimum (values, then offsets), over
+// the fitted parameters (natural units) and the profiled offsets. Collective
+// (the Jacobian's runs); the result is rank 0's.
 GaussNewtonResult gauss_newton_at_optimum(const CalibrationStudy& s, std::vector<double> best,
                                           const StudyRunControl& control) {
   broadcast_from_rank0(best);
   const std::size_t p = s.fit.size(), K = s.datasets.size();
   const std::vector<double> values(best.begin(), best.begin() + static_cast<std::ptrdiff_t>(p));
   const std::vector<double> offsets(best.begin() + static_cast<std::ptrdiff_t>(p), best.end());
-  const bool profiled = !s.offset_fitted();
-  // Simulated parameters (all but a fitted time_offset) get difference steps.
-  std::vector<std::size_t> simulated;
-  for (std::size_t k = 0; k < p; ++k)
-    if (s.fit[k].name != "time_offset") simulated.push_back(k);
-  Eigen::VectorXd x(static_cast<Eigen::Index>(simulated.size())), lower(x.size()), upper(x.size()),
-      typical(x.size());
-  for (std::size_t j = 0; j < simulated.size(); ++j) {
-    const FitParameter& f = s.fit[simulated[j]];
-    const auto i = static_cast<Eigen::Index>(j);
-    x[i] = values[simulated[j]];
-    lower[i] = f.lower;
-    upper[i] = f.upper;
-    // finite_difference_steps takes h = cbrt(eps) max(|x|, typical); this
-    // typical makes h = kJacobianRelativeStep max(|x|, 1 % of the range).
-    typical[i] = kJacobianRelativeStep / std::cbrt(std::numeric_limits<double>::epsilon()) *
-                 std::max(std::abs(x[i]), 1e-2 * (f.upper - f.lower));
-  }
-  const std::vector<DifferenceStep> steps = finite_difference_steps(x, lower, upper, typical);
-
-  // Task 2 j: x + h_j e_j; task 2 j + 1: x - h_j e_j (central steps only);
-  // the last task: the optimum itself. All at the optimum's offsets (each
-  // offset is a parameter of its own here). A task's values: every dataset's
-  // residuals in turn.
-  std::vector<int> tasks;
-  for (std::size_t j = 0; j < steps.size(); ++j) {
-    tasks.push_back(static_cast<int>(2 * j));
-    if (steps[j].scheme == DifferenceScheme::central) tasks.push_back(static_cast<int>(2 * j + 1));
-  }
-  tasks.push_back(static_cast<int>(2 * steps.size()));
-  auto compute = [&](int task) {
-    std::vector<double> v = values;
-    const std::size_t j = static_cast<std::size_t>(task) / 2;
-    if (j < steps.size()) v[simulated[j]] += (task % 2 == 0 ? 1.0 : -1.0) * steps[j].step;
-    TaskResult result{task, 0, "", {}};
-    for (std::size_t k = 0; k < K; ++k) {
-      const CalibrationCurve curve = simulate_calibration_curve(s, k, v);
-      if (!curve.ok) return TaskResult{task, 1, curve.message, {}};
-      const auto r = shifted_residuals(curve.t_s, curve.z_m, s.datasets[k].t, s.datasets[k].z, offsets[k]);
-      result.values.insert(result.values.end(), r.begin(), r.end());
-    }
-    return result;
-  };
-  TaskFarmOptions farm;
-  farm.label = "calibrate: Jacobian";
-  farm.progress_interval_s = control.progress_interval_s;
-  farm.stop = &InterruptGuard::flag();
-  const std::vector<TaskResult> runs = run_task_farm(tasks, compute, {}, farm);
+  const CalibrationJacobian j = calibration_jacobian(s, values, offsets, control.progress_interval_s);
   GaussNewtonResult out;
   if (world_rank() != 0) return out;
-  std::vector<std::size_t> first_row(K + 1, 0);
-  for (std::size_t k = 0; k < K; ++k) first_row[k + 1] = first_row[k] + s.datasets[k].t.size();
-  const std::size_t n = first_row[K];
-  std::vector<const TaskResult*> by_task(2 * steps.size() + 1, nullptr);
-  for (const TaskResult& r : runs) {
-    if (r.status != 0) {
-      out.message = "a Jacobian run failed (" + r.message + "): no intervals";
-      return out;
-    }
-    by_task[static_cast<std::size_t>(r.index)] = &r;
-  }
-  if (runs.size() != tasks.size()) {
-    out.message = "interrupted before the Jacobian was complete: no intervals";
+  if (!j.ok) {
+    out.message = j.message + ": no intervals";
     return out;
   }
-  const TaskResult& centre = *by_task.back();
-  const std::size_t q = p + (profiled ? K : 0);
+  const auto n = static_cast<std::size_t>(j.residuals.size());
+  const auto q = static_cast<std::size_t>(j.jacobian.cols());
   if (n <= q) {
-    out.message = "only " + std::to_string(n) + " data points for " + std::to_string(q) +
-                  " parameters: no intervals";
+    out.message = "only " + std::to_string(n) + " data points for " + std::to_string(q) + " parameters: no intervals";
     return out;
   }
   // Each curve's residuals weighted by 1 / s_k (its RMS at the optimum), so
   // curves of different noise levels count by their information.
-  std::vector<double> weight(n);
-  out.noise_rms.resize(K);
+  Eigen::VectorXd residuals = j.residuals;
+  out.weighted_jacobian = j.jacobian;
+  std::size_t row = 0;
   for (std::size_t k = 0; k < K; ++k) {
-    double rss = 0;
-    for (std::size_t i = first_row[k]; i < first_row[k + 1]; ++i) rss += centre.values[i] * centre.values[i];
-    out.noise_rms[k] = std::sqrt(rss / static_cast<double>(first_row[k + 1] - first_row[k]));
-    const double w = K == 1 || out.noise_rms[k] == 0 ? 1.0 : 1.0 / out.noise_rms[k];
-    for (std::size_t i = first_row[k]; i < first_row[k + 1]; ++i) weight[i] = w;
+    const auto rows = static_cast<Eigen::Index>(s.datasets[k].t.size());
+    const auto first = static_cast<Eigen::Index>(row);
+    out.noise_rms.push_back(std::sqrt(j.residuals.segment(first, rows).squaredNorm() / static_cast<double>(rows)));
+    out.weights.push_back(K == 1 || out.noise_rms[k] == 0 ? 1.0 : 1.0 / out.noise_rms[k]);
+    residuals.segment(first, rows) *= out.weights[k];
+    out.weighted_jacobian.middleRows(first, rows) *= out.weights[k];
+    row += s.datasets[k].t.size();
   }
-  Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(q));
-  Eigen::VectorXd residuals(static_cast<Eigen::Index>(n)), theta(static_cast<Eigen::Index>(q));
-  for (std::size_t i = 0; i < n; ++i) residuals[static_cast<Eigen::Index>(i)] = weight[i] * centre.values[i];
+  Eigen::VectorXd theta(static_cast<Eigen::Index>(q));
   for (std::size_t k = 0; k < p; ++k) theta[static_cast<Eigen::Index>(k)] = values[k];
-  for (std::size_t j = 0; j < steps.size(); ++j) {
-    const auto column = static_cast<Eigen::Index>(simulated[j]);
-    const std::vector<double>& plus = by_task[2 * j]->values;
-    const bool central = steps[j].scheme == DifferenceScheme::central;
-    const std::vector<double>& minus = central ? by_task[2 * j + 1]->values : centre.values;
-    const double width = central ? 2.0 * steps[j].step : steps[j].step;
-    for (std::size_t i = 0; i < n; ++i)
-      jacobian(static_cast<Eigen::Index>(i), column) = weight[i] * (plus[i] - minus[i]) / width;
-  }
-  // d r_i / d offset_k = -z'(t_i - offset_k) on curve k's rows: a central
-  // difference of the shifted curve over one output interval (no new
-  // simulation). The same column serves a fitted time_offset.
-  for (std::size_t k = 0; k < K; ++k) {
-    std::size_t column = p + k;
-    for (std::size_t c = 0; c < p; ++c)
-      if (s.fit[c].name == "time_offset") column = c;
-    const CalibrationDataset& d = s.datasets[k];
-    const CalibrationCurve curve = simulate_calibration_curve(s, k, values);
-    const double h = 0.5 * (curve.t_s[1] - curve.t_s[0]);
-    const auto plus = shifted_residuals(curve.t_s, curve.z_m, d.t, d.z, offsets[k] + h);
-    const auto minus = shifted_residuals(curve.t_s, curve.z_m, d.t, d.z, offsets[k] - h);
-    for (std::size_t i = 0; i < d.t.size(); ++i)
-      jacobian(static_cast<Eigen::Index>(first_row[k] + i), static_cast<Eigen::Index>(column)) =
-          weight[first_row[k] + i] * (plus[i] - minus[i]) / (2.0 * h);
-  }
   for (const auto& f : s.fit) out.names.push_back(f.name);
-  if (profiled)
+  if (!s.offset_fitted())
     for (std::size_t k = 0; k < K; ++k) {
       out.names.push_back(K == 1 ? "time_offset" : "time_offset[" + std::to_string(k) + "]");
       theta[static_cast<Eigen::Index>(p + k)] = offsets[k];
     }
-  out.uncertainty = gauss_newton_uncertainty(theta, residuals, jacobian, 0.95, out.names);
+  out.uncertainty = gauss_newton_uncertainty(theta, residuals, out.weighted_jacobian, 0.95, out.names);
   // The noise sd of each curve: for one curve s itself; for several, each
   // curve's RMS scaled like s (by sqrt(N / (N - q)) through the weighted fit).
-  out.noise_sd.resize(K);
   for (std::size_t k = 0; k < K; ++k)
-    out.noise_sd[k] = K == 1 ? out.uncertainty.noise_sd : out.noise_rms[k] * out.uncertainty.noise_sd;
+    out.noise_sd.push_back(K == 1 ? out.uncertainty.noise_sd : out.noise_rms[k] * out.uncertainty.noise_sd);
   out.ok = true;
   return out;
 }
@@ -683,8 +714,18 @@ std::vector<ParameterProfile> profile_parameters(const CalibrationStudy& s, cons
   return profiles;
 }
 
-std::string run_fit(const CalibrationStudy& s, const StudyRunControl& control) {
-  const std::string out = results_path(s.common, control.results_path);
+// The evaluations of a fit, as /history stores them (one row each: the p
+// parameters, K offsets, pooled rms, objective, status), with the start each
+// came from.
+struct FitHistory {
+  std::vector<double> rows, start;
+  std::vector<std::string> messages;
+};
+
+// The first search of an NLopt algorithm: one task per start (fanned out and
+// checkpointed); returns the best point (values, then offsets) on rank 0.
+std::vector<double> nlopt_search(const CalibrationStudy& s, const StudyRunControl& control, const std::string& out,
+                                 FitHistory& fit_history) {
   const std::size_t p = s.fit.size();
   const std::size_t K = s.datasets.size();
   const std::size_t row = p + K + 3;  // parameters, offsets, rms, objective, status
@@ -749,13 +790,14 @@ std::string run_fit(const CalibrationStudy& s, const StudyRunControl& control) {
   const std::vector<TaskResult> results = run_study_tasks(s.starts, compute, options);
 
   // Every evaluation of every start, and the best of them (rank 0).
-  std::vector<double> history, history_start;
+  std::vector<double>& history = fit_history.rows;
+  std::vector<double>& history_start = fit_history.start;
+  std::vector<std::string>& messages = fit_history.messages;
   std::size_t best_row = 0;
   double best_objective = std::numeric_limits<double>::infinity(), best_rms = best_objective;
-  std::vector<std::string> messages;
   std::string best_status;
   for (const TaskResult& r : results) {
-    messages.push_back("start " + std::to_string(r.index) + ": nlopt " + r.message);
+    messages.push_back("start " + std::to_string(r.index) + ": " + s.algorithm + " " + r.message);
     for (std::size_t k = 0; k + row <= r.values.size(); k += row) {
       const std::size_t e = history.size() / row;
       history.insert(history.end(), r.values.begin() + static_cast<std::ptrdiff_t>(k),
@@ -775,17 +817,119 @@ std::string run_fit(const CalibrationStudy& s, const StudyRunControl& control) {
   if (world_rank() == 0)
     best.assign(history.begin() + static_cast<std::ptrdiff_t>(best_row * row),
                 history.begin() + static_cast<std::ptrdiff_t>(best_row * row + p + K));
-  const GaussNewtonResult gn = gauss_newton_at_optimum(s, best, control);
+  return best;
+}
+
+// Appends the least-squares evaluations to the history (start index -1).
+void append_history(const LeastSquaresCalibration& fit, FitHistory& history) {
+  for (const CalibrationEvaluation& e : fit.history) {
+    history.rows.insert(history.rows.end(), e.values.begin(), e.values.end());
+    history.rows.insert(history.rows.end(), e.offsets.begin(), e.offsets.end());
+    history.rows.insert(history.rows.end(), {e.rms_m, e.objective, static_cast<double>(e.status)});
+    history.start.push_back(-1);
+  }
+  history.messages.push_back("least squares: " + fit.message);
+}
+
+// The fit, its intervals and the integration check, tightening the
+// integrator until its error moves no parameter by more than the check
+// allows. Collective; the result is rank 0's.
+struct CheckedFit {
+  CalibrationStudy study;  // with the integrator the fit finally used
+  LeastSquaresCalibration fit;
+  GaussNewtonResult gn;
+  IntegrationShift shift;
+  std::vector<std::string> integrator_actions;
+};
+
+bool is_reference(const CalibrationStudy& s) {
+  const IntegratorSettings& r = s.integration_check.reference;
+  return s.integrator.method == r.method && s.integrator.relative_tolerance <= r.relative_tolerance &&
+         s.integrator.absolute_tolerance <= r.absolute_tolerance;
+}
+
+CheckedFit checked_fit(const CalibrationStudy& study, std::vector<double> start, const StudyRunControl& control,
+                       FitHistory& history) {
+  CheckedFit c{study, {}, {}, {}, {}};
+  for (int tightening = 0;; ++tightening) {
+    c.fit = least_squares_calibration(c.study, start, control.progress_interval_s);
+    append_history(c.fit, history);
+    std::vector<double> best = c.fit.values;
+    best.insert(best.end(), c.fit.offsets.begin(), c.fit.offsets.end());
+    c.gn = gauss_newton_at_optimum(c.study, best, control);
+    if (InterruptGuard::flag()) throw StudyInterrupted("calibrate: interrupted; run the command again");
+    std::vector<double> go_on{0.0};
+    if (world_rank() == 0 && c.fit.converged && c.gn.ok && !is_reference(c.study)) {
+      c.shift = integration_shift(c.study, c.fit.values, c.fit.offsets, c.gn.weights, c.gn.weighted_jacobian,
+                                  c.gn.uncertainty.standard_error);
+      go_on[0] = !c.shift.ok || c.shift.largest_se > c.study.integration_check.max_shift_se ? 1.0 : 0.0;
+    }
+    broadcast_from_rank0(go_on);
+    if (go_on[0] == 0.0) return c;
+    IntegratorSettings next = c.study.integrator;
+    if (tightening < c.study.integration_check.max_tightenings && next.method != IntegratorMethod::kDormandPrince45) {
+      next.relative_tolerance /= 10.0;
+      next.absolute_tolerance /= 10.0;
+    } else {
+      next = c.study.integration_check.reference;
+    }
+    c.integrator_actions.push_back("the integration error moved a parameter by " +
+                                   format_number(c.shift.largest_se, 3) + " standard errors with " +
+                                   describe_integrator(c.study.integrator) + "; refitting with " +
+                                   describe_integrator(next));
+    start = c.fit.values;
+    c.study = c.study.with_integrator(next);
+  }
+}
+
+CalibrationOutcome run_fit(const CalibrationStudy& s, const StudyRunControl& control) {
+  const std::string out = results_path(s.common, control.results_path);
+  const std::size_t p = s.fit.size();
+  const std::size_t K = s.datasets.size();
+  const std::size_t row = p + K + 3;  // parameters, offsets, rms, objective, status
+  FitHistory fit_history;
+  std::vector<double> start;
+  for (const FitParameter& f : s.fit) start.push_back(f.initial);
+  if (s.algorithm != kLeastSquaresAlgorithm) {
+    start = nlopt_search(s, control, out, fit_history);
+    start.resize(p);
+    broadcast_from_rank0(start);
+  }
+  const CheckedFit checked = checked_fit(s, start, control, fit_history);
+  const GaussNewtonResult& gn = checked.gn;
+  std::vector<double> best = checked.fit.values;
+  best.insert(best.end(), checked.fit.offsets.begin(), checked.fit.offsets.end());
+
+  const CalibrationStudy& used = checked.study;
   const std::vector<ParameterProfile> profiles =
-      s.profile ? profile_parameters(s, gn, best, control) : std::vector<ParameterProfile>{};
-  if (world_rank() != 0) return out;
+      s.profile ? profile_parameters(used, gn, best, control) : std::vector<ParameterProfile>{};
+  CalibrationOutcome outcome{out, true, ""};
+  if (!checked.fit.converged) {
+    outcome.trusted = false;
+    outcome.why = "the fit did not converge: " + checked.fit.message;
+  } else if (!gn.ok) {
+    outcome.trusted = false;
+    outcome.why = gn.message;
+  } else if (checked.shift.ok && checked.shift.largest_se > used.integration_check.max_shift_se) {
+    outcome.trusted = false;
+    outcome.why = "the integration error moves a parameter by " + format_number(checked.shift.largest_se, 3) +
+                  " standard errors even with " + describe_integrator(used.integrator);
+  }
+  std::vector<double> trusted{outcome.trusted ? 1.0 : 0.0};  // rank 0 holds the intervals
+  broadcast_from_rank0(trusted);
+  outcome.trusted = trusted[0] != 0.0;
+  if (world_rank() != 0) return outcome;
+  const std::vector<double>& history = fit_history.rows;
+  const std::vector<double>& history_start = fit_history.start;
+  std::vector<std::string> messages = fit_history.messages;
+  messages.insert(messages.end(), checked.integrator_actions.begin(), checked.integrator_actions.end());
 
   const std::vector<double> best_values(best.begin(), best.begin() + static_cast<std::ptrdiff_t>(p));
   const std::vector<double> best_offsets(best.begin() + static_cast<std::ptrdiff_t>(p), best.end());
   // The fitted curves in data time.
   std::vector<CalibrationCurve> fits;
   for (std::size_t k = 0; k < K; ++k) {
-    fits.push_back(simulate_calibration_curve(s, k, best_values));
+    fits.push_back(simulate_calibration_curve(used, k, best_values));
     for (double& t : fits.back().t_s) t += best_offsets[k];
   }
 
@@ -802,8 +946,28 @@ std::string run_fit(const CalibrationStudy& s, const StudyRunControl& control) {
   h5.write("/best/values", best_values);
   h5.write("/best/names", names);
   h5.write("/best/time_offset", best_offsets);
+  double rss = 0;
+  std::size_t points = 0;
+  for (std::size_t k = 0; k < K; ++k) {
+    const auto r = shifted_residuals(fits[k].t_s, fits[k].z_m, s.datasets[k].t, s.datasets[k].z, 0.0);
+    for (double v : r) rss += v * v;
+    points += r.size();
+  }
+  const double best_rms = std::sqrt(rss / static_cast<double>(points));
   h5.write("/best/rms", std::vector<double>{best_rms});
-  h5.attribute("/best", "nlopt_status", best_status);
+  h5.attribute("/best", "converged", static_cast<long long>(checked.fit.converged));
+  h5.attribute("/best", "stop_reason", std::string(least_squares_stop_name(checked.fit.stop)));
+  h5.attribute("/best", "stop_message", checked.fit.message);
+  h5.attribute("/best", "intervals_valid", static_cast<long long>(outcome.trusted));
+  h5.attribute("/best", "not_valid_because", outcome.why);
+  h5.attribute("/best", "iterations", static_cast<long long>(checked.fit.iterations));
+  h5.attribute("/best", "integrator", describe_integrator(used.integrator));
+  if (checked.shift.ok) {
+    h5.write("/best/integration_shift", checked.shift.shift_se);
+    h5.attribute("/best/integration_shift", "meaning",
+                 std::string("shift of each fitted parameter, in its standard errors, when the best curves are run "
+                             "with the reference integrator (") + describe_integrator(used.integration_check.reference) + ")");
+  }
   if (gn.ok) {
     const LeastSquaresUncertainty& u = gn.uncertainty;
     const auto q = static_cast<std::size_t>(u.covariance.rows());
@@ -840,8 +1004,7 @@ std::string run_fit(const CalibrationStudy& s, const StudyRunControl& control) {
   write_study_provenance(h5, s.common);
   h5.attribute("/", "data_file", s.data_path);
   h5.attribute("/", "method", std::string("optimize"));
-  h5.attribute("/", "algorithm", s.algorithm);
-  h5.attribute("/", "nlopt_status", best_status);
+  h5.attribute("/", "algorithm", s.algorithm == kLeastSquaresAlgorithm ? s.algorithm : s.algorithm + " then " + kLeastSquaresAlgorithm);
   h5.attribute("/", "max_evaluations", static_cast<long long>(s.max_evaluations));
   h5.attribute("/", "starts", static_cast<long long>(s.starts));
   h5.attribute("/", "calibration_fingerprint", s.fingerprint);
@@ -857,8 +1020,14 @@ std::string run_fit(const CalibrationStudy& s, const StudyRunControl& control) {
   }
   h5.commit();
   remove_checkpoint(out);
-  std::cerr << "calibrate: " << history.size() / row << " evaluations; NLopt returned " << best_status
-            << " for the best start; best RMS " << format_number(best_rms * 1000.0) << " mm at";
+  for (const std::string& action : checked.integrator_actions) std::cerr << "calibrate: " << action << "\n";
+  std::cerr << "calibrate: " << history.size() / row << " evaluations, " << checked.fit.iterations
+            << " least-squares iterations; " << (checked.fit.converged ? "converged" : "NOT CONVERGED") << " ("
+            << checked.fit.message << ")\n";
+  if (!outcome.trusted)
+    std::cerr << "calibrate: WARNING: the intervals below are NOT VALID: " << outcome.why
+              << ". They are written flagged (/best intervals_valid = 0) and the exit status is 2.\n";
+  std::cerr << "calibrate: best RMS " << format_number(best_rms * 1000.0) << " mm at";
   for (std::size_t k = 0; k < p; ++k) std::cerr << " " << names[k] << " = " << format_number(best_values[k], 6);
   std::cerr << ", time offset" << (K > 1 ? "s" : "");
   for (double o : best_offsets) std::cerr << " " << format_number(o, 6);
@@ -867,7 +1036,8 @@ std::string run_fit(const CalibrationStudy& s, const StudyRunControl& control) {
     const LeastSquaresUncertainty& u = gn.uncertainty;
     std::cerr << "calibrate: noise sd from the residuals";
     for (double sd : gn.noise_sd) std::cerr << " " << format_number(sd * 1000.0);
-    std::cerr << " mm (" << u.degrees_of_freedom << " degrees of freedom); Gauss-Newton 95 % intervals:\n";
+    std::cerr << " mm (" << u.degrees_of_freedom << " degrees of freedom); Gauss-Newton 95 % intervals"
+              << (outcome.trusted ? "" : " (NOT VALID)") << ":\n";
     for (std::size_t k = 0; k < gn.names.size(); ++k) {
       const auto i = static_cast<Eigen::Index>(k);
       const double value = k < p ? best_values[k] : best_offsets[k - p];
@@ -904,6 +1074,12 @@ std::string run_fit(const CalibrationStudy& s, const StudyRunControl& control) {
                 << ", 95 % profile-likelihood interval [" << end(prof.interval.lower, prof.interval.lower_open)
                 << ", " << end(prof.interval.upper, prof.interval.upper_open) << "]\n";
     }
+  }
+  if (checked.shift.ok) {
+    std::cerr << "calibrate: integration check (" << describe_integrator(used.integrator) << " against "
+              << describe_integrator(used.integration_check.reference) << "): shifts";
+    for (std::size_t k = 0; k < p; ++k) std::cerr << " " << names[k] << " " << format_number(checked.shift.shift_se[k], 2);
+    std::cerr << " standard errors (limit " << format_number(used.integration_check.max_shift_se, 2) << ")\n";
   }
   std::cerr << "calibrate: wrote " << out << "\n";
 
@@ -948,13 +1124,14 @@ std::string run_fit(const CalibrationStudy& s, const StudyRunControl& control) {
       io::write_png_or_warn(plot, png, "calibrate", std::cerr);
     }
   }
-  return out;
+  return outcome;
 }
 
 }  // namespace
 
-std::string run_calibration(const CalibrationStudy& s, const StudyRunControl& control) {
-  return s.method == CalibrationMethod::mcmc ? run_calibration_mcmc(s, control) : run_fit(s, control);
+CalibrationOutcome run_calibration(const CalibrationStudy& s, const StudyRunControl& control) {
+  if (s.method == CalibrationMethod::mcmc) return {run_calibration_mcmc(s, control), true, ""};
+  return run_fit(s, control);
 }
 
 }  // namespace rover::study

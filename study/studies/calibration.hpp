@@ -1,67 +1,44 @@
-// Calibration against a measured drop curve, with uncertainty.
+// Calibration against measured drop curves, with uncertainty a user can
+// trust (docs/model.md §8 for the channels).
 //
-// Fit (method "optimize"): NLopt minimises the RMS between the simulated and
-// the measured B_l z over chosen parameters within bounds; at the optimum the
-// Gauss-Newton covariance of the least-squares estimate (Bates & Watts 1988,
-// section 2.3; study/estimators/least_squares_uncertainty.hpp) gives standard errors, 95 %
-// intervals and the correlation matrix of the fitted parameters AND the time
-// offset. Its Jacobian is a central finite difference of the residual vector;
-// the 2 p simulations are fanned out over MPI ranks.
+// Fit (method "optimize", study/studies/calibration_fit.hpp): Levenberg-
+// Marquardt on the residual vector of every curve, the curves' time offsets
+// among its parameters, the Jacobian a central finite difference fanned out
+// over MPI ranks; optionally after a first search by an NLopt algorithm
+// ("algorithm"). It stops on stated criteria and says whether it converged.
+// At the optimum the Gauss-Newton covariance (Bates & Watts 1988, section
+// 2.3; study/estimators/least_squares_uncertainty.hpp) gives standard errors,
+// 95 % intervals and correlations of the parameters and the offsets. Then the
+// integration check (IntegrationCheck): the best curves are run again on the
+// reference integrator, and while the shift that causes exceeds 0.1 standard
+// error the integrator's tolerances are tightened and the fit repeated. A fit
+// that did not converge, has no intervals, or fails the check is written
+// flagged (/best intervals_valid = 0, not_valid_because) and the program
+// exits with status 2.
 //
-// Posterior (method "mcmc", study/studies/calibration_mcmc.hpp): priors per parameter,
-// a Gaussian likelihood, the affine-invariant ensemble sampler.
+// Posterior (method "mcmc", study/studies/calibration_mcmc.hpp): priors per
+// parameter, a Gaussian likelihood, the affine-invariant ensemble sampler.
 //
-// Parameters that can be fitted: "c_q" [N m s/rad], "f" [1/rad] (searched in
-// log10 by NLopt), "M0_scale" (multiplies all eight preloads), "time_offset"
-// [s]. The measured curve's time origin need not be the release: data time t_d
-// maps to simulation time t_d - time_offset. Unless time_offset is fitted it
-// is profiled out: for every simulated curve the best offset in
-// "time_offset_range" is found by a 1 ms scan and a golden-section polish
-// (cheap: no new simulation). Before the release the simulated curve is held
-// at its initial value, after the end at its final value.
-//
-// Study file (configs/studies/calibration.json):
-//   {"type": "calibration", "name": "calibration", "scenario": "../scenarios/drop_horizontal.json",
-//    "data": "../data/drop_horizontal_synthetic.csv",
-//    "fit": ["c_q"], "algorithm": "LN_BOBYQA", "max_evaluations": 40, "xtol_rel": 1e-3,
-//    "bounds": {"c_q": [0.02, 1.0], "f": [1e2, 1e5], "M0_scale": [0.8, 1.2], "time_offset": [-0.2, 0.2]},
-//    "initial": {"c_q": 0.1, "f": 1e4, "M0_scale": 1.0, "time_offset": 0.0},
-//    "starts": 1, "seed": 1,
-//    "method": "optimize",                       (or "mcmc")
-//    "priors": {"c_q": {"distribution": "uniform", "min": 0.02, "max": 1.0}},   (mcmc; default: uniform on the bounds)
-//    "mcmc": {"walkers": 32, "steps": 500, "discard": 100, "seed": 1,
-//             "noise_sd": {"distribution": "log_uniform", "min": 1e-6, "max": 1e-2},   (sampled; or a number: known)
-//             "predictive_draws": 40}}
-// "starts" > 1 runs that many local searches (start 0 from "initial", the
-// others from seeded random points in the bounds), fanned out over MPI ranks.
-// Gradient-based NLopt algorithms (LD_*, GD_*) are refused: the objective has
-// no analytic gradient.
-//
-// Measured data: CSV with the header t,z (s, metres of the channel), read by
-// io::read_measured_curve (the checks of `rover compare`: at least 3 rows,
-// strictly increasing times, finite |z| < 1 km).
-//
-// Joint fits: "data" may be a list of curves,
-//   [{"file": "../data/drop_horizontal_synthetic.csv"},
-//    {"file": "../data/drop_skewed_synthetic.csv", "scenario": "../scenarios/drop_skewed.json",
-//     "channel": "B_l_z"}]
-// (scenario: default the study's; channel one of calibration_channels(): "B_l_z"
-// (default), "B_r_z" or "G_z"), one
-// parameter set for all, each curve with its own time offset (profiled; a
-// fitted "time_offset" needs a single curve) and its own noise level. The fit
-// then minimises sum_k n_k log RMS_k, the profile likelihood of independent
-// Gaussian noise of unknown sd per curve (Bates & Watts 1988, section 2.2); the
-// Gauss-Newton covariance weights each curve's residuals by 1 / s_k.
+// Parameters: any number of the rover and scenario files by dotted name or
+// alias (study/model/parameter_space.hpp: "c_q", "f", "contact.k_g",
+// "M0_11", "M0_scale", "scenario.initial_q.z", ...) and "time_offset" (the
+// data clock's time of the release; fitted for one curve, else each curve's
+// offset is a parameter of its own, started at its profiled best). Positive
+// scale parameters are searched in log10 (default for f and stiffnesses;
+// "log_scale": {"name": true|false} to choose). The study file format is in
+// docs/configuration.md.
 //
 // HDF5 result of a fit: /history (E x (p + K + 3) for K curves: the p
 // parameters, K time offsets, pooled rms, objective, status; one row per
-// evaluation in order; /history_columns names them), /history_start (E),
-// /best/values (p), /best/names, /best/time_offset (K), /best/rms, /best/
-// {names_uncertainty, covariance, correlation, stderr, lower, upper} (over the
-// fitted parameters followed by the K offsets when they are profiled),
-// /best/noise_sd (K), /data/t, /data/z, /fit/t, /fit/z (curve 0, the best
-// curve in data time; curve k > 0 under /data/k, /fit/k), /data/curves;
-// attributes algorithm, nlopt_status (on / and /best), /best gn_warning.
+// evaluation in order; /history_columns names them), /history_start (E; -1
+// for the least-squares iterations), /best/values (p), /best/names,
+// /best/time_offset (K), /best/rms, /best/{names_uncertainty, covariance,
+// correlation, stderr, lower, upper} (over the fitted parameters followed by
+// the K offsets when they are not fitted), /best/noise_sd (K),
+// /best/integration_shift (p, in standard errors), /data/t, /data/z, /fit/t,
+// /fit/z (curve 0; curve k > 0 under /data/k, /fit/k), /data/curves;
+// attributes of /best: converged, stop_reason, stop_message, intervals_valid,
+// not_valid_because, iterations, integrator, gn_warning.
 #pragma once
 
 #include <cstdint>
@@ -70,7 +47,11 @@
 #include <string>
 #include <vector>
 
+#include <memory>
+
+#include "core/scenario.hpp"
 #include "study/estimators/distributions.hpp"
+#include "study/model/study_model.hpp"
 #include "study/studies/montecarlo.hpp"
 #include "study/model/qoi.hpp"
 #include "study/studies/study_config.hpp"
@@ -89,7 +70,8 @@ const std::vector<CalibrationChannel>& calibration_channels();  // B_l_z, B_r_z,
 const CalibrationChannel& calibration_channel(const std::string& name);
 
 struct FitParameter {
-  std::string name;
+  std::string name;       // as the study names it: "c_q", "contact.k_g", "M0_scale", "time_offset"
+  std::string canonical;  // its parameter-space name (study/model/parameter_space.hpp); empty for time_offset
   double lower = 0.0, upper = 0.0, initial = 0.0;
   bool log_scale = false;
   Distribution prior;  // mcmc: its prior (default uniform on [lower, upper])
@@ -114,17 +96,41 @@ struct McmcSettings {
 // level.
 struct CalibrationDataset {
   std::string path, scenario_path, channel = "B_l_z";
-  io::ScenarioSetup setup;  // its scenario, with the study's integrator override
+  io::ScenarioSources sources;  // its scenario's documents
+  // Simulates its scenario at the fitted parameters (all but time_offset, in
+  // the order of CalibrationStudy::fit) with the study's integrator.
+  std::shared_ptr<const RoverStudyModel> model;
   std::vector<double> t, z;
+};
+
+// The check that the fast integrator's error is below what the data resolve:
+// the best curves are run again with `reference`, and the Gauss-Newton step
+// that the difference causes is measured in standard errors of each fitted
+// parameter. Above max_shift_se the integrator's tolerances are tightened
+// tenfold and the fit repeated, at most max_tightenings times; then the
+// reference integrator itself is used.
+struct IntegrationCheck {
+  double max_shift_se = 0.1;
+  int max_tightenings = 3;
+  IntegratorSettings reference;  // Dormand-Prince at rtol 1e-8, atol 1e-11
 };
 
 struct CalibrationStudy {
   StudyCommon common;
+  // The integrator of every simulation of the calibration: the study's
+  // "integrator", else the stiff one at its default tolerances.
+  IntegratorSettings integrator;
+  IntegrationCheck integration_check;
+  // Levenberg-Marquardt iterations (Jacobians) at most; 0: 10 + 5 p.
+  int max_iterations = 0;
   std::string data_path;  // the data files, comma-separated (for messages)
   std::vector<CalibrationDataset> datasets;  // at least one
   std::vector<FitParameter> fit;
   CalibrationMethod method = CalibrationMethod::optimize;
-  std::string algorithm = "LN_BOBYQA";
+  // "levenberg_marquardt" alone, or an NLopt algorithm for a first search
+  // (max_evaluations simulations per start) that the least-squares
+  // iterations then polish.
+  std::string algorithm = "levenberg_marquardt";
   int max_evaluations = 40;
   double xtol_rel = 1e-3;
   double offset_min_s = -0.2, offset_max_s = 0.2, offset_initial_s = 0.0;
@@ -138,6 +144,12 @@ struct CalibrationStudy {
   std::string fingerprint;
 
   bool offset_fitted() const;
+  // Indices into `fit` of the parameters a simulation needs (all but time_offset).
+  std::vector<std::size_t> simulated() const;
+  // Fitted values (order of `fit`) -> the simulated ones (order of simulated()).
+  std::vector<double> simulated_values(const std::vector<double>& values) const;
+  // The same study with every simulation on `integrator`.
+  CalibrationStudy with_integrator(const IntegratorSettings& integrator) const;
 };
 
 // Command-line overrides; std::nullopt / empty: the study's.
@@ -146,7 +158,7 @@ struct CalibrationOverrides {
   std::vector<std::string> fit{};
   std::string algorithm{};
   std::string method{};
-  std::optional<int> starts{}, max_evaluations{}, walkers{};
+  std::optional<int> starts{}, max_evaluations{}, max_iterations{}, walkers{};
   std::optional<long> steps{}, discard{};
   bool profile = false;
 };
@@ -203,11 +215,22 @@ CalibrationResiduals calibration_residuals(const CalibrationStudy& study, const 
 // would swamp a difference over a smaller step. With 1e-3 the stiff
 // integrator's standard errors scattered by a factor 3 between noise seeds
 // and the 95 % intervals held the truth 30 times in 40
-// (bench/calibration_coverage.sh); 1e-2 keeps them stable.
+// (bench/calibration_coverage.py); 1e-2 keeps them stable.
 inline constexpr double kJacobianRelativeStep = 1e-2;
 
+// What a calibration hands back: where it wrote, and whether its intervals
+// can be trusted: false when the fit did not converge, its intervals could
+// not be computed, or the integration error moves a parameter by more than
+// the check allows (`why` says which, in words). The program exits with
+// status 2 then.
+struct CalibrationOutcome {
+  std::string results_path;
+  bool trusted = true;
+  std::string why;
+};
+
 // Collective over MPI ranks: the fit (method optimize) or the posterior
-// (method mcmc). Rank 0 writes the HDF5 file and the PNGs; returns its path.
-std::string run_calibration(const CalibrationStudy& study, const StudyRunControl& control);
+// (method mcmc). Rank 0 writes the HDF5 file and the PNGs.
+CalibrationOutcome run_calibration(const CalibrationStudy& study, const StudyRunControl& control);
 
 }  // namespace rover::study

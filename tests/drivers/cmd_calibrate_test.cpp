@@ -56,17 +56,70 @@ TEST(CmdCalibrate, FitRecoversTheGeneratingDampingWithGaussNewtonIntervals) {
   EXPECT_LT(std::abs(correlation[1]), 1.0);
   // The noise sd estimated from the residuals is the generating 0.1 mm.
   EXPECT_NEAR(h5.read_doubles("/best/noise_sd").at(0), 1e-4, 1e-5);
-  EXPECT_FALSE(h5.attribute_string("/", "nlopt_status").empty());
-  // The profile of c_q: its grid and interval are written. (Its width is not
-  // checked here: with the stiff integrator's default tolerance the RSS is
-  // ragged at the level of the chi2 threshold; with rtol 1e-7 it matches the
-  // Gauss-Newton interval, but that takes too long for a unit test.)
+  // The least-squares polish converged, the integration check passed, and
+  // the interval holds the generating value.
+  EXPECT_EQ(h5.attribute_integer("/best", "converged"), 1) << log;
+  EXPECT_EQ(h5.attribute_integer("/best", "intervals_valid"), 1) << log;
+  for (double shift : h5.read_doubles("/best/integration_shift")) EXPECT_LE(std::abs(shift), 0.1) << log;
+  EXPECT_LT(lower[0], 0.25);
+  EXPECT_GT(upper[0], 0.25);
+  // The profile of c_q: its grid and interval are written.
   EXPECT_EQ(h5.read_doubles("/profile/c_q/values").size(), 13u);
   EXPECT_EQ(h5.read_doubles("/profile/c_q/weighted_rss").size(), 13u);
   EXPECT_LT(h5.attribute_double("/profile/c_q", "lower"), h5.attribute_double("/profile/c_q", "upper"));
   EXPECT_NE(log.find("profile-likelihood interval"), std::string::npos) << log;
   EXPECT_NE(log.find("c_q = "), std::string::npos);
   EXPECT_NE(log.find("(95 %)"), std::string::npos) << log;
+}
+
+// A fit stopped by its iteration budget says so before any interval, writes
+// its intervals flagged as not valid, and exits with status 2.
+TEST(CmdCalibrate, FitThatDidNotConvergeIsFlaggedAndExitsTwo) {
+  const std::string dir = rover::testing::temp_dir();
+  std::string log;
+  const int status = run_command(rover_binary() + " calibrate --study " +
+                                     source_path("configs/studies/calibration.json") +
+                                     " --fit c_q,f --max-iterations 1 --no-plot --out " + dir + "/cal.h5",
+                                 &log);
+  EXPECT_EQ(status, 2) << log;
+  const std::size_t warning = log.find("NOT VALID");
+  ASSERT_NE(warning, std::string::npos) << log;
+  EXPECT_LT(warning, log.find("Gauss-Newton 95 % intervals")) << log;
+  EXPECT_NE(log.find("NOT CONVERGED"), std::string::npos) << log;
+  const io::Hdf5Reader h5(dir + "/cal.h5");
+  EXPECT_EQ(h5.attribute_integer("/best", "converged"), 0);
+  EXPECT_EQ(h5.attribute_integer("/best", "intervals_valid"), 0);
+  EXPECT_NE(h5.attribute_string("/best", "not_valid_because").find("did not converge"), std::string::npos);
+}
+
+// Any number of the rover file can be fitted by its dotted name: the S-joint
+// stiffness k_q (log scale by default) beside c_q, from the synthetic drop
+// made at c_q = 0.25 and the rover file's k_q = 9.91, started 30 % off.
+TEST(CmdCalibrate, FitsAnyParameterByName) {
+  const std::string dir = rover::testing::temp_dir();
+  const std::string study = write_file(dir + "/kq.json", R"({"type": "calibration", "name": "kq", "scenario": ")" +
+      source_path("configs/scenarios/drop_horizontal.json") + R"(", "data": ")" +
+      source_path("configs/data/drop_horizontal_synthetic.csv") + R"(", "fit": ["c_q", "s_structure.k_q"],
+      "bounds": {"c_q": [0.02, 1.0], "s_structure.k_q": [3, 30], "time_offset": [-0.2, 0.2]},
+      "initial": {"c_q": 0.1, "s_structure.k_q": 13}})");
+  std::string log;
+  ASSERT_EQ(run_command(rover_binary() + " calibrate --study " + study + " --no-plot --out " + dir + "/kq.h5", &log),
+            0) << log;
+  const io::Hdf5Reader h5(dir + "/kq.h5");
+  EXPECT_EQ(h5.read_strings("/best/names"), (std::vector<std::string>{"c_q", "s_structure.k_q"}));
+  EXPECT_EQ(h5.attribute_integer("/best", "converged"), 1) << log;
+  const auto lower = h5.read_doubles("/best/lower"), upper = h5.read_doubles("/best/upper");
+  EXPECT_LT(lower[0], 0.25) << log;
+  EXPECT_GT(upper[0], 0.25) << log;
+  EXPECT_LT(lower[1], 9.91) << log;
+  EXPECT_GT(upper[1], 9.91) << log;
+
+  // A misspelt name is refused before any run, with the nearest names.
+  EXPECT_EQ(run_command(rover_binary() + " calibrate --study " + study + " --fit s_structure.kq --out " + dir +
+                            "/bad.h5", &log),
+            1);
+  EXPECT_NE(log.find("--fit"), std::string::npos) << log;
+  EXPECT_NE(log.find("did you mean 's_structure.k_q'"), std::string::npos) << log;
 }
 
 // A quick posterior: a 0.25 s drop with the stiff integrator, 4 walkers.
@@ -155,7 +208,7 @@ TEST(CmdCalibrate, BadInputIsRefusedNamingTheFieldOrFile) {
       {"--data " + backwards, backwards},
       {"--data " + two_rows, two_rows},
       {"--method mcmc --walkers 2", "'mcmc.walkers'"},
-      {"--fit c_q,stiffness", "'fit'"},
+      {"--fit c_q,stiffness", "--fit: unknown parameter 'stiffness'"},
   };
   for (const Case& c : cases) {
     std::string log;

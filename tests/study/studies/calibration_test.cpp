@@ -223,6 +223,23 @@ TEST(Calibration, StudyFileChecksNameTheField) {
   EXPECT_EQ(load_calibration_study(write_file(dir, "e.json", study_text(good, R"(, "method": "mcmc", "mcmc": {"walkers": 4})")))
                 .mcmc.walkers, 4);
   expect_refused(write_file(dir, "f.json", study_text(good, R"(, "method": "nuts")")), "'method'");
+  // Parameters: any name of the parameter space, checked before any run.
+  auto with_fit = [&](const std::string& fit, const std::string& bounds, const std::string& initial) {
+    return R"({"type": "calibration", "name": "c", "scenario": ")" +
+           rover::testing::source_path("configs/scenarios/drop_horizontal.json") + R"(", "data": ")" + good +
+           R"(", "fit": [")" + fit + R"("], "bounds": {")" + fit + R"(": )" + bounds + R"(}, "initial": {")" + fit +
+           R"(": )" + initial + "}}";
+  };
+  expect_refused(write_file(dir, "p1.json", with_fit("contact.cg", "[1, 200]", "100")),
+                 "did you mean 'contact.c_g'");
+  expect_refused(write_file(dir, "p2.json", with_fit("contact.c_g", "[200, 1]", "100")), "'bounds.contact.c_g'");
+  expect_refused(write_file(dir, "p3.json", with_fit("contact.c_g", "[1, 200]", "300")), "'initial.contact.c_g'");
+  expect_refused(write_file(dir, "p4.json", with_fit("contact.k_g", "[-1, 1e7]", "1e6")), "positive bounds");
+  expect_refused(write_file(dir, "p5.json", study_text(good, R"(, "priors": {"c_q": {"distribution": "normal", "mean": 5, "sd": 1e-3}})")),
+                 "no probability inside the bounds");
+  const CalibrationStudy k_g = load_calibration_study(write_file(dir, "p6.json", with_fit("contact.k_g", "[1e5, 1e7]", "2e6")));
+  EXPECT_EQ(k_g.fit.at(0).canonical, "contact.k_g");
+  EXPECT_TRUE(k_g.fit.at(0).log_scale);  // stiffnesses are searched in log10 by default
   // Joint fits: a list of curves, each with a known channel.
   const std::string skewed = rover::testing::source_path("configs/data/drop_skewed_synthetic.csv");
   const std::string joint = R"(, "data": [{"file": ")" + good + R"("}, {"file": ")" + skewed +
@@ -233,7 +250,7 @@ TEST(Calibration, StudyFileChecksNameTheField) {
   const CalibrationStudy two = load_calibration_study(write_file(dir, "joint.json", text));
   ASSERT_EQ(two.datasets.size(), 2u);
   EXPECT_EQ(two.datasets[1].channel, "B_r_z");
-  EXPECT_NE(two.datasets[1].setup.scenario.initial_q, two.datasets[0].setup.scenario.initial_q);
+  EXPECT_NE(two.datasets[1].model->nominal().scenario.initial_q, two.datasets[0].model->nominal().scenario.initial_q);
   std::string bad_channel = text;
   bad_channel.replace(bad_channel.find("B_r_z"), 5, "B_x_z");
   expect_refused(write_file(dir, "g.json", bad_channel), "'data[1].channel'");
