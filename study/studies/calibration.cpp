@@ -39,6 +39,10 @@ std::string format_number(double v, int digits = 4) {
 
 constexpr const char* kTimeOffset = "time_offset";
 constexpr const char* kLeastSquaresAlgorithm = "levenberg_marquardt";
+// The integration check tightens the tolerances by this factor, or by its
+// square when the shift exceeds kFarShiftFactor times the limit.
+constexpr double kTighteningFactor = 10.0;
+constexpr double kFarShiftFactor = 10.0;
 // The reference integrator of the integration check: Dormand-Prince at the
 // tightest tolerances that run through every contact event of the drops.
 constexpr double kReferenceRelativeTolerance = 1e-8;
@@ -858,26 +862,34 @@ CheckedFit checked_fit(const CalibrationStudy& study, std::vector<double> start,
     best.insert(best.end(), c.fit.offsets.begin(), c.fit.offsets.end());
     c.gn = gauss_newton_at_optimum(c.study, best, control);
     if (InterruptGuard::flag()) throw StudyInterrupted("calibrate: interrupted; run the command again");
-    std::vector<double> go_on{0.0};
+    std::vector<double> go_on{0.0, 0.0};  // refit?, the largest shift (rank 0's, for every rank)
     if (world_rank() == 0 && c.fit.converged && c.gn.ok && !is_reference(c.study)) {
       c.shift = integration_shift(c.study, c.fit.values, c.fit.offsets, c.gn.weights, c.gn.weighted_jacobian,
                                   c.gn.uncertainty.standard_error);
       go_on[0] = !c.shift.ok || c.shift.largest_se > c.study.integration_check.max_shift_se ? 1.0 : 0.0;
+      go_on[1] = c.shift.ok ? c.shift.largest_se : 0.0;
     }
     broadcast_from_rank0(go_on);
     if (go_on[0] == 0.0) return c;
     IntegratorSettings next = c.study.integrator;
     if (tightening < c.study.integration_check.max_tightenings && next.method != IntegratorMethod::kDormandPrince45) {
-      next.relative_tolerance /= 10.0;
-      next.absolute_tolerance /= 10.0;
+      // Tenfold, or a hundredfold when the shift is ten times the limit.
+      const bool far = go_on[1] > kFarShiftFactor * c.study.integration_check.max_shift_se;
+      const double factor = far ? kTighteningFactor * kTighteningFactor : kTighteningFactor;
+      next.relative_tolerance /= factor;
+      next.absolute_tolerance /= factor;
     } else {
       next = c.study.integration_check.reference;
     }
     c.integrator_actions.push_back("the integration error moved a parameter by " +
-                                   format_number(c.shift.largest_se, 3) + " standard errors with " +
+                                   format_number(go_on[1], 3) + " standard errors with " +
                                    describe_integrator(c.study.integrator) + "; refitting with " +
                                    describe_integrator(next));
+    // The next fit starts where the reference's optimum is predicted to be.
     start = c.fit.values;
+    for (std::size_t k = 0; k < start.size() && c.shift.ok; ++k)
+      start[k] = std::clamp(start[k] + c.shift.step[k], c.study.fit[k].lower, c.study.fit[k].upper);
+    broadcast_from_rank0(start);
     c.study = c.study.with_integrator(next);
   }
 }

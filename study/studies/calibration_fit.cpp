@@ -342,6 +342,7 @@ IntegrationShift integration_shift(const CalibrationStudy& s, const std::vector<
   const Eigen::VectorXd step = weighted_jacobian.colPivHouseholderQr().solve(-difference);
   for (std::size_t c = 0; c < s.fit.size(); ++c) {
     const auto i = static_cast<Eigen::Index>(c);
+    out.step.push_back(step[i]);
     out.shift_se.push_back(step[i] / standard_error[i]);
     if (std::isfinite(out.shift_se.back()))
       out.largest_se = std::max(out.largest_se, std::abs(out.shift_se.back()));

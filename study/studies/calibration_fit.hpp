@@ -67,6 +67,7 @@ struct IntegrationShift {
   bool ok = false;
   std::string message;
   std::vector<double> shift_se;  // per fitted parameter
+  std::vector<double> step;      // per fitted parameter, natural units: the reference's optimum less ours
   double largest_se = 0;         // max |shift_se|
 };
 IntegrationShift integration_shift(const CalibrationStudy& study, const std::vector<double>& values,

@@ -122,6 +122,39 @@ TEST(CmdCalibrate, FitsAnyParameterByName) {
   EXPECT_NE(log.find("did you mean 's_structure.k_q'"), std::string::npos) << log;
 }
 
+// Precise data (1 kHz, 0.03 mm noise, made on Dormand-Prince at rtol 1e-8):
+// the stiff integrator's default error moves c_q by several standard
+// errors, so the integration check tightens it and refits until the shift
+// is below 0.1 standard error; the intervals then hold the truths.
+TEST(CmdCalibrate, IntegrationCheckTightensTheIntegratorUntilTheShiftIsSmall) {
+  const std::string dir = rover::testing::temp_dir();
+  const std::string scenario = write_file(dir + "/reference_drop.json", R"({"name": "drop", "rover": ")" +
+      source_path("configs/rover.json") + R"(", "duration": 1.0, "output_rate": 1000,
+      "initial_q": {"z": 0.281, "chi": 0.039, "psi": 0.0042},
+      "integrator": {"method": "dopri5", "rtol": 1e-8, "atol": 1e-11}})");
+  std::string log;
+  ASSERT_EQ(run_command(rover_binary() + " synthesize --scenario " + scenario + " --cq 0.12 --f 8000 --noise 3e-5 " +
+                            "--offset 0.021 --rate 1000 --seed 5 --out " + dir + "/precise.csv", &log),
+            0) << log;
+  const std::string study = write_file(dir + "/precise.json", R"({"type": "calibration", "name": "p", "scenario": ")" +
+      source_path("configs/scenarios/drop_horizontal.json") + R"(", "data": ")" + dir + R"(/precise.csv",
+      "fit": ["c_q", "f"], "bounds": {"c_q": [0.02, 1.0], "f": [1e2, 1e5], "time_offset": [-0.2, 0.2]},
+      "initial": {"c_q": 0.2, "f": 1e4}})");
+  ASSERT_EQ(run_command(mpiexec() + " -np 2 " + rover_binary() + " calibrate --study " + study +
+                            " --no-plot --out " + dir + "/precise.h5", &log),
+            0) << log;
+  EXPECT_NE(log.find("refitting with rosenbrock"), std::string::npos) << log;
+  const io::Hdf5Reader h5(dir + "/precise.h5");
+  EXPECT_EQ(h5.attribute_integer("/best", "intervals_valid"), 1) << log;
+  EXPECT_NE(h5.attribute_string("/best", "integrator"), "rosenbrock at rtol 1e-05, atol 0.0002");
+  for (double shift : h5.read_doubles("/best/integration_shift")) EXPECT_LE(std::abs(shift), 0.1) << log;
+  const auto lower = h5.read_doubles("/best/lower"), upper = h5.read_doubles("/best/upper");
+  EXPECT_LT(lower[0], 0.12) << log;
+  EXPECT_GT(upper[0], 0.12) << log;
+  EXPECT_LT(lower[1], 8000) << log;
+  EXPECT_GT(upper[1], 8000) << log;
+}
+
 // A quick posterior: a 0.25 s drop with the stiff integrator, 4 walkers.
 std::string mcmc_study(const std::string& dir, int walkers = 4, int steps = 6) {
   const std::string scenario = write_file(dir + "/short_drop.json", R"({"name": "short_drop", "rover": ")" +
