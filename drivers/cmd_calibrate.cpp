@@ -7,6 +7,7 @@
 
 #include "drivers/command_registry.hpp"
 #include "drivers/study_options.hpp"
+#include "core/number_text.hpp"
 #include "study/studies/calibration.hpp"
 #include "study/runtime/mpi_session.hpp"
 
@@ -46,8 +47,11 @@ int run_calibrate_command(CalibrateOptions o) {
       std::cerr << "calibrate: sampling the posterior of";
       for (const auto& p : s.fit) std::cerr << " " << p.name << " ~ " << p.prior.describe();
       std::cerr << (s.mcmc.sample_noise ? " and the noise sd" : "") << " given " << s.data_path << " ("
-                << s.datasets.size() << " curve(s)): " << s.mcmc.walkers << " walkers x " << s.mcmc.steps
-                << " steps on " << mpi.size() << " rank(s)\n";
+                << s.datasets.size() << " curve(s)): " << s.mcmc.walkers << " walkers, at most " << s.mcmc.steps
+                << " steps" << (s.mcmc.target_ess > 0 ? ", until every effective sample size reaches " +
+                                                             number_text(s.mcmc.target_ess) + " and R-hat < " +
+                                                             number_text(s.mcmc.max_rhat) : std::string())
+                << ", on " << mpi.size() << " rank(s)\n";
     } else {
       std::cerr << "calibrate: fitting";
       for (const auto& p : s.fit) std::cerr << " " << p.name << " in [" << p.lower << ", " << p.upper << "]";

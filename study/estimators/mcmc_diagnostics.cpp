@@ -72,6 +72,8 @@ double effective_sample_size(const Eigen::MatrixXd& chain) {
   return static_cast<double>(chain.size()) / integrated_autocorrelation_time(chain);
 }
 
+constexpr int kSuperchains = 4;
+
 double split_rhat(const Eigen::MatrixXd& chain) {
   check_chain(chain, "split_rhat");
   const Eigen::Index n = chain.rows() / 2;  // length of each half-chain
@@ -90,6 +92,38 @@ double split_rhat(const Eigen::MatrixXd& chain) {
   if (!(within > 0.0)) return kNaN;
   const double pooled = (nd - 1.0) / nd * within + between / nd;
   return std::sqrt(pooled / within);
+}
+
+double nested_rhat(const Eigen::MatrixXd& full_chain, int superchains) {
+  check_chain(full_chain, "nested_rhat");
+  if (superchains < 2 || full_chain.cols() < superchains)
+    throw std::invalid_argument("nested_rhat: need at least 2 superchains of at least one walker each, got " +
+                                std::to_string(superchains) + " superchains of " +
+                                std::to_string(full_chain.cols()) + " walkers");
+  // Split: the first halves of the walkers, then their second halves.
+  const Eigen::Index half = full_chain.rows() / 2;
+  Eigen::MatrixXd chain(half, 2 * full_chain.cols());
+  chain << full_chain.topRows(half), full_chain.bottomRows(half);
+  superchains *= 2;
+  const Eigen::Index walkers_per_group = chain.cols() / superchains;
+  const double n = static_cast<double>(chain.rows());
+  Eigen::VectorXd group_means(superchains);
+  double within = 0.0;  // mean over superchains of (between walkers + within walkers)
+  for (int k = 0; k < superchains; ++k) {
+    const auto group = chain.middleCols(k * walkers_per_group, walkers_per_group);
+    const Eigen::RowVectorXd walker_means = group.colwise().mean();
+    group_means[k] = walker_means.mean();
+    const double between_walkers =
+        walkers_per_group > 1
+            ? (walker_means.array() - group_means[k]).square().sum() / static_cast<double>(walkers_per_group - 1)
+            : 0.0;
+    const double within_walkers =
+        (group.rowwise() - walker_means).array().square().sum() / ((n - 1.0) * static_cast<double>(walkers_per_group));
+    within += (between_walkers + within_walkers) / superchains;
+  }
+  const double between = (group_means.array() - group_means.mean()).square().sum() / (superchains - 1.0);
+  if (!(within > 0.0)) return kNaN;
+  return std::sqrt(1.0 + between / within);
 }
 
 ChainDiagnostics diagnose_chain(const std::vector<Eigen::MatrixXd>& samples, long accepted_moves,
@@ -112,6 +146,7 @@ ChainDiagnostics diagnose_chain(const std::vector<Eigen::MatrixXd>& samples, lon
   d.autocorrelation_time.resize(p);
   d.effective_sample_size.resize(p);
   d.split_rhat.resize(p);
+  d.nested_rhat.resize(p);
   std::ostringstream warning;
   double max_tau = 0.0;
   for (Eigen::Index q = 0; q < p; ++q) {
@@ -120,17 +155,18 @@ ChainDiagnostics diagnose_chain(const std::vector<Eigen::MatrixXd>& samples, lon
     d.autocorrelation_time[q] = tau;
     d.effective_sample_size[q] = static_cast<double>(chain.size()) / tau;
     d.split_rhat[q] = split_rhat(chain);
+    d.nested_rhat[q] = walkers >= 2 * kSuperchains ? nested_rhat(chain, kSuperchains) : d.split_rhat[q];
     if (std::isnan(tau)) {
       warning << "parameter " << q << " never moves; ";
       d.chain_too_short = true;
     } else {
       max_tau = std::max(max_tau, tau);
     }
-    if (d.split_rhat[q] > 1.1)
-      warning << "parameter " << q << ": split R-hat " << d.split_rhat[q]
+    if (d.nested_rhat[q] > 1.1)
+      warning << "parameter " << q << ": nested R-hat " << d.nested_rhat[q]
               << " > 1.1, the walkers disagree (not converged or several modes); ";
-    else if (d.split_rhat[q] > 1.01)
-      warning << "parameter " << q << ": split R-hat " << d.split_rhat[q] << " > 1.01; ";
+    else if (d.nested_rhat[q] > 1.01)
+      warning << "parameter " << q << ": nested R-hat " << d.nested_rhat[q] << " > 1.01; ";
   }
   if (static_cast<double>(kept) < 50.0 * max_tau) {
     d.chain_too_short = true;

@@ -15,6 +15,19 @@
 // cut into two halves (the middle draw of an odd length is dropped) and the
 // between- and within-chain variances of the 2 x walkers half-chains give
 // R-hat = sqrt(((n-1)/n W + B/n) / W).
+//
+// Nested R-hat (Margossian, Hoffman, Sountsov, Riou-Durand, Vehtari and
+// Vehtari 2022, "Nested R-hat: assessing the convergence of Markov chain
+// Monte Carlo when running many short chains"), split like R-hat: every
+// walker's chain is cut in halves, and the first halves and the second halves
+// are each cut into `superchains` groups of consecutive walkers, so a drift
+// between the halves shows as well as a disagreement between walkers;
+// R = sqrt(1 + B / W), B the variance of
+// the superchain means, W the mean over superchains of the variance of their
+// walkers' means plus the mean within-walker variance. Each walker of an
+// ensemble holds few independent draws, so the split R-hat of single walkers
+// stays near 1 + 1 / (draws per walker) however long the ensemble runs; the
+// superchains' means average those out, and R -> 1 as the chain mixes.
 #pragma once
 
 #include <string>
@@ -30,10 +43,15 @@ double integrated_autocorrelation_time(const Eigen::MatrixXd& chain, double wind
 double effective_sample_size(const Eigen::MatrixXd& chain);  // steps * walkers / tau
 // NaN when every half-chain is constant.
 double split_rhat(const Eigen::MatrixXd& chain);
+// superchains >= 2 groups of chain.cols() / superchains consecutive walkers
+// per half (the remainder left out); NaN when no walker moves.
+double nested_rhat(const Eigen::MatrixXd& chain, int superchains);
 
 struct ChainDiagnostics {
   double acceptance_fraction = 0;
   Eigen::VectorXd autocorrelation_time, effective_sample_size, split_rhat;  // per parameter
+  // Per parameter: nested R-hat over 4 superchains (the split R-hat with fewer than 8 walkers).
+  Eigen::VectorXd nested_rhat;
   bool chain_too_short = false;  // steps < 50 * max autocorrelation time, or a parameter never moves
   std::string warning;           // human text when too short or R-hat > 1.01 / 1.1; empty if fine
 };

@@ -456,6 +456,9 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
     s.mcmc.walkers = m.integer_or("walkers", s.mcmc.walkers);
     s.mcmc.steps = m.integer_or("steps", static_cast<int>(s.mcmc.steps));
     s.mcmc.discard = m.integer_or("discard", static_cast<int>(s.mcmc.discard));
+    s.mcmc.target_ess = m.has("target_ess") ? m.non_negative("target_ess") : s.mcmc.target_ess;
+    s.mcmc.max_rhat = m.has("max_rhat") ? m.positive("max_rhat") : s.mcmc.max_rhat;
+    if (!(s.mcmc.max_rhat > 1.0)) m.fail("max_rhat", "must be above 1, got " + format_number(s.mcmc.max_rhat, 6));
     s.mcmc.seed = m.seed_or("seed", s.mcmc.seed);
     s.mcmc.predictive_draws = m.integer_or("predictive_draws", s.mcmc.predictive_draws);
     if (m.has("noise_sd")) {
@@ -523,7 +526,7 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
   for (const auto& d : s.datasets)
     key << read_text(d.path) << '\n' << read_text(d.scenario_path) << '\n' << d.channel << '\n';
   key << method << '\n' << s.algorithm << ' ' << s.max_iterations << ' ' << describe_integrator(s.integrator)
-      << ' ' << s.max_evaluations << ' ' << s.starts << ' ' << s.mcmc.walkers << ' ' << s.mcmc.steps << ' ' << s.mcmc.discard << ' ' << s.profile << ' ' << s.profile_points;
+      << ' ' << s.max_evaluations << ' ' << s.starts << ' ' << s.mcmc.walkers << ' ' << s.mcmc.steps << ' ' << s.mcmc.discard << ' ' << s.mcmc.target_ess << ' ' << s.mcmc.max_rhat << ' ' << s.profile << ' ' << s.profile_points;
   for (const auto& p : s.fit) key << ' ' << p.name;
   s.fingerprint = io::config_fingerprint(key.str());
   return s;
@@ -1142,8 +1145,29 @@ CalibrationOutcome run_fit(const CalibrationStudy& s, const StudyRunControl& con
 }  // namespace
 
 CalibrationOutcome run_calibration(const CalibrationStudy& s, const StudyRunControl& control) {
-  if (s.method == CalibrationMethod::mcmc) return {run_calibration_mcmc(s, control), true, ""};
-  return run_fit(s, control);
+  if (s.method == CalibrationMethod::optimize) return run_fit(s, control);
+  // The posterior starts at the converged fit, on the integrator its check
+  // proved sufficient.
+  FitHistory history;
+  std::vector<double> start;
+  for (const FitParameter& f : s.fit) start.push_back(f.initial);
+  const CheckedFit checked = checked_fit(s, start, control, history);
+  std::vector<double> ball;  // values then standard errors, rank 0's
+  if (world_rank() == 0 && checked.fit.converged && checked.gn.ok) {
+    ball = checked.fit.values;
+    for (std::size_t k = 0; k < s.fit.size(); ++k) ball.push_back(checked.gn.uncertainty.standard_error[static_cast<Eigen::Index>(k)]);
+  }
+  broadcast_from_rank0(ball);
+  McmcStart mcmc_start;
+  if (!ball.empty()) {
+    mcmc_start.values.assign(ball.begin(), ball.begin() + static_cast<std::ptrdiff_t>(s.fit.size()));
+    mcmc_start.standard_error.assign(ball.begin() + static_cast<std::ptrdiff_t>(s.fit.size()), ball.end());
+  }
+  if (world_rank() == 0)
+    std::cerr << "calibrate: the posterior starts " << (ball.empty() ? "at the initial values (the fit did not converge)"
+                                                                     : "around the converged fit")
+              << ", on " << describe_integrator(checked.study.integrator) << "\n";
+  return run_calibration_mcmc(checked.study, control, mcmc_start);
 }
 
 }  // namespace rover::study

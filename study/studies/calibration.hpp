@@ -81,8 +81,14 @@ enum class CalibrationMethod { optimize, mcmc };
 
 struct McmcSettings {
   int walkers = 32;
-  long steps = 500;
+  // The chain runs until every parameter has an effective sample size of at
+  // least target_ess and a nested R-hat (study/estimators/mcmc_diagnostics.hpp) below max_rhat (checked every
+  // kMcmcCheckInterval steps past the burn-in), at most `steps` steps.
+  // target_ess 0: exactly `steps` steps, no convergence requirement.
+  long steps = 5000;
   long discard = 100;  // burn-in steps left out of the summaries
+  double target_ess = 400;
+  double max_rhat = 1.01;
   std::uint64_t seed = 1;
   // The measurement noise sd [m]: sampled with noise_prior, or known.
   bool sample_noise = true;
@@ -227,6 +233,13 @@ struct CalibrationOutcome {
   std::string results_path;
   bool trusted = true;
   std::string why;
+};
+
+// Where the walkers of a posterior start: the converged fit (values in the
+// order of CalibrationStudy::fit, and their Gauss-Newton standard errors), or
+// nothing (the study's initial values).
+struct McmcStart {
+  std::vector<double> values, standard_error;
 };
 
 // Collective over MPI ranks: the fit (method optimize) or the posterior

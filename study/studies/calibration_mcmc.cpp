@@ -174,6 +174,39 @@ EnsembleState state_from_values(const std::vector<double>& v, long step, int wal
   return state;
 }
 
+// The chain's convergence target is checked every this many steps.
+constexpr long kMcmcCheckInterval = 50;
+
+// Records 1 .. steps as per-parameter steps x walkers matrices, the log
+// posterior and the accepted moves.
+struct ChainSamples {
+  std::vector<Eigen::MatrixXd> samples;
+  Eigen::MatrixXd log_posterior;
+  long accepted_moves = 0;
+};
+ChainSamples chain_samples(const std::vector<io::TaskRecord>& records, long steps, int walkers, int p) {
+  ChainSamples c{std::vector<Eigen::MatrixXd>(static_cast<std::size_t>(p), Eigen::MatrixXd(steps, walkers)),
+                 Eigen::MatrixXd(steps, walkers), 0};
+  for (long st = 1; st <= steps; ++st) {
+    const std::vector<double>& v = records[static_cast<std::size_t>(st)].values;
+    for (int w = 0; w < walkers; ++w) {
+      for (int k = 0; k < p; ++k) c.samples[static_cast<std::size_t>(k)](st - 1, w) = v[static_cast<std::size_t>(w * p + k)];
+      c.log_posterior(st - 1, w) = v[static_cast<std::size_t>(walkers * p + w)];
+    }
+    c.accepted_moves += std::lround(v.back());
+  }
+  return c;
+}
+
+// Whether the chain so far meets the study's target, and a line saying how far it is.
+bool target_met(const ChainDiagnostics& d, const McmcSettings& m, std::string* progress) {
+  const double ess = d.effective_sample_size.size() ? d.effective_sample_size.minCoeff() : 0.0;
+  const double rhat = d.nested_rhat.size() ? d.nested_rhat.maxCoeff() : INFINITY;
+  *progress = "smallest effective sample size " + format_number(ess, 3) + " (target " + format_number(m.target_ess, 3) +
+              "), largest nested R-hat " + format_number(rhat, 4) + " (target < " + format_number(m.max_rhat, 4) + ")";
+  return ess >= m.target_ess && rhat < m.max_rhat;
+}
+
 }  // namespace
 
 double gaussian_log_likelihood(const std::vector<double>& residuals, double noise_sd) {
@@ -207,7 +240,8 @@ double calibration_log_density(const std::vector<Distribution>& priors, const Di
   return log_density;
 }
 
-std::string run_calibration_mcmc(const CalibrationStudy& s, const StudyRunControl& control) {
+CalibrationOutcome run_calibration_mcmc(const CalibrationStudy& s, const StudyRunControl& control,
+                                        const McmcStart& start) {
   const InterruptGuard guard;
   const std::string out = results_path(s.common, control.results_path);
   const McmcSettings& m = s.mcmc;
@@ -285,8 +319,9 @@ std::string run_calibration_mcmc(const CalibrationStudy& s, const StudyRunContro
   } else {
     // Walkers start in a small ball around the initial values (2 % of the
     // prior's width or 10 % of its sd); the noise sd around the RMS there.
-    std::vector<double> start_values;
-    for (const auto& f : s.fit) start_values.push_back(f.initial);
+    std::vector<double> start_values = start.values;
+    if (start_values.empty())
+      for (const auto& f : s.fit) start_values.push_back(f.initial);
     std::vector<double> start_sd(curves, known_sd.value_or(1e-3));
     if (m.sample_noise) {
       const CalibrationResiduals fit = calibration_residuals(s, start_values);
@@ -305,7 +340,9 @@ std::string run_calibration_mcmc(const CalibrationStudy& s, const StudyRunContro
         const Distribution& prior = noise ? m.noise_prior : priors[static_cast<std::size_t>(k)];
         const double centre = noise ? start_sd[static_cast<std::size_t>(k - p_fit)] : start_values[static_cast<std::size_t>(k)];
         const double lo = prior.support_lower(), hi = prior.support_upper();
+        const double fit_se = !noise && !start.standard_error.empty() ? start.standard_error[static_cast<std::size_t>(k)] : 0.0;
         const double spread = noise ? 0.1 * centre
+                              : std::isfinite(fit_se) && fit_se > 0 ? 0.1 * fit_se
                               : std::isfinite(hi - lo) ? 0.02 * (hi - lo) : 0.1 * prior.sd();
         double v = centre + spread * gauss(engine);
         for (int tries = 0; tries < 100 && !(v > lo && v < hi); ++tries) v = centre + spread * gauss(engine);
@@ -324,31 +361,43 @@ std::string run_calibration_mcmc(const CalibrationStudy& s, const StudyRunContro
   const long first_step = state.step;
   std::vector<bool> accepted;
   bool interrupted = false;
+  std::vector<io::TaskRecord> chain_records = records;  // rank 0: the chain so far, in memory
+  if (root && chain_records.empty()) chain_records = checkpoint->load();
+  bool mixed = false;
+  std::string progress;
   while (state.step < m.steps) {
     state = ensemble_step(state, batch, options, &accepted);
     if (root) {
-      checkpoint->add(state_record(state, std::count(accepted.begin(), accepted.end(), true)));
+      chain_records.push_back(state_record(state, std::count(accepted.begin(), accepted.end(), true)));
+      checkpoint->add(chain_records.back());
+      if (m.target_ess > 0 && state.step >= m.discard + kMcmcCheckInterval && state.step % kMcmcCheckInterval == 0) {
+        const ChainSamples chain = chain_samples(chain_records, state.step, walkers, p);
+        mixed = target_met(diagnose_chain(chain.samples, chain.accepted_moves, static_cast<int>(m.discard)), m,
+                           &progress);
+        std::cerr << "calibrate: step " << state.step << ": " << progress << "\n";
+      }
       const auto now = std::chrono::steady_clock::now();
       if (control.progress_interval_s > 0 &&
           std::chrono::duration<double>(now - last_report).count() >= control.progress_interval_s) {
         last_report = now;
         const double elapsed = std::chrono::duration<double>(now - started).count();
         const double per_step = elapsed / static_cast<double>(state.step - first_step);
-        std::cerr << "calibrate: step " << state.step << "/" << m.steps << ", "
+        std::cerr << "calibrate: step " << state.step << " (at most " << m.steps << "), "
                   << format_number(per_step, 3) << " s/step, time left "
-                  << format_duration(per_step * static_cast<double>(m.steps - state.step)) << "\n";
+                  << format_duration(per_step * static_cast<double>(m.steps - state.step)) << " at most\n";
       }
     }
-    std::vector<double> stop{root && InterruptGuard::flag().load() ? 1.0 : 0.0};
+    std::vector<double> stop{root && InterruptGuard::flag().load() ? 1.0 : 0.0, mixed ? 1.0 : 0.0};
     broadcast_from_rank0(stop);
     if (stop[0] != 0.0 && state.step < m.steps) {
       interrupted = true;
       break;
     }
+    if (stop[1] != 0.0) break;  // the target is met
   }
   if (root) checkpoint->save();
   if (interrupted) {
-    if (!root) return out;
+    if (!root) return {out, true, ""};
     throw StudyInterrupted("calibrate: interrupted after step " + std::to_string(state.step) +
                            "; the ensemble is saved in " + checkpoint->path() + "; continue with " +
                            (control.resume_command.empty() ? std::string("--resume") : control.resume_command));
@@ -356,7 +405,9 @@ std::string run_calibration_mcmc(const CalibrationStudy& s, const StudyRunContro
 
   // The chain (rank 0): every step's record from the checkpoint's order.
   if (root) records = checkpoint->load();
-  const long steps = m.steps;
+  std::vector<double> final_step{static_cast<double>(state.step)};
+  broadcast_from_rank0(final_step);
+  const long steps = std::lround(final_step[0]);
   std::vector<Eigen::MatrixXd> samples(static_cast<std::size_t>(p), Eigen::MatrixXd(steps, walkers));
   Eigen::MatrixXd log_posterior(steps, walkers);
   long accepted_moves = 0;
@@ -365,14 +416,10 @@ std::string run_calibration_mcmc(const CalibrationStudy& s, const StudyRunContro
   if (root) {
     if (records.size() < static_cast<std::size_t>(steps + 1))
       throw std::runtime_error("calibrate: the checkpoint " + checkpoint->path() + " lost steps");
-    for (long st = 1; st <= steps; ++st) {
-      const std::vector<double>& v = records[static_cast<std::size_t>(st)].values;
-      for (int w = 0; w < walkers; ++w) {
-        for (int k = 0; k < p; ++k) samples[static_cast<std::size_t>(k)](st - 1, w) = v[static_cast<std::size_t>(w * p + k)];
-        log_posterior(st - 1, w) = v[static_cast<std::size_t>(walkers * p + w)];
-      }
-      accepted_moves += std::lround(v.back());
-    }
+    ChainSamples chain = chain_samples(records, steps, walkers, p);
+    samples = std::move(chain.samples);
+    log_posterior = std::move(chain.log_posterior);
+    accepted_moves = chain.accepted_moves;
     // K draws spread evenly over the kept samples (step-major).
     const long total = kept * walkers;
     for (int d = 0; d < m.predictive_draws; ++d) {
@@ -402,7 +449,14 @@ std::string run_calibration_mcmc(const CalibrationStudy& s, const StudyRunContro
         return r;
       },
       {}, farm);
-  if (!root) return out;
+  std::vector<double> mixed_flag{mixed ? 1.0 : 0.0};
+  broadcast_from_rank0(mixed_flag);
+  CalibrationOutcome outcome{out, true, ""};
+  if (m.target_ess > 0 && mixed_flag[0] == 0.0) {
+    outcome.trusted = false;
+    outcome.why = "the chain did not meet its target in " + std::to_string(steps) + " steps: " + progress;
+  }
+  if (!root) return outcome;
   remove_checkpoint(out);
 
   // Summaries over the kept steps.
@@ -487,7 +541,12 @@ std::string run_calibration_mcmc(const CalibrationStudy& s, const StudyRunContro
   h5.write("/diagnostics/autocorrelation_time", as_vector(diagnostics.autocorrelation_time));
   h5.write("/diagnostics/effective_sample_size", as_vector(diagnostics.effective_sample_size));
   h5.write("/diagnostics/split_rhat", as_vector(diagnostics.split_rhat));
+  h5.write("/diagnostics/nested_rhat", as_vector(diagnostics.nested_rhat));
   h5.attribute("/diagnostics", "warning", diagnostics.warning);
+  h5.attribute("/diagnostics", "mixed", static_cast<long long>(outcome.trusted));
+  h5.attribute("/diagnostics", "not_mixed_because", outcome.why);
+  h5.attribute("/diagnostics", "target_ess", m.target_ess);
+  h5.attribute("/diagnostics", "max_rhat", m.max_rhat);
   // Curve 0 at /predictive and /data, curve c at /predictive/c and /data/c.
   auto slice = [&](const std::vector<double>& v, std::size_t c) {
     return std::vector<double>(v.begin() + static_cast<std::ptrdiff_t>(first[c]),
@@ -516,6 +575,9 @@ std::string run_calibration_mcmc(const CalibrationStudy& s, const StudyRunContro
   h5.attribute("/", "calibration_fingerprint", s.fingerprint);
   h5.commit();
 
+  if (!outcome.trusted)
+    std::cerr << "calibrate: WARNING: the posterior is NOT VALID: " << outcome.why
+              << " (written with /diagnostics mixed = 0; exit status 2)\n";
   std::cerr << "calibrate: posterior from " << walkers << " walkers x " << steps << " steps (first "
             << m.discard << " discarded); time offset "
             << (s.offset_fitted() ? "sampled" : "profiled (best offset for each proposal)") << "\n";
@@ -526,11 +588,13 @@ std::string run_calibration_mcmc(const CalibrationStudy& s, const StudyRunContro
               << format_number(q975[k], 6) << "]; MAP " << format_number(map[k], 6) << "; tau "
               << format_number(diagnostics.autocorrelation_time[i], 3) << ", ESS "
               << format_number(diagnostics.effective_sample_size[i], 3) << ", R-hat "
-              << format_number(diagnostics.split_rhat[i], 4) << "\n";
+              << format_number(diagnostics.split_rhat[i], 4) << ", nested R-hat "
+              << format_number(diagnostics.nested_rhat[i], 4) << "\n";
   }
   std::cerr << "calibrate: acceptance " << format_number(diagnostics.acceptance_fraction, 3) << "\n";
   if (!diagnostics.warning.empty())
     std::cerr << "calibrate: WARNING: " << diagnostics.warning << "\n";
+
   std::cerr << "calibrate: wrote " << out << "\n";
 
   if (control.plot) {
@@ -579,7 +643,7 @@ std::string run_calibration_mcmc(const CalibrationStudy& s, const StudyRunContro
                             "calibrate", std::cerr);
     }
   }
-  return out;
+  return outcome;
 }
 
 }  // namespace rover::study

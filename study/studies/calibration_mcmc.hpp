@@ -10,6 +10,11 @@
 // is among the fitted parameters; otherwise it is PROFILED: each proposal uses
 // its best offset (a maximisation, not a marginalisation, over the offset).
 //
+// The chain runs until its effective sample size and split R-hat meet the
+// study's target (McmcSettings), printing their progress; a chain that ends
+// at its step limit without meeting them is written with
+// /diagnostics mixed = 0 and the program exits with status 2.
+//
 // Parallel: all ranks run the sampler in lockstep (its proposals depend only on
 // the state and the seed); the proposals of each half-ensemble are evaluated
 // in ONE run_task_farm call and rank 0 broadcasts their log densities, so the
@@ -60,7 +65,10 @@ double calibration_log_density(const std::vector<Distribution>& priors, const Di
                                std::optional<double> known_noise_sd, std::size_t curves,
                                const Eigen::VectorXd& theta, const ResidualFunction& residuals);
 
-// Collective over MPI ranks; see above. Returns the result path.
-std::string run_calibration_mcmc(const CalibrationStudy& study, const StudyRunControl& control);
+// Collective over MPI ranks; see above. The walkers start in a ball around
+// `start` (a tenth of each standard error) when it is given. Returns the
+// result path and whether the chain met its target (mixed).
+CalibrationOutcome run_calibration_mcmc(const CalibrationStudy& study, const StudyRunControl& control,
+                                        const McmcStart& start = {});
 
 }  // namespace rover::study

@@ -166,7 +166,7 @@ std::string mcmc_study(const std::string& dir, int walkers = 4, int steps = 6) {
       "bounds": {"c_q": [0.02, 1.0], "time_offset": [-0.2, 0.2]}, "initial": {"c_q": 0.25},
       "priors": {"c_q": {"distribution": "uniform", "min": 0.1, "max": 0.5}},
       "mcmc": {"walkers": )" + std::to_string(walkers) +
-      R"(, "steps": )" + std::to_string(steps) + R"(, "discard": 2, "seed": 3, "predictive_draws": 4,
+      R"(, "steps": )" + std::to_string(steps) + R"(, "discard": 2, "seed": 3, "predictive_draws": 4, "target_ess": 0,
                "noise_sd": {"distribution": "log_uniform", "min": 1e-5, "max": 1e-2}}})");
 }
 

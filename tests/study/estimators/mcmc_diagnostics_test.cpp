@@ -92,6 +92,7 @@ TEST(DiagnoseChain, FlagsAChainShorterThanFiftyAutocorrelationTimes) {
   for (Eigen::Index q = 0; q < 2; ++q) {
     EXPECT_NEAR(l.effective_sample_size[q], 96000.0 / l.autocorrelation_time[q], 1e-6);
     EXPECT_LT(l.split_rhat[q], 1.01);
+    EXPECT_LT(l.nested_rhat[q], 1.01);
   }
 }
 
@@ -100,11 +101,26 @@ TEST(DiagnoseChain, DiscardedBurnInIsLeftOut) {
   chain.topRows(200).array() += 50.0;  // walkers still far away during the first 200 steps
   const ChainDiagnostics with_burn_in = diagnose_chain({chain}, 0, 0);
   EXPECT_GT(with_burn_in.split_rhat[0], 1.1);
+  EXPECT_GT(with_burn_in.nested_rhat[0], 1.1);
   EXPECT_NE(with_burn_in.warning.find("R-hat"), std::string::npos);
   const ChainDiagnostics without = diagnose_chain({chain}, 0, 200);
   EXPECT_LT(without.split_rhat[0], 1.01);
   // Sokal's window on 1000 iid steps: tau ~ 1 (the data-dependent window biases it slightly low).
   EXPECT_NEAR(without.autocorrelation_time[0], 1.0, 0.15);
+}
+
+// Many short walkers: single walkers hold few independent draws, so their
+// split R-hat stays above 1.01 on a stationary ensemble, while the nested
+// R-hat of 4 superchains goes below it; walkers of one superchain stuck in
+// another mode push it far above.
+TEST(DiagnoseChain, NestedRhatJudgesManyShortWalkers) {
+  const Eigen::MatrixXd stationary = ar1_chain(0.95, 1000, 64, 41);
+  EXPECT_GT(split_rhat(stationary), 1.01);
+  EXPECT_LT(nested_rhat(stationary, 4), 1.01);
+  Eigen::MatrixXd stuck = stationary;
+  stuck.leftCols(16).array() += 3.0;
+  EXPECT_GT(nested_rhat(stuck, 4), 1.1);
+  EXPECT_THROW(nested_rhat(stationary, 1), std::invalid_argument);
 }
 
 TEST(DiagnoseChain, RejectsInconsistentInput) {
