@@ -1,0 +1,32 @@
+// Ordinary least squares with its leave-one-out error in closed form.
+//
+// With the hat matrix H = Psi (Psi^T Psi)^-1 Psi^T, the leave-one-out residual
+// of run i is (y_i - yhat_i) / (1 - h_ii), so no refits are needed (Allen
+// 1974). The relative LOO error eps = mean(((y - yhat) / (1 - h))^2) / Var(y)
+// is corrected for the optimism of small designs by the factor of Chapelle,
+// Vapnik & Bengio (2002) as used by Blatman & Sudret (2011, eq. 27):
+//   T(P, N) = N / (N - P) (1 + tr(C_emp^-1) / N),   C_emp = Psi^T Psi / N,
+// where tr(C_emp^-1) / N = tr((Psi^T Psi)^-1).
+#pragma once
+
+#include <Eigen/Core>
+
+namespace rover::study {
+
+struct LeastSquaresLoo {
+  bool ok = false;                // false: N <= P or Psi^T Psi not positive definite
+  Eigen::VectorXd coefficients;   // P
+  double relative_loo = 0.0;      // eps_LOO, uncorrected
+  double corrected_loo = 0.0;     // T(P, N) eps_LOO
+};
+
+// y_variance: the variance the errors are relative to (the caller's output
+// variance, > 0). Needs Psi.rows() == y.size().
+LeastSquaresLoo least_squares_loo(const Eigen::MatrixXd& psi, const Eigen::VectorXd& y,
+                                  double y_variance);
+
+// The coefficients alone (no LOO); ok false as above.
+bool least_squares_coefficients(const Eigen::MatrixXd& psi, const Eigen::VectorXd& y,
+                                Eigen::VectorXd* coefficients);
+
+}  // namespace rover::study
