@@ -57,4 +57,29 @@ LeastSquaresLoo least_squares_loo(const Eigen::MatrixXd& psi, const Eigen::Vecto
   return fit;
 }
 
+MultiOutputLeastSquaresLoo least_squares_loo(const Eigen::MatrixXd& psi, const Eigen::MatrixXd& y,
+                                             const Eigen::VectorXd& y_variances) {
+  MultiOutputLeastSquaresLoo fit;
+  const Eigen::Index n = psi.rows(), p = psi.cols();
+  if (n <= p) return fit;
+  const Eigen::MatrixXd gram = psi.transpose() * psi;
+  const Eigen::LLT<Eigen::MatrixXd> llt(gram);
+  if (!cholesky_ok(llt, gram.diagonal().maxCoeff())) return fit;
+  fit.coefficients = llt.solve(psi.transpose() * y);
+  const Eigen::MatrixXd w = llt.matrixL().solve(psi.transpose());
+  const Eigen::MatrixXd l_inv = llt.matrixL().solve(Eigen::MatrixXd::Identity(p, p));
+  const Eigen::VectorXd leverage = w.colwise().squaredNorm().transpose();
+  if (leverage.maxCoeff() >= kMaxLeverage) return fit;
+  const double correction =
+      static_cast<double>(n) / static_cast<double>(n - p) * (1.0 + l_inv.squaredNorm());
+  const Eigen::MatrixXd scaled =
+      (y - psi * fit.coefficients).array().colwise() / (1.0 - leverage.array());
+  const Eigen::VectorXd loo = scaled.colwise().squaredNorm().transpose() / static_cast<double>(n);
+  fit.corrected_loo.resize(y.cols());
+  for (Eigen::Index j = 0; j < y.cols(); ++j)
+    fit.corrected_loo(j) = y_variances(j) > 0.0 ? correction * loo(j) / y_variances(j) : 0.0;
+  fit.ok = fit.corrected_loo.allFinite();
+  return fit;
+}
+
 }  // namespace rover::study

@@ -25,6 +25,17 @@ struct LeastSquaresLoo {
 LeastSquaresLoo least_squares_loo(const Eigen::MatrixXd& psi, const Eigen::VectorXd& y,
                                   double y_variance);
 
+// The same for several outputs on one basis (one column of y per output),
+// factoring Psi once. y_variances: one per output; an output with variance 0
+// gets corrected_loo 0 when fitted exactly.
+struct MultiOutputLeastSquaresLoo {
+  bool ok = false;
+  Eigen::MatrixXd coefficients;     // P x outputs
+  Eigen::VectorXd corrected_loo;    // one per output
+};
+MultiOutputLeastSquaresLoo least_squares_loo(const Eigen::MatrixXd& psi, const Eigen::MatrixXd& y,
+                                             const Eigen::VectorXd& y_variances);
+
 // The coefficients alone (no LOO); ok false as above.
 bool least_squares_coefficients(const Eigen::MatrixXd& psi, const Eigen::VectorXd& y,
                                 Eigen::VectorXd* coefficients);
