@@ -93,5 +93,36 @@ TEST(OrthonormalPolynomials, FamilyAndGermOfEachDistribution) {
   EXPECT_EQ(polynomial_family_for(fixed_value(3.0)), PolynomialFamily::kConstant);
 }
 
+// E[psi_m(xi(X)) psi_n(xi(X))] = delta_mn under each input distribution,
+// integrated against the distribution's own density (Distribution::log_pdf),
+// independently of the germ formulas.
+TEST(OrthonormalPolynomials, OrthonormalUnderEachInputDistribution) {
+  constexpr int kDegree = 6;
+  constexpr double kTolerance = 1e-8;
+  const std::vector<Distribution> inputs{
+      uniform(-2.0, 5.0),          log_uniform(0.01, 10.0),         normal(1.5, 0.3),
+      lognormal(0.2, 0.5),         normal(1.5, 0.3, 1.0, 2.5),      lognormal(0.2, 0.5, 0.5, 4.0),
+      normal(0.0, 1.0, 0.5)};
+  for (const Distribution& d : inputs) {
+    const PolynomialFamily family = polynomial_family_for(d);
+    const double lo = d.support_lower(), hi = d.support_upper();
+    for (int m = 0; m <= kDegree; ++m)
+      for (int n = m; n <= kDegree; ++n) {
+        const auto f = [&](double x) {
+          const double log_density = d.log_pdf(x);
+          if (!std::isfinite(log_density)) return 0.0;
+          const double xi = to_germ(d, x);
+          return std::exp(log_density) * value(family, xi, m) * value(family, xi, n);
+        };
+        // Split at the median so that narrow densities are not missed.
+        const double mid = d.quantile(0.5);
+        const double integral =
+            boost::math::quadrature::gauss_kronrod<double, 61>::integrate(f, lo, mid, 20, 1e-13) +
+            boost::math::quadrature::gauss_kronrod<double, 61>::integrate(f, mid, hi, 20, 1e-13);
+        EXPECT_NEAR(integral, m == n ? 1.0 : 0.0, kTolerance) << d.describe() << " " << m << ", " << n;
+      }
+  }
+}
+
 }  // namespace
 }  // namespace rover::study

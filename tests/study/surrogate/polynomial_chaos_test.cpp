@@ -88,6 +88,23 @@ TEST(PolynomialChaos, ReproducesAPolynomialInItsBasisByLeastSquares) {
   expect_exact_polynomial(BasisSelection::kFullLeastSquares);
 }
 
+TEST(PolynomialChaos, LinearModelOfNormalInputsHasExactIndices) {
+  const std::vector<double> coefficients{1.0, -1.0, 3.0}, sds{1.0, 2.0, 0.5};
+  const std::vector<Distribution> inputs{normal(0.0, 1.0), normal(0.0, 2.0), normal(0.0, 0.5)};
+  const DesignMatrix x = to_inputs(latin_hypercube(50, 3, 31), inputs);
+  Eigen::VectorXd y(50);
+  for (int r = 0; r < 50; ++r) y(r) = linear_model(x.row(r).data(), coefficients);
+  const PceSobolIndices s = pce_sobol_indices(fit_polynomial_chaos(x, y, inputs, {}, "linear"));
+  const KnownIndices exact = linear_indices(coefficients, sds);
+  ASSERT_TRUE(s.defined);
+  EXPECT_NEAR(s.mean, 0.0, 1e-10);
+  EXPECT_NEAR(s.variance, 1.0 + 4.0 + 2.25, 1e-10);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(s.S1(i), exact.S1(i), 1e-10);
+    EXPECT_NEAR(s.ST(i), exact.ST(i), 1e-10);
+  }
+}
+
 TEST(PolynomialChaos, ClosedFormIndicesOfKnownCoefficients) {
   // Y = 1 + 2 psi_1(x1) + 3 psi_1(x2) + 1 psi_1(x1) psi_1(x2): V = 4 + 9 + 1.
   const std::vector<MultiIndex> terms{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};
