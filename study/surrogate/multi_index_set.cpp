@@ -18,11 +18,13 @@ struct Enumeration {
   double q_norm;
   double budget;  // p^q
   const std::vector<bool>* active;
+  std::size_t max_terms;
   std::vector<MultiIndex>* out;
 };
 
 // Fills alpha[dim ..] in every admissible way, given the q-th power sum so far.
 void enumerate(const Enumeration& e, int dim, double used, MultiIndex* alpha) {
+  if (e.out->size() > e.max_terms) return;
   if (dim == e.dimensions) {
     e.out->push_back(*alpha);
     return;
@@ -42,10 +44,11 @@ void enumerate(const Enumeration& e, int dim, double used, MultiIndex* alpha) {
 int total_degree(const MultiIndex& alpha) { return std::accumulate(alpha.begin(), alpha.end(), 0); }
 
 std::vector<MultiIndex> hyperbolic_multi_indices(int dimensions, int degree, double q_norm,
-                                                 const std::vector<bool>& active) {
+                                                 const std::vector<bool>& active,
+                                                 std::size_t max_terms) {
   std::vector<MultiIndex> out;
   const Enumeration e{dimensions, degree, q_norm, std::pow(static_cast<double>(degree), q_norm),
-                      &active, &out};
+                      &active, max_terms, &out};
   MultiIndex alpha(dimensions, 0);
   enumerate(e, 0, 0.0, &alpha);
   std::stable_sort(out.begin(), out.end(), [](const MultiIndex& x, const MultiIndex& y) {

@@ -5,6 +5,8 @@
 // first while keeping the main effects up to degree p.
 #pragma once
 
+#include <cstddef>
+#include <limits>
 #include <vector>
 
 namespace rover::study {
@@ -16,8 +18,12 @@ using MultiIndex = std::vector<int>;  // one degree per input
 // then lexicographically (largest degree on the first input first); the
 // first index is always the zero (constant) index. Assumes p >= 0,
 // 0 < q <= 1 and active.size() == dimensions (checked by the callers).
-std::vector<MultiIndex> hyperbolic_multi_indices(int dimensions, int degree, double q_norm,
-                                                 const std::vector<bool>& active);
+// Enumeration stops once more than max_terms indices are found (then
+// max_terms + 1 of them, not a complete set, are returned): the caller can
+// refuse an oversized basis without building it.
+std::vector<MultiIndex> hyperbolic_multi_indices(
+    int dimensions, int degree, double q_norm, const std::vector<bool>& active,
+    std::size_t max_terms = std::numeric_limits<std::size_t>::max() - 1);
 
 int total_degree(const MultiIndex& alpha);
 

@@ -63,6 +63,7 @@ void check_training_data(const DesignMatrix& x, const Eigen::VectorXd& y,
 
 struct DegreeFit {
   bool ok = false;
+  bool too_large = false;  // the candidate set exceeds max_candidate_terms
   std::vector<MultiIndex> terms;
   Eigen::VectorXd coefficients;
   double corrected_loo = kInf;
@@ -75,13 +76,15 @@ DegreeFit fit_degree(const DesignMatrix& x, const Eigen::VectorXd& y,
   DegreeFit fit;
   const std::vector<MultiIndex> candidates =
       hyperbolic_multi_indices(static_cast<int>(inputs.size()), degree, s.q_norm,
-                               active_inputs(inputs));
+                               active_inputs(inputs), static_cast<std::size_t>(s.max_candidate_terms));
   fit.candidates = static_cast<int>(candidates.size());
+  fit.too_large = fit.candidates > s.max_candidate_terms;
+  if (fit.too_large) return fit;
   const Eigen::MatrixXd psi = pce_basis_matrix(x, inputs, candidates);
   if (s.selection == BasisSelection::kFullLeastSquares) {
     const LeastSquaresLoo ls = least_squares_loo(psi, y, variance);
     if (!ls.ok) return fit;
-    fit = DegreeFit{true, candidates, ls.coefficients, ls.corrected_loo, fit.candidates};
+    fit = DegreeFit{true, false, candidates, ls.coefficients, ls.corrected_loo, fit.candidates};
     return fit;
   }
   const SparseSelection sel = hybrid_lars(psi, y, variance);
@@ -93,10 +96,19 @@ DegreeFit fit_degree(const DesignMatrix& x, const Eigen::VectorXd& y,
   return fit;
 }
 
-int candidate_count(const std::vector<Distribution>& inputs, int degree, double q) {
-  return static_cast<int>(
-      hyperbolic_multi_indices(static_cast<int>(inputs.size()), degree, q, active_inputs(inputs))
-          .size());
+// The size of the candidate set, or max_terms + 1 if it is larger.
+int candidate_count(const std::vector<Distribution>& inputs, int degree, double q, int max_terms) {
+  return static_cast<int>(hyperbolic_multi_indices(static_cast<int>(inputs.size()), degree, q,
+                                                   active_inputs(inputs),
+                                                   static_cast<std::size_t>(max_terms))
+                              .size());
+}
+
+std::string too_large_message(const std::string& name, int degree, const PolynomialChaosSettings& s) {
+  return "polynomial chaos: the degree-" + std::to_string(degree) + " candidate basis of '" + name +
+         "' has more than max_candidate_terms = " + std::to_string(s.max_candidate_terms) +
+         " terms; lower min_degree or q_norm, or raise max_candidate_terms (up to " +
+         std::to_string(kMaxPceCandidateTerms) + ")";
 }
 
 PolynomialChaosExpansion constant_expansion(const Eigen::VectorXd& y,
@@ -134,6 +146,9 @@ void check_polynomial_chaos_settings(const PolynomialChaosSettings& s) {
     fail("degree_patience " + std::to_string(s.degree_patience) + " must be >= 1");
   if (!(s.q_norm > 0.0 && s.q_norm <= 1.0))
     fail("q_norm " + value_text(s.q_norm) + " is outside (0, 1]");
+  if (s.max_candidate_terms < 1 || s.max_candidate_terms > kMaxPceCandidateTerms)
+    fail("max_candidate_terms " + std::to_string(s.max_candidate_terms) + " is outside [1, " +
+         std::to_string(kMaxPceCandidateTerms) + "]");
   if (!(s.q2_threshold <= 1.0))
     fail("q2_threshold " + value_text(s.q2_threshold) + " must be a number <= 1");
 }
@@ -141,9 +156,9 @@ void check_polynomial_chaos_settings(const PolynomialChaosSettings& s) {
 int min_pce_runs(const std::vector<Distribution>& inputs, const PolynomialChaosSettings& s) {
   if (s.selection == BasisSelection::kFullLeastSquares) {
     const int first = s.adaptive_degree ? s.min_degree : s.max_degree;
-    return candidate_count(inputs, first, s.q_norm) + 1;
+    return candidate_count(inputs, first, s.q_norm, s.max_candidate_terms) + 1;
   }
-  return candidate_count(inputs, 1, s.q_norm) + 2;
+  return candidate_count(inputs, 1, s.q_norm, s.max_candidate_terms) + 2;
 }
 
 PolynomialChaosExpansion fit_polynomial_chaos(const DesignMatrix& x, const Eigen::VectorXd& y,
@@ -163,9 +178,13 @@ PolynomialChaosExpansion fit_polynomial_chaos(const DesignMatrix& x, const Eigen
   int best_degree = 0, without_improvement = 0;
   for (int p = s.adaptive_degree ? s.min_degree : s.max_degree; p <= s.max_degree; ++p) {
     if (s.selection == BasisSelection::kFullLeastSquares &&
-        candidate_count(inputs, p, s.q_norm) >= y.size())
+        candidate_count(inputs, p, s.q_norm, s.max_candidate_terms) >= y.size())
       break;
     DegreeFit fit = fit_degree(x, y, inputs, s, p, variance);
+    if (fit.too_large) {
+      if (!best.ok) throw std::invalid_argument(too_large_message(name, p, s));
+      break;  // higher degrees are larger still
+    }
     if (fit.ok && fit.corrected_loo < best.corrected_loo) {
       best = std::move(fit);
       best_degree = p;

@@ -27,6 +27,7 @@ namespace rover::study {
 enum class BasisSelection { kHybridLars, kFullLeastSquares };
 
 inline constexpr int kMaxPceDegree = 20;
+inline constexpr int kMaxPceCandidateTerms = 1000000;
 
 struct PolynomialChaosSettings {
   int max_degree = 12;         // 1 .. kMaxPceDegree
@@ -36,6 +37,9 @@ struct PolynomialChaosSettings {
   double q_norm = 0.75;        // (0, 1]; 1 = total degree
   BasisSelection selection = BasisSelection::kHybridLars;
   double q2_threshold = kDefaultQ2Threshold;  // validation warning below it
+  // Candidate sets larger than this are not built (memory runs x terms):
+  // degrees beyond it are not tried. 1 .. kMaxPceCandidateTerms.
+  int max_candidate_terms = 10000;
 };
 
 struct PolynomialChaosExpansion {

@@ -220,6 +220,21 @@ TEST(PolynomialChaos, FixedInputGetsNoTermsAndZeroIndices) {
   EXPECT_NEAR(s.S1(0) + s.S1(2), 1.0, 1e-10);
 }
 
+TEST(PolynomialChaos, CandidateBasisSizeIsCapped) {
+  // 30 inputs: the degree-1 set has 31 terms, the degree-2 set (q 0.75) 61.
+  const std::vector<Distribution> inputs(30, uniform(0.0, 1.0));
+  const DesignMatrix x = to_inputs(latin_hypercube(80, 30, 2), inputs);
+  Eigen::VectorXd y(80);
+  for (int r = 0; r < 80; ++r) y(r) = x.row(r).sum() + x(r, 0) * x(r, 0);
+  PolynomialChaosSettings s;
+  s.max_candidate_terms = 50;
+  const PolynomialChaosExpansion e = fit_polynomial_chaos(x, y, inputs, s, "wide");
+  EXPECT_EQ(e.degree, 1);
+  EXPECT_EQ(e.candidate_terms, 31);
+  s.max_candidate_terms = 20;
+  EXPECT_THROW(fit_polynomial_chaos(x, y, inputs, s, "wide"), std::invalid_argument);
+}
+
 TEST(PolynomialChaos, LowAccuracyFlagsAWarningNamingTheOutput) {
   const std::vector<Distribution> inputs(3, uniform(-kPi, kPi));
   const DesignMatrix x = to_inputs(latin_hypercube(12, 3, 4), inputs);
