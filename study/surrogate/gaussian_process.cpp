@@ -134,11 +134,39 @@ struct Problem {
   double nugget;
 };
 
-double objective(const std::vector<double>& theta, std::vector<double>& /*gradient*/, void* data) {
+// d f / d log l_k = tr((R^-1 - w w^T / sigma^2) dR/dlog l_k), w = R^-1 (y - F beta)
+// (beta and sigma^2 at their optimum, so their own derivatives drop out), with
+// dR_ij/dlog l_k = 5/3 (1 + sqrt5 r) exp(-sqrt5 r) (d_ijk / l_k)^2.
+Eigen::VectorXd objective_gradient(const Profile& p, const DesignMatrix& u,
+                                   const Eigen::VectorXd& length_scales) {
+  const Eigen::Index n = u.rows(), d = u.cols();
+  const Eigen::MatrixXd r_inv = p.llt.solve(Eigen::MatrixXd::Identity(n, n));
+  const Eigen::VectorXd w = p.llt.matrixU().solve(p.residual);
+  const Eigen::MatrixXd a = r_inv - w * w.transpose() / p.sigma2;
+  const double sqrt5 = std::sqrt(5.0);
+  Eigen::VectorXd gradient = Eigen::VectorXd::Zero(d);
+  const DesignMatrix scaled = u.array().rowwise() / length_scales.transpose().array();
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index j = i + 1; j < n; ++j) {
+      const Eigen::RowVectorXd diff = scaled.row(i) - scaled.row(j);
+      const double r = diff.norm();
+      const double factor = 2.0 * a(i, j) * (5.0 / 3.0) * (1.0 + sqrt5 * r) * std::exp(-sqrt5 * r);
+      gradient += factor * diff.array().square().matrix().transpose();
+    }
+  return gradient;
+}
+
+double objective(const std::vector<double>& theta, std::vector<double>& gradient, void* data) {
   const Problem& pr = *static_cast<const Problem*>(data);
   Eigen::VectorXd ls(static_cast<Eigen::Index>(theta.size()));
   for (std::size_t i = 0; i < theta.size(); ++i) ls(static_cast<Eigen::Index>(i)) = std::exp(theta[i]);
-  return profile(*pr.u, *pr.y, *pr.f, ls, pr.nugget).objective;
+  const Profile p = profile(*pr.u, *pr.y, *pr.f, ls, pr.nugget);
+  if (!gradient.empty()) {
+    const Eigen::VectorXd g = p.ok ? objective_gradient(p, *pr.u, ls)
+                                   : Eigen::VectorXd::Zero(static_cast<Eigen::Index>(theta.size()));
+    for (std::size_t i = 0; i < theta.size(); ++i) gradient[i] = g(static_cast<Eigen::Index>(i));
+  }
+  return p.objective;
 }
 
 std::vector<double> start_point(int start, int dims, const GaussianProcessSettings& s) {
@@ -161,7 +189,8 @@ Eigen::VectorXd maximise_likelihood(const Problem& pr, int dims, const GaussianP
   std::vector<double> best;
   double best_value = kFailedObjective;
   for (int start = 0; start < s.starts; ++start) {
-    nlopt::opt opt(nlopt::LN_BOBYQA, static_cast<unsigned>(dims));
+    nlopt::opt opt(s.optimizer == GaussianProcessOptimizer::kLbfgs ? nlopt::LD_LBFGS : nlopt::LN_BOBYQA,
+                   static_cast<unsigned>(dims));
     opt.set_lower_bounds(std::vector<double>(static_cast<std::size_t>(dims), std::log(s.min_length_scale)));
     opt.set_upper_bounds(std::vector<double>(static_cast<std::size_t>(dims), std::log(s.max_length_scale)));
     opt.set_min_objective(objective, const_cast<Problem*>(&pr));
@@ -173,7 +202,8 @@ Eigen::VectorXd maximise_likelihood(const Problem& pr, int dims, const GaussianP
     try {
       opt.optimize(theta, value);
     } catch (const std::exception&) {  // roundoff_limited, forced stop: keep the last point
-      value = objective(theta, theta, const_cast<Problem*>(&pr));
+      std::vector<double> no_gradient;
+      value = objective(theta, no_gradient, const_cast<Problem*>(&pr));
     }
     if (value < best_value || best.empty()) {
       best_value = value;
@@ -186,6 +216,16 @@ Eigen::VectorXd maximise_likelihood(const Problem& pr, int dims, const GaussianP
 }
 
 }  // namespace
+
+double gaussian_process_objective(const DesignMatrix& u, const Eigen::VectorXd& y, KrigingTrend trend,
+                                  const Eigen::VectorXd& length_scales, double nugget,
+                                  Eigen::VectorXd* gradient) {
+  const Eigen::MatrixXd f = trend_matrix(u, trend);
+  const Profile p = profile(u, y, f, length_scales, nugget);
+  if (gradient != nullptr)
+    *gradient = p.ok ? objective_gradient(p, u, length_scales) : Eigen::VectorXd::Zero(u.cols());
+  return p.objective;
+}
 
 GaussianProcess fit_gaussian_process(const DesignMatrix& x, const Eigen::VectorXd& y,
                                      const GaussianProcessSettings& s, const std::string& name) {

@@ -9,7 +9,8 @@
 // in closed form, sigma^2 = (y - F beta)^T R^-1 (y - F beta) / n, so the
 // likelihood is maximised over the log length-scales alone:
 //   min  n log sigma^2(theta) + log det R(theta)
-// by NLopt's BOBYQA (Powell 2009) in a box, from several deterministic starts.
+// by NLopt's BOBYQA (Powell 2009) or L-BFGS with the analytic gradient, in a
+// box, from several deterministic starts.
 //
 // Prediction (universal kriging, Santner et al. 2003, sec. 3.2):
 //   m(x)   = f^T beta + r^T R^-1 (y - F beta)
@@ -31,9 +32,13 @@
 namespace rover::study {
 
 enum class KrigingTrend { kConstant, kLinear };
+// kBobyqa: derivative-free (Powell 2009). kLbfgs: NLopt's LD_LBFGS (Liu &
+// Nocedal 1989) with the analytic gradient of the concentrated likelihood.
+enum class GaussianProcessOptimizer { kBobyqa, kLbfgs };
 
 struct GaussianProcessSettings {
   KrigingTrend trend = KrigingTrend::kConstant;
+  GaussianProcessOptimizer optimizer = GaussianProcessOptimizer::kBobyqa;
   double nugget = 1e-8;            // tau, relative to sigma^2: [0, 0.1]
   int starts = 4;                  // optimiser starts: 1 .. 100
   int max_evaluations = 500;       // likelihood evaluations per start: >= 10
@@ -79,6 +84,15 @@ struct GaussianProcessPrediction {
 GaussianProcess fit_gaussian_process(const DesignMatrix& x, const Eigen::VectorXd& y,
                                      const GaussianProcessSettings& settings,
                                      const std::string& output_name = "output");
+
+// The minimised objective n log sigma^2 + log det R at these length-scales,
+// on inputs u already scaled (as GaussianProcess::scaled_inputs), and its
+// gradient with respect to the log length-scales if gradient is not null
+// (Rasmussen & Williams 2006, eq. 5.9, with sigma^2 and beta profiled out).
+// 1e300 (and a zero gradient) where R is not positive definite.
+double gaussian_process_objective(const DesignMatrix& u, const Eigen::VectorXd& y, KrigingTrend trend,
+                                  const Eigen::VectorXd& length_scales, double nugget,
+                                  Eigen::VectorXd* gradient);
 
 // Predictive mean and variance at the rows of x (physical units).
 GaussianProcessPrediction predict_gaussian_process(const GaussianProcess& gp,

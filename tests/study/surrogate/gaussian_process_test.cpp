@@ -54,6 +54,9 @@ TEST(GaussianProcess, InterpolatesItsTrainingRunsWithZeroVariance) {
   std::printf("GP interpolation: largest error at the runs %.2e, largest variance there %.2e, "
               "mean variance elsewhere %.2e\n",
               (p.mean - y).cwiseAbs().maxCoeff(), p.variance.maxCoeff(), typical_variance);
+  EXPECT_TRUE(gp.loo_mean.allFinite());
+  EXPECT_TRUE((gp.loo_variance.array() > 0.0).all());
+  EXPECT_GT(gp.validation.q2_loo, 0.99);
   for (Eigen::Index r = 0; r < y.size(); ++r) {
     EXPECT_NEAR(p.mean(r), y(r), 1e-7);
     EXPECT_LT(p.variance(r), 1e-4 * typical_variance);
@@ -153,6 +156,37 @@ TEST(GaussianProcess, ClosedFormLeaveOneOutEqualsRefits) {
                   p.variance(0) / refit.process_variance + s.nugget, 1e-9) << "run " << left;
     }
   }
+}
+
+TEST(GaussianProcess, AnalyticGradientMatchesFiniteDifferences) {
+  const DesignMatrix u = latin_hypercube(20, 3, 17);
+  Eigen::VectorXd y(20);
+  for (int r = 0; r < 20; ++r) y(r) = smooth(u(r, 0), u(r, 1)) + std::sin(4.0 * u(r, 2));
+  const Eigen::Vector3d ls(0.3, 0.7, 0.45);
+  constexpr double kStep = 1e-6;
+  for (const KrigingTrend trend : {KrigingTrend::kConstant, KrigingTrend::kLinear}) {
+    Eigen::VectorXd gradient;
+    gaussian_process_objective(u, y, trend, ls, 1e-6, &gradient);
+    for (int k = 0; k < 3; ++k) {
+      Eigen::Vector3d up = ls, down = ls;
+      up(k) *= std::exp(kStep);
+      down(k) *= std::exp(-kStep);
+      const double numeric = (gaussian_process_objective(u, y, trend, up, 1e-6, nullptr) -
+                              gaussian_process_objective(u, y, trend, down, 1e-6, nullptr)) /
+                             (2.0 * kStep);
+      EXPECT_NEAR(gradient(k), numeric, 1e-5 * std::max(1.0, std::abs(numeric))) << "k " << k;
+    }
+  }
+}
+
+TEST(GaussianProcess, LbfgsWithGradientReachesTheBobyqaOptimum) {
+  const DesignMatrix u = latin_hypercube(40, 2, 8);
+  GaussianProcessSettings s;
+  const GaussianProcess bobyqa = fit_gaussian_process(physical(u), outputs(u), s);
+  s.optimizer = GaussianProcessOptimizer::kLbfgs;
+  const GaussianProcess lbfgs = fit_gaussian_process(physical(u), outputs(u), s);
+  EXPECT_NEAR(lbfgs.neg_log_likelihood, bobyqa.neg_log_likelihood, 1e-3);
+  EXPECT_NEAR(lbfgs.validation.q2_loo, bobyqa.validation.q2_loo, 1e-4);
 }
 
 std::string thrown_message(const std::function<void()>& f) {
