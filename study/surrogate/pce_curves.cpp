@@ -80,19 +80,29 @@ std::vector<MultiIndex> select_shared_basis(const DesignMatrix& x, const Eigen::
   return basis;
 }
 
+// The lower of the LOO and held-out Q2 of each sample; constant samples 1.
+Eigen::VectorXd worst_q2(const PolynomialChaosCurves& c) {
+  Eigen::VectorXd q2 = c.q2_loo;
+  if (c.test_points > 0)
+    for (Eigen::Index t = 0; t < q2.size(); ++t)
+      if (!c.constant_sample[static_cast<std::size_t>(t)]) q2(t) = std::min(q2(t), c.q2_test(t));
+  return q2;
+}
+
 std::string low_q2_warning(const PolynomialChaosCurves& c, double threshold) {
+  const Eigen::VectorXd q2 = worst_q2(c);
   int low = 0;
   Eigen::Index worst = 0;
-  for (Eigen::Index t = 0; t < c.q2_loo.size(); ++t) {
-    if (c.q2_loo(t) < threshold) ++low;
-    if (c.q2_loo(t) < c.q2_loo(worst)) worst = t;
+  for (Eigen::Index t = 0; t < q2.size(); ++t) {
+    if (q2(t) < threshold) ++low;
+    if (q2(t) < q2(worst)) worst = t;
   }
   if (low == 0) return {};
   std::ostringstream text;
   text << "surrogate of '" << c.output_name << "' is not accurate enough at " << low << " of "
-       << c.q2_loo.size() << " samples: leave-one-out Q2 down to " << c.q2_loo(worst)
-       << " (sample " << worst << ") < " << threshold << " from " << c.runs
-       << " runs; try a larger N";
+       << q2.size() << " samples: " << (c.test_points > 0 ? "leave-one-out or held-out" : "leave-one-out")
+       << " Q2 down to " << q2(worst) << " (sample " << worst << ") < " << threshold << " from "
+       << c.runs << " runs; try a larger N";
   return text.str();
 }
 
@@ -143,6 +153,26 @@ Eigen::MatrixXd PolynomialChaosCurves::evaluate(const DesignMatrix& x) const {
     throw std::invalid_argument("polynomial chaos curves: points have " + std::to_string(x.cols()) +
                                 " columns, the expansion " + std::to_string(inputs.size()) + " inputs");
   return pce_basis_matrix(x, inputs, multi_indices) * coefficients;
+}
+
+void validate_polynomial_chaos_curves(const DesignMatrix& x_test, const Eigen::MatrixXd& y_test,
+                                      double q2_threshold, PolynomialChaosCurves* c) {
+  if (y_test.rows() != x_test.rows() || y_test.cols() != c->coefficients.cols() || y_test.rows() < 1)
+    throw std::invalid_argument("polynomial chaos curves validation: outputs " +
+                                std::to_string(y_test.rows()) + " x " + std::to_string(y_test.cols()) +
+                                " for " + std::to_string(x_test.rows()) + " runs and " +
+                                std::to_string(c->coefficients.cols()) + " samples");
+  const Eigen::MatrixXd predicted = c->evaluate(x_test);
+  c->q2_test.resize(y_test.cols());
+  c->rmse_test.resize(y_test.cols());
+  for (Eigen::Index t = 0; t < y_test.cols(); ++t) {
+    SurrogateValidation v;
+    score_held_out(y_test.col(t), predicted.col(t), &v);
+    c->q2_test(t) = v.q2_test;
+    c->rmse_test(t) = v.rmse_test;
+  }
+  c->test_points = static_cast<int>(y_test.rows());
+  c->warning = low_q2_warning(*c, q2_threshold);
 }
 
 CurveSobolIndices curve_sobol_indices(const PolynomialChaosCurves& c) {

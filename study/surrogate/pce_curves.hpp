@@ -41,6 +41,9 @@ struct PolynomialChaosCurves {
   int components = 0;                     // principal components the basis was selected on
   int runs = 0;
   std::string warning;                    // empty, or which samples fall below the Q2 threshold
+  // Held-out validation (validate_polynomial_chaos_curves); empty until then.
+  Eigen::VectorXd q2_test, rmse_test;     // per sample
+  int test_points = 0;
 
   Eigen::MatrixXd evaluate(const DesignMatrix& x) const;  // rows of x x samples
 };
@@ -52,6 +55,13 @@ PolynomialChaosCurves fit_polynomial_chaos_curves(const DesignMatrix& x, const E
                                                   const std::vector<Distribution>& inputs,
                                                   const PolynomialChaosCurvesSettings& settings,
                                                   const std::string& output_name = "output");
+
+// Scores the curves on held-out runs (rows of x_test, y_test: runs x
+// samples), per sample, and refreshes the warning (the LOO and held-out Q2
+// of every non-constant sample against the threshold). Throws
+// std::invalid_argument for mismatched sizes or non-finite values.
+void validate_polynomial_chaos_curves(const DesignMatrix& x_test, const Eigen::MatrixXd& y_test,
+                                      double q2_threshold, PolynomialChaosCurves* curves);
 
 struct CurveSobolIndices {
   Eigen::VectorXd mean, sd;     // per sample

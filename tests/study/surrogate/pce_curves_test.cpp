@@ -77,6 +77,23 @@ TEST(PolynomialChaosCurves, IshigamiFamilyIndicesPerSampleAndAggregated) {
   const DesignMatrix x_test = testing::to_inputs(testing::monte_carlo(200, 3, 8), inputs);
   const Eigen::MatrixXd error = c.evaluate(x_test) - curves(x_test);
   EXPECT_LT(std::sqrt(error.squaredNorm() / static_cast<double>(error.size())), 0.05);
+  PolynomialChaosCurves validated = c;
+  validate_polynomial_chaos_curves(x_test, curves(x_test), 0.95, &validated);
+  EXPECT_EQ(validated.test_points, 200);
+  EXPECT_GT(validated.q2_test.head(kSamples - 1).minCoeff(), 0.999);
+  EXPECT_EQ(validated.q2_test(kSamples - 1), 1.0);  // the constant sample, predicted exactly
+  EXPECT_TRUE(validated.warning.empty()) << validated.warning;
+}
+
+TEST(PolynomialChaosCurves, FewRunsWarnNamingTheOutputAndTheWorstSample) {
+  const std::vector<Distribution> inputs(3, uniform(-kPi, kPi));
+  const DesignMatrix x = testing::to_inputs(testing::latin_hypercube(25, 3, 6), inputs);
+  PolynomialChaosCurves c = fit_polynomial_chaos_curves(x, curves(x), inputs, {}, "family");
+  const DesignMatrix x_test = testing::to_inputs(testing::monte_carlo(100, 3, 3), inputs);
+  validate_polynomial_chaos_curves(x_test, curves(x_test), 0.95, &c);
+  EXPECT_NE(c.warning.find("'family' is not accurate enough"), std::string::npos) << c.warning;
+  EXPECT_NE(c.warning.find("try a larger N"), std::string::npos);
+  EXPECT_TRUE(c.q2_test.allFinite());
 }
 
 TEST(PolynomialChaosCurves, PolynomialCurvesReproducedExactly) {
