@@ -4,7 +4,7 @@
 // of run i is (y_i - yhat_i) / (1 - h_ii), so no refits are needed (Allen
 // 1974). The relative LOO error eps = mean(((y - yhat) / (1 - h))^2) / Var(y)
 // is corrected for the optimism of small designs by the factor of Chapelle,
-// Vapnik & Bengio (2002) as used by Blatman & Sudret (2011, eq. 27):
+// Vapnik & Bengio (2002) as used by Blatman & Sudret (2011):
 //   T(P, N) = N / (N - P) (1 + tr(C_emp^-1) / N),   C_emp = Psi^T Psi / N,
 // where tr(C_emp^-1) / N = tr((Psi^T Psi)^-1).
 #pragma once

@@ -59,19 +59,21 @@ struct PolynomialChaosExpansion {
   Eigen::VectorXd evaluate(const DesignMatrix& x) const;    // one value per row
 };
 
-// Throws std::invalid_argument (naming the setting, its value and the accepted
-// range) for bad settings, and for: no inputs, an invalid distribution, x not
-// runs x inputs, y not one value per run, a non-finite y (naming the run), or
-// fewer runs than the basis needs (min_pce_runs).
+// Throws std::invalid_argument naming the setting, its value and the accepted
+// range.
 void check_polynomial_chaos_settings(const PolynomialChaosSettings& settings);
 
-// The fewest runs a fit accepts: sparse selection needs the degree-min_degree
-// linear terms plus 2 (d_active + 2 with min_degree 1); the full basis needs
-// its size plus 1.
+// The fewest runs a fit accepts: sparse selection needs the degree-1 set
+// (d_active + 1 terms, d_active the non-fixed inputs) plus 2; the full basis
+// needs the size of its first candidate set plus 1.
 int min_pce_runs(const std::vector<Distribution>& inputs, const PolynomialChaosSettings& settings);
 
-// Fits the expansion. A constant y yields the constant term alone, q2_loo 1
-// and a warning that its sensitivity indices are undefined.
+// Fits the expansion. A constant y yields the constant term alone, q2_loo 1,
+// constant_output and a warning that its sensitivity indices are undefined.
+// Throws std::invalid_argument for bad settings (as above), no inputs, an
+// invalid distribution, x not runs x inputs or y not one value per run, a
+// non-finite y (naming the output and the run), fewer runs than min_pce_runs,
+// or a first candidate set larger than max_candidate_terms.
 PolynomialChaosExpansion fit_polynomial_chaos(const DesignMatrix& x, const Eigen::VectorXd& y,
                                               const std::vector<Distribution>& inputs,
                                               const PolynomialChaosSettings& settings,
