@@ -15,7 +15,9 @@
 namespace rover::study {
 
 // The LARS path, followed one entering column at a time so that a caller can
-// stop early (each step costs O(N P + k^3) for k active columns).
+// stop early. The Cholesky factor of the active columns' Gram matrix is
+// extended at each entry, so a step costs O(N P + N k + k^2) for k active
+// columns.
 class LarsPath {
  public:
   LarsPath(const Eigen::MatrixXd& psi, const Eigen::VectorXd& y);
@@ -27,11 +29,14 @@ class LarsPath {
   Eigen::MatrixXd x_;        // centred, unit-norm candidate columns (psi columns 1 ..)
   Eigen::VectorXd yc_, mu_;  // centred output, current fit
   std::vector<int> active_;
+  Eigen::MatrixXd xa_;       // the active columns, in order of entry
+  Eigen::MatrixXd gram_l_;   // lower Cholesky factor of xa_^T xa_, extended per entry
   std::vector<bool> usable_; // not active and not a constant column
   int entering_ = -1;        // the column found by the last step
   double c_max_ = 0.0;       // the first (largest) correlation
   bool ended_ = false;
 
+  bool extend_gram(int column);
   bool step();
 };
 

@@ -36,6 +36,33 @@ struct MultiOutputLeastSquaresLoo {
 MultiOutputLeastSquaresLoo least_squares_loo(const Eigen::MatrixXd& psi, const Eigen::MatrixXd& y,
                                              const Eigen::VectorXd& y_variances);
 
+// Least squares on a growing set of columns, for following a LARS path: the
+// thin QR factorisation Psi_A = Q R is extended one column at a time by
+// Gram-Schmidt with one reorthogonalisation (Giraud, Langou & Rozloznik 2005),
+// R^-1 alongside it, so that each added column costs O(N k + k^2) instead of
+// a fresh O(N k^2) factorisation. Leverages h_i = |Q_i|^2 and
+// tr((Psi^T Psi)^-1) = |R^-1|_F^2 give the same corrected LOO error as
+// least_squares_loo.
+class IncrementalLeastSquares {
+ public:
+  IncrementalLeastSquares(const Eigen::VectorXd& y, double y_variance);
+  // Appends a column; false (and nothing changes) if it is numerically in the
+  // span of the columns already there.
+  bool add_column(const Eigen::VectorXd& column);
+  int columns() const { return static_cast<int>(r_.cols()); }
+  // The fit on the columns so far; ok false without columns, with N <= k or
+  // with a leverage of 1 (as least_squares_loo).
+  LeastSquaresLoo fit() const;
+
+ private:
+  Eigen::VectorXd y_;
+  double y_variance_;
+  Eigen::MatrixXd q_;      // N x k, orthonormal columns
+  Eigen::MatrixXd r_;      // k x k upper triangular
+  Eigen::MatrixXd r_inv_;  // its inverse
+  Eigen::VectorXd qty_;    // Q^T y
+};
+
 // The coefficients alone (no LOO); ok false as above.
 bool least_squares_coefficients(const Eigen::MatrixXd& psi, const Eigen::VectorXd& y,
                                 Eigen::VectorXd* coefficients);
