@@ -47,6 +47,7 @@ LarsPath::LarsPath(const Eigen::MatrixXd& psi, const Eigen::VectorXd& y) {
       usable_[j] = true;
       c0(j) = x_.col(j).dot(yc_);
     }
+  c_ = c0;
   Eigen::Index first = 0;
   c_max_ = c0.cwiseAbs().maxCoeff(&first);
   entering_ = static_cast<int>(first);
@@ -63,7 +64,7 @@ int LarsPath::next() {
   }
   active_.push_back(column);
   // Prepare the following entry now; the path ends if there is none.
-  const double c_now = (x_.transpose() * (yc_ - mu_)).cwiseAbs().maxCoeff();
+  const double c_now = c_.cwiseAbs().maxCoeff();
   if (c_now <= kNegligibleCorrelation * c_max_ || !step()) ended_ = true;
   return column + 1;
 }
@@ -93,7 +94,7 @@ bool LarsPath::extend_gram(int column) {
 // active correlations and G the active Gram matrix, the signed system
 // (S G S) w = 1 is solved as w = S G^-1 s. False if no column is left.
 bool LarsPath::step() {
-  const Eigen::VectorXd c = x_.transpose() * (yc_ - mu_);
+  const Eigen::VectorXd& c = c_;
   const Eigen::Index k = static_cast<Eigen::Index>(active_.size());
   Eigen::VectorXd signs(k);
   double big_c = 0.0;
@@ -120,6 +121,7 @@ bool LarsPath::step() {
       }
   }
   mu_ += gamma * u;
+  c_ -= gamma * a;  // = x_^T (yc_ - mu_)
   return entering_ >= 0;
 }
 

@@ -28,6 +28,7 @@ class LarsPath {
  private:
   Eigen::MatrixXd x_;        // centred, unit-norm candidate columns (psi columns 1 ..)
   Eigen::VectorXd yc_, mu_;  // centred output, current fit
+  Eigen::VectorXd c_;        // correlations x_^T (yc_ - mu_), updated along the path
   std::vector<int> active_;
   Eigen::MatrixXd xa_;       // the active columns, in order of entry
   Eigen::MatrixXd gram_l_;   // lower Cholesky factor of xa_^T xa_, extended per entry
