@@ -1,0 +1,54 @@
+// See surrogate_validation.hpp.
+#include "study/surrogate/surrogate_validation.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace rover::study {
+namespace {
+
+// Growth of the design suggested when a Q^2 is too low.
+constexpr int kSuggestedGrowthFactor = 2;
+
+}  // namespace
+
+void score_held_out(const Eigen::VectorXd& observed, const Eigen::VectorXd& predicted,
+                    SurrogateValidation* validation) {
+  if (observed.size() == 0 || observed.size() != predicted.size())
+    throw std::invalid_argument("held-out validation: " + std::to_string(observed.size()) +
+                                " observed values and " + std::to_string(predicted.size()) +
+                                " predictions; they must be equal in number and at least 1");
+  if (!observed.allFinite() || !predicted.allFinite())
+    throw std::invalid_argument("held-out validation: non-finite observed or predicted value");
+  const double sse = (observed - predicted).squaredNorm();
+  const double sst = (observed.array() - observed.mean()).square().sum();
+  validation->test_points = static_cast<int>(observed.size());
+  validation->rmse_test = std::sqrt(sse / static_cast<double>(observed.size()));
+  if (sst > 0.0) {
+    validation->q2_test = 1.0 - sse / sst;
+  } else {
+    validation->q2_test = sse == 0.0 ? 1.0 : 0.0;
+  }
+}
+
+void flag_low_q2(const std::string& output_name, int runs, double threshold,
+                 SurrogateValidation* validation) {
+  std::ostringstream text;
+  const bool loo_low = validation->q2_loo < threshold;
+  const bool test_low = validation->test_points > 0 && validation->q2_test < threshold;
+  if (!loo_low && !test_low) {
+    validation->warning.clear();
+    return;
+  }
+  text << "surrogate of '" << output_name << "' is not accurate enough:";
+  if (loo_low) text << " leave-one-out Q2 " << validation->q2_loo;
+  if (test_low)
+    text << (loo_low ? "," : "") << " held-out Q2 " << validation->q2_test << " on "
+         << validation->test_points << " runs";
+  text << " < " << threshold << " from " << runs << " runs; try a larger N (e.g. "
+       << kSuggestedGrowthFactor * runs << " runs)";
+  validation->warning = text.str();
+}
+
+}  // namespace rover::study
