@@ -9,6 +9,7 @@
 #include "drivers/study_options.hpp"
 #include "core/number_text.hpp"
 #include "study/studies/calibration.hpp"
+#include "study/studies/next_experiment.hpp"
 #include "study/runtime/mpi_session.hpp"
 
 namespace rover::cli {
@@ -17,6 +18,7 @@ namespace {
 struct CalibrateOptions {
   std::string study_path = "configs/studies/calibration.json";
   std::string fit;
+  std::string next_experiment;  // candidates file
   study::CalibrationOverrides overrides;
   study::StudyRunControl control;
 };
@@ -36,6 +38,7 @@ int run_calibrate_command(CalibrateOptions o) {
   if (v.discard && *v.discard < 0) checks.add("--discard must not be negative, got " + std::to_string(*v.discard));
   check_study_output(checks, o.control, o.study_path);
   checks.distinct_files("--out", o.control.results_path, "--data", v.data_path);
+  checks.distinct_files("--out", o.control.results_path, "--next-experiment", o.next_experiment);
   checks.throw_if_any();
   std::stringstream ss(o.fit);
   for (std::string name; std::getline(ss, name, ',');)
@@ -60,7 +63,9 @@ int run_calibrate_command(CalibrateOptions o) {
     }
   }
   return run_interruptible("calibrate", [&] {
-    const study::CalibrationOutcome outcome = study::run_calibration(s, o.control);
+    const study::CalibrationOutcome outcome = o.next_experiment.empty()
+                                                  ? study::run_calibration(s, o.control)
+                                                  : study::run_next_experiment(s, o.next_experiment, o.control);
     return outcome.trusted ? 0 : 2;
   });
 }
@@ -106,6 +111,11 @@ const RegisterCommand registration{
       app.add_option("--walkers", o->overrides.walkers, "mcmc: ensemble walkers (even, >= 2 x sampled parameters)");
       app.add_option("--steps", o->overrides.steps, "mcmc: ensemble steps");
       app.add_option("--discard", o->overrides.discard, "mcmc: burn-in steps left out of the summaries");
+      app.add_option("--next-experiment", o->next_experiment,
+                     "Rank the candidate experiments of this JSON file by the 95 % interval each parameter is "
+                     "expected to have once their curve is added (after fitting the study's data); writes the "
+                     "table (default results/<name>_next_experiment.h5)")
+          ->check(CLI::ExistingFile);
       add_study_control(app, o->control);
       return [o] { return run_calibrate_command(*o); };
     }};

@@ -1144,6 +1144,30 @@ CalibrationOutcome run_fit(const CalibrationStudy& s, const StudyRunControl& con
 
 }  // namespace
 
+CalibrationEstimate estimate_calibration(const CalibrationStudy& s, const StudyRunControl& control) {
+  FitHistory history;
+  std::vector<double> start;
+  for (const FitParameter& f : s.fit) start.push_back(f.initial);
+  const CheckedFit checked = checked_fit(s, start, control, history);
+  CalibrationEstimate e{checked.study, checked.fit.values, checked.fit.offsets, false, "", {}, {}, {}, 0.0};
+  std::vector<double> valid{0.0};
+  if (!checked.fit.converged) {
+    e.why_not = "the fit did not converge: " + checked.fit.message;
+  } else if (world_rank() == 0 && !checked.gn.ok) {
+    e.why_not = checked.gn.message;
+  } else if (world_rank() == 0) {
+    valid[0] = 1.0;
+    e.names = checked.gn.names;
+    e.weighted_jacobian = checked.gn.weighted_jacobian;
+    e.weights = checked.gn.weights;
+    e.noise_sd = checked.gn.uncertainty.noise_sd;
+  }
+  broadcast_from_rank0(valid);
+  e.valid = valid[0] != 0.0;
+  if (!e.valid && e.why_not.empty()) e.why_not = "the fit has no intervals";
+  return e;
+}
+
 CalibrationOutcome run_calibration(const CalibrationStudy& s, const StudyRunControl& control) {
   if (s.method == CalibrationMethod::optimize) return run_fit(s, control);
   // The posterior starts at the converged fit, on the integrator its check

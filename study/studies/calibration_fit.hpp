@@ -74,4 +74,21 @@ IntegrationShift integration_shift(const CalibrationStudy& study, const std::vec
                                    const std::vector<double>& offsets, const std::vector<double>& weights,
                                    const Eigen::MatrixXd& weighted_jacobian, const Eigen::VectorXd& standard_error);
 
+// The checked fit of a study as the experiment design needs it: the
+// estimate, and the information the data hold about it (weighted Jacobian
+// and the noise sd of the weighted residuals). Collective; the Jacobian is
+// rank 0's, the rest every rank's.
+struct CalibrationEstimate {
+  CalibrationStudy study;       // on the integrator the check proved sufficient
+  std::vector<double> values;   // order of study.fit
+  std::vector<double> offsets;  // per curve
+  bool valid = false;           // converged, with intervals, check passed
+  std::string why_not;
+  std::vector<std::string> names;     // the Jacobian's columns
+  Eigen::MatrixXd weighted_jacobian;  // rows weighted by 1 / RMS_k (1 for one curve)
+  std::vector<double> weights;        // per curve
+  double noise_sd = 0;                // of the weighted residuals
+};
+CalibrationEstimate estimate_calibration(const CalibrationStudy& study, const StudyRunControl& control);
+
 }  // namespace rover::study

@@ -155,6 +155,45 @@ TEST(CmdCalibrate, IntegrationCheckTightensTheIntegratorUntilTheShiftIsSmall) {
   EXPECT_GT(upper[1], 8000) << log;
 }
 
+// Ranking the next experiment: repeating the experiment just fitted (same
+// drop, channel and rate, its noise) shrinks the interval by about 1 / sqrt 2
+// (by 1 / sqrt(1 + (s / sigma)^2), s the fitted noise sd); a 1 kHz curve with
+// a third of the noise ranks first.
+TEST(CmdCalibrate, NextExperimentRanksByExpectedIntervalWidth) {
+  const std::string dir = rover::testing::temp_dir();
+  const std::string candidates = write_file(dir + "/candidates.json", R"({"candidates": [
+      {"name": "repeat", "scenario": ")" + source_path("configs/scenarios/drop_horizontal.json") + R"(",
+       "rate_hz": 500, "noise_sd": 1e-4},
+      {"name": "precise", "scenario": ")" + source_path("configs/scenarios/drop_horizontal.json") + R"(",
+       "rate_hz": 1000, "noise_sd": 3e-5},
+      {"name": "higher", "scenario": ")" + source_path("configs/scenarios/drop_horizontal.json") + R"(",
+       "rate_hz": 500, "noise_sd": 1e-4, "set": {"scenario.initial_q.z": 0.301}}]})");
+  std::string log;
+  ASSERT_EQ(run_command(rover_binary() + " calibrate --study " + source_path("configs/studies/calibration.json") +
+                            " --next-experiment " + candidates + " --out " + dir + "/next.h5", &log),
+            0) << log;
+  const io::Hdf5Reader h5(dir + "/next.h5");
+  const auto names = h5.read_strings("/next_experiment/candidates");
+  const auto score = h5.read_doubles("/next_experiment/score");
+  ASSERT_EQ(names.size(), 3u);
+  EXPECT_EQ(names[0], "precise") << log;
+  for (std::size_t r = 0; r < names.size(); ++r)
+    if (names[r] == "repeat") {
+      EXPECT_GT(score[r], 0.65) << log;
+      EXPECT_LT(score[r], 0.78) << log;
+    }
+  EXPECT_NE(log.find("ranked by the expected 95 % half-width"), std::string::npos) << log;
+
+  // A candidate that names an unknown parameter is refused with the field.
+  const std::string bad = write_file(dir + "/bad.json", R"({"candidates": [{"scenario": ")" +
+      source_path("configs/scenarios/drop_horizontal.json") + R"(", "rate_hz": 500, "noise_sd": 1e-4,
+      "set": {"scenario.initial_q.zz": 0.3}}]})");
+  EXPECT_EQ(run_command(rover_binary() + " calibrate --study " + source_path("configs/studies/calibration.json") +
+                            " --next-experiment " + bad + " --out " + dir + "/bad.h5", &log),
+            1);
+  EXPECT_NE(log.find("'candidates[0].set.scenario.initial_q.zz'"), std::string::npos) << log;
+}
+
 // A quick posterior: a 0.25 s drop with the stiff integrator, 4 walkers.
 std::string mcmc_study(const std::string& dir, int walkers = 4, int steps = 6) {
   const std::string scenario = write_file(dir + "/short_drop.json", R"({"name": "short_drop", "rover": ")" +

@@ -1,0 +1,227 @@
+// See next_experiment.hpp.
+#include "study/studies/next_experiment.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numeric>
+#include <iostream>
+#include <ostream>
+
+#include <Eigen/Cholesky>
+
+#include "io/json_reader.hpp"
+#include "study/model/parameter_space.hpp"
+#include "study/runtime/calibration_mpi.hpp"
+#include "study/runtime/study_runner.hpp"
+#include "study/studies/calibration_fit.hpp"
+
+namespace rover::study {
+namespace {
+
+constexpr double kZ975 = 1.959963984540054;  // the standard normal's 97.5 % quantile
+constexpr double kMaxRateHz = 1e5;
+
+std::string number(double v, int digits = 4) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.*g", digits, v);
+  return text;
+}
+
+NextExperimentCandidate read_candidate(const io::JsonReader& c, const std::string& path, std::size_t index) {
+  NextExperimentCandidate out;
+  out.name = c.string_or("name", "candidate " + std::to_string(index));
+  out.scenario_path = io::resolve_relative(path, c.string("scenario"));
+  out.channel = c.string_or("channel", "B_l_z");
+  try {
+    (void)calibration_channel(out.channel);
+  } catch (const std::invalid_argument& e) {
+    c.fail("channel", e.what());
+  }
+  out.rate_hz = c.positive("rate_hz");
+  if (out.rate_hz > kMaxRateHz) c.fail("rate_hz", "must be at most 1e5 Hz, got " + number(out.rate_hz, 6));
+  out.noise_sd_m = c.positive("noise_sd");
+  out.sources = io::read_scenario_sources(out.scenario_path);
+  if (c.has("set")) {
+    const io::JsonReader set = c.child("set");
+    const io::Json rover = out.sources.rover, scenario = out.sources.scenario;
+    const ParameterSpace space(rover, scenario);
+    for (const auto& [name, value] : c.raw("set").items()) {
+      std::string canonical;
+      try {
+        canonical = space.canonical(name);
+      } catch (const std::invalid_argument& e) {
+        set.fail(name, e.what());
+      }
+      space.apply(canonical, set.number(name), out.sources.rover, out.sources.scenario);
+    }
+    set.finish();
+  }
+  (void)io::build_scenario(out.sources);  // the scenario's own checks, with "set" applied
+  return out;
+}
+
+// The candidate as a one-curve study: its scenario and channel, a time grid
+// at its rate over its duration, and no data (residuals are the model).
+CalibrationStudy candidate_study(const CalibrationStudy& study, const NextExperimentCandidate& c) {
+  CalibrationStudy s = study;
+  CalibrationDataset d;
+  d.path = c.name;
+  d.scenario_path = c.scenario_path;
+  d.channel = c.channel;
+  d.sources = c.sources;
+  const double duration_s = io::build_scenario(c.sources).scenario.duration_s;
+  for (double t = 0.0; t <= duration_s + 1e-12; t = static_cast<double>(d.t.size()) / c.rate_hz) d.t.push_back(t);
+  d.z.assign(d.t.size(), 0.0);
+  s.datasets = {d};
+  return s.with_integrator(study.integrator);
+}
+
+// Expected 95 % half-widths of the fitted parameters (the first p of the
+// information matrix's unknowns).
+Eigen::VectorXd half_widths(const Eigen::MatrixXd& information, std::size_t p) {
+  const Eigen::MatrixXd covariance = information.completeOrthogonalDecomposition().pseudoInverse();
+  Eigen::VectorXd out(static_cast<Eigen::Index>(p));
+  for (Eigen::Index i = 0; i < out.size(); ++i) out[i] = kZ975 * std::sqrt(std::max(covariance(i, i), 0.0));
+  return out;
+}
+
+}  // namespace
+
+std::vector<NextExperimentCandidate> load_next_experiment_candidates(const std::string& path,
+                                                                     const CalibrationStudy& study) {
+  const io::Json json = io::read_json_file(path);
+  const io::JsonReader r(json, path);
+  (void)r.string_or("description", "");
+  if (study.offset_fitted())
+    r.fail("candidates", "ranking experiments needs each curve's time offset profiled: remove time_offset from the "
+                         "study's \"fit\"");
+  const io::Json& list = r.raw("candidates");
+  if (!list.is_array() || list.empty()) r.fail("candidates", "expected a non-empty list of candidate experiments");
+  std::vector<NextExperimentCandidate> out;
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    if (!list[i].is_object()) r.fail("candidates", "entry " + std::to_string(i) + " is not an object");
+    const io::JsonReader c(list[i], path, r.field("candidates") + "[" + std::to_string(i) + "]");
+    out.push_back(read_candidate(c, path, i));
+    c.finish();
+  }
+  r.finish();
+  return out;
+}
+
+NextExperimentRanking rank_next_experiments(const CalibrationStudy& study,
+                                            const std::vector<NextExperimentCandidate>& candidates,
+                                            const StudyRunControl& control) {
+  const CalibrationEstimate estimate = estimate_calibration(study, control);
+  NextExperimentRanking out;
+  if (!estimate.valid) {
+    out.message = "no ranking: " + estimate.why_not;
+    return out;
+  }
+  const std::size_t p = study.fit.size();
+  std::vector<Eigen::MatrixXd> candidate_jacobians;
+  for (const NextExperimentCandidate& c : candidates) {
+    const CalibrationJacobian j = calibration_jacobian(candidate_study(estimate.study, c), estimate.values, {0.0},
+                                                       control.progress_interval_s);
+    if (!j.ok) {
+      out.message = "no ranking: the candidate '" + c.name + "' could not be simulated at the estimate (" +
+                    j.message + ")";
+      return out;
+    }
+    candidate_jacobians.push_back(j.jacobian / c.noise_sd_m);
+  }
+  if (estimate.weighted_jacobian.size() == 0) return out;  // the ranks without the information
+  const Eigen::MatrixXd current = estimate.weighted_jacobian.transpose() * estimate.weighted_jacobian /
+                                  (estimate.noise_sd * estimate.noise_sd);
+  const Eigen::Index q = current.rows();
+  out.parameters.assign(estimate.names.begin(), estimate.names.begin() + static_cast<std::ptrdiff_t>(p));
+  out.current_half_width = half_widths(current, p);
+  out.estimate = estimate.values;
+  std::vector<Eigen::VectorXd> widths;
+  std::vector<double> scores;
+  for (const Eigen::MatrixXd& j : candidate_jacobians) {
+    Eigen::MatrixXd information = Eigen::MatrixXd::Zero(q + 1, q + 1);
+    information.topLeftCorner(q, q) = current;
+    Eigen::MatrixXd columns(j.rows(), static_cast<Eigen::Index>(p) + 1);  // the fitted parameters, its offset
+    columns << j.leftCols(static_cast<Eigen::Index>(p)), j.col(static_cast<Eigen::Index>(p));
+    std::vector<Eigen::Index> unknowns(p);
+    std::iota(unknowns.begin(), unknowns.end(), 0);
+    unknowns.push_back(q);
+    const Eigen::MatrixXd added = columns.transpose() * columns;
+    for (std::size_t a = 0; a <= p; ++a)
+      for (std::size_t b = 0; b <= p; ++b) information(unknowns[a], unknowns[b]) += added(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b));
+    widths.push_back(half_widths(information, p));
+    scores.push_back(std::exp((widths.back().array() / out.current_half_width.array()).log().mean()));
+  }
+  std::vector<std::size_t> order(candidates.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return scores[a] < scores[b]; });
+  out.expected_half_width.resize(static_cast<Eigen::Index>(order.size()), static_cast<Eigen::Index>(p));
+  out.score.resize(static_cast<Eigen::Index>(order.size()));
+  for (std::size_t r = 0; r < order.size(); ++r) {
+    out.candidates.push_back(candidates[order[r]].name);
+    out.expected_half_width.row(static_cast<Eigen::Index>(r)) = widths[order[r]].transpose();
+    out.score[static_cast<Eigen::Index>(r)] = scores[order[r]];
+  }
+  out.ok = true;
+  return out;
+}
+
+CalibrationOutcome run_next_experiment(const CalibrationStudy& study, const std::string& candidates_path,
+                                       const StudyRunControl& control) {
+  const std::vector<NextExperimentCandidate> candidates = load_next_experiment_candidates(candidates_path, study);
+  const NextExperimentRanking ranking = rank_next_experiments(study, candidates, control);
+  const std::string out = control.results_path.empty()
+                              ? "results/" + study.common.name + "_next_experiment.h5"
+                              : control.results_path;
+  std::vector<double> ok{ranking.ok ? 1.0 : 0.0};
+  broadcast_from_rank0(ok);
+  CalibrationOutcome outcome{out, ok[0] != 0.0, ranking.message};
+  if (world_rank() != 0) return outcome;
+  report_next_experiment(ranking, std::cerr);
+  if (!ranking.ok) return outcome;
+  io::Hdf5Writer h5(out);
+  write_next_experiment(ranking, h5);
+  write_study_provenance(h5, study.common);
+  h5.attribute("/", "candidates_file", candidates_path);
+  h5.commit();
+  std::cerr << "calibrate: wrote " << out << "\n";
+  return outcome;
+}
+
+void write_next_experiment(const NextExperimentRanking& ranking, io::Hdf5Writer& h5) {
+  h5.write("/next_experiment/candidates", ranking.candidates);
+  h5.write("/next_experiment/parameters", ranking.parameters);
+  h5.write("/next_experiment/estimate", ranking.estimate);
+  h5.write("/next_experiment/current_half_width_95", std::vector<double>(ranking.current_half_width.begin(),
+                                                                         ranking.current_half_width.end()));
+  h5.write("/next_experiment/expected_half_width_95", ranking.expected_half_width);
+  h5.write("/next_experiment/score", std::vector<double>(ranking.score.begin(), ranking.score.end()));
+  h5.attribute("/next_experiment", "meaning",
+               std::string("candidates in rank order; expected 95 % half-widths of the fitted parameters with the "
+                           "candidate's curve added; score: geometric mean of expected / current half-width"));
+}
+
+void report_next_experiment(const NextExperimentRanking& ranking, std::ostream& out) {
+  if (!ranking.ok) {
+    out << "calibrate: " << ranking.message << "\n";
+    return;
+  }
+  out << "calibrate: candidate experiments ranked by the expected 95 % half-width of each parameter (now:";
+  for (std::size_t k = 0; k < ranking.parameters.size(); ++k)
+    out << " " << ranking.parameters[k] << " +-" << number(ranking.current_half_width[static_cast<Eigen::Index>(k)], 3);
+  out << ")\n  rank  score  ";
+  for (const std::string& name : ranking.parameters) out << name << " +-  ";
+  out << "candidate\n";
+  for (std::size_t r = 0; r < ranking.candidates.size(); ++r) {
+    const auto i = static_cast<Eigen::Index>(r);
+    char head[32];
+    std::snprintf(head, sizeof head, "  %4zu  %5.3f  ", r + 1, ranking.score[i]);
+    out << head;
+    for (Eigen::Index k = 0; k < ranking.expected_half_width.cols(); ++k)
+      out << number(ranking.expected_half_width(i, k), 3) << "  ";
+    out << ranking.candidates[r] << "\n";
+  }
+}
+
+}  // namespace rover::study
