@@ -38,6 +38,11 @@ std::string format_number(double v, int digits = 4) {
 }
 
 constexpr const char* kTimeOffset = "time_offset";
+// A measured curve whose heights span less than this is constant.
+constexpr double kConstantCurveRange_m = 1e-9;
+// Data may end this share of the duration past the simulated end (rounding of
+// sample times).
+constexpr double kSpanTolerance = 1e-9;
 constexpr const char* kLeastSquaresAlgorithm = "levenberg_marquardt";
 // The integration check tightens the tolerances by this factor, or by its
 // square when the shift exceeds kFarShiftFactor times the limit.
@@ -144,6 +149,27 @@ void read_fit_parameters(const io::JsonReader& r, const CalibrationOverrides& o,
   if (r.has("log_scale")) log_scale.finish();
   (void)bounds;
   (void)initial;
+}
+
+// A curve the fit can use: more rows than unknowns, not constant, and
+// inside the simulated span for at least the largest offset allowed.
+void check_data_fits_the_run(const CalibrationStudy& s, const CalibrationDataset& d) {
+  if (d.t.size() < s.fit.size() + 2)
+    throw io::ConfigError(d.path + ": " + std::to_string(d.t.size()) + " rows for " + std::to_string(s.fit.size()) +
+                          " fitted parameters and a time offset: need at least " + std::to_string(s.fit.size() + 2));
+  const auto [low, high] = std::minmax_element(d.z.begin(), d.z.end());
+  if (!(*high - *low > kConstantCurveRange_m))
+    throw io::ConfigError(d.path + ": column z is constant (" + format_number(*low, 6) +
+                          " m throughout): a constant curve tells nothing about the parameters");
+  const double duration_s = d.model->nominal().scenario.duration_s;
+  double offset_upper = s.offset_max_s;
+  for (const FitParameter& f : s.fit)
+    if (f.name == kTimeOffset) offset_upper = f.upper;
+  if (d.t.back() - offset_upper > duration_s * (1.0 + kSpanTolerance))
+    throw io::ConfigError(d.path + ": the data run to t = " + format_number(d.t.back(), 6) +
+                          " s, past the end of the simulated " + format_number(duration_s, 6) + " s of " +
+                          d.scenario_path + " even at the largest time offset, " + format_number(offset_upper, 6) +
+                          " s (field 'bounds.time_offset'); lengthen the scenario's \"duration\" or cut the data");
 }
 
 // Bounds and initial values of parameters not fitted are accepted (a study
@@ -426,11 +452,7 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
   read_fit_parameters(r, o, space, s);
   bounds_of_unfitted_parameters(r, space, s);
   build_dataset_models(s);
-  for (CalibrationDataset& d : s.datasets)
-    if (d.t.size() < s.fit.size() + 2)
-      throw io::ConfigError(d.path + ": " + std::to_string(d.t.size()) + " rows for " +
-                            std::to_string(s.fit.size()) + " fitted parameters and a time offset: need at least " +
-                            std::to_string(s.fit.size() + 2));
+  for (const CalibrationDataset& d : s.datasets) check_data_fits_the_run(s, d);
 
   // Priors (used by the mcmc method; checked whatever the method).
   if (r.has("priors")) {

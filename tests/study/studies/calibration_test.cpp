@@ -223,6 +223,11 @@ TEST(Calibration, StudyFileChecksNameTheField) {
   EXPECT_EQ(load_calibration_study(write_file(dir, "e.json", study_text(good, R"(, "method": "mcmc", "mcmc": {"walkers": 4})")))
                 .mcmc.walkers, 4);
   expect_refused(write_file(dir, "f.json", study_text(good, R"(, "method": "nuts")")), "'method'");
+  // Data the run cannot use: a constant curve, and data past the simulated end.
+  const std::string constant = write_file(dir, "constant.csv", "t,z\n0,0.25\n0.1,0.25\n0.2,0.25\n0.3,0.25\n");
+  expect_refused(write_file(dir, "k1.json", study_text(constant)), "constant");
+  const std::string long_data = write_file(dir, "long.csv", "t,z\n0,0.25\n1,0.24\n2,0.23\n5,0.2\n");
+  expect_refused(write_file(dir, "k2.json", study_text(long_data)), "past the end of the simulated 1 s");
   // Parameters: any name of the parameter space, checked before any run.
   auto with_fit = [&](const std::string& fit, const std::string& bounds, const std::string& initial) {
     return R"({"type": "calibration", "name": "c", "scenario": ")" +
