@@ -1,7 +1,8 @@
-// `rover calibrate`: fit c_q (and f, M0_scale, time_offset) to a measured drop
-// curve with any derivative-free NLopt algorithm, with Gauss-Newton intervals
-// at the optimum, or sample their posterior (--method mcmc). See
-// study/studies/calibration.hpp and study/studies/calibration_mcmc.hpp for the formats.
+// `rover calibrate`: fit any parameters of the rover and scenario files to
+// measured drop curves by Levenberg-Marquardt, with Gauss-Newton intervals and
+// the integration check, sample their posterior (--method mcmc), or rank the
+// next experiment (--next-experiment). The formats: docs/configuration.md and
+// docs/results_format.md; the method: study/studies/calibration.hpp.
 #include <iostream>
 #include <sstream>
 
@@ -71,33 +72,40 @@ int run_calibrate_command(CalibrateOptions o) {
 }
 
 const RegisterCommand registration{
-    58, "calibrate", "Fit c_q (and f, M0_scale, time offset) to a measured drop curve, with intervals or a posterior",
+    58, "calibrate", "Fit any parameters (c_q, f, k_q, ...) to measured drop curves, with intervals or a posterior",
     [](CLI::App& app) -> std::function<int()> {
       auto o = std::make_shared<CalibrateOptions>();
       app.footer(std::string(
-          "Minimises the RMS between simulated and measured B_l z (or, per curve of the study's\n"
-          "\"data\" list, B_r_z or G_z). DATA.csv has the header t,z (seconds, metres of the\n"
-          "channel, the left bogie pin for --data); its time origin need not be the release: the\n"
-          "offset is profiled out (or fitted, with --fit ...,time_offset). Bounds, initial values\n"
-          "and the scenario come from the study file. Writes /history (every evaluation),\n"
-          "/best (with Gauss-Newton standard errors, 95 % intervals, covariance and correlation of\n"
-          "the parameters and the time offset, and NLopt's return status), /data, /fit and a PNG.\n"
-          "--method mcmc samples the posterior (priors from the study's \"priors\", noise sd\n"
-          "known or sampled) with an ensemble sampler: /chain, /posterior, /diagnostics,\n"
-          "/predictive (99.73 % band of each curve's channel), traces, the corner plot and the band as PNGs.\n\n"
+          "Fits the parameters of the study's \"fit\" (any number of the rover and scenario files by\n"
+          "dotted name, the aliases c_q, f, M0_11 ... M0_42, M0_scale, and time_offset) to measured\n"
+          "heights: B_l z for --data, or per curve of the study's \"data\" list B_l_z, B_r_z or G_z.\n"
+          "DATA.csv has the header t,z (seconds, metres); its time origin need not be the release:\n"
+          "each curve's offset is fitted with the rest. Levenberg-Marquardt stops on stated criteria\n"
+          "and says whether it converged; then the best curves are re-run on Dormand-Prince, and the\n"
+          "stiff integrator is tightened until its error moves no parameter by 0.1 standard error.\n"
+          "Exit status 2: do not trust the intervals (not converged, no intervals, or the check\n"
+          "failed); they are written flagged (/best intervals_valid = 0).\n"
+          "--method mcmc samples the posterior from the converged fit until every effective sample\n"
+          "size reaches mcmc.target_ess and nested R-hat < mcmc.max_rhat (exit 2 if not).\n"
+          "--next-experiment ranks candidate drops by the intervals they are expected to give.\n"
+          "Formats: docs/configuration.md, docs/results_format.md; a worked example: docs/studies.md.\n\n"
           "Examples:\n"
-          "  rover calibrate --data configs/data/drop_horizontal_synthetic.csv --fit c_q --algorithm LN_BOBYQA\n"
+          "  rover calibrate --data configs/data/drop_horizontal_synthetic.csv --fit c_q\n"
+          "  mpirun -np 2 rover calibrate --fit c_q,f,s_structure.k_q\n"
           "  rover calibrate --fit c_q,M0_scale --algorithm GN_DIRECT_L --max-evaluations 60\n"
-          "  mpirun -np 4 rover calibrate --fit c_q,f --starts 4\n"
-          "  rover calibrate --study configs/studies/calibration_mcmc.json --method mcmc\n\n") + kMpiFooter);
+          "  rover calibrate --study configs/studies/calibration_mcmc.json\n"
+          "  rover calibrate --fit c_q,f --next-experiment configs/experiments/next_drop_candidates.json\n\n") +
+          kMpiFooter);
       app.add_option("--study", o->study_path, "Study file (type calibration)")
           ->capture_default_str()->check(CLI::ExistingFile);
       app.add_option("--data", o->overrides.data_path, "Measured curve, CSV t,z (default: the study's)")
           ->check(CLI::ExistingFile);
-      app.add_option("--fit", o->fit, "Parameters to fit, comma-separated: c_q, f, M0_scale, time_offset");
+      app.add_option("--fit", o->fit,
+                     "Parameters to fit, comma-separated, by name: c_q, f, M0_scale, contact.k_g, "
+                     "s_structure.k_q, ..., time_offset (bounds from the study's \"bounds\")");
       app.add_option("--algorithm", o->overrides.algorithm,
-                     "Any derivative-free NLopt algorithm by name: LN_BOBYQA, LN_NELDERMEAD, LN_SBPLX, "
-                     "GN_DIRECT_L, GN_CRS2_LM, GN_ISRES, G_MLSL_LDS (with a BOBYQA local search), ...");
+                     "levenberg_marquardt (default), or a derivative-free NLopt algorithm for a first search "
+                     "that the least-squares iterations polish: LN_BOBYQA, GN_DIRECT_L, GN_CRS2_LM, ...");
       app.add_option("--starts", o->overrides.starts, "Number of independent starts (fanned out over ranks)");
       app.add_option("--max-evaluations", o->overrides.max_evaluations,
                      "Simulations per start of an NLopt first search (--algorithm)");

@@ -64,8 +64,8 @@ const RegisterCommand registration{
       auto o = std::make_shared<MonteCarloOptions>();
       app.footer(std::string(
           "The study file names the uncertain parameters and their distributions, the design\n"
-          "(monte_carlo, latin_hypercube, sobol, grid), the QoIs and the channels (README,\n"
-          "\"Studies\"). Sample i depends only on (seed, i). Writes /inputs, /qoi/<name>,\n"
+          "(monte_carlo, latin_hypercube, sobol, grid), the QoIs and the channels (docs/\n"
+          "configuration.md). Sample i depends only on (seed, i). Writes /inputs, /qoi/<name>,\n"
           "/summary/<qoi> (mean, sd and quantiles with confidence intervals), /curves/<channel>,\n"
           "/bands/<channel>/{mean,std,lower,upper,p00135,p99865}, /samples/{status,message}, and PNGs\n"
           "of the bands, the QoI histograms and the convergence of mean and sd.\n\n"

@@ -1,7 +1,7 @@
 // Scenario files (configs/scenarios/*.json, docs/model.md §7): loading,
 // validation, and building a scenario from in-memory JSON for studies.
 // The file format (every key, its unit and default, and the "drive" block) is
-// documented in one place: README.md, "Configuration files" -> "Scenarios".
+// documented in one place: docs/configuration.md, "Scenario files".
 #pragma once
 
 #include <string>

@@ -11,7 +11,7 @@
 // into the HDF5 file row by row; rank 0's memory does not grow with N beyond
 // the QoI values).
 //
-// HDF5 (docs in README, "HDF5 result formats"): /inputs/names, /inputs/values
+// HDF5 (docs/results_format.md): /inputs/names, /inputs/values
 // (N x d), /qoi/<name> (N), /summary/<qoi>/..., /t (T), /curves/<channel>
 // (N x T, NaN for failed runs), /bands/<channel>/{mean,std,lower,upper,p00135,
 // p99865}, /samples/{status,message,wall_time_s,rhs_evaluations}.

@@ -2,7 +2,7 @@
 // evaluate, sensitivity, calibration priors): the model (a scenario or an
 // analytic test model), the uncertain parameters and their distributions, the
 // design, the QoIs and the channels. The file format is documented in one
-// place: README.md, "Configuration files" -> "Studies". Parameter names:
+// place: docs/configuration.md, "Study files". Parameter names:
 // study/model/parameter_space.hpp; distributions: study/estimators/distributions.hpp; QoIs:
 // study/model/qoi.hpp (formulas and units).
 #pragma once
