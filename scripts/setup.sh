@@ -38,5 +38,8 @@ fi
 # cluster's login node for its compute nodes): ROVER_NATIVE=OFF.
 build_type="${ROVER_BUILD_TYPE:-Release}"
 cmake -S "$here" -B "$here/build" -DCMAKE_BUILD_TYPE="$build_type" -DROVER_NATIVE="$native" >/dev/null
-cmake --build "$here/build" --parallel "$(nproc)"
+# ROVER_BUILD_TARGET: one target (the main job builds only `rover`); default all.
+target=()
+if [[ -n "${ROVER_BUILD_TARGET:-}" ]]; then target=(--target "$ROVER_BUILD_TARGET"); fi
+cmake --build "$here/build" --parallel "$(nproc)" "${target[@]}"
 echo "setup: built in $here/build"

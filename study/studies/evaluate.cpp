@@ -168,8 +168,6 @@ int run_evaluate(const EvaluateRequest& request) {
     if (to_csv) {
       csv.open(partial, std::ios::binary | std::ios::trunc);
       if (!csv) throw std::runtime_error("cannot write " + partial);
-      csv << "# rover evaluate: scenario " << request.scenario_path << ", design " << request.design_path
-          << ", " << ROVER_VERSION << "\n";
       for (const std::string& c : design.columns) csv << c << ",";
       for (const std::string& q : request.qoi_names) csv << q << ",";
       csv << "status,message\n";

@@ -59,6 +59,11 @@ TEST(CmdEvaluate, RowsComeBackInOrderAndMatchSimulate) {
   const io::Hdf5Reader h5(dir + "/y.h5");
   auto csv = read_output(dir + "/y.csv");
   EXPECT_EQ(csv["c_q"], (std::vector<double>{0.30, 0.10, 0.20}));
+  // Plain CSV: the header is the first line (csv.DictReader, pandas.read_csv).
+  std::ifstream plain(dir + "/y.csv");
+  std::string first_line;
+  std::getline(plain, first_line);
+  EXPECT_EQ(first_line.rfind("c_q,", 0), 0u) << first_line;
   EXPECT_EQ(h5.read_matrix("/inputs/values").col(0), Eigen::Vector3d(0.30, 0.10, 0.20));
   EXPECT_EQ(csv["B_l_z_min"], h5.read_doubles("/qoi/B_l_z_min"));  // CSV round trip is exact
   EXPECT_EQ(csv["status"], (std::vector<double>{0, 0, 0}));
