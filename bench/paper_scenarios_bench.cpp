@@ -12,7 +12,7 @@
 // /tmp/rover_reference_cache; --cache DIR) keyed by scenario, so a second
 // run of the table costs seconds. Run on a quiet core:
 //   taskset -c 0 build/bench/paper_scenarios_bench [--cache DIR] [--only NAME] [--rtol R] [--atol A]
-//       [--method NAME | --dopri5] [--repeats N] [--lift METRES] [--trace FILE]
+//       [--method NAME | --dopri5] [--repeats N] [--reference-rtol R] [--lift METRES] [--trace FILE]
 // (--rtol and --atol replace the method's default tolerances; --method runs
 // any integrator by name (rosenbrock, rodas4, dopri5) at its defaults or the
 // tolerances given; --dopri5 runs Dormand-Prince at the scenario's own
@@ -41,9 +41,10 @@ namespace {
 
 using namespace rover;
 
-// The reference: Dormand-Prince, converged to well below 1e-6 mm on these
-// runs (tests/core/integrator_dopri5_test.cpp).
-constexpr double kReferenceRelativeTolerance = 1e-10, kReferenceAbsoluteTolerance = 1e-13;
+// The reference: Dormand-Prince at rtol 1e-10 (--reference-rtol R for
+// another; atol is always rtol / 1000), converged to well below 1e-6 mm on
+// the drops (tests/core/integrator_dopri5_test.cpp).
+constexpr double kReferenceRelativeTolerance = 1e-10, kReferenceAtolPerRtol = 1e-3;
 
 struct Curves {
   std::vector<double> B_l_z, B_r_z;
@@ -51,8 +52,10 @@ struct Curves {
 
 // The reference curves of one scenario, from the cache or computed now.
 Curves reference_curves(const io::ScenarioSetup& setup, const std::string& name,
-                        const std::filesystem::path& cache_dir) {
-  const std::filesystem::path file = cache_dir / (name + "_dopri5_rtol1e-10.bin");
+                        const std::filesystem::path& cache_dir, double reference_rtol) {
+  char key[64];
+  std::snprintf(key, sizeof key, "_dopri5_rtol%.0e.bin", reference_rtol);
+  const std::filesystem::path file = cache_dir / (name + key);
   Curves c;
   if (std::ifstream in(file, std::ios::binary); in) {
     std::size_t n = 0;
@@ -65,8 +68,8 @@ Curves reference_curves(const io::ScenarioSetup& setup, const std::string& name,
   }
   Scenario tight = setup.scenario;
   tight.integrator = default_integrator_settings(IntegratorMethod::kDormandPrince45);
-  tight.integrator.relative_tolerance = kReferenceRelativeTolerance;
-  tight.integrator.absolute_tolerance = kReferenceAbsoluteTolerance;
+  tight.integrator.relative_tolerance = reference_rtol;
+  tight.integrator.absolute_tolerance = kReferenceAtolPerRtol * reference_rtol;
   tight.wall_time_budget_s = 3600.0;
   std::printf("  (computing the dopri5 reference of %s ...)\n", name.c_str());
   std::fflush(stdout);
@@ -158,6 +161,7 @@ int main(int argc, char** argv) {
   IntegratorSettings stiff = default_integrator_settings(IntegratorMethod::kRosenbrockW);
   bool dopri5 = false, tolerances_given = false;
   int repeats = 0;  // 0: three, one for dopri5
+  double reference_rtol = kReferenceRelativeTolerance;
   double lift_m = 0.0;
   std::string trace;
   for (int i = 1; i < argc; ++i) {
@@ -189,6 +193,8 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "--method: %s\n", e.what());
         return 2;
       }
+    } else if (!std::strcmp(argv[i], "--reference-rtol") && i + 1 < argc) {
+      reference_rtol = positive_number("--reference-rtol", argv[++i]);
     } else if (!std::strcmp(argv[i], "--repeats") && i + 1 < argc) {
       repeats = static_cast<int>(positive_number("--repeats", argv[++i]));
     } else if (!std::strcmp(argv[i], "--lift") && i + 1 < argc) {
@@ -197,7 +203,7 @@ int main(int argc, char** argv) {
       trace = argv[++i];
     } else {
       std::fprintf(stderr, "usage: %s [--cache DIR] [--only SCENARIO] [--rtol R] [--atol A] [--method NAME | --dopri5] "
-                           "[--repeats N] [--lift METRES] "
+                           "[--repeats N] [--reference-rtol R] [--lift METRES] "
                            "[--trace FILE]\n", argv[0]);
       return 2;
     }
@@ -219,7 +225,7 @@ int main(int argc, char** argv) {
     std::printf("%s (rtol %.0e, atol %.0e)", dopri5 ? "dopri5" : integrator_name(stiff.method),
                 stiff.relative_tolerance, stiff.absolute_tolerance);
   if (lift_m > 0.0) std::printf(", started %g m higher,", lift_m);
-  std::printf(" against dopri5 (rtol %.0e, atol %.0e)\n", kReferenceRelativeTolerance, kReferenceAbsoluteTolerance);
+  std::printf(" against dopri5 (rtol %.0e, atol %.0e)\n", reference_rtol, kReferenceAtolPerRtol * reference_rtol);
   std::printf("%-16s %9s %7s %7s %7s | %-19s | %-19s\n", "scenario", "wall [s]", "steps", "reject", "rhs",
               "B_l z RMS/max mm", "B_r z RMS/max mm");
   double total_wall_s = 0.0;
@@ -227,7 +233,7 @@ int main(int argc, char** argv) {
     if (!only.empty() && only != name) continue;
     const io::ScenarioSetup setup =
         io::load_scenario(std::string(ROVER_SOURCE_DIR) + "/configs/scenarios/" + name + ".json");
-    const Curves ref = reference_curves(setup, name, cache_dir);
+    const Curves ref = reference_curves(setup, name, cache_dir, reference_rtol);
     Scenario run = setup.scenario;
     if (!dopri5) {
       run.integrator = stiff;

@@ -352,10 +352,13 @@ double step_factor(double error, double max_growth, int embedded_order) {
   return std::clamp(kSafety * root, kMinShrink, max_growth);
 }
 
-template <int Stages>
-IntegrationReport integrate_linearly_implicit(const RosenbrockTableau<Stages>& tableau, const OdeSystem& system,
-                                              StateVector x, const IntegratorSettings& settings,
-                                              const IntegrationRequest& request) {
+}  // namespace
+
+IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
+                                       const IntegratorSettings& settings,
+                                       const IntegrationRequest& request) {
+  const bool rodas4 = settings.method == IntegratorMethod::kRodas4;
+  const int embedded_order = rodas4 ? kRodas4.embedded_order : kRos34pw2.embedded_order;
   constexpr double kMaxGrowth = 5.0, kOnsetShrink = 0.5;
   constexpr std::array<double, 3> kLookInside = {0.25, 0.5, 0.75};  // of an accepted step, for contacts
   IntegrationReport report;
@@ -414,9 +417,11 @@ IntegrationReport integrate_linearly_implicit(const RosenbrockTableau<Stages>& t
       lin.system.d_force_d_position.diagonal() = start_stiffness;
       stiffen_s_joints_over_step(system.model.parameters, start->inputs, q0, u0, h,
                                  lin.system.d_force_d_position);
-      iteration.compute(rosenbrock_iteration_matrix(lin.system, h, tableau.gamma));
+      iteration.compute(rodas4 ? rosenbrock_iteration_matrix(lin.system, h, kRodas4.gamma)
+                               : ros34pw2_iteration_matrix(lin.system, h));
       const RosenbrockWStep<kNumCoordinates> step =
-          rosenbrock_step(tableau, lin.system, iteration, start->t, q0, u0, h, acceleration);
+          rodas4 ? rosenbrock_step(kRodas4, lin.system, iteration, start->t, q0, u0, h, acceleration)
+                 : ros34pw2_step<kNumCoordinates>(lin.system, iteration, start->t, q0, u0, h, acceleration);
       StateVector x1, e;
       x1 << step.q, step.u;
       e << step.error_q, step.error_u;
@@ -444,7 +449,7 @@ IntegrationReport integrate_linearly_implicit(const RosenbrockTableau<Stages>& t
       }
       rejected = true;
       ++report.rejected_steps;
-      h *= step_factor(error, 1.0, tableau.embedded_order);
+      h *= step_factor(error, 1.0, embedded_order);
       if (h < settings.min_step_s)
         return underflow(start->t, h, "error estimate " + number_text(error));
     }
@@ -458,19 +463,9 @@ IntegrationReport integrate_linearly_implicit(const RosenbrockTableau<Stages>& t
     }
     std::swap(start, end);
     if (request.progress) request.progress(t1);
-    h = std::min(taken * step_factor(error, rejected ? 1.0 : kMaxGrowth, tableau.embedded_order), settings.max_step_s);
+    h = std::min(taken * step_factor(error, rejected ? 1.0 : kMaxGrowth, embedded_order), settings.max_step_s);
   }
   return report;
-}
-
-}  // namespace
-
-IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
-                                       const IntegratorSettings& settings,
-                                       const IntegrationRequest& request) {
-  if (settings.method == IntegratorMethod::kRodas4)
-    return integrate_linearly_implicit(kRodas4, system, std::move(x), settings, request);
-  return integrate_linearly_implicit(kRos34pw2, system, std::move(x), settings, request);
 }
 
 }  // namespace rover

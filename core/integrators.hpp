@@ -61,7 +61,7 @@ struct IntegrationReport {
   long steps = 0;
   long rhs_evaluations = 0;  // right-hand sides (and, for rosenbrock, Jacobian assemblies)
   long rejected_steps = 0;   // tries that failed the error test or missed a contact onset
-  long discontinuity_steps = 0;  // dopri5: steps accepted at min_step across a contact onset
+  long discontinuity_steps = 0;  // dopri5: steps accepted at min_step across a contact jump
   double min_step_s = 0.0, max_step_s = 0.0;
 };
 

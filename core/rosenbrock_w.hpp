@@ -165,7 +165,8 @@ Eigen::Matrix<double, N, N> rosenbrock_iteration_matrix(const MechanicalLineariz
 
 template <int N>
 Eigen::Matrix<double, N, N> ros34pw2_iteration_matrix(const MechanicalLinearization<N>& lin, double h) {
-  return rosenbrock_iteration_matrix(lin, h, kRos34pw2.gamma);
+  const double hg = h * kRos34pw2.gamma;
+  return lin.mass - hg * lin.d_force_d_speed - (hg * hg) * lin.d_force_d_position;
 }
 
 // One step of the method `tab` of size h from (t0, q0, u0), linearized there
@@ -212,13 +213,49 @@ RosenbrockWStep<N> rosenbrock_step(const RosenbrockTableau<Stages>& tab, const M
   return out;
 }
 
-// One ROS34PW2 step (rosenbrock_step with kRos34pw2).
+// One ROS34PW2 step of size h from (t0, q0, u0), linearized there as `lin`,
+// with `iteration` a factorization (anything with Vector solve(Vector)) of
+// ros34pw2_iteration_matrix(lin, h). acceleration(t, q, u) must return
+// M(q)^{-1} F(t, q, u); it is called three times (the first stage uses
+// lin.force). Non-finite results (a singular iteration matrix, a blown-up
+// stage) propagate into q, u and the error, for the caller's step control to
+// reject.
 template <int N, class Factorization, class Acceleration>
 RosenbrockWStep<N> ros34pw2_step(const MechanicalLinearization<N>& lin, const Factorization& iteration,
                                  double t0, const Eigen::Matrix<double, N, 1>& q0,
                                  const Eigen::Matrix<double, N, 1>& u0, double h,
                                  Acceleration&& acceleration) {
-  return rosenbrock_step(kRos34pw2, lin, iteration, t0, q0, u0, h, std::forward<Acceleration>(acceleration));
+  using Vector = Eigen::Matrix<double, N, 1>;
+  constexpr int s = RosenbrockWTableau::kStages;
+  const RosenbrockWTableau& tab = kRos34pw2;
+  const double hg = h * tab.gamma;
+
+  std::array<Vector, s> Uq, Uu;  // transformed stage increments
+  RosenbrockWStep<N> out{q0, u0, Vector::Zero(), Vector::Zero()};
+  for (int i = 0; i < s; ++i) {
+    // Stage point x + sum_j a_ij U_j and the right-hand side r of the stage.
+    Vector q = q0, u = u0, rq, ru_correction = Vector::Zero();
+    for (int j = 0; j < i; ++j) {
+      q += tab.a[i][j] * Uq[j];
+      u += tab.a[i][j] * Uu[j];
+    }
+    rq = u;
+    for (int j = 0; j < i; ++j) {
+      rq += (tab.c[i][j] / h) * Uq[j];
+      ru_correction += (tab.c[i][j] / h) * Uu[j];
+    }
+    // M0 r_u, where for the first stage M0 f_u(x) = M0 M0^{-1} F0 = F0.
+    const Vector mass_ru =
+        i == 0 ? lin.force
+               : Vector(lin.mass * (acceleration(t0 + tab.stage_time[i] * h, q, u) + ru_correction));
+    Uu[i] = iteration.solve(Vector(hg * (mass_ru + hg * (lin.d_force_d_position * rq))));
+    Uq[i] = hg * (rq + Uu[i]);
+    out.q += tab.m[i] * Uq[i];
+    out.u += tab.m[i] * Uu[i];
+    out.error_q += tab.m_error[i] * Uq[i];
+    out.error_u += tab.m_error[i] * Uu[i];
+  }
+  return out;
 }
 
 // The same steps with a dense LU of the iteration matrix.
@@ -236,7 +273,8 @@ RosenbrockWStep<N> ros34pw2_step(const MechanicalLinearization<N>& lin, double t
                                  const Eigen::Matrix<double, N, 1>& q0,
                                  const Eigen::Matrix<double, N, 1>& u0, double h,
                                  Acceleration&& acceleration) {
-  return rosenbrock_step(kRos34pw2, lin, t0, q0, u0, h, std::forward<Acceleration>(acceleration));
+  const Eigen::PartialPivLU<Eigen::Matrix<double, N, N>> iteration(ros34pw2_iteration_matrix(lin, h));
+  return ros34pw2_step<N>(lin, iteration, t0, q0, u0, h, std::forward<Acceleration>(acceleration));
 }
 
 }  // namespace rover
