@@ -253,7 +253,7 @@ int main(int argc, char** argv) {
     }
     if (!best.ok()) std::printf("%-16s failed: %s\n", name, best.message.c_str());
     const Difference l = difference_mm(best.B_l_z, ref.B_l_z), r = difference_mm(best.B_r_z, ref.B_r_z);
-    std::printf("%-16s %9.4f %7ld %7ld %7ld | %8.5f / %8.5f | %8.5f / %8.5f\n", name, best.wall_time_s, best.steps,
+    std::printf("%-16s %9.4f %7ld %7ld %7ld | %8.2e / %8.2e | %8.2e / %8.2e\n", name, best.wall_time_s, best.steps,
                 best.rejected_steps, best.rhs_evaluations, l.rms_mm, l.max_mm, r.rms_mm, r.max_mm);
     std::fflush(stdout);
     if (!trace.empty()) write_trace(trace, run.output_rate_hz, best, ref);
