@@ -1,9 +1,9 @@
-// The stiff integrator on the five paper scenarios (docs/model.md §7 and §9):
+// An integrator on the five paper scenarios (docs/model.md §7 and §9):
 // for the two drops and the obstacle runs at 0.34, 1 and 2 m/s, the
-// Rosenbrock-W integrator at its default settings against Dormand-Prince at a
-// tight tolerance (rtol 1e-8, atol 1e-11): wall time (best of three; one
-// run with --dopri5),
-// accepted steps, right-hand sides, and the RMS and largest difference of
+// Rosenbrock-W integrator at its default settings (or the method of
+// --method) against Dormand-Prince at a tight tolerance (rtol 1e-10, atol
+// 1e-13): wall time (best of three; one run with dopri5; --repeats N),
+// accepted and rejected steps, right-hand sides, and the RMS and largest difference of
 // B_l z and B_r z over every sample. This is the accuracy the studies rely on
 // when they use the stiff integrator (target: within 0.05 mm RMS), and the
 // cost of one run they pay.
@@ -12,10 +12,11 @@
 // /tmp/rover_reference_cache; --cache DIR) keyed by scenario, so a second
 // run of the table costs seconds. Run on a quiet core:
 //   taskset -c 0 build/bench/paper_scenarios_bench [--cache DIR] [--only NAME] [--rtol R] [--atol A]
-//       [--dopri5] [--lift METRES] [--trace FILE]
-// (--rtol and --atol replace the stiff integrator's default tolerances;
-// --dopri5 runs Dormand-Prince at the scenario's own tolerances, or those
-// given, instead of the stiff integrator, to show how far an explicit run
+//       [--method NAME | --dopri5] [--repeats N] [--reference-rtol R] [--lift METRES] [--trace FILE]
+// (--rtol and --atol replace the method's default tolerances; --method runs
+// any integrator by name (rosenbrock, rodas4, dopri5) at its defaults or the
+// tolerances given; --dopri5 runs Dormand-Prince at the scenario's own
+// tolerances, or those given, to show how far an explicit run
 // at practical tolerances is from the reference; --lift starts the run that
 // higher, to show how far a tiny change of the initial state moves it;
 // --trace writes t, both runs' B_l z and B_r z as CSV, for --only's scenario).
@@ -27,6 +28,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <stdexcept>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -39,14 +41,21 @@ namespace {
 
 using namespace rover;
 
+// The reference: Dormand-Prince at rtol 1e-10 (--reference-rtol R for
+// another; atol is always rtol / 1000), converged to well below 1e-6 mm on
+// the drops (tests/core/integrator_dopri5_test.cpp).
+constexpr double kReferenceRelativeTolerance = 1e-10, kReferenceAtolPerRtol = 1e-3;
+
 struct Curves {
   std::vector<double> B_l_z, B_r_z;
 };
 
 // The reference curves of one scenario, from the cache or computed now.
 Curves reference_curves(const io::ScenarioSetup& setup, const std::string& name,
-                        const std::filesystem::path& cache_dir) {
-  const std::filesystem::path file = cache_dir / (name + ".bin");
+                        const std::filesystem::path& cache_dir, double reference_rtol) {
+  char key[64];
+  std::snprintf(key, sizeof key, "_dopri5_rtol%.0e.bin", reference_rtol);
+  const std::filesystem::path file = cache_dir / (name + key);
   Curves c;
   if (std::ifstream in(file, std::ios::binary); in) {
     std::size_t n = 0;
@@ -59,8 +68,8 @@ Curves reference_curves(const io::ScenarioSetup& setup, const std::string& name,
   }
   Scenario tight = setup.scenario;
   tight.integrator = default_integrator_settings(IntegratorMethod::kDormandPrince45);
-  tight.integrator.relative_tolerance = 1e-8;
-  tight.integrator.absolute_tolerance = 1e-11;
+  tight.integrator.relative_tolerance = reference_rtol;
+  tight.integrator.absolute_tolerance = kReferenceAtolPerRtol * reference_rtol;
   tight.wall_time_budget_s = 3600.0;
   std::printf("  (computing the dopri5 reference of %s ...)\n", name.c_str());
   std::fflush(stdout);
@@ -151,6 +160,8 @@ int main(int argc, char** argv) {
   std::string only;
   IntegratorSettings stiff = default_integrator_settings(IntegratorMethod::kRosenbrockW);
   bool dopri5 = false, tolerances_given = false;
+  int repeats = 0;  // 0: three, one for dopri5
+  double reference_rtol = kReferenceRelativeTolerance;
   double lift_m = 0.0;
   std::string trace;
   for (int i = 1; i < argc; ++i) {
@@ -168,12 +179,31 @@ int main(int argc, char** argv) {
       ++i;
     } else if (!std::strcmp(argv[i], "--dopri5")) {
       dopri5 = true;
+    } else if (!std::strcmp(argv[i], "--method") && i + 1 < argc) {
+      try {
+        const IntegratorMethod method = integrator_from_name(argv[++i]);
+        if (method == IntegratorMethod::kDormandPrince45) {
+          dopri5 = true;
+        } else {
+          const IntegratorSettings defaults = default_integrator_settings(method);
+          stiff.method = method;
+          if (!tolerances_given) stiff = defaults;
+        }
+      } catch (const std::invalid_argument& e) {
+        std::fprintf(stderr, "--method: %s\n", e.what());
+        return 2;
+      }
+    } else if (!std::strcmp(argv[i], "--reference-rtol") && i + 1 < argc) {
+      reference_rtol = positive_number("--reference-rtol", argv[++i]);
+    } else if (!std::strcmp(argv[i], "--repeats") && i + 1 < argc) {
+      repeats = static_cast<int>(positive_number("--repeats", argv[++i]));
     } else if (!std::strcmp(argv[i], "--lift") && i + 1 < argc) {
       lift_m = positive_number("--lift", argv[++i]);
     } else if (!std::strcmp(argv[i], "--trace") && i + 1 < argc) {
       trace = argv[++i];
     } else {
-      std::fprintf(stderr, "usage: %s [--cache DIR] [--only SCENARIO] [--rtol R] [--atol A] [--dopri5] [--lift METRES] "
+      std::fprintf(stderr, "usage: %s [--cache DIR] [--only SCENARIO] [--rtol R] [--atol A] [--method NAME | --dopri5] "
+                           "[--repeats N] [--reference-rtol R] [--lift METRES] "
                            "[--trace FILE]\n", argv[0]);
       return 2;
     }
@@ -192,18 +222,18 @@ int main(int argc, char** argv) {
   if (dopri5 && !tolerances_given)
     std::printf("dopri5 (each scenario's own tolerances)");
   else
-    std::printf("%s (rtol %.0e, atol %.0e)", dopri5 ? "dopri5" : "Rosenbrock-W", stiff.relative_tolerance,
-                stiff.absolute_tolerance);
+    std::printf("%s (rtol %.0e, atol %.0e)", dopri5 ? "dopri5" : integrator_name(stiff.method),
+                stiff.relative_tolerance, stiff.absolute_tolerance);
   if (lift_m > 0.0) std::printf(", started %g m higher,", lift_m);
-  std::printf(" against dopri5 (rtol 1e-8, atol 1e-11)\n");
-  std::printf("%-16s %9s %7s %7s | %-17s | %-17s\n", "scenario", "wall [s]", "steps", "rhs",
+  std::printf(" against dopri5 (rtol %.0e, atol %.0e)\n", reference_rtol, kReferenceAtolPerRtol * reference_rtol);
+  std::printf("%-16s %9s %7s %7s %7s | %-19s | %-19s\n", "scenario", "wall [s]", "steps", "reject", "rhs",
               "B_l z RMS/max mm", "B_r z RMS/max mm");
   double total_wall_s = 0.0;
   for (const char* name : names) {
     if (!only.empty() && only != name) continue;
     const io::ScenarioSetup setup =
         io::load_scenario(std::string(ROVER_SOURCE_DIR) + "/configs/scenarios/" + name + ".json");
-    const Curves ref = reference_curves(setup, name, cache_dir);
+    const Curves ref = reference_curves(setup, name, cache_dir, reference_rtol);
     Scenario run = setup.scenario;
     if (!dopri5) {
       run.integrator = stiff;
@@ -216,14 +246,15 @@ int main(int argc, char** argv) {
     }
     run.initial_q[coord::z] += lift_m;
     Trajectory best = simulate(setup.model, run, setup.inputs);
-    for (int repeat = 0; repeat < (dopri5 ? 0 : 2); ++repeat) {  // dopri5: one run, slow enough to time
+    const int runs = repeats > 0 ? repeats : (dopri5 ? 1 : 3);  // dopri5: one run, slow enough to time
+    for (int repeat = 1; repeat < runs; ++repeat) {
       Trajectory again = simulate(setup.model, run, setup.inputs);
       if (again.wall_time_s < best.wall_time_s) best = std::move(again);
     }
     if (!best.ok()) std::printf("%-16s failed: %s\n", name, best.message.c_str());
     const Difference l = difference_mm(best.B_l_z, ref.B_l_z), r = difference_mm(best.B_r_z, ref.B_r_z);
-    std::printf("%-16s %9.4f %7ld %7ld | %7.4f / %7.4f | %7.4f / %7.4f\n", name, best.wall_time_s, best.steps,
-                best.rhs_evaluations, l.rms_mm, l.max_mm, r.rms_mm, r.max_mm);
+    std::printf("%-16s %9.4f %7ld %7ld %7ld | %8.2e / %8.2e | %8.2e / %8.2e\n", name, best.wall_time_s, best.steps,
+                best.rejected_steps, best.rhs_evaluations, l.rms_mm, l.max_mm, r.rms_mm, r.max_mm);
     std::fflush(stdout);
     if (!trace.empty()) write_trace(trace, run.output_rate_hz, best, ref);
     total_wall_s += best.wall_time_s;

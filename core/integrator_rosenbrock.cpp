@@ -1,6 +1,8 @@
 // The linearly implicit integrator of the SA model (docs/model.md §9;
-// declared in integrators.hpp): the Rosenbrock-W method ROS34PW2
-// (rosenbrock_w.hpp) with the stiff force elements linearized analytically
+// declared in integrators.hpp): the Rosenbrock-W method ROS34PW2, or the
+// fourth-order Rosenbrock method RODAS4 by settings.method (both in
+// rosenbrock_w.hpp; the step control below is the same, on the embedded
+// solution of either), with the stiff force elements linearized analytically
 // (force_jacobian.hpp), the mass matrix of the step start in the iteration
 // matrix M0 - h g D - h^2 g^2 K (23 x 23, one LU per step size tried, without
 // fill-in on the coordinate tree: branch_induced_lu.hpp), step
@@ -67,6 +69,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Cholesky>
@@ -339,11 +342,14 @@ void stiffen_s_joints_over_step(const RoverParameters& parameters, const ModelIn
 // beginning, an S-joint crossing its preload kink), whose error grows far
 // faster than h^3, and be rejected again, often several times in a row
 // before the event (docs/performance.md, "Fifth pass").
-double step_factor(double error, double max_growth) {
+// RODAS4's order-3 estimate has local error ~ h^4, hence the fourth root.
+double step_factor(double error, double max_growth, int embedded_order) {
   constexpr double kSafety = 0.9, kMinShrink = 0.2;
   if (!(error < std::numeric_limits<double>::infinity())) return kMinShrink;
   if (error <= 0.0) return max_growth;
-  return std::clamp(kSafety * std::cbrt(1.0 / error), kMinShrink, max_growth);
+  const double root = embedded_order == 2 ? std::cbrt(1.0 / error)
+                                          : std::pow(1.0 / error, 1.0 / (embedded_order + 1));
+  return std::clamp(kSafety * root, kMinShrink, max_growth);
 }
 
 }  // namespace
@@ -351,6 +357,8 @@ double step_factor(double error, double max_growth) {
 IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
                                        const IntegratorSettings& settings,
                                        const IntegrationRequest& request) {
+  const bool rodas4 = settings.method == IntegratorMethod::kRodas4;
+  const int embedded_order = rodas4 ? kRodas4.embedded_order : kRos34pw2.embedded_order;
   constexpr double kMaxGrowth = 5.0, kOnsetShrink = 0.5;
   constexpr std::array<double, 3> kLookInside = {0.25, 0.5, 0.75};  // of an accepted step, for contacts
   IntegrationReport report;
@@ -409,9 +417,11 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
       lin.system.d_force_d_position.diagonal() = start_stiffness;
       stiffen_s_joints_over_step(system.model.parameters, start->inputs, q0, u0, h,
                                  lin.system.d_force_d_position);
-      iteration.compute(ros34pw2_iteration_matrix(lin.system, h));
+      iteration.compute(rodas4 ? rosenbrock_iteration_matrix(lin.system, h, kRodas4.gamma)
+                               : ros34pw2_iteration_matrix(lin.system, h));
       const RosenbrockWStep<kNumCoordinates> step =
-          ros34pw2_step<kNumCoordinates>(lin.system, iteration, start->t, q0, u0, h, acceleration);
+          rodas4 ? rosenbrock_step(kRodas4, lin.system, iteration, start->t, q0, u0, h, acceleration)
+                 : ros34pw2_step<kNumCoordinates>(lin.system, iteration, start->t, q0, u0, h, acceleration);
       StateVector x1, e;
       x1 << step.q, step.u;
       e << step.error_q, step.error_u;
@@ -432,12 +442,14 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
                                      seen_regions, stage.dynamics.kinematics);
         }
         if (!missed) break;
+        ++report.rejected_steps;
         h *= kOnsetShrink;  // a touchdown inside the step that no stage saw
         if (h < settings.min_step_s) return underflow(start->t, h, "touchdown");
         continue;
       }
       rejected = true;
-      h *= step_factor(error, 1.0);
+      ++report.rejected_steps;
+      h *= step_factor(error, 1.0, embedded_order);
       if (h < settings.min_step_s)
         return underflow(start->t, h, "error estimate " + number_text(error));
     }
@@ -451,7 +463,7 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
     }
     std::swap(start, end);
     if (request.progress) request.progress(t1);
-    h = std::min(taken * step_factor(error, rejected ? 1.0 : kMaxGrowth), settings.max_step_s);
+    h = std::min(taken * step_factor(error, rejected ? 1.0 : kMaxGrowth, embedded_order), settings.max_step_s);
   }
   return report;
 }

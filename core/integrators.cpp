@@ -4,6 +4,7 @@
 // SciPy's RK45 (odeint's derivative term is switched off).
 #include "core/integrators.hpp"
 
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -100,6 +101,59 @@ bool step_is_bad(IntegrationReport& report, StallWatch& stall, double t, double 
   return false;
 }
 
+namespace {
+
+// The contacts of the last right-hand side of `workspace`, as far as they
+// make the right-hand side jump: per wheel the regions, the ones that push,
+// and their terrain normals. The normal force jumps where a region begins to
+// push (F_n = max(0, k p^sigma + c dp/dt), dp/dt > 0 at p = 0), and the
+// contact force turns at once where the contact point crosses a kink of the
+// terrain (a grid line where the bilinear slope jumps: the foot and the top
+// of a ramp).
+struct ContactSet {
+  std::array<int, kNumLegs> regions{}, pushing{};
+  std::array<std::array<Vec3, kMaxContactsPerWheel>, kNumLegs> normals{};
+};
+
+ContactSet contact_set(const DynamicsWorkspace& workspace) {
+  ContactSet s;
+  for (int leg = 0; leg < kNumLegs; ++leg) {
+    const WheelContacts& wheel = workspace.contacts[leg];
+    s.regions[leg] = wheel.count;
+    for (int k = 0; k < wheel.count; ++k) {
+      s.pushing[leg] += wheel.points[k].normal_force_N > 0.0 ? 1 : 0;
+      s.normals[leg][k] = wheel.points[k].normal;
+    }
+  }
+  return s;
+}
+
+// Whether the right-hand side jumps between two contact sets a step of
+// min_step apart: a contact begins or ends, or a normal turns by more than
+// kKinkTurn_rad, which a smooth terrain cannot do within such a step (a
+// contact point moving at 10 m/s over a 1 cm radius of curvature turns its
+// normal by 1e-9 rad in 1e-12 s; a grid line of the ramp turns it by 0.17).
+constexpr double kKinkTurn_rad = 1e-6;
+
+bool contact_forces_jump(const ContactSet& a, const ContactSet& b) {
+  if (a.regions != b.regions || a.pushing != b.pushing) return true;
+  for (int leg = 0; leg < kNumLegs; ++leg)
+    for (int k = 0; k < a.regions[leg]; ++k)
+      if ((a.normals[leg][k] - b.normals[leg][k]).norm() > kKinkTurn_rad) return true;
+  return false;
+}
+
+}  // namespace
+
+// Dormand-Prince 5(4) with odeint's step control, driven step by step so that
+// a rejected try can be inspected. A try across a jump of the right-hand side
+// (contact_forces_jump()) has an error estimate of about h times the jump,
+// below atol only at steps of atol / jump (1e-14 s for atol 1e-12), so the
+// step size would shrink to underflow. Such a try, once it is at min_step
+// and its two ends show the jump (located inside it), is accepted: its error
+// is at most min_step times the jump in the speeds and min_step^2 times it in
+// the positions. These steps are counted in report.discontinuity_steps. A try
+// at min_step that fails without a jump is an underflow, as before.
 IntegrationReport integrate_dormand_prince(const OdeSystem& system, StateVector x,
                                            const IntegratorSettings& settings,
                                            const IntegrationRequest& request) {
@@ -109,7 +163,6 @@ IntegrationReport integrate_dormand_prince(const OdeSystem& system, StateVector 
                                                 odeint::default_operations>;
   using Adjuster = odeint::default_step_adjuster<double, double>;
   using Controlled = odeint::controlled_runge_kutta<Stepper, Checker, Adjuster>;
-  using Dense = odeint::dense_output_runge_kutta<Controlled>;
 
   IntegrationReport report;
   StallWatch stall;
@@ -120,33 +173,43 @@ IntegrationReport integrate_dormand_prince(const OdeSystem& system, StateVector 
     ++report.rhs_evaluations;
     ds = ode_derivative(system, workspace, t, s);
   };
-  Dense stepper(Controlled(Checker(settings.absolute_tolerance, settings.relative_tolerance, 1.0, 0.0),
-                           Adjuster(settings.max_step_s)));
-  stepper.initialize(x, 0.0, settings.initial_step_s);
-  StateVector sample;
+  Controlled stepper(Checker(settings.absolute_tolerance, settings.relative_tolerance, 1.0, 0.0),
+                     Adjuster(settings.max_step_s));
+  StateVector dx, x_new, dx_new, sample;
+  rhs(x, dx, 0.0);
+  ContactSet contacts = contact_set(workspace);
+  double t = 0.0, h = settings.initial_step_s;
   std::size_t next = 1;
-  try {
-    while (next < request.sample_count) {
-      const auto [t0, t1] = stepper.do_step(rhs);
-      if (step_is_bad(report, stall, t1, t1 - t0, stepper.current_state(), request)) break;
-      while (next < request.sample_count && sample_time(request, next) <= t1) {
-        stepper.calc_state(sample_time(request, next), sample);
-        request.record(sample_time(request, next), sample);
-        ++next;
+  while (next < request.sample_count) {
+    const double t0 = t, h_tried = h;
+    if (stepper.try_step(rhs, x, dx, t, x_new, dx_new, h) == odeint::fail) {
+      ++report.rejected_steps;
+      if (h >= settings.min_step_s) continue;
+      if (h_tried > settings.min_step_s) {  // one last try at min_step itself
+        h = settings.min_step_s;
+        continue;
       }
-      if (next < request.sample_count && stepper.current_time_step() < settings.min_step_s) {
+      if (!contact_forces_jump(contact_set(workspace), contacts)) {
         report.status = SimulationStatus::kStepSizeUnderflow;
-        report.failed_at_s = t1;
-        report.detail = "step " + number_text(stepper.current_time_step()) +
-                        " s is below min_step " + number_text(settings.min_step_s) + " s";
-        break;
+        report.failed_at_s = t0;
+        report.detail = "step " + number_text(h) + " s is below min_step " + number_text(settings.min_step_s) +
+                        " s with no contact jump inside the step";
+        return report;
       }
-      if (request.progress) request.progress(t1);
+      ++report.discontinuity_steps;  // accepted at min_step across the located jump
+      t = t0 + h_tried;
+      h = h_tried;
     }
-  } catch (const odeint::step_adjustment_error& e) {
-    report.status = SimulationStatus::kStepSizeUnderflow;
-    report.failed_at_s = stepper.current_time();
-    report.detail = e.what();
+    contacts = contact_set(workspace);  // the last evaluation is at x_new (FSAL)
+    if (step_is_bad(report, stall, t, t - t0, x_new, request)) break;
+    while (next < request.sample_count && sample_time(request, next) <= t) {
+      stepper.stepper().calc_state(sample_time(request, next), sample, x, dx, t0, x_new, dx_new, t);
+      request.record(sample_time(request, next), sample);
+      ++next;
+    }
+    x.swap(x_new);
+    dx.swap(dx_new);
+    if (request.progress) request.progress(t);
   }
   return report;
 }
@@ -190,6 +253,7 @@ IntegrationReport integrate(const OdeSystem& system, const StateVector& x0,
     case IntegratorMethod::kRungeKutta4:
       return integrate_rk4(system, x0, settings, request);
     case IntegratorMethod::kRosenbrockW:
+    case IntegratorMethod::kRodas4:
       return integrate_rosenbrock(system, x0, settings, request);
   }
   return {};

@@ -60,6 +60,8 @@ struct IntegrationReport {
   std::string detail;
   long steps = 0;
   long rhs_evaluations = 0;  // right-hand sides (and, for rosenbrock, Jacobian assemblies)
+  long rejected_steps = 0;   // tries that failed the error test or missed a contact onset
+  long discontinuity_steps = 0;  // dopri5: steps accepted at min_step across a contact jump
   double min_step_s = 0.0, max_step_s = 0.0;
 };
 
@@ -94,7 +96,8 @@ IntegrationReport integrate_rk4(const OdeSystem& system, StateVector x,
 // Linearly implicit Rosenbrock-W (ROS34PW2) with analytic derivatives of the
 // stiff force elements; adaptive like Dormand-Prince, with the same settings
 // (core/integrator_rosenbrock.cpp). The Jacobian assembly of each step is
-// counted as one right-hand-side evaluation.
+// counted as one right-hand-side evaluation. settings.method kRodas4 runs the
+// fourth-order RODAS4 on the same machinery instead (rosenbrock_w.hpp).
 IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
                                        const IntegratorSettings& settings,
                                        const IntegrationRequest& request);

@@ -19,6 +19,16 @@
 //   (M0 - h g D - h^2 g^2 K) U_u = h g (M0 r_u + h g K r_q),  U_q = h g (r_q + U_u),
 // where r = [r_q; r_u] is the right-hand side above. A time dependence of F is
 // taken at the stage times t + alpha_i h and left out of J (a W-method allows it).
+//
+// The same machinery runs RODAS4 (Hairer and Wanner, Solving ODEs II, IV.7,
+// Table 7.2; the coefficients of their code rodas.f, METH = 1): six stages,
+// order 4 with an embedded order-3 solution, L-stable and stiffly accurate
+// (the last two stages sit at t0 + h and the solution is the last stage
+// point). It is a classical Rosenbrock method, not a W-method: its order 4
+// needs the exact Jacobian of dx/dt and an autonomous system; with the
+// approximate J above (the stiff forces only, no dM/dq, no df/dt) its
+// order falls to the terms that J leaves out, which on the rover are small
+// next to the stiff ones (force_jacobian.hpp); rosenbrock_w_test.cpp shows both.
 #pragma once
 
 #include <array>
@@ -48,16 +58,19 @@ struct RosenbrockWStep {
   Vector error_q, error_u;  // third- minus embedded second-order solution
 };
 
-// Coefficients of ROS34PW2 in the transformed form (a, c, m, m_hat computed
-// from the published alpha, gamma, b, b_hat; see ros34pw2_tableau()).
-struct RosenbrockWTableau {
-  static constexpr int kStages = 4;
-  double gamma = 0.0;                                    // diagonal gamma_ii
-  std::array<std::array<double, kStages>, kStages> a{};  // strictly lower
-  std::array<std::array<double, kStages>, kStages> c{};  // strictly lower
-  std::array<double, kStages> m{}, m_error{};            // m and m - m_hat
-  std::array<double, kStages> stage_time{};              // alpha_i = sum_j alpha_ij
+// Coefficients of a Rosenbrock(-W) method in the transformed form (a, c, m,
+// m_hat of Hairer and Wanner, IV.7, eq. 7.4'), with `Stages` stages.
+template <int Stages>
+struct RosenbrockTableau {
+  static constexpr int kStages = Stages;
+  double gamma = 0.0;                                  // diagonal gamma_ii
+  std::array<std::array<double, Stages>, Stages> a{};  // strictly lower
+  std::array<std::array<double, Stages>, Stages> c{};  // strictly lower
+  std::array<double, Stages> m{}, m_error{};           // m and m - m_hat
+  std::array<double, Stages> stage_time{};             // alpha_i = sum_j alpha_ij
+  int embedded_order = 0;                              // local error of the estimate ~ h^(embedded_order + 1)
 };
+using RosenbrockWTableau = RosenbrockTableau<4>;  // ROS34PW2
 
 namespace detail {
 
@@ -90,6 +103,7 @@ constexpr RosenbrockWTableau make_ros34pw2_tableau() {
   }
   RosenbrockWTableau t;
   t.gamma = g;
+  t.embedded_order = 2;
   for (int i = 0; i < s; ++i) {
     for (int j = 0; j < i; ++j) {
       double sum = 0.0;
@@ -109,16 +123,94 @@ constexpr RosenbrockWTableau make_ros34pw2_tableau() {
   return t;
 }
 
+// RODAS4 as printed in rodas.f (Hairer and Wanner), already in the
+// transformed form: stage 6 is stage 5's point plus U_5, the solution stage
+// 6's point plus U_6, and the embedded solution stage 6's point (m - m_hat
+// = e_6).
+constexpr RosenbrockTableau<6> make_rodas4_tableau() {
+  RosenbrockTableau<6> t;
+  t.gamma = 0.25;
+  t.embedded_order = 3;
+  t.stage_time = {0.0, 0.386, 0.21, 0.63, 1.0, 1.0};
+  t.a[1] = {1.544, 0.0, 0.0, 0.0, 0.0, 0.0};
+  t.a[2] = {0.9466785280815826, 0.2557011698983284, 0.0, 0.0, 0.0, 0.0};
+  t.a[3] = {3.314825187068521, 2.896124015972201, 0.9986419139977817, 0.0, 0.0, 0.0};
+  t.a[4] = {1.221224509226641, 6.019134481288629, 12.53708332932087, -0.6878860361058950, 0.0, 0.0};
+  t.a[5] = {1.221224509226641, 6.019134481288629, 12.53708332932087, -0.6878860361058950, 1.0, 0.0};
+  t.c[1] = {-5.6688, 0.0, 0.0, 0.0, 0.0, 0.0};
+  t.c[2] = {-2.430093356833875, -0.2063599157091915, 0.0, 0.0, 0.0, 0.0};
+  t.c[3] = {-0.1073529058151375, -9.594562251023355, -20.47028614809616, 0.0, 0.0, 0.0};
+  t.c[4] = {7.496443313967647, -10.24680431464352, -33.99990352819905, 11.70890893206160, 0.0, 0.0};
+  t.c[5] = {8.083246795921522, -7.981132988064893, -31.52159432874371, 16.31930543123136,
+            -6.058818238834054, 0.0};
+  t.m = {1.221224509226641, 6.019134481288629, 12.53708332932087, -0.6878860361058950, 1.0, 1.0};
+  t.m_error = {0.0, 0.0, 0.0, 0.0, 0.0, 1.0};
+  return t;
+}
+
 }  // namespace detail
 
 inline constexpr RosenbrockWTableau kRos34pw2 = detail::make_ros34pw2_tableau();
+inline constexpr RosenbrockTableau<6> kRodas4 = detail::make_rodas4_tableau();
 
-// The iteration matrix M0 - h g D - h^2 g^2 K of a step of size h (the top
-// of the file); a factorization of it is the one linear solver of the step.
+// The iteration matrix M0 - h g D - h^2 g^2 K of a step of size h for a
+// method with diagonal gamma g (the top of the file); a factorization of it
+// is the one linear solver of the step.
+template <int N>
+Eigen::Matrix<double, N, N> rosenbrock_iteration_matrix(const MechanicalLinearization<N>& lin, double h,
+                                                        double gamma) {
+  const double hg = h * gamma;
+  return lin.mass - hg * lin.d_force_d_speed - (hg * hg) * lin.d_force_d_position;
+}
+
 template <int N>
 Eigen::Matrix<double, N, N> ros34pw2_iteration_matrix(const MechanicalLinearization<N>& lin, double h) {
   const double hg = h * kRos34pw2.gamma;
   return lin.mass - hg * lin.d_force_d_speed - (hg * hg) * lin.d_force_d_position;
+}
+
+// One step of the method `tab` of size h from (t0, q0, u0), linearized there
+// as `lin`, with `iteration` a factorization (anything with Vector
+// solve(Vector)) of rosenbrock_iteration_matrix(lin, h, tab.gamma).
+// acceleration(t, q, u) must return M(q)^{-1} F(t, q, u); it is called once
+// per stage after the first (which uses lin.force). Non-finite results (a
+// singular iteration matrix, a blown-up stage) propagate into q, u and the
+// error, for the caller's step control to reject.
+template <int N, int Stages, class Factorization, class Acceleration>
+RosenbrockWStep<N> rosenbrock_step(const RosenbrockTableau<Stages>& tab, const MechanicalLinearization<N>& lin,
+                                   const Factorization& iteration, double t0,
+                                   const Eigen::Matrix<double, N, 1>& q0,
+                                   const Eigen::Matrix<double, N, 1>& u0, double h,
+                                   Acceleration&& acceleration) {
+  using Vector = Eigen::Matrix<double, N, 1>;
+  const double hg = h * tab.gamma;
+
+  std::array<Vector, Stages> Uq, Uu;  // transformed stage increments
+  RosenbrockWStep<N> out{q0, u0, Vector::Zero(), Vector::Zero()};
+  for (int i = 0; i < Stages; ++i) {
+    // Stage point x + sum_j a_ij U_j and the right-hand side r of the stage.
+    Vector q = q0, u = u0, rq, ru_correction = Vector::Zero();
+    for (int j = 0; j < i; ++j) {
+      q += tab.a[i][j] * Uq[j];
+      u += tab.a[i][j] * Uu[j];
+    }
+    rq = u;
+    for (int j = 0; j < i; ++j) {
+      rq += (tab.c[i][j] / h) * Uq[j];
+      ru_correction += (tab.c[i][j] / h) * Uu[j];
+    }
+    // M0 r_u, where for the first stage M0 f_u(x) = M0 M0^{-1} F0 = F0.
+    const Vector mass_ru =
+        i == 0 ? lin.force
+               : Vector(lin.mass * (acceleration(t0 + tab.stage_time[i] * h, q, u) + ru_correction));
+    Uu[i] = iteration.solve(Vector(hg * (mass_ru + hg * (lin.d_force_d_position * rq))));
+    Uq[i] = hg * (rq + Uu[i]);
+    out.q += tab.m[i] * Uq[i];
+    out.u += tab.m[i] * Uu[i];
+    out.error_q += tab.m_error[i] * Uq[i];
+    out.error_u += tab.m_error[i] * Uu[i];
+  }
+  return out;
 }
 
 // One ROS34PW2 step of size h from (t0, q0, u0), linearized there as `lin`,
@@ -166,7 +258,16 @@ RosenbrockWStep<N> ros34pw2_step(const MechanicalLinearization<N>& lin, const Fa
   return out;
 }
 
-// The same step with a dense LU of the iteration matrix.
+// The same steps with a dense LU of the iteration matrix.
+template <int N, int Stages, class Acceleration>
+RosenbrockWStep<N> rosenbrock_step(const RosenbrockTableau<Stages>& tab, const MechanicalLinearization<N>& lin,
+                                   double t0, const Eigen::Matrix<double, N, 1>& q0,
+                                   const Eigen::Matrix<double, N, 1>& u0, double h,
+                                   Acceleration&& acceleration) {
+  const Eigen::PartialPivLU<Eigen::Matrix<double, N, N>> iteration(rosenbrock_iteration_matrix(lin, h, tab.gamma));
+  return rosenbrock_step(tab, lin, iteration, t0, q0, u0, h, std::forward<Acceleration>(acceleration));
+}
+
 template <int N, class Acceleration>
 RosenbrockWStep<N> ros34pw2_step(const MechanicalLinearization<N>& lin, double t0,
                                  const Eigen::Matrix<double, N, 1>& q0,

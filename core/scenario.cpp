@@ -12,6 +12,7 @@ const char* integrator_name(IntegratorMethod method) {
     case IntegratorMethod::kDormandPrince45: return "dopri5";
     case IntegratorMethod::kRungeKutta4: return "rk4";
     case IntegratorMethod::kRosenbrockW: return "rosenbrock";
+    case IntegratorMethod::kRodas4: return "rodas4";
   }
   return "unknown";
 }
@@ -20,13 +21,14 @@ IntegratorMethod integrator_from_name(const std::string& name) {
   if (name == "dopri5" || name == "rk45") return IntegratorMethod::kDormandPrince45;
   if (name == "rk4") return IntegratorMethod::kRungeKutta4;
   if (name == "rosenbrock" || name == "ros34pw2") return IntegratorMethod::kRosenbrockW;
-  throw std::invalid_argument("unknown integrator '" + name + "' (known: dopri5, rk4, rosenbrock)");
+  if (name == "rodas4") return IntegratorMethod::kRodas4;
+  throw std::invalid_argument("unknown integrator '" + name + "' (known: dopri5, rk4, rosenbrock, rodas4)");
 }
 
 IntegratorSettings default_integrator_settings(IntegratorMethod method) {
   IntegratorSettings s;
   s.method = method;
-  if (method == IntegratorMethod::kRosenbrockW) {
+  if (method == IntegratorMethod::kRosenbrockW || method == IntegratorMethod::kRodas4) {
     s.relative_tolerance = 1e-5;
     s.absolute_tolerance = 2e-4;
   }

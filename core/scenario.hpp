@@ -18,6 +18,7 @@ enum class IntegratorMethod {
   kDormandPrince45,  // explicit Runge-Kutta 5(4), adaptive, dense output (default)
   kRungeKutta4,      // the paper's classic fixed-step RK4
   kRosenbrockW,      // linearly implicit Rosenbrock-W ROS34PW2 for the stiff forces
+  kRodas4,           // linearly implicit Rosenbrock RODAS4 (order 4), same Jacobian and control
 };
 
 const char* integrator_name(IntegratorMethod method);

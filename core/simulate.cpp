@@ -200,6 +200,8 @@ Trajectory simulate(const RoverModel& model, const Scenario& scenario,
                   " s: " + (hopeless ? pace.explanation() : report.detail);
   out.rhs_evaluations = report.rhs_evaluations;
   out.steps = report.steps;
+  out.rejected_steps = report.rejected_steps;
+  out.discontinuity_steps = report.discontinuity_steps;
   out.min_step_s = report.min_step_s;
   out.max_step_s = report.max_step_s;
   out.wall_time_s = elapsed();

@@ -40,6 +40,8 @@ struct Trajectory {
   double wall_time_s = 0.0;
   long rhs_evaluations = 0;
   long steps = 0;
+  long rejected_steps = 0;       // tries that failed (IntegrationReport)
+  long discontinuity_steps = 0;  // dopri5 steps at min_step across a contact jump
   double min_step_s = 0.0, max_step_s = 0.0;
   bool ok() const { return status == SimulationStatus::kOk; }
 };

@@ -92,6 +92,25 @@ TEST(IntegratorRosenbrock, DropTestsMatchTheDormandPrinceReference) {
   }
 }
 
+TEST(IntegratorRosenbrock, Rodas4ByNameMatchesTheDormandPrinceReference) {
+  // The fourth-order RODAS4 on the same Jacobian and step control, chosen by
+  // name, on the horizontal drop at its default settings.
+  const RoverModel model = make_rover_model(default_rover_parameters());
+  const ModelInputs inputs = nominal_inputs(model.parameters);
+  Scenario reference = drop(0.281, 0.039, 0.0042);
+  reference.integrator.relative_tolerance = 1e-8;
+  reference.integrator.absolute_tolerance = 1e-11;
+  Scenario run = drop(0.281, 0.039, 0.0042);
+  run.integrator = default_integrator_settings(integrator_from_name("rodas4"));
+  ASSERT_EQ(run.integrator.method, IntegratorMethod::kRodas4);
+  const Trajectory dp = simulate(model, reference, inputs);
+  const Trajectory rodas = simulate(model, run, inputs);
+  ASSERT_TRUE(dp.ok()) << dp.message;
+  ASSERT_TRUE(rodas.ok()) << rodas.message;
+  EXPECT_LT(1e3 * rms_difference(rodas.B_l_z, dp.B_l_z), 0.05);
+  EXPECT_LT(1e3 * rms_difference(rodas.B_r_z, dp.B_r_z), 0.05);
+}
+
 TEST(IntegratorRosenbrock, SettledRoverCostsTheSameForAnySharpness) {
   // Once the rover rests, the stiffness left is that of the S-structures
   // (slope 2 M0 f / pi), the contacts and the friction at zero slip; an

@@ -1,0 +1,32 @@
+// An integrator chosen by the accuracy asked of a run, in metres
+// (docs/model.md §9): the cheapest setting of the measured accuracy-cost
+// frontier (bench/accuracy_cost.sh: the five paper scenarios, the RMS
+// difference of B_l z and B_r z from Dormand-Prince at rtol 1e-10) whose
+// worst scenario is within the accuracy asked.
+#pragma once
+
+#include <string>
+
+#include "core/scenario.hpp"
+
+namespace rover {
+
+struct IntegratorChoice {
+  IntegratorSettings settings;      // method, rtol, atol; the other fields at their defaults
+  double measured_error_m = 0.0;    // worst RMS difference of the setting over the paper scenarios
+  std::string description;          // e.g. "rosenbrock rtol 1e-05 atol 0.0002"
+                                    // ("(the most accurate measured ...)" appended if short)
+};
+
+// The open interval of accuracies [m] the frontier answers for.
+inline constexpr double kLeastAccuracy_m = 1e-2;
+inline constexpr double kMostAccuracy_m = 1e-12;
+
+// The cheapest measured setting whose worst RMS error is at most accuracy_m;
+// where no setting is that accurate (below the most accurate one measured),
+// the most accurate one, and the description says so. Throws
+// std::invalid_argument, naming the value and the range, unless
+// kMostAccuracy_m < accuracy_m < kLeastAccuracy_m (NaN included).
+IntegratorChoice integrator_for_accuracy(double accuracy_m);
+
+}  // namespace rover
