@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <sstream>
 
 #include <gtest/gtest.h>
 
@@ -81,6 +82,22 @@ TEST(PceSensitivity, TooFewRunsForTheCommandLineAreRefused) {
   EXPECT_EQ(sensitivity_design(s).rows(), 50);
 }
 
+TEST(PceSensitivity, ALowQ2WarnsNamingTheQoiAndALargerN) {
+  // A cubic cannot follow sin(x1) + 7 sin^2(x2) on [-pi, pi]: Q2 stays well below 0.95.
+  const SensitivityStudy s = load(R"({"type": "sensitivity", "method": "pce", "name": "i", "model": "ishigami",
+      "design": {"type": "lhs", "samples": 40, "seed": 3}, "pce": {"max_degree": 3, "bootstrap": 0}})");
+  const SensitivityResult r = run_in_process(s);
+  const PceQoiResult& q = r.pce.qoi.at(0);
+  ASSERT_TRUE(q.indices.defined);
+  EXPECT_LT(q.expansion.validation.q2_loo, 0.95);
+  EXPECT_FALSE(q.has_intervals);
+  bool warned = false;
+  for (const std::string& w : r.warnings)
+    warned = warned || (w.find("'y'") != std::string::npos && w.find("from 40 runs") != std::string::npos &&
+                        w.find("larger N") != std::string::npos);
+  EXPECT_TRUE(warned);
+}
+
 // y = x1 + 2 x2^2 varies, c is constant, n is NaN in some successful runs.
 class ConstantQoiModel final : public StudyModel {
  public:
@@ -124,6 +141,12 @@ TEST(PceSensitivity, ConstantAndNanQoisAreUndefinedWhileTheOthersAreWritten) {
   EXPECT_NE(r.qoi[1].undefined_reason.find("constant"), std::string::npos) << r.qoi[1].undefined_reason;
   EXPECT_FALSE(r.qoi[2].indices.defined);
   EXPECT_NE(r.qoi[2].undefined_reason.find("non-finite"), std::string::npos) << r.qoi[2].undefined_reason;
+
+  std::ostringstream report;
+  print_pce_sensitivity(report, spec, options, r);
+  EXPECT_NE(report.str().find("c: indices undefined"), std::string::npos) << report.str();
+  EXPECT_NE(report.str().find("y (PCE degree"), std::string::npos) << report.str();
+  EXPECT_EQ(report.str().find("nan"), std::string::npos) << report.str();
 
   const std::string path = rover::testing::temp_dir() + "/constant.h5";
   {
