@@ -180,8 +180,9 @@ void plot_qoi(const std::string& png, const PceQoiResult& q, const std::vector<s
                fixed(q.expansion.validation.q2_loo) + ")" + (q.has_intervals ? ", bootstrap intervals" : "");
   plot.y_label = "index";
   plot.categories = labels;
-  io::BarGroup s1{"S1 (first order)", to_vector(q.indices.S1), {}, {}};
-  io::BarGroup st{"ST (total)", to_vector(q.indices.ST), {}, {}};
+  // Without intervals (bootstrap 0) the error bars collapse onto the bars.
+  io::BarGroup s1{"S1 (first order)", to_vector(q.indices.S1), to_vector(q.indices.S1), to_vector(q.indices.S1)};
+  io::BarGroup st{"ST (total)", to_vector(q.indices.ST), to_vector(q.indices.ST), to_vector(q.indices.ST)};
   if (q.has_intervals) {
     s1.lower = to_vector(q.intervals.S1_lower);
     s1.upper = to_vector(q.intervals.S1_upper);

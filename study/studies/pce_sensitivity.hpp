@@ -20,8 +20,9 @@
 //
 // HDF5 (the names of the pick-freeze results where they mean the same):
 //   /indices/<qoi>/{S1,ST,S1_lower,S1_upper,ST_lower,ST_upper,mean,variance}
-//     attributes: defined (0/1), undefined_reason, confidence, bootstrap_resamples,
-//     resamples_used, runs_used
+//     group attributes: defined (0/1), undefined_reason, runs_used; on S1:
+//     confidence, bootstrap_resamples, resamples_used. An undefined QoI has
+//     no S1/ST (a constant one keeps its mean and zero variance).
 //   /pce/<qoi>/{q2_loo, degree, terms, multi_indices (terms x d), coefficients}
 //     attributes: q_norm, candidate_terms, runs, warning
 //   /t, /indices_t/<channel>/{S1,ST (d x T), variance, mean, sd, q2_loo (T)},
