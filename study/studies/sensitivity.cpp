@@ -25,6 +25,10 @@ std::string fixed(double x, int digits = 3) {
   return os.str();
 }
 
+const char* method_name(SensitivityMethod m) {
+  return m == SensitivityMethod::kSobol ? "sobol" : m == SensitivityMethod::kMorris ? "morris" : "pce";
+}
+
 int varied_count(const StudySpec& spec) { return static_cast<int>(spec.inputs.size()); }
 
 // Where in input space runs failed: per input, the range of the failed runs'
@@ -158,7 +162,38 @@ void print_morris(std::ostream& out, const std::string& qoi, const MorrisResult&
         << std::setw(10) << m.mu[i] << "  sigma " << m.sigma[i] << "\n";
 }
 
+// Method pce: any space-filling design of the study core, and the "pce" settings.
+void load_pce_design(const io::JsonReader& r, const io::JsonReader& d, SensitivityStudy& s, double confidence) {
+  std::string type = d.string_or("type", "latin_hypercube");
+  if (type == "lhs") type = "latin_hypercube";
+  if (type != "latin_hypercube" && type != "sobol" && type != "monte_carlo")
+    d.fail("type", "a PCE analysis takes a \"latin_hypercube\" (\"lhs\"), \"sobol\" or \"monte_carlo\" design");
+  s.spec.design.type = design_type_from_name(type);
+  const double n = d.number("samples");
+  if (!(n >= 1 && n <= 1e7 && n == std::floor(n))) d.fail("samples", "must be a whole number from 1 to 1e7");
+  s.pce = parse_pce_options(r, confidence, s.spec.design.seed);
+  const int needed = min_pce_sensitivity_runs(s.spec, s.pce);
+  if (n < needed)
+    d.fail("samples", "a PCE of " + std::to_string(s.spec.inputs.size()) + " inputs needs at least " +
+                          std::to_string(needed) + " runs");
+  s.spec.design.samples = static_cast<int>(n);
+  if (r.has("second_order")) r.fail("second_order", "applies to the pick-freeze Sobol' method only");
+  s.spec.fingerprint = extend_fingerprint(
+      s.spec.fingerprint, "pce " + std::to_string(s.pce.settings.max_degree) + " " +
+                              std::to_string(s.pce.settings.q_norm) + " " + std::to_string(s.pce.bootstrap));
+}
+
 }  // namespace
+
+void set_pce_runs(SensitivityStudy& study, int runs) {
+  const int needed = min_pce_sensitivity_runs(study.spec, study.pce);
+  if (runs < needed)
+    throw std::invalid_argument("--samples " + std::to_string(runs) + ": a PCE of " +
+                                std::to_string(study.spec.inputs.size()) + " inputs needs at least " +
+                                std::to_string(needed) + " runs");
+  study.spec.design.samples = runs;
+  study.spec.fingerprint = extend_fingerprint(study.spec.fingerprint, "samples " + std::to_string(runs));
+}
 
 SensitivityStudy load_sensitivity_study(const std::string& path) {
   const io::Json json = io::read_json_file(path);
@@ -176,9 +211,13 @@ SensitivityStudy load_sensitivity_study(const std::string& path) {
     s.method = SensitivityMethod::kSobol;
   } else if (method == "morris") {
     s.method = SensitivityMethod::kMorris;
+  } else if (method == "pce") {
+    s.method = SensitivityMethod::kPce;
   } else {
-    r.fail("method", "expected \"sobol\" or \"morris\", got \"" + method + "\"");
+    r.fail("method", "expected \"sobol\", \"morris\" or \"pce\", got \"" + method + "\"");
   }
+  if (s.method == SensitivityMethod::kPce && r.has("bootstrap"))
+    r.fail("bootstrap", "a PCE study takes its resamples from \"pce\": {\"bootstrap\": n}");
   const int bootstrap = r.has("bootstrap") ? r.integer("bootstrap") : 1000;
   if (bootstrap < 0 || (bootstrap > 0 && bootstrap < 100) || bootstrap > 100000)
     r.fail("bootstrap", "give 0 (no intervals) or 100 .. 100000 resamples");
@@ -193,7 +232,9 @@ SensitivityStudy load_sensitivity_study(const std::string& path) {
     d.fail("seed", "must be a whole number from 0 to 2^53");
   s.spec.design.seed = static_cast<std::uint64_t>(seed);
   const int d_inputs = varied_count(s.spec);
-  if (s.method == SensitivityMethod::kSobol) {
+  if (s.method == SensitivityMethod::kPce) {
+    load_pce_design(r, d, s, confidence);
+  } else if (s.method == SensitivityMethod::kSobol) {
     const std::string type = d.string_or("type", "sobol");
     if (type != "sobol" && type != "monte_carlo")
       d.fail("type", "the base matrices of a Sobol' analysis come from \"sobol\" or \"monte_carlo\"");
@@ -232,7 +273,9 @@ DesignMatrix sensitivity_design(const SensitivityStudy& study) {
   const StudySpec& spec = study.spec;
   const int d = varied_count(spec);
   DesignMatrix unit;
-  if (study.method == SensitivityMethod::kSobol) {
+  if (study.method == SensitivityMethod::kPce) {
+    unit = unit_design(spec.design.type, spec.design.samples, d, spec.design.seed);
+  } else if (study.method == SensitivityMethod::kSobol) {
     const DesignMatrix base = unit_design(spec.design.type, study.layout.base_samples, 2 * d, spec.design.seed);
     const DesignMatrix A = base.leftCols(d), B = base.rightCols(d);
     unit = pick_freeze_design(A, B, study.layout.second_order);
@@ -266,7 +309,9 @@ SensitivityResult analyse_sensitivity(const SensitivityStudy& study, const Desig
   out.failure_report = failure_report(study.spec, x, out.status);
 
   // Whole groups / trajectories fail together; more than the stated fraction stops the study.
-  const int per_unit = study.method == SensitivityMethod::kSobol ? study.layout.runs_per_group() : varied_count(study.spec) + 1;
+  const int per_unit = study.method == SensitivityMethod::kSobol  ? study.layout.runs_per_group()
+                       : study.method == SensitivityMethod::kMorris ? varied_count(study.spec) + 1
+                                                                    : 1;
   const int units = static_cast<int>(records.size()) / per_unit;
   int failed_units = 0;
   for (int g = 0; g < units; ++g) {
@@ -274,7 +319,9 @@ SensitivityResult analyse_sensitivity(const SensitivityStudy& study, const Desig
     for (int k = 0; k < per_unit; ++k) failed = failed || !records[static_cast<std::size_t>(g * per_unit + k)].ok();
     failed_units += failed ? 1 : 0;
   }
-  const char* unit_name = study.method == SensitivityMethod::kSobol ? "pick-freeze groups" : "trajectories";
+  const char* unit_name = study.method == SensitivityMethod::kSobol    ? "pick-freeze groups"
+                          : study.method == SensitivityMethod::kMorris ? "trajectories"
+                                                                       : "runs";
   if (failed_units > study.max_failed_fraction * units)
     throw std::runtime_error(std::to_string(failed_units) + " of " + std::to_string(units) + " " + unit_name +
                              " have a failed run, more than max_failed_fraction = " +
@@ -282,7 +329,14 @@ SensitivityResult analyse_sensitivity(const SensitivityStudy& study, const Desig
                              out.failure_report);
   if (failed_units > 0)
     out.warnings.push_back(std::to_string(failed_units) + " of " + std::to_string(units) + " " + unit_name +
-                           " were dropped whole because a run failed (see /samples/status)");
+                           (study.method == SensitivityMethod::kPce ? " failed and were left out of the PCE"
+                                                                    : " were dropped whole because a run failed") +
+                           " (see /samples/status)");
+  if (study.method == SensitivityMethod::kPce) {
+    out.pce = analyse_pce_sensitivity(study.spec, study.pce, x, records);
+    out.warnings.insert(out.warnings.end(), out.pce.warnings.begin(), out.pce.warnings.end());
+    return out;
+  }
 
   const MorrisDesign morris = study.method == SensitivityMethod::kMorris
                                   ? morris_design(varied_count(study.spec), study.trajectories, study.levels,
@@ -342,7 +396,7 @@ std::string run_sensitivity(const SensitivityStudy& study, const StudyRunControl
   io::Hdf5Writer h5(out);
   write_study_provenance(h5, spec, spec.fingerprint);
   write_study_inputs(h5, spec, x);
-  h5.attribute("/", "method", study.method == SensitivityMethod::kSobol ? "sobol" : "morris");
+  h5.attribute("/", "method", method_name(study.method));
   h5.attribute("/", "runs", static_cast<long long>(x.rows()));
   h5.attribute("/", "failed_runs", static_cast<long long>(result.failed_runs));
   h5.attribute("/", "runs_wall_time_s", runs_s);
@@ -392,6 +446,7 @@ std::string run_sensitivity(const SensitivityStudy& study, const StudyRunControl
     h5.write(g + "ranking", m.ranking);
     h5.attribute(g + "mu", "trajectories_used", static_cast<long long>(m.trajectories_used));
   }
+  if (study.method == SensitivityMethod::kPce) write_pce_sensitivity(h5, spec, study.pce, result.pce);
   h5.commit();
   remove_checkpoint(out);
 
@@ -401,6 +456,7 @@ std::string run_sensitivity(const SensitivityStudy& study, const StudyRunControl
   if (!result.failure_report.empty()) log << "  " << result.failure_report << "\n";
   for (std::size_t q = 0; q < result.sobol.size(); ++q)
     print_sobol(log, model.qoi_names()[q], result.sobol[q], labels, study.sobol.confidence);
+  if (study.method == SensitivityMethod::kPce) print_pce_sensitivity(log, spec, study.pce, result.pce);
   for (std::size_t q = 0; q < result.morris.size(); ++q)
     print_morris(log, model.qoi_names()[q], result.morris[q], labels);
   for (std::size_t c = 0; c < result.sobol_t.size(); ++c) {
@@ -412,6 +468,7 @@ std::string run_sensitivity(const SensitivityStudy& study, const StudyRunControl
   for (const std::string& w : result.warnings) log << "sensitivity: warning: " << w << "\n";
 
   if (control.plot) {
+    if (study.method == SensitivityMethod::kPce) plot_pce_sensitivity(out, spec, result.pce);
     for (std::size_t q = 0; q < result.sobol.size(); ++q)
       plot_sobol(sibling_path(out, "_sobol_" + model.qoi_names()[q] + ".png"), model.qoi_names()[q], result.sobol[q],
                  labels);

@@ -5,9 +5,10 @@
 // the analytic test models (study_model.hpp) run through the same code.
 //
 // Study file (the keys of study_spec.hpp, with):
-//   "type": "sensitivity", "method": "sobol" | "morris",
+//   "type": "sensitivity", "method": "sobol" | "morris" | "pce" (pce_sensitivity.hpp),
 //   "design": sobol:  {"type": "sobol" | "monte_carlo", "samples": N, "seed": s}  (base matrices)
 //             morris: {"trajectories": r, "levels": p, "seed": s}
+//             pce:    {"type": "latin_hypercube" | "lhs" | "sobol" | "monte_carlo", "samples": N, "seed": s}
 //   "second_order": false, "estimator": "saltelli_jansen" | "martinez",
 //   "bootstrap": 1000, "confidence": 0.95,
 //   "max_failed_fraction": 0.05   (more failed pick-freeze groups or trajectories: the study fails)
@@ -20,7 +21,9 @@
 // sobol: /indices/<qoi>/{S1,ST,S1_lower,S1_upper,ST_lower,ST_upper,mean,variance}
 // (+ S2, S2_lower, S2_upper, d x d), /indices_t/<channel>/{S1,ST} (d x T),
 // /indices_t/<channel>/variance (T), /aggregated/<channel>/{S1,ST}, /t;
-// morris: /morris/<qoi>/{mu,mu_star,sigma,mu_star_lower,mu_star_upper,ranking}.
+// morris: /morris/<qoi>/{mu,mu_star,sigma,mu_star_lower,mu_star_upper,ranking};
+// pce: the same /indices, /indices_t and /aggregated names, plus /pce/<qoi>
+// (pce_sensitivity.hpp). A failed run is left out of a PCE alone.
 #pragma once
 
 #include <string>
@@ -29,11 +32,12 @@
 #include "study/estimators/morris.hpp"
 #include "study/studies/montecarlo.hpp"
 #include "study/estimators/sobol_indices.hpp"
+#include "study/studies/pce_sensitivity.hpp"
 #include "study/studies/study_spec.hpp"
 
 namespace rover::study {
 
-enum class SensitivityMethod { kSobol, kMorris };
+enum class SensitivityMethod { kSobol, kMorris, kPce };
 
 struct SensitivityStudy {
   StudySpec spec;
@@ -44,10 +48,16 @@ struct SensitivityStudy {
   // Morris
   int trajectories = 0, levels = 4;
   MorrisOptions morris;
+  // Polynomial chaos
+  PceSensitivityOptions pce;
   double max_failed_fraction = 0.05;
 };
 
 SensitivityStudy load_sensitivity_study(const std::string& path);
+
+// Method pce: sets the number of runs (--samples). Throws
+// std::invalid_argument if it is below min_pce_sensitivity_runs.
+void set_pce_runs(SensitivityStudy& study, int runs);
 
 // The runs of the study in physical units (rows in run order).
 DesignMatrix sensitivity_design(const SensitivityStudy& study);
@@ -56,6 +66,7 @@ struct SensitivityResult {
   std::vector<SobolIndices> sobol;                 // [qoi]
   std::vector<SobolIndicesAlongTime> sobol_t;      // [channel]
   std::vector<MorrisResult> morris;                // [qoi]
+  PceSensitivityResult pce;                        // method pce only
   std::vector<std::vector<double>> qoi;            // [qoi][run]
   std::vector<int> status;                         // [run]
   std::vector<std::string> messages;               // [run]

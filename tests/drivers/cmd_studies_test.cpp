@@ -279,6 +279,41 @@ TEST(CmdStudies, SurfaceOnTwoRanksHasTheGridShapes) {
   EXPECT_EQ(h5.attribute_string("/", "integrator"), "dopri5");
 }
 
+TEST(CmdStudies, PceSensitivityOfIshigamiOnTwoRanksMatchesTheExactIndices) {
+  // Exact S1 = (0.3139, 0.4424, 0), ST = (0.5576, 0.4424, 0.2437) (Ishigami, a = 7, b = 0.1).
+  const std::string dir = rover::testing::temp_dir();
+  const std::string path = dir + "/pce_ishigami.json";
+  write_file(path, R"({"type": "sensitivity", "method": "pce", "name": "p", "model": "ishigami",
+      "design": {"type": "lhs", "samples": 500, "seed": 11}, "pce": {"max_degree": 14, "bootstrap": 50}})");
+  std::string log;
+  ASSERT_EQ(run_command(mpiexec() + " -np 2 " + rover_binary() + " sensitivity --study " + path + " --no-plot --out " +
+                            dir + "/pce.h5", &log), 0) << log;
+  const io::Hdf5Reader h5(dir + "/pce.h5");
+  EXPECT_EQ(h5.attribute_string("/", "method"), "pce");
+  const std::vector<double> exact_S1{0.3139, 0.4424, 0.0}, exact_ST{0.5576, 0.4424, 0.2437};
+  const auto S1 = h5.read_doubles("/indices/y/S1"), ST = h5.read_doubles("/indices/y/ST");
+  ASSERT_EQ(S1.size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_NEAR(S1[i], exact_S1[i], 0.01) << i;
+    EXPECT_NEAR(ST[i], exact_ST[i], 0.01) << i;
+  }
+  EXPECT_GT(h5.read_doubles("/pce/y/q2_loo").at(0), 0.99);
+  EXPECT_EQ(h5.shape("/pce/y/multi_indices").at(1), 3u);
+  EXPECT_NE(log.find("Q2_LOO"), std::string::npos) << log;
+}
+
+TEST(CmdStudies, PceWithTooFewRunsIsRefusedBeforeAnyRun) {
+  const std::string dir = rover::testing::temp_dir();
+  const std::string path = dir + "/pce_few.json";
+  write_file(path, R"({"type": "sensitivity", "method": "pce", "name": "p", "model": "ishigami",
+      "design": {"samples": 100}})");
+  std::string log;
+  EXPECT_NE(run_command(rover_binary() + " sensitivity --study " + path + " --samples 3 --no-plot --out " + dir +
+                            "/few.h5", &log), 0);
+  EXPECT_NE(log.find("needs at least"), std::string::npos) << log;
+  EXPECT_EQ(log.find("runs (0 failed)"), std::string::npos) << "no run may start: " << log;
+}
+
 TEST(CmdStudies, BadStudyConfigsNameTheField) {
   const std::string dir = rover::testing::temp_dir();
   const std::string scenario = short_drop(dir);

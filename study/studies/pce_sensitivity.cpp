@@ -1,0 +1,343 @@
+// Sobol' indices from sparse polynomial chaos (Blatman & Sudret 2011; Sudret
+// 2008): see pce_sensitivity.hpp.
+#include "study/studies/pce_sensitivity.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <iostream>
+#include <numeric>
+#include <sstream>
+#include <stdexcept>
+
+#include "io/plot.hpp"
+#include "study/studies/study_output.hpp"
+
+namespace rover::study {
+namespace {
+
+// Channels: enough principal components for this share of the variance.
+constexpr double kCurveExplainedVariance = 0.99;
+// Inputs whose aggregated total index exceeds this are drawn along time.
+constexpr double kPlottedTotalIndex = 0.01;
+constexpr int kLabelWidth = 28;
+
+std::vector<double> to_vector(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
+
+std::string fixed(double x, int digits = 3) {
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(digits) << x;
+  return os.str();
+}
+
+std::vector<Distribution> input_distributions(const StudySpec& spec) {
+  std::vector<Distribution> d;
+  for (const UncertainInput& in : spec.inputs) d.push_back(in.distribution);
+  return d;
+}
+
+// The successful runs: their indices in run order.
+std::vector<Eigen::Index> ok_runs(const std::vector<RunRecord>& records) {
+  std::vector<Eigen::Index> ok;
+  for (std::size_t i = 0; i < records.size(); ++i)
+    if (records[i].ok()) ok.push_back(static_cast<Eigen::Index>(i));
+  return ok;
+}
+
+DesignMatrix rows_of(const DesignMatrix& x, const std::vector<Eigen::Index>& rows) {
+  DesignMatrix out(static_cast<Eigen::Index>(rows.size()), x.cols());
+  for (std::size_t k = 0; k < rows.size(); ++k) out.row(static_cast<Eigen::Index>(k)) = x.row(rows[k]);
+  return out;
+}
+
+std::string undefined_because_non_finite(const Eigen::MatrixXd& y) {
+  const auto bad = static_cast<long>((!y.array().isFinite()).rowwise().any().count());
+  if (bad == 0) return "";
+  return std::to_string(bad) + " of " + std::to_string(y.rows()) +
+         " successful runs gave a non-finite value, so the indices are undefined";
+}
+
+PceChannelResult pce_channel_indices(const std::string& name, const DesignMatrix& x_ok, const Eigen::MatrixXd& y_ok,
+                                     const std::vector<Distribution>& inputs, const PceSensitivityOptions& options) {
+  PceChannelResult c;
+  c.name = name;
+  c.undefined_reason = undefined_because_non_finite(y_ok);
+  if (!c.undefined_reason.empty()) return c;
+  PolynomialChaosCurvesSettings settings;
+  settings.pce = options.settings;
+  settings.explained_variance = kCurveExplainedVariance;
+  try {
+    c.curves = fit_polynomial_chaos_curves(x_ok, y_ok, inputs, settings, name);
+  } catch (const std::invalid_argument& e) {
+    c.undefined_reason = e.what();
+    return c;
+  }
+  c.indices = curve_sobol_indices(c.curves);
+  c.defined = c.indices.aggregated_defined;
+  if (!c.defined) c.undefined_reason = "the channel does not vary over the runs";
+  return c;
+}
+
+void write_qoi(io::Hdf5Writer& h5, const PceQoiResult& q, const PceSensitivityOptions& options) {
+  const std::string group = "/indices/" + q.name, g = group + "/";
+  const PceSobolIndices& s = q.indices;
+  h5.create_group(group);
+  h5.attribute(group, "defined", static_cast<long long>(s.defined ? 1 : 0));
+  h5.attribute(group, "undefined_reason", q.undefined_reason);
+  h5.attribute(group, "runs_used", static_cast<long long>(q.runs_used));
+  if (q.fit_done) {  // a constant QoI has its mean and a zero variance
+    h5.write(g + "mean", std::vector<double>{s.mean});
+    h5.write(g + "variance", std::vector<double>{s.variance});
+  }
+  if (s.defined) {
+    h5.write(g + "S1", to_vector(s.S1));
+    h5.write(g + "ST", to_vector(s.ST));
+    h5.attribute(g + "S1", "confidence", options.confidence);
+    h5.attribute(g + "S1", "bootstrap_resamples", static_cast<long long>(options.bootstrap));
+    h5.attribute(g + "S1", "resamples_used", static_cast<long long>(q.intervals.resamples_used));
+  }
+  if (q.has_intervals) {
+    h5.write(g + "S1_lower", to_vector(q.intervals.S1_lower));
+    h5.write(g + "S1_upper", to_vector(q.intervals.S1_upper));
+    h5.write(g + "ST_lower", to_vector(q.intervals.ST_lower));
+    h5.write(g + "ST_upper", to_vector(q.intervals.ST_upper));
+  }
+  if (!q.fit_done) return;
+  const PolynomialChaosExpansion& e = q.expansion;
+  const std::string p = "/pce/" + q.name + "/";
+  Eigen::MatrixXd alpha(static_cast<Eigen::Index>(e.multi_indices.size()),
+                        static_cast<Eigen::Index>(e.inputs.size()));
+  for (std::size_t k = 0; k < e.multi_indices.size(); ++k)
+    for (std::size_t i = 0; i < e.inputs.size(); ++i)
+      alpha(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(i)) = e.multi_indices[k][i];
+  h5.write(p + "q2_loo", std::vector<double>{e.validation.q2_loo});
+  h5.write(p + "degree", std::vector<int>{e.degree});
+  h5.write(p + "terms", std::vector<int>{static_cast<int>(e.multi_indices.size())});
+  h5.write(p + "multi_indices", alpha);
+  h5.write(p + "coefficients", to_vector(e.coefficients));
+  h5.attribute(p + "coefficients", "q_norm", e.q_norm);
+  h5.attribute(p + "coefficients", "candidate_terms", static_cast<long long>(e.candidate_terms));
+  h5.attribute(p + "coefficients", "runs", static_cast<long long>(e.runs));
+  h5.attribute(p + "coefficients", "warning", e.validation.warning);
+}
+
+void write_channel(io::Hdf5Writer& h5, const PceChannelResult& c) {
+  const std::string g = "/indices_t/" + c.name + "/";
+  if (!c.defined) {
+    h5.write(g + "undefined_reason", std::vector<std::string>{c.undefined_reason});
+    return;
+  }
+  const CurveSobolIndices& s = c.indices;
+  h5.write(g + "S1", Eigen::MatrixXd(s.S1.transpose()));  // d x T, as the pick-freeze results
+  h5.write(g + "ST", Eigen::MatrixXd(s.ST.transpose()));
+  h5.write(g + "variance", to_vector(s.sd.array().square().matrix()));
+  h5.write(g + "mean", to_vector(s.mean));
+  h5.write(g + "sd", to_vector(s.sd));
+  h5.write(g + "q2_loo", to_vector(c.curves.q2_loo));
+  h5.write("/aggregated/" + c.name + "/S1", to_vector(s.aggregated_S1));
+  h5.write("/aggregated/" + c.name + "/ST", to_vector(s.aggregated_ST));
+  Eigen::MatrixXd alpha(static_cast<Eigen::Index>(c.curves.multi_indices.size()),
+                        static_cast<Eigen::Index>(c.curves.inputs.size()));
+  for (std::size_t k = 0; k < c.curves.multi_indices.size(); ++k)
+    for (std::size_t i = 0; i < c.curves.inputs.size(); ++i)
+      alpha(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(i)) = c.curves.multi_indices[k][i];
+  h5.write("/pce_t/" + c.name + "/multi_indices", alpha);
+  h5.write("/pce_t/" + c.name + "/coefficients", c.curves.coefficients);
+  h5.attribute("/pce_t/" + c.name + "/coefficients", "components", static_cast<long long>(c.curves.components));
+}
+
+std::string interval(const Eigen::VectorXd& lower, const Eigen::VectorXd& upper, Eigen::Index i, bool has) {
+  return has ? "[" + fixed(lower[i]) + ", " + fixed(upper[i]) + "]" : "";
+}
+
+void print_qoi(std::ostream& out, const PceQoiResult& q, const std::vector<std::string>& labels, double confidence) {
+  if (!q.indices.defined) {
+    out << q.name << ": indices undefined: " << q.undefined_reason << "\n";
+    return;
+  }
+  const PceSobolIndices& s = q.indices;
+  const PceSobolIntervals& ci = q.intervals;
+  out << q.name << " (PCE degree " << q.expansion.degree << ", " << q.expansion.multi_indices.size() << " terms, "
+      << q.runs_used << " runs, Q2_LOO " << fixed(q.expansion.validation.q2_loo, 4) << "; mean " << s.mean
+      << ", variance " << s.variance;
+  if (q.has_intervals)
+    out << "; " << static_cast<int>(std::lround(100 * confidence)) << " % bootstrap intervals, "
+        << ci.resamples_used << " resamples";
+  out << "), by total index:\n";
+  std::vector<Eigen::Index> order(static_cast<std::size_t>(s.ST.size()));
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) { return s.ST[a] > s.ST[b]; });
+  for (Eigen::Index i : order)
+    out << "  " << std::left << std::setw(kLabelWidth) << labels[static_cast<std::size_t>(i)] << std::right
+        << " S1 " << std::setw(6) << fixed(s.S1[i]) << " " << std::setw(16)
+        << interval(ci.S1_lower, ci.S1_upper, i, q.has_intervals) << "   ST " << std::setw(6) << fixed(s.ST[i]) << " "
+        << interval(ci.ST_lower, ci.ST_upper, i, q.has_intervals) << "\n";
+}
+
+void plot_qoi(const std::string& png, const PceQoiResult& q, const std::vector<std::string>& labels) {
+  io::BarPlot plot;
+  plot.title = q.name + ": Sobol' indices from PCE (" + std::to_string(q.runs_used) + " runs, Q2 " +
+               fixed(q.expansion.validation.q2_loo) + ")" + (q.has_intervals ? ", bootstrap intervals" : "");
+  plot.y_label = "index";
+  plot.categories = labels;
+  // Without intervals (bootstrap 0) the error bars collapse onto the bars.
+  io::BarGroup s1{"S1 (first order)", to_vector(q.indices.S1), to_vector(q.indices.S1), to_vector(q.indices.S1)};
+  io::BarGroup st{"ST (total)", to_vector(q.indices.ST), to_vector(q.indices.ST), to_vector(q.indices.ST)};
+  if (q.has_intervals) {
+    s1.lower = to_vector(q.intervals.S1_lower);
+    s1.upper = to_vector(q.intervals.S1_upper);
+    st.lower = to_vector(q.intervals.ST_lower);
+    st.upper = to_vector(q.intervals.ST_upper);
+  }
+  plot.groups = {s1, st};
+  io::write_png_or_warn(plot, png, "sensitivity", std::cerr);
+}
+
+void plot_channel(const std::string& png, const PceChannelResult& c, const std::vector<double>& t,
+                  const std::vector<std::string>& labels) {
+  io::LinePlot plot;
+  plot.title = c.name + ": first-order (solid) and total (dashed) indices along time, from PCE";
+  plot.x_label = "t [s]";
+  plot.y_label = "index";
+  plot.y_range = io::AxisRange{-0.05, 1.05};
+  for (Eigen::Index i = 0; i < c.indices.S1.cols(); ++i) {
+    if (!(c.indices.aggregated_ST[i] > kPlottedTotalIndex)) continue;
+    const std::string& name = labels[static_cast<std::size_t>(i)];
+    plot.series.push_back({name + " S1", t, to_vector(c.indices.S1.col(i))});
+    plot.series.push_back({name + " ST", t, to_vector(c.indices.ST.col(i)), io::SeriesStyle::dashed});
+  }
+  if (!plot.series.empty()) io::write_png_or_warn(plot, png, "sensitivity", std::cerr);
+}
+
+}  // namespace
+
+PceSensitivityOptions parse_pce_options(const io::JsonReader& r, double confidence, std::uint64_t seed) {
+  PceSensitivityOptions o;
+  o.confidence = confidence;
+  o.seed = seed;
+  if (!r.has("pce")) return o;
+  const io::JsonReader p = r.child("pce");
+  o.settings.max_degree = p.integer_or("max_degree", o.settings.max_degree);
+  if (o.settings.max_degree < 1 || o.settings.max_degree > kMaxPceDegree)
+    p.fail("max_degree", "must be from 1 to " + std::to_string(kMaxPceDegree));
+  o.settings.q_norm = p.number_or("q_norm", o.settings.q_norm);
+  if (!(o.settings.q_norm > 0.0 && o.settings.q_norm <= 1.0)) p.fail("q_norm", "must lie in (0, 1]");
+  o.bootstrap = p.integer_or("bootstrap", o.bootstrap);
+  if (o.bootstrap < 0 || (o.bootstrap > 0 && o.bootstrap < kMinPceBootstrap) || o.bootstrap > kMaxPceBootstrap)
+    p.fail("bootstrap", "give 0 (no intervals) or " + std::to_string(kMinPceBootstrap) + " .. " +
+                            std::to_string(kMaxPceBootstrap) + " resamples");
+  o.settings.q2_threshold = p.number_or("q2_threshold", o.settings.q2_threshold);
+  if (!(o.settings.q2_threshold > 0.0 && o.settings.q2_threshold <= 1.0)) p.fail("q2_threshold", "must lie in (0, 1]");
+  p.finish();
+  return o;
+}
+
+int min_pce_sensitivity_runs(const StudySpec& spec, const PceSensitivityOptions& options) {
+  return min_pce_runs(input_distributions(spec), options.settings);
+}
+
+PceQoiResult pce_qoi_indices(const std::string& name, const DesignMatrix& x_ok, const Eigen::VectorXd& y_ok,
+                             const std::vector<Distribution>& inputs, const PceSensitivityOptions& options) {
+  PceQoiResult q;
+  q.name = name;
+  q.runs_used = static_cast<int>(y_ok.size());
+  q.undefined_reason = undefined_because_non_finite(y_ok);
+  if (!q.undefined_reason.empty()) return q;
+  try {
+    q.expansion = fit_polynomial_chaos(x_ok, y_ok, inputs, options.settings, name);
+  } catch (const std::invalid_argument& e) {
+    q.undefined_reason = e.what();
+    return q;
+  }
+  q.fit_done = true;
+  q.indices = pce_sobol_indices(q.expansion);
+  if (q.expansion.constant_output || !q.indices.defined) {
+    q.indices.defined = false;
+    q.undefined_reason = "the QoI is constant over the " + std::to_string(q.runs_used) + " runs (" +
+                         fixed(y_ok.size() ? y_ok[0] : 0.0, 6) + "): no variance to apportion";
+    return q;
+  }
+  if (options.bootstrap == 0) return q;
+  try {
+    q.intervals = bootstrap_pce_sobol(q.expansion, x_ok, y_ok, {options.bootstrap, options.confidence, options.seed});
+    q.has_intervals = true;
+  } catch (const std::runtime_error&) {
+    // No resample could be refitted: the indices stand, without intervals (warned by the caller).
+  }
+  return q;
+}
+
+PceSensitivityResult analyse_pce_sensitivity(const StudySpec& spec, const PceSensitivityOptions& options,
+                                             const DesignMatrix& x, const std::vector<RunRecord>& records) {
+  const StudyModel& model = *spec.model;
+  const RecordLayout layout = model.layout();
+  const std::vector<Distribution> inputs = input_distributions(spec);
+  const std::vector<Eigen::Index> ok = ok_runs(records);
+  const DesignMatrix x_ok = rows_of(x, ok);
+  const auto n_ok = static_cast<Eigen::Index>(ok.size());
+  PceSensitivityResult out;
+  out.runs_used = static_cast<int>(n_ok);
+  for (int q = 0; q < layout.qoi_count; ++q) {
+    Eigen::VectorXd y(n_ok);
+    for (Eigen::Index k = 0; k < n_ok; ++k)
+      y[k] = records[static_cast<std::size_t>(ok[static_cast<std::size_t>(k)])].qoi[static_cast<std::size_t>(q)];
+    out.qoi.push_back(pce_qoi_indices(model.qoi_names()[static_cast<std::size_t>(q)], x_ok, y, inputs, options));
+  }
+  for (int c = 0; c < layout.channel_count; ++c) {
+    Eigen::MatrixXd y(n_ok, layout.time_samples);
+    for (Eigen::Index k = 0; k < n_ok; ++k) {
+      const double* curve = records[static_cast<std::size_t>(ok[static_cast<std::size_t>(k)])].curve(c, layout.time_samples);
+      for (int s = 0; s < layout.time_samples; ++s) y(k, s) = curve[s];
+    }
+    out.channels.push_back(
+        pce_channel_indices(model.channel_names()[static_cast<std::size_t>(c)], x_ok, y, inputs, options));
+  }
+  for (const PceQoiResult& q : out.qoi) {
+    if (!q.indices.defined) out.warnings.push_back(q.name + ": indices undefined: " + q.undefined_reason);
+    else if (!q.expansion.validation.warning.empty()) out.warnings.push_back(q.expansion.validation.warning);
+    if (q.indices.defined && options.bootstrap > 0 && !q.has_intervals)
+      out.warnings.push_back(q.name + ": no bootstrap resample could be refitted; no intervals");
+  }
+  for (const PceChannelResult& c : out.channels) {
+    if (!c.defined) out.warnings.push_back(c.name + ": indices along time undefined: " + c.undefined_reason);
+    else if (!c.curves.warning.empty()) out.warnings.push_back(c.curves.warning);
+  }
+  return out;
+}
+
+void write_pce_sensitivity(io::Hdf5Writer& h5, const StudySpec& spec, const PceSensitivityOptions& options,
+                           const PceSensitivityResult& result) {
+  h5.attribute("/", "pce_max_degree", static_cast<long long>(options.settings.max_degree));
+  h5.attribute("/", "pce_q_norm", options.settings.q_norm);
+  h5.attribute("/", "pce_q2_threshold", options.settings.q2_threshold);
+  h5.attribute("/", "runs_used", static_cast<long long>(result.runs_used));
+  for (const PceQoiResult& q : result.qoi) write_qoi(h5, q, options);
+  if (!result.channels.empty()) h5.write("/t", spec.model->time_s());
+  for (const PceChannelResult& c : result.channels) write_channel(h5, c);
+}
+
+void print_pce_sensitivity(std::ostream& out, const StudySpec& spec, const PceSensitivityOptions& options,
+                           const PceSensitivityResult& result) {
+  const std::vector<std::string> labels = input_labels(spec);
+  for (const PceQoiResult& q : result.qoi) print_qoi(out, q, labels, options.confidence);
+  for (const PceChannelResult& c : result.channels) {
+    if (!c.defined) continue;
+    out << c.name << " along time (PCE, " << c.curves.multi_indices.size() << " shared terms, min Q2_LOO "
+        << fixed(c.curves.q2_loo.minCoeff(), 4) << "), variance-weighted: ";
+    for (Eigen::Index i = 0; i < c.indices.aggregated_ST.size(); ++i)
+      out << labels[static_cast<std::size_t>(i)] << " S1 " << fixed(c.indices.aggregated_S1[i]) << " ST "
+          << fixed(c.indices.aggregated_ST[i]) << (i + 1 < c.indices.aggregated_ST.size() ? "; " : "\n");
+  }
+}
+
+void plot_pce_sensitivity(const std::string& results_path, const StudySpec& spec,
+                          const PceSensitivityResult& result) {
+  const std::vector<std::string> labels = input_labels(spec);
+  for (const PceQoiResult& q : result.qoi)
+    if (q.indices.defined) plot_qoi(sibling_path(results_path, "_pce_" + q.name + ".png"), q, labels);
+  for (const PceChannelResult& c : result.channels)
+    if (c.defined)
+      plot_channel(sibling_path(results_path, "_pce_t_" + c.name + ".png"), c, spec.model->time_s(), labels);
+}
+
+}  // namespace rover::study
