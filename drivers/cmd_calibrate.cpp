@@ -47,6 +47,8 @@ int run_calibrate_command(CalibrateOptions o) {
   const study::CalibrationStudy s = study::load_calibration_study(o.study_path, o.overrides);
   o.control.resume_command = "the same command with --resume";
   if (mpi.rank() == 0) {
+    if (!s.common.accuracy_choice.empty())
+      std::cerr << "calibrate: \"accuracy\" chose " << s.common.accuracy_choice << "\n";
     if (s.method == study::CalibrationMethod::mcmc) {
       std::cerr << "calibrate: sampling the posterior of";
       for (const auto& p : s.fit) std::cerr << " " << p.name << " ~ " << p.prior.describe();

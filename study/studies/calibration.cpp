@@ -391,7 +391,7 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
   const io::JsonReader r(json, path);
   CalibrationStudy s;
   s.common = parse_study_common(r, "calibration");
-  s.integrator = r.has("integrator") ? s.common.setup.scenario.integrator
+  s.integrator = r.has("integrator") || r.has("accuracy") ? s.common.setup.scenario.integrator
                                      : default_integrator_settings(IntegratorMethod::kRosenbrockW);
   s.integration_check.reference = reference_integrator();
   if (o.data_path.empty() && !r.has("data")) r.fail("data", "missing: give the measured curve here or with --data");

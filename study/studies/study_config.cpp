@@ -1,5 +1,7 @@
 #include "study/studies/study_config.hpp"
 
+#include "core/accuracy_choice.hpp"
+
 
 #include "io/checkpoint.hpp"
 #include "study/studies/study_output.hpp"
@@ -28,13 +30,28 @@ StudyCommon parse_study_common(const io::JsonReader& r, const std::string& expec
   } catch (const io::ConfigError& e) {
     r.fail("scenario", e.what());
   }
-  if (r.has("integrator"))
-    c.setup.scenario.integrator =
-        io::parse_integrator_settings(r.child("integrator"), c.setup.scenario.integrator);
+  if (const auto integrator = study_integrator(r, c.setup.scenario.integrator, &c.accuracy_choice))
+    c.setup.scenario.integrator = *integrator;
   c.fingerprint = io::config_fingerprint(read_text(c.path) + read_text(scenario) +
                                          read_text(c.setup.rover_path) +
                                          read_text(c.setup.terrain_path));
   return c;
+}
+
+std::optional<IntegratorSettings> study_integrator(const io::JsonReader& r, const IntegratorSettings& base,
+                                                   std::string* choice) {
+  if (r.has("integrator") && r.has("accuracy"))
+    r.fail("accuracy", "give either \"accuracy\" or \"integrator\", not both");
+  if (r.has("integrator")) return io::parse_integrator_settings(r.child("integrator"), base);
+  if (!r.has("accuracy")) return std::nullopt;
+  try {
+    const IntegratorChoice chosen = integrator_for_accuracy(r.number("accuracy"));
+    if (choice != nullptr) *choice = chosen.description;
+    return chosen.settings;
+  } catch (const std::invalid_argument& e) {
+    r.fail("accuracy", e.what());
+  }
+  return std::nullopt;
 }
 
 std::string results_path(const StudyCommon& common, const std::string& requested) {

@@ -7,6 +7,7 @@
 // checkpoint is never resumed against a changed configuration.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "io/hdf5_file.hpp"
@@ -19,7 +20,16 @@ struct StudyCommon {
   std::string path, name, type;
   io::ScenarioSetup setup;
   std::string fingerprint;
+  std::string accuracy_choice;  // what "accuracy" chose ("rosenbrock rtol 1e-05 atol 1e-08"), if given
 };
+
+// The study's integrator: its "integrator" block applied to `base`, or the
+// setting integrator_for_accuracy (core/accuracy_choice.hpp) chooses for its
+// "accuracy" [m], in (1e-12, 1e-2); std::nullopt when it gives neither. Both
+// at once, or an accuracy outside the range, is a ConfigError naming the
+// field. `choice` (if not null) receives the chosen setting's description.
+std::optional<IntegratorSettings> study_integrator(const io::JsonReader& reader, const IntegratorSettings& base,
+                                                   std::string* choice = nullptr);
 
 // Reads the common keys (and marks them used in `reader`); checks the type.
 StudyCommon parse_study_common(const io::JsonReader& reader, const std::string& expected_type);

@@ -1,5 +1,6 @@
 // See study_spec.hpp.
 #include "study/studies/study_spec.hpp"
+#include "study/studies/study_config.hpp"
 
 #include <cmath>
 #include <fstream>
@@ -316,9 +317,7 @@ StudySpec parse_study_spec(const io::JsonReader& r, const std::vector<std::strin
     } catch (const io::ConfigError& e) {
       r.fail("scenario", e.what());
     }
-    std::optional<IntegratorSettings> integrator;
-    if (r.has("integrator"))
-      integrator = io::parse_integrator_settings(r.child("integrator"), scenario_integrator);
+    const std::optional<IntegratorSettings> integrator = study_integrator(r, scenario_integrator);
     qois = parse_qois(r, s.path);
     const std::vector<Channel> channels = parse_channels(r);
     if (r.has("parameters")) s.inputs = parse_rover_parameters_block(r, sources);

@@ -228,6 +228,14 @@ TEST(Calibration, StudyFileChecksNameTheField) {
   expect_refused(write_file(dir, "k1.json", study_text(constant)), "constant");
   const std::string long_data = write_file(dir, "long.csv", "t,z\n0,0.25\n1,0.24\n2,0.23\n5,0.2\n");
   expect_refused(write_file(dir, "k2.json", study_text(long_data)), "past the end of the simulated 1 s");
+  // "accuracy" in metres chooses the integrator; outside (1e-12, 1e-2) m, or
+  // beside "integrator", it is refused naming the field.
+  const CalibrationStudy accurate = load_calibration_study(write_file(dir, "a1.json", study_text(good, R"(, "accuracy": 1e-6)")));
+  EXPECT_FALSE(accurate.common.accuracy_choice.empty());
+  EXPECT_LE(accurate.integrator.relative_tolerance, 1e-5);
+  expect_refused(write_file(dir, "a2.json", study_text(good, R"(, "accuracy": 0.1)")), "'accuracy'");
+  expect_refused(write_file(dir, "a3.json", study_text(good, R"(, "accuracy": 1e-6, "integrator": {"method": "dopri5"})")),
+                 "not both");
   // Parameters: any name of the parameter space, checked before any run.
   auto with_fit = [&](const std::string& fit, const std::string& bounds, const std::string& initial) {
     return R"({"type": "calibration", "name": "c", "scenario": ")" +
