@@ -123,25 +123,32 @@ def main():
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--out", default=str(SOURCE / "results/calibration_coverage.csv"))
     args = parser.parse_args()
+    pathlib.Path(args.out).parent.mkdir(parents=True, exist_ok=True)
     if not 1 <= args.experiments <= 100000:
         sys.exit(f"--experiments must be in 1..100000, got {args.experiments}")
     os.environ.setdefault("OMPI_ALLOW_RUN_AS_ROOT", "1")
     os.environ.setdefault("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
     rng = random.Random(args.seed)
     rows = []
+    progress = open(args.out + ".rows.jsonl", "w")  # every experiment as it ends, kept if the run stops
     with tempfile.TemporaryDirectory() as tmp:
         work = pathlib.Path(tmp)
         for i in range(args.experiments):
             e = draw_experiment(rng, i)
-            r = fit(args, work, e, make_data(args, work, e, rng))
+            try:
+                r = fit(args, work, e, make_data(args, work, e, rng))
+            except (OSError, subprocess.CalledProcessError) as error:
+                r = {"status": -1, "wall_s": 0.0, "log": str(error)}
             row = {**e, **r}
             rows.append(row)
+            progress.write(json.dumps({k: float(v) if hasattr(v, "dtype") else v for k, v in row.items()}) + "\n")
+            progress.flush()
             print(f"{i + 1}/{args.experiments}: {e['scenario']} {e['channel']} {e['rate_hz']} Hz "
                   f"{e['noise_m'] * 1e3:.3f} mm truth c_q {e['truth_c_q']:.4f} f {e['truth_f']:.0f}: "
                   f"fit c_q {r.get('c_q', float('nan')):.4f} f {r.get('f', float('nan')):.0f} "
                   f"converged {r.get('converged', 0)} valid {r.get('valid', 0)} status {r['status']} "
                   f"{r['wall_s']:.1f} s", flush=True)
-    pathlib.Path(args.out).parent.mkdir(parents=True, exist_ok=True)
+    progress.close()
     keys = sorted({k for row in rows for k in row if k != "log"})
     with open(args.out + ".part", "w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=keys)

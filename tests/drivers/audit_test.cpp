@@ -72,11 +72,16 @@ Json quick_scenario_json() {
               {"integrator", {{"method", "rosenbrock"}}}};
 }
 
+std::string measured_text(const std::string& line_end, std::size_t rows = 40);
+
 // Writes the files of the cases into one directory.
 class Workshop {
  public:
   explicit Workshop(std::string dir) : dir_(std::move(dir)) {
     quick_ = json_file("quick", quick_scenario_json());
+    // The shipped synthetic drop's first 40 rows: inside the quick run's span.
+    quick_data_ = dir_ + "/quick_data.csv";
+    std::ofstream(quick_data_) << measured_text("\n");
     shipped_rover_ = io::read_json_file(source_path("configs/rover.json"));
   }
   const std::string& dir() const { return dir_; }
@@ -162,7 +167,7 @@ class Workshop {
     Json j{{"type", "calibration"},
            {"name", "c"},
            {"scenario", quick_},
-           {"data", source_path("configs/data/drop_horizontal_synthetic.csv")},
+           {"data", quick_data_},
            {"fit", {"c_q"}},
            {"bounds", {{"c_q", {0.02, 1.0}}, {"time_offset", {-0.2, 0.2}}}},
            {"initial", {{"c_q", 0.1}}},
@@ -172,13 +177,13 @@ class Workshop {
   }
 
  private:
-  std::string dir_, quick_;
+  std::string dir_, quick_, quick_data_;
   Json shipped_rover_;
   int n_ = 0;
 };
 
 // The shipped synthetic drop's rows as text, with `line_end` after each line.
-std::string measured_text(const std::string& line_end, std::size_t rows = 40) {
+std::string measured_text(const std::string& line_end, std::size_t rows) {
   std::ifstream in(source_path("configs/data/drop_horizontal_synthetic.csv"));
   std::string text, line;
   std::size_t data_rows = 0;
