@@ -17,8 +17,7 @@
 //      chassis's own speed is. (A wheel's spin rate in the air held to
 //      atol / radius in the same way saves another 9 % of the drop's
 //      right-hand sides, but the integration error then moves a damping fit
-//      to synthetic skewed-drop data by two standard errors:
-//      docs/performance.md, "Fourth pass".)
+//      to synthetic skewed-drop data by two standard errors.)
 //    - a speed error is measured by the
 //    displacement it makes within the time it acts, min(1 / omega_c, 1 s),
 //    where omega_c = sqrt(-k_cc / M_cc) is the local frequency of coordinate c
@@ -341,7 +340,7 @@ void stiffen_s_joints_over_step(const RoverParameters& parameters, const ModelIn
 // otherwise reach again into the event that failed the longer one (a contact
 // beginning, an S-joint crossing its preload kink), whose error grows far
 // faster than h^3, and be rejected again, often several times in a row
-// before the event (docs/performance.md, "Fifth pass").
+// before the event.
 // RODAS4's order-3 estimate has local error ~ h^4, hence the fourth root.
 double step_factor(double error, double max_growth, int embedded_order) {
   constexpr double kSafety = 0.9, kMinShrink = 0.2;

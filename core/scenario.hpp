@@ -46,7 +46,7 @@ struct IntegratorSettings {
 // drop tests within 0.03 mm RMS of dopri5 at rtol 1e-8 for f = 1e2 .. 1e4
 // and v_s down to 1/100 of its default, over several preload sets (
 // the target is 0.05 mm); at f = 1e5 the skewed drop is 0.02-0.07 mm off
-// (README, "Stiff integration"). See core/integrator_rosenbrock.cpp.
+// (docs/performance.md, "Stiff integration"). See core/integrator_rosenbrock.cpp.
 IntegratorSettings default_integrator_settings(IntegratorMethod method);
 
 // A time-varying driving command: piecewise body-velocity commands in a
