@@ -225,37 +225,7 @@ RosenbrockWStep<N> ros34pw2_step(const MechanicalLinearization<N>& lin, const Fa
                                  double t0, const Eigen::Matrix<double, N, 1>& q0,
                                  const Eigen::Matrix<double, N, 1>& u0, double h,
                                  Acceleration&& acceleration) {
-  using Vector = Eigen::Matrix<double, N, 1>;
-  constexpr int s = RosenbrockWTableau::kStages;
-  const RosenbrockWTableau& tab = kRos34pw2;
-  const double hg = h * tab.gamma;
-
-  std::array<Vector, s> Uq, Uu;  // transformed stage increments
-  RosenbrockWStep<N> out{q0, u0, Vector::Zero(), Vector::Zero()};
-  for (int i = 0; i < s; ++i) {
-    // Stage point x + sum_j a_ij U_j and the right-hand side r of the stage.
-    Vector q = q0, u = u0, rq, ru_correction = Vector::Zero();
-    for (int j = 0; j < i; ++j) {
-      q += tab.a[i][j] * Uq[j];
-      u += tab.a[i][j] * Uu[j];
-    }
-    rq = u;
-    for (int j = 0; j < i; ++j) {
-      rq += (tab.c[i][j] / h) * Uq[j];
-      ru_correction += (tab.c[i][j] / h) * Uu[j];
-    }
-    // M0 r_u, where for the first stage M0 f_u(x) = M0 M0^{-1} F0 = F0.
-    const Vector mass_ru =
-        i == 0 ? lin.force
-               : Vector(lin.mass * (acceleration(t0 + tab.stage_time[i] * h, q, u) + ru_correction));
-    Uu[i] = iteration.solve(Vector(hg * (mass_ru + hg * (lin.d_force_d_position * rq))));
-    Uq[i] = hg * (rq + Uu[i]);
-    out.q += tab.m[i] * Uq[i];
-    out.u += tab.m[i] * Uu[i];
-    out.error_q += tab.m_error[i] * Uq[i];
-    out.error_u += tab.m_error[i] * Uu[i];
-  }
-  return out;
+  return rosenbrock_step(kRos34pw2, lin, iteration, t0, q0, u0, h, std::forward<Acceleration>(acceleration));
 }
 
 // The same steps with a dense LU of the iteration matrix.
