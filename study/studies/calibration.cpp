@@ -240,10 +240,6 @@ Evaluation evaluate(const CalibrationStudy& s, const std::vector<double>& values
   return e;
 }
 
-// Internal coordinates: log10 for log-scale parameters.
-double to_internal(const FitParameter& p, double v) { return p.log_scale ? std::log10(v) : v; }
-double to_natural(const FitParameter& p, double x) { return p.log_scale ? std::pow(10.0, x) : x; }
-
 }  // namespace
 
 bool CalibrationStudy::offset_fitted() const {
@@ -686,13 +682,13 @@ std::vector<ParameterProfile> profile_parameters(const CalibrationStudy& s, cons
     if (!free.empty()) {
       std::vector<double> x, lower, upper;
       for (std::size_t k : free) {
-        x.push_back(to_internal(s.fit[k], values[k]));
-        lower.push_back(to_internal(s.fit[k], s.fit[k].lower));
-        upper.push_back(to_internal(s.fit[k], s.fit[k].upper));
+        x.push_back(fit_internal(s.fit[k], values[k]));
+        lower.push_back(fit_internal(s.fit[k], s.fit[k].lower));
+        upper.push_back(fit_internal(s.fit[k], s.fit[k].upper));
       }
       std::function<double(const std::vector<double>&)> objective = [&](const std::vector<double>& xi) {
         std::vector<double> v = values;
-        for (std::size_t k = 0; k < free.size(); ++k) v[free[k]] = to_natural(s.fit[free[k]], xi[k]);
+        for (std::size_t k = 0; k < free.size(); ++k) v[free[k]] = fit_natural(s.fit[free[k]], xi[k]);
         return evaluate(s, v).objective;
       };
       nlopt::opt opt(nlopt::LN_BOBYQA, static_cast<unsigned>(free.size()));
@@ -710,7 +706,7 @@ std::vector<ParameterProfile> profile_parameters(const CalibrationStudy& s, cons
         opt.optimize(x, minimum);
       } catch (const nlopt::roundoff_limited&) {
       }
-      for (std::size_t k = 0; k < free.size(); ++k) values[free[k]] = to_natural(s.fit[free[k]], x[k]);
+      for (std::size_t k = 0; k < free.size(); ++k) values[free[k]] = fit_natural(s.fit[free[k]], x[k]);
     }
     const CalibrationResiduals r = calibration_residuals(s, values);
     if (!r.ok) return TaskResult{task, 1, r.message, {}};
@@ -766,15 +762,15 @@ std::vector<double> nlopt_search(const CalibrationStudy& s, const StudyRunContro
     boost::random::mt19937_64 engine(s.seed * 1000003ull + static_cast<std::uint64_t>(start));
     for (std::size_t k = 0; k < p; ++k) {
       const FitParameter& f = s.fit[k];
-      lower[k] = to_internal(f, f.lower);
-      upper[k] = to_internal(f, f.upper);
-      x[k] = start == 0 ? to_internal(f, f.initial)
+      lower[k] = fit_internal(f, f.lower);
+      upper[k] = fit_internal(f, f.upper);
+      x[k] = start == 0 ? fit_internal(f, f.initial)
                         : boost::random::uniform_real_distribution<double>(lower[k], upper[k])(engine);
     }
     std::vector<double> history;
     std::function<double(const std::vector<double>&)> objective = [&](const std::vector<double>& xi) {
       std::vector<double> values(p);
-      for (std::size_t k = 0; k < p; ++k) values[k] = to_natural(s.fit[k], xi[k]);
+      for (std::size_t k = 0; k < p; ++k) values[k] = fit_natural(s.fit[k], xi[k]);
       const Evaluation e = evaluate(s, values);
       history.insert(history.end(), values.begin(), values.end());
       history.insert(history.end(), e.offsets.begin(), e.offsets.end());

@@ -41,6 +41,7 @@
 // not_valid_because, iterations, integrator, gn_warning.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <optional>
@@ -76,6 +77,10 @@ struct FitParameter {
   bool log_scale = false;
   Distribution prior;  // mcmc: its prior (default uniform on [lower, upper])
 };
+
+// The coordinates a fit searches in: log10 for a log-scale parameter.
+inline double fit_internal(const FitParameter& p, double value) { return p.log_scale ? std::log10(value) : value; }
+inline double fit_natural(const FitParameter& p, double x) { return p.log_scale ? std::pow(10.0, x) : x; }
 
 enum class CalibrationMethod { optimize, mcmc };
 

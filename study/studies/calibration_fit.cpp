@@ -28,9 +28,6 @@ constexpr double kStepTolerance = 1e-5;
 constexpr double kGradientTolerance = 1e-8;
 constexpr double kDecreaseTolerance = 1e-9;
 
-double to_internal(const FitParameter& p, double v) { return p.log_scale ? std::log10(v) : v; }
-double to_natural(const FitParameter& p, double x) { return p.log_scale ? std::pow(10.0, x) : x; }
-
 // Rows of each curve in the stacked residual vector.
 std::vector<std::size_t> first_rows(const CalibrationStudy& s) {
   std::vector<std::size_t> first(s.datasets.size() + 1, 0);
@@ -183,7 +180,7 @@ FitPoint natural_point(const CalibrationStudy& s, const InternalLayout& layout, 
   FitPoint p;
   p.values.assign(s.fit.size(), 0.0);
   for (std::size_t c = 0; c < layout.simulated.size(); ++c)
-    p.values[layout.simulated[c]] = to_natural(s.fit[layout.simulated[c]], x[static_cast<Eigen::Index>(c)]);
+    p.values[layout.simulated[c]] = fit_natural(s.fit[layout.simulated[c]], x[static_cast<Eigen::Index>(c)]);
   for (std::size_t k = 0; k < layout.curves; ++k)
     p.offsets.push_back(x[static_cast<Eigen::Index>(layout.simulated.size() + k)]);
   if (s.offset_fitted()) p.values[offset_column(s, 0)] = p.offsets[0];
@@ -199,8 +196,8 @@ LevenbergMarquardtResult weighted_round(const CalibrationStudy& s, const Interna
   Eigen::VectorXd lower(layout.size()), upper(layout.size());
   for (std::size_t c = 0; c < layout.simulated.size(); ++c) {
     const FitParameter& f = s.fit[layout.simulated[c]];
-    lower[static_cast<Eigen::Index>(c)] = to_internal(f, f.lower);
-    upper[static_cast<Eigen::Index>(c)] = to_internal(f, f.upper);
+    lower[static_cast<Eigen::Index>(c)] = fit_internal(f, f.lower);
+    upper[static_cast<Eigen::Index>(c)] = fit_internal(f, f.upper);
   }
   const bool fitted_offset = s.offset_fitted();
   for (std::size_t k = 0; k < layout.curves; ++k) {
@@ -279,7 +276,7 @@ LeastSquaresCalibration least_squares_calibration(const CalibrationStudy& s, con
   InternalLayout layout{s.simulated(), s.datasets.size()};
   Eigen::VectorXd x(layout.size());
   for (std::size_t c = 0; c < layout.simulated.size(); ++c)
-    x[static_cast<Eigen::Index>(c)] = to_internal(s.fit[layout.simulated[c]], start[layout.simulated[c]]);
+    x[static_cast<Eigen::Index>(c)] = fit_internal(s.fit[layout.simulated[c]], start[layout.simulated[c]]);
   for (std::size_t k = 0; k < layout.curves; ++k) {  // the offsets start at their profiled best
     const CalibrationCurve curve = simulate_calibration_curve(s, k, start);
     double offset = s.offset_fitted() ? start[offset_column(s, 0)] : s.offset_initial_s;
