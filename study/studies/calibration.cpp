@@ -882,7 +882,9 @@ CheckedFit checked_fit(const CalibrationStudy& study, std::vector<double> start,
     std::vector<double> best = c.fit.values;
     best.insert(best.end(), c.fit.offsets.begin(), c.fit.offsets.end());
     c.gn = gauss_newton_at_optimum(c.study, best, control);
-    if (InterruptGuard::flag()) throw StudyInterrupted("calibrate: interrupted; run the command again");
+    std::vector<double> stop{InterruptGuard::flag().load() ? 1.0 : 0.0};  // rank 0's signal, for every rank
+    broadcast_from_rank0(stop);
+    if (stop[0] != 0.0) throw StudyInterrupted("interrupted during the fit; nothing was written");
     std::vector<double> go_on{0.0, 0.0};  // refit?, the largest shift (rank 0's, for every rank)
     if (world_rank() == 0 && c.fit.converged && c.gn.ok && !is_reference(c.study)) {
       c.shift = integration_shift(c.study, c.fit.values, c.fit.offsets, c.gn.weights, c.gn.weighted_jacobian,
@@ -916,6 +918,7 @@ CheckedFit checked_fit(const CalibrationStudy& study, std::vector<double> start,
 }
 
 CalibrationOutcome run_fit(const CalibrationStudy& s, const StudyRunControl& control) {
+  const InterruptGuard guard;  // Ctrl-C and SIGTERM end the fit at its next Jacobian, with exit status 130
   const std::string out = results_path(s.common, control.results_path);
   const std::size_t p = s.fit.size();
   const std::size_t K = s.datasets.size();
@@ -1163,6 +1166,7 @@ CalibrationOutcome run_fit(const CalibrationStudy& s, const StudyRunControl& con
 }  // namespace
 
 CalibrationEstimate estimate_calibration(const CalibrationStudy& s, const StudyRunControl& control) {
+  const InterruptGuard guard;
   FitHistory history;
   std::vector<double> start;
   for (const FitParameter& f : s.fit) start.push_back(f.initial);
@@ -1188,6 +1192,7 @@ CalibrationEstimate estimate_calibration(const CalibrationStudy& s, const StudyR
 
 CalibrationOutcome run_calibration(const CalibrationStudy& s, const StudyRunControl& control) {
   if (s.method == CalibrationMethod::optimize) return run_fit(s, control);
+  const InterruptGuard guard;
   // The posterior starts at the converged fit, on the integrator its check
   // proved sufficient.
   FitHistory history;
