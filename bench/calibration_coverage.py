@@ -122,6 +122,8 @@ def main():
     parser.add_argument("--ranks", type=int, default=2)
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--out", default=str(SOURCE / "results/calibration_coverage.csv"))
+    parser.add_argument("--only", default="", help="comma-separated experiment indices to run (the others are drawn, not run)")
+    parser.add_argument("--keep", default="", help="a folder that keeps each experiment's data, study and result")
     args = parser.parse_args()
     pathlib.Path(args.out).parent.mkdir(parents=True, exist_ok=True)
     if not 1 <= args.experiments <= 100000:
@@ -131,10 +133,15 @@ def main():
     rng = random.Random(args.seed)
     rows = []
     progress = open(args.out + ".rows.jsonl", "w")  # every experiment as it ends, kept if the run stops
+    only = {int(i) for i in args.only.split(",") if i}
     with tempfile.TemporaryDirectory() as tmp:
-        work = pathlib.Path(tmp)
+        work = pathlib.Path(args.keep or tmp)
+        work.mkdir(parents=True, exist_ok=True)
         for i in range(args.experiments):
             e = draw_experiment(rng, i)
+            if only and i not in only:
+                make_data(args, work, e, rng)  # its random draws, so that later experiments get theirs
+                continue
             try:
                 r = fit(args, work, e, make_data(args, work, e, rng))
             except (OSError, subprocess.CalledProcessError) as error:

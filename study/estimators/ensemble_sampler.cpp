@@ -20,20 +20,6 @@ boost::random::mt19937_64 walker_engine(std::uint64_t seed, long step, Eigen::In
   return boost::random::mt19937_64(splitmix64(h ^ static_cast<std::uint64_t>(walker)));
 }
 
-// Calls the batch density and maps NaN to -inf; rejects a wrong size and +inf.
-Eigen::VectorXd evaluate_batch(const BatchLogDensity& log_density, const DesignMatrix& points) {
-  Eigen::VectorXd values = log_density(points);
-  if (values.size() != points.rows())
-    throw std::runtime_error("log density callback returned " + std::to_string(values.size()) +
-                             " values for " + std::to_string(points.rows()) + " points");
-  for (Eigen::Index i = 0; i < values.size(); ++i) {
-    if (std::isnan(values[i])) values[i] = -std::numeric_limits<double>::infinity();
-    if (values[i] == std::numeric_limits<double>::infinity())
-      throw std::runtime_error("log density is +inf at batch row " + std::to_string(i));
-  }
-  return values;
-}
-
 void check_options(const EnsembleState& state, const EnsembleOptions& options) {
   const Eigen::Index p = state.positions.cols();
   if (p < 1) throw std::invalid_argument("ensemble sampler: the state has no parameters");
@@ -51,6 +37,19 @@ void check_options(const EnsembleState& state, const EnsembleOptions& options) {
 }
 
 }  // namespace
+
+Eigen::VectorXd evaluate_batch(const BatchLogDensity& log_density, const DesignMatrix& points) {
+  Eigen::VectorXd values = log_density(points);
+  if (values.size() != points.rows())
+    throw std::runtime_error("log density callback returned " + std::to_string(values.size()) +
+                             " values for " + std::to_string(points.rows()) + " points");
+  for (Eigen::Index i = 0; i < values.size(); ++i) {
+    if (std::isnan(values[i])) values[i] = -std::numeric_limits<double>::infinity();
+    if (values[i] == std::numeric_limits<double>::infinity())
+      throw std::runtime_error("log density is +inf at batch row " + std::to_string(i));
+  }
+  return values;
+}
 
 EnsembleState initial_ensemble_state(const DesignMatrix& initial_positions,
                                      const BatchLogDensity& log_density) {

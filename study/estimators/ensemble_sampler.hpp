@@ -34,6 +34,10 @@ namespace rover::study {
 // error (the density is not normalisable there).
 using BatchLogDensity = std::function<Eigen::VectorXd(const DesignMatrix& points)>;
 
+// Calls the batch density and maps NaN to -inf; throws std::runtime_error on a
+// wrong number of values or +inf.
+Eigen::VectorXd evaluate_batch(const BatchLogDensity& log_density, const DesignMatrix& points);
+
 struct EnsembleOptions {
   int walkers = 32;            // even, >= 2 * parameters
   double stretch_scale = 2.0;  // a > 1; Goodman & Weare's default is 2
