@@ -53,7 +53,9 @@ int run_calibrate_command(CalibrateOptions o) {
       std::cerr << "calibrate: sampling the posterior of";
       for (const auto& p : s.fit) std::cerr << " " << p.name << " ~ " << p.prior.describe();
       std::cerr << (s.mcmc.sample_noise ? " and the noise sd" : "") << " given " << s.data_path << " ("
-                << s.datasets.size() << " curve(s)): " << s.mcmc.walkers << " walkers, at most " << s.mcmc.steps
+                << s.datasets.size() << " curve(s)): "
+                << (s.mcmc.sampler == study::McmcSampler::independence ? "independence sampler, " : "ensemble sampler, ")
+                << s.mcmc.walkers << " chains, at most " << s.mcmc.steps
                 << " steps" << (s.mcmc.target_ess > 0 ? ", until every effective sample size reaches " +
                                                              number_text(s.mcmc.target_ess) + " and R-hat < " +
                                                              number_text(s.mcmc.max_rhat) : std::string())

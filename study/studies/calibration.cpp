@@ -54,11 +54,6 @@ constexpr double kFarShiftFactor = 10.0;
 constexpr double kReferenceRelativeTolerance = 1e-8;
 constexpr double kReferenceAbsoluteTolerance = 1e-11;
 
-std::string describe_integrator(const IntegratorSettings& i) {
-  return std::string(integrator_name(i.method)) + " at rtol " + format_number(i.relative_tolerance, 3) + ", atol " +
-         format_number(i.absolute_tolerance, 3);
-}
-
 IntegratorSettings reference_integrator() {
   IntegratorSettings settings = default_integrator_settings(IntegratorMethod::kDormandPrince45);
   settings.relative_tolerance = kReferenceRelativeTolerance;
@@ -472,9 +467,13 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
 
   if (r.has("mcmc")) {
     const io::JsonReader m = r.child("mcmc");
+    const std::string sampler = m.string_or("sampler", "independence");
+    if (sampler == "independence") s.mcmc.sampler = McmcSampler::independence;
+    else if (sampler == "ensemble") s.mcmc.sampler = McmcSampler::ensemble;
+    else m.fail("sampler", "unknown sampler '" + sampler + "' (independence or ensemble)");
     s.mcmc.walkers = m.integer_or("walkers", s.mcmc.walkers);
     s.mcmc.steps = m.integer_or("steps", static_cast<int>(s.mcmc.steps));
-    s.mcmc.discard = m.integer_or("discard", static_cast<int>(s.mcmc.discard));
+    if (m.has("discard")) s.mcmc.discard = m.integer_or("discard", 0);
     s.mcmc.target_ess = m.has("target_ess") ? m.non_negative("target_ess") : s.mcmc.target_ess;
     s.mcmc.max_rhat = m.has("max_rhat") ? m.positive("max_rhat") : s.mcmc.max_rhat;
     if (!(s.mcmc.max_rhat > 1.0)) m.fail("max_rhat", "must be above 1, got " + format_number(s.mcmc.max_rhat, 6));
@@ -511,9 +510,10 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
                                std::to_string(2 * sampled) + ", twice the " + std::to_string(sampled) +
                                " sampled parameters (" + sampled_names + ")");
   if (s.mcmc.steps <= 0) r.fail("mcmc.steps", "must be positive, got " + std::to_string(s.mcmc.steps));
-  if (s.mcmc.discard < 0 || s.mcmc.steps - s.mcmc.discard < 4)
+  const long discard = mcmc_discard(s.mcmc, s.mcmc.sampler);
+  if (discard < 0 || s.mcmc.steps - discard < 4)
     r.fail("mcmc.discard", "must be >= 0 and leave at least 4 of the " + std::to_string(s.mcmc.steps) +
-                               " steps, got " + std::to_string(s.mcmc.discard));
+                               " steps, got " + std::to_string(discard));
 
   // Read every key even when the command line overrides it (no "unknown key").
   const std::string configured_algorithm = r.string_or("algorithm", kLeastSquaresAlgorithm);
@@ -545,7 +545,7 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
   for (const auto& d : s.datasets)
     key << read_text(d.path) << '\n' << read_text(d.scenario_path) << '\n' << d.channel << '\n';
   key << method << '\n' << s.algorithm << ' ' << s.max_iterations << ' ' << describe_integrator(s.integrator)
-      << ' ' << s.max_evaluations << ' ' << s.starts << ' ' << s.mcmc.walkers << ' ' << s.mcmc.steps << ' ' << s.mcmc.discard << ' ' << s.mcmc.target_ess << ' ' << s.mcmc.max_rhat << ' ' << s.profile << ' ' << s.profile_points;
+      << ' ' << s.max_evaluations << ' ' << s.starts << ' ' << s.mcmc.walkers << ' ' << s.mcmc.steps << ' ' << mcmc_discard(s.mcmc, s.mcmc.sampler) << ' ' << static_cast<int>(s.mcmc.sampler) << ' ' << s.mcmc.target_ess << ' ' << s.mcmc.max_rhat << ' ' << s.profile << ' ' << s.profile_points;
   for (const auto& p : s.fit) key << ' ' << p.name;
   s.fingerprint = io::config_fingerprint(key.str());
   return s;
@@ -1265,8 +1265,18 @@ CalibrationEstimate estimate_calibration(const CalibrationStudy& s, const StudyR
   return e;
 }
 
-CalibrationOutcome run_calibration(const CalibrationStudy& s, const StudyRunControl& control) {
-  if (s.method == CalibrationMethod::optimize) return run_fit(s, control);
+namespace {
+
+// Where the posterior starts: the converged fit and its covariance, on every
+// rank; nothing when the fit has no finite intervals.
+McmcStart posterior_start(const CheckedFit& checked) {
+  if (!fit_has_intervals(checked)) return {};
+  ProbeInput fit = probe_input_on_every_rank(checked);
+  if (!fit.covariance.allFinite()) return {};
+  return {std::move(fit.values), std::move(fit.covariance)};
+}
+
+CalibrationOutcome run_posterior(const CalibrationStudy& s, const StudyRunControl& control) {
   const InterruptGuard guard;
   // The posterior starts at the converged fit, on the integrator its check
   // proved sufficient.
@@ -1274,22 +1284,34 @@ CalibrationOutcome run_calibration(const CalibrationStudy& s, const StudyRunCont
   std::vector<double> start;
   for (const FitParameter& f : s.fit) start.push_back(f.initial);
   const CheckedFit checked = checked_fit(s, start, control, history);
-  std::vector<double> ball;  // values then standard errors, rank 0's
-  if (world_rank() == 0 && checked.fit.converged && checked.gn.ok) {
-    ball = checked.fit.values;
-    for (std::size_t k = 0; k < s.fit.size(); ++k) ball.push_back(checked.gn.uncertainty.standard_error[static_cast<Eigen::Index>(k)]);
-  }
-  broadcast_from_rank0(ball);
-  McmcStart mcmc_start;
-  if (!ball.empty()) {
-    mcmc_start.values.assign(ball.begin(), ball.begin() + static_cast<std::ptrdiff_t>(s.fit.size()));
-    mcmc_start.standard_error.assign(ball.begin() + static_cast<std::ptrdiff_t>(s.fit.size()), ball.end());
-  }
+  const McmcStart mcmc_start = posterior_start(checked);
   if (world_rank() == 0)
-    std::cerr << "calibrate: the posterior starts " << (ball.empty() ? "at the initial values (the fit did not converge)"
-                                                                     : "around the converged fit")
+    std::cerr << "calibrate: the posterior starts "
+              << (mcmc_start.values.empty() ? "at the initial values (the fit has no intervals)" : "at the converged fit")
               << ", on " << describe_integrator(checked.study.integrator) << "\n";
-  return run_calibration_mcmc(checked.study, control, mcmc_start);
+  const CalibrationPosterior posterior = run_calibration_mcmc(checked.study, control, mcmc_start);
+  const std::string out = results_path(s.common, control.results_path);
+  const CalibrationOutcome outcome{out, posterior.mixed, posterior.not_mixed_because};
+  if (world_rank() != 0) return outcome;  // (also after an interrupt, which rank 0 reports)
+  io::Hdf5Writer h5(out);
+  write_calibration_posterior(posterior, checked.study, h5);
+  write_study_provenance(h5, s.common);
+  h5.commit();
+  report_calibration_posterior(posterior, checked.study, std::cerr);
+  std::cerr << "calibrate: wrote " << out << "\n";
+  if (control.plot) plot_calibration_posterior(posterior, checked.study, out.substr(0, out.size() - 3));
+  return outcome;
+}
+
+}  // namespace
+
+std::string describe_integrator(const IntegratorSettings& i) {
+  return std::string(integrator_name(i.method)) + " at rtol " + format_number(i.relative_tolerance, 3) + ", atol " +
+         format_number(i.absolute_tolerance, 3);
+}
+
+CalibrationOutcome run_calibration(const CalibrationStudy& s, const StudyRunControl& control) {
+  return s.method == CalibrationMethod::optimize ? run_fit(s, control) : run_posterior(s, control);
 }
 
 }  // namespace rover::study

@@ -84,14 +84,22 @@ inline double fit_natural(const FitParameter& p, double x) { return p.log_scale 
 
 enum class CalibrationMethod { optimize, mcmc };
 
+// The samplers of the posterior (study/studies/calibration_mcmc.hpp).
+enum class McmcSampler { independence, ensemble };
+// Burn-in steps left out when the study names none: the independence
+// sampler's chains start from the proposal, the ensemble's in a small ball.
+inline constexpr long kIndependenceDiscard = 10;
+inline constexpr long kEnsembleDiscard = 100;
+
 struct McmcSettings {
-  int walkers = 32;
+  McmcSampler sampler = McmcSampler::independence;
+  int walkers = 32;  // the ensemble's walkers, or the independent chains
   // The chain runs until every parameter has an effective sample size of at
   // least target_ess and a nested R-hat (study/estimators/mcmc_diagnostics.hpp) below max_rhat (checked every
   // kMcmcCheckInterval steps past the burn-in), at most `steps` steps.
   // target_ess 0: exactly `steps` steps, no convergence requirement.
   long steps = 5000;
-  long discard = 100;  // burn-in steps left out of the summaries
+  std::optional<long> discard;  // burn-in steps left out of the summaries; default by sampler
   double target_ess = 400;
   double max_rhat = 1.01;
   std::uint64_t seed = 1;
@@ -101,6 +109,11 @@ struct McmcSettings {
   double known_noise_sd_m = std::numeric_limits<double>::quiet_NaN();
   int predictive_draws = 40;  // posterior draws re-simulated for the predictive band
 };
+
+// The burn-in steps of a posterior run with `sampler`.
+inline long mcmc_discard(const McmcSettings& m, McmcSampler sampler) {
+  return m.discard.value_or(sampler == McmcSampler::independence ? kIndependenceDiscard : kEnsembleDiscard);
+}
 
 // One measured curve of a (joint) calibration: its scenario, the channel it
 // measures (a name of calibration_channels()), its own time offset and noise
@@ -240,12 +253,8 @@ struct CalibrationOutcome {
   std::string why;
 };
 
-// Where the walkers of a posterior start: the converged fit (values in the
-// order of CalibrationStudy::fit, and their Gauss-Newton standard errors), or
-// nothing (the study's initial values).
-struct McmcStart {
-  std::vector<double> values, standard_error;
-};
+// "rosenbrock at rtol 1e-08, atol 2e-07", as results and messages name an integrator.
+std::string describe_integrator(const IntegratorSettings& integrator);
 
 // Collective over MPI ranks: the fit (method optimize) or the posterior
 // (method mcmc). Rank 0 writes the HDF5 file and the PNGs.

@@ -1,7 +1,5 @@
 // Bayesian calibration: the posterior of the fitted parameters (and of the
-// measurement noise sd) given a measured drop curve, sampled with the
-// affine-invariant ensemble sampler (Goodman & Weare 2010; Foreman-Mackey et
-// al. 2013; study/estimators/ensemble_sampler.hpp).
+// measurement noise sd) given measured drop curves.
 //
 // Model: z_d,i = z_sim(t_d,i - offset; theta) + e_i, e_i ~ N(0, sigma^2)
 // independent, so log L = -n/2 log(2 pi sigma^2) - RSS / (2 sigma^2). sigma is
@@ -9,41 +7,53 @@
 // log-uniform, the scale-invariant choice). The time offset is sampled when it
 // is among the fitted parameters; otherwise it is PROFILED: each proposal uses
 // its best offset (a maximisation, not a marginalisation, over the offset).
+// Every prior is truncated to the parameter's bounds: a point outside them
+// has density 0 and is rejected without a simulation.
 //
-// The chain runs until its effective sample size and split R-hat meet the
-// study's target (McmcSettings), printing their progress; a chain that ends
-// at its step limit without meeting them is written with
+// Samplers ("mcmc": {"sampler": ...}), both in the fit's coordinates (log10
+// for a log-scale parameter and for the noise sd, with the Jacobian of that
+// map in the density):
+//  * "independence" (default): independence Metropolis-Hastings
+//    (study/estimators/independence_sampler.hpp) from a Student-t on the
+//    converged fit and its Gauss-Newton covariance. Close to the posterior,
+//    so its steps are nearly independent: tens of steps reach the target.
+//  * "ensemble": the affine-invariant ensemble sampler
+//    (study/estimators/ensemble_sampler.hpp), walkers started in a small ball
+//    around the fit; needs no covariance, mixes more slowly.
+// The chains run until every parameter's effective sample size and nested
+// R-hat meet the study's target (McmcSettings), printing their progress; a
+// chain that ends at its step limit without meeting them is written with
 // /diagnostics mixed = 0 and the program exits with status 2.
 //
-// Parallel: all ranks run the sampler in lockstep (its proposals depend only on
-// the state and the seed); the proposals of each half-ensemble are evaluated
-// in ONE run_task_farm call and rank 0 broadcasts their log densities, so the
-// chain is identical for any number of ranks. The state after every step is
+// Parallel: all ranks step the sampler in lockstep (its proposals depend only
+// on the state and the seed); the proposals of a step are evaluated in ONE
+// task farm and rank 0 broadcasts their log densities, so the chain is
+// identical for any number of ranks. The state after every step is
 // checkpointed beside the result file; --resume continues from the last one
-// exactly as an uninterrupted run.
+// exactly as an uninterrupted run, and a signal ends the study after the step
+// in progress, the checkpoint saved.
 //
-// HDF5 result: /chain (steps x (walkers p), row-major, i.e. steps x walkers x
-// p; attribute shape; p = the fitted parameters, then noise_sd per curve when
-// sampled), /log_posterior (steps x walkers), /posterior/{names,
-// mean, sd, q025, q975, map} (after the discarded burn-in),
+// HDF5 result (docs/results_format.md): /chain (steps x (chains p), natural
+// units), /log_posterior, /posterior/{names, mean, sd, q025, q975, map},
 // /diagnostics/{acceptance_fraction, autocorrelation_time,
-// effective_sample_size, split_rhat} and attribute warning,
-// /predictive/{t, mean, lower, upper, lower_noise, upper_noise} (the 99.73 %
-// band of B_l z over the data times, from predictive_draws posterior draws
-// re-simulated; with noise: each draw plus Gaussian noise of its sd; 25
-// noise replicates per draw). Joint fits: curve c > 0 at /predictive/c/...
-// and /data/c/...
+// effective_sample_size, split_rhat, nested_rhat} with attributes mixed and
+// not_mixed_because, /predictive[/c]/{t, mean, lower, upper, lower_noise,
+// upper_noise} (the 99.73 % band over the data times from predictive_draws
+// re-simulated draws, without and with noise), /data[/c]/{t, z}.
 #pragma once
 
 #include <functional>
 #include <optional>
+#include <ostream>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
-#include "study/studies/calibration.hpp"
+#include "io/hdf5_file.hpp"
 #include "study/estimators/distributions.hpp"
+#include "study/estimators/mcmc_diagnostics.hpp"
+#include "study/studies/calibration.hpp"
 
 namespace rover::study {
 
@@ -65,10 +75,54 @@ double calibration_log_density(const std::vector<Distribution>& priors, const Di
                                std::optional<double> known_noise_sd, std::size_t curves,
                                const Eigen::VectorXd& theta, const ResidualFunction& residuals);
 
-// Collective over MPI ranks; see above. The walkers start in a ball around
-// `start` (a tenth of each standard error) when it is given. Returns the
-// result path and whether the chain met its target (mixed).
-CalibrationOutcome run_calibration_mcmc(const CalibrationStudy& study, const StudyRunControl& control,
-                                        const McmcStart& start = {});
+// The posterior's summaries over the kept steps, per sampled parameter.
+struct PosteriorSummary {
+  std::vector<double> mean, sd, q025, q975, map;
+};
+
+// The posterior predictive band of one curve over its data times [m].
+struct PredictiveBand {
+  std::vector<double> t, mean, lower, upper, lower_noise, upper_noise;
+};
+
+struct CalibrationPosterior {
+  std::vector<std::string> names;  // the fitted parameters, then noise_sd per curve when sampled
+  std::string sampler;             // "independence" or "ensemble"
+  std::vector<Eigen::MatrixXd> samples;  // per parameter: steps x chains, natural units (noise sd in m)
+  Eigen::MatrixXd log_posterior;         // steps x chains
+  long steps = 0, discard = 0;
+  int chains = 0;
+  ChainDiagnostics diagnostics;
+  PosteriorSummary summary;
+  std::vector<PredictiveBand> predictive;  // per curve; empty bands when no draw ran
+  int predictive_draws = 0;                // draws that ran
+  bool mixed = true;                       // the target was met (or none was set)
+  std::string not_mixed_because;
+};
+
+// Where a posterior starts: the converged fit (values in the order of
+// CalibrationStudy::fit, their Gauss-Newton covariance in natural units), or
+// nothing (the study's initial values; the ensemble sampler then).
+struct McmcStart {
+  std::vector<double> values;
+  Eigen::MatrixXd covariance;
+};
+
+// Collective over MPI ranks. The result is complete on rank 0; the other
+// ranks hold `mixed` only. Throws StudyInterrupted after a signal, the
+// checkpoint saved.
+CalibrationPosterior run_calibration_mcmc(const CalibrationStudy& study, const StudyRunControl& control,
+                                          const McmcStart& start);
+
+// Rank 0: the result file's datasets and attributes (not the provenance).
+void write_calibration_posterior(const CalibrationPosterior& posterior, const CalibrationStudy& study,
+                                 io::Hdf5Writer& h5);
+// The console summary: parameters, intervals, diagnostics and warnings.
+void report_calibration_posterior(const CalibrationPosterior& posterior, const CalibrationStudy& study,
+                                  std::ostream& out);
+// The figures beside the result: traces, the corner plot and the
+// predictive band of each curve (stem: the result path without ".h5").
+void plot_calibration_posterior(const CalibrationPosterior& posterior, const CalibrationStudy& study,
+                                const std::string& stem);
 
 }  // namespace rover::study

@@ -4,6 +4,7 @@
 // a message naming the field or the file.
 #include <cmath>
 #include <fstream>
+#include <iterator>
 
 #include <gtest/gtest.h>
 
@@ -195,7 +196,8 @@ TEST(CmdCalibrate, NextExperimentRanksByExpectedIntervalWidth) {
 }
 
 // A quick posterior: a 0.25 s drop with the stiff integrator, 4 walkers.
-std::string mcmc_study(const std::string& dir, int walkers = 4, int steps = 6) {
+std::string mcmc_study(const std::string& dir, int walkers = 4, int steps = 6,
+                       const std::string& sampler = "independence") {
   const std::string scenario = write_file(dir + "/short_drop.json", R"({"name": "short_drop", "rover": ")" +
       source_path("configs/rover.json") + R"(", "duration": 0.25, "output_rate": 200,
       "initial_q": {"z": 0.281, "chi": 0.039, "psi": 0.0042}})");
@@ -209,7 +211,7 @@ std::string mcmc_study(const std::string& dir, int walkers = 4, int steps = 6) {
       R"(", "integrator": {"method": "rosenbrock"}, "data": ")" + dir + R"(/short_data.csv", "method": "mcmc", "fit": ["c_q"],
       "bounds": {"c_q": [0.02, 1.0], "time_offset": [-0.2, 0.2]}, "initial": {"c_q": 0.25},
       "priors": {"c_q": {"distribution": "uniform", "min": 0.1, "max": 0.5}},
-      "mcmc": {"walkers": )" + std::to_string(walkers) +
+      "mcmc": {"sampler": ")" + sampler + R"(", "walkers": )" + std::to_string(walkers) +
       R"(, "steps": )" + std::to_string(steps) + R"(, "discard": 2, "seed": 3, "predictive_draws": 4, "target_ess": 0,
                "noise_sd": {"distribution": "log_uniform", "min": 1e-5, "max": 1e-2}}})");
 }
@@ -247,6 +249,31 @@ TEST(CmdCalibrate, PosteriorIsIdenticalOnOneAndTwoRanks) {
   EXPECT_NE(log1.find("WARNING"), std::string::npos) << log1;  // 6 steps: loudly unreliable
 }
 
+// A prior far wider than the bounds (normal(0.25, 5) on c_q in [0.02, 1]):
+// both samplers keep every sample inside the bounds (the prior is truncated
+// there, and a point outside is rejected without a run) and finish.
+TEST(CmdCalibrate, WidePriorIsTruncatedToTheBounds) {
+  for (const std::string sampler : {"independence", "ensemble"}) {
+    const std::string dir = rover::testing::temp_dir();
+    std::string text;
+    {
+      std::ifstream in(mcmc_study(dir, 4, 12, sampler));
+      text.assign(std::istreambuf_iterator<char>(in), {});
+    }
+    const std::string uniform = R"({"distribution": "uniform", "min": 0.1, "max": 0.5})";
+    text.replace(text.find(uniform), uniform.size(), R"({"distribution": "normal", "mean": 0.25, "sd": 5})");
+    const std::string study = write_file(dir + "/wide.json", text);
+    std::string log;
+    ASSERT_EQ(run_command(rover_binary() + " calibrate --study " + study + " --no-plot --out " + dir + "/w.h5", &log), 0)
+        << sampler << "\n" << log;
+    const auto chain = io::Hdf5Reader(dir + "/w.h5").read_doubles("/chain");
+    for (std::size_t i = 0; i < chain.size(); i += 2) {
+      EXPECT_GE(chain[i], 0.02) << sampler;
+      EXPECT_LE(chain[i], 1.0) << sampler;
+    }
+  }
+}
+
 TEST(CmdCalibrate, KilledPosteriorResumesToTheUninterruptedChain) {
   const std::string dir = rover::testing::temp_dir();
   const std::string study = mcmc_study(dir, 8, 30);
@@ -263,7 +290,7 @@ TEST(CmdCalibrate, KilledPosteriorResumesToTheUninterruptedChain) {
   ASSERT_TRUE(std::ifstream(dir + "/part.h5.checkpoint").good()) << log;
   ASSERT_EQ(run_command(rover_binary() + " calibrate --study " + study + " --no-plot --resume --out " + dir +
                             "/part.h5", &log), 0) << log;
-  EXPECT_NE(log.find("resuming the ensemble after step"), std::string::npos) << log;
+  EXPECT_NE(log.find("resuming the chains after step"), std::string::npos) << log;
   const io::Hdf5Reader whole(dir + "/whole.h5"), part(dir + "/part.h5");
   EXPECT_EQ(whole.read_doubles("/chain"), part.read_doubles("/chain"));
   EXPECT_EQ(whole.read_doubles("/log_posterior"), part.read_doubles("/log_posterior"));
