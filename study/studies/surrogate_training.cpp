@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <sstream>
 
 #include "io/hdf5_file.hpp"
@@ -14,9 +15,8 @@ namespace rover::study {
 namespace {
 
 std::string joined(const std::vector<std::string>& names) {
-  std::string out;
-  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
-  return out;
+  return std::accumulate(names.begin(), names.end(), std::string(),
+                         [](const std::string& list, const std::string& n) { return list.empty() ? n : list + ", " + n; });
 }
 
 std::string text(double v) {
