@@ -105,7 +105,7 @@ SurrogateSet surrogate_set(const SurrogateStudy& study, const TrainingRuns& trai
   return set;
 }
 
-std::vector<std::string> study_warnings(const SurrogateStudyResult& r) {
+std::vector<std::string> study_warnings(const SurrogateStudy& study, const SurrogateStudyResult& r) {
   std::vector<std::string> w;
   for (const TrainingRuns* runs : {&r.training, &r.held_out})
     if (runs->failed_runs() > 0)
@@ -117,6 +117,8 @@ std::vector<std::string> study_warnings(const SurrogateStudyResult& r) {
     else if (!q.undefined_reason.empty()) w.push_back(q.name + ": indices undefined: " + q.undefined_reason);
     if (q.fitted && q.undefined_reason.empty() && !q.model.validation().warning.empty())
       w.push_back(q.model.validation().warning);
+    if (q.indices_defined && study.pce.bootstrap > 0 && !q.has_intervals)
+      w.push_back(q.name + ": no bootstrap resample could be refitted; the indices have no intervals");
   }
   return w;
 }
@@ -133,7 +135,7 @@ SurrogateStudyResult fit_surrogate_study(const SurrogateStudy& study, const Trai
   for (Eigen::Index q = 0; q < training.y.cols(); ++q) r.qoi.push_back(fit_qoi(study, training, held_out, q));
   r.fit_wall_time_s = seconds_since(start);
   r.set = surrogate_set(study, training, r.qoi);
-  r.warnings = study_warnings(r);
+  r.warnings = study_warnings(study, r);
   return r;
 }
 
