@@ -194,6 +194,7 @@ void write_surrogate_study(io::Hdf5Writer& h5, const SurrogateStudy& study, cons
     write_runs(h5, "/held_out", study, r.held_out);
   }
   h5.attribute("/", "samples", static_cast<long long>(r.training.runs() + r.held_out.runs()));
+  if (!study.training_file.empty()) h5.attribute("/", "design", "none: the runs of the training file");
   h5.attribute("/", "surrogate", surrogate_kind_name(study.kind));
   h5.attribute("/", "training", r.training.source);
   h5.attribute("/", "runs", static_cast<long long>(r.training.runs()));

@@ -10,7 +10,7 @@
 //               of the study core ("type" defaults to "latin_hypercube", "lhs" is its alias)
 //     "training": {"file": "results/mc.h5"}        the runs of a result file of
 //               montecarlo, evaluate, sensitivity or surrogate (relative to the study file),
-//   "held_out": {"fraction": 0.2} (the last runs of the design, in (0, 0.5])
+//   "held_out": {"fraction": 0.2} (the last runs, design or file, in (0, 0.5])
 //               or {"file": "results/other.h5"}     optional held-out validation,
 //   "pce": {"max_degree": 12, "q_norm": 0.75, "bootstrap": 200, "q2_threshold": 0.95},
 //   "gp":  {"trend": "constant" | "linear", "starts": 4, "nugget": 1e-8, "q2_threshold": 0.95},
