@@ -1,6 +1,7 @@
 // See surrogate_study.hpp.
 #include "study/studies/surrogate_study.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -30,8 +31,12 @@ struct QoiRuns {
   Eigen::VectorXd y;
 };
 
-QoiRuns successful_runs(const TrainingRuns& runs, Eigen::Index qoi) {
-  const std::vector<Eigen::Index> rows = ok_rows(runs);
+// With finite_only, also without the runs whose value of this QoI is not finite.
+QoiRuns successful_runs(const TrainingRuns& runs, Eigen::Index qoi, bool finite_only = false) {
+  std::vector<Eigen::Index> rows = ok_rows(runs);
+  if (finite_only)
+    rows.erase(std::remove_if(rows.begin(), rows.end(), [&](Eigen::Index i) { return !std::isfinite(runs.y(i, qoi)); }),
+               rows.end());
   QoiRuns out{DesignMatrix(static_cast<Eigen::Index>(rows.size()), runs.x.cols()),
               Eigen::VectorXd(static_cast<Eigen::Index>(rows.size()))};
   for (std::size_t k = 0; k < rows.size(); ++k) {
@@ -73,8 +78,8 @@ SurrogateQoiResult fit_qoi(const SurrogateStudy& study, const TrainingRuns& trai
   if (!r.fitted) return r;
   r.actual = runs.y;
   r.loo_predicted = leave_one_out_predictions(r.model, runs.x, runs.y);
-  const QoiRuns test = successful_runs(held_out, q);
-  if (test.y.size() == 0 || !test.y.allFinite()) return r;
+  const QoiRuns test = successful_runs(held_out, q, /*finite_only=*/true);
+  if (test.y.size() == 0) return r;
   validate_surrogate(test.x, test.y, study.q2_threshold(), &r.model);
   r.held_out_actual = test.y;
   r.held_out_predicted = predict_surrogate(r.model, test.x).mean;

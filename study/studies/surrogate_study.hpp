@@ -53,7 +53,7 @@ struct SurrogateStudyResult {
 };
 
 // Fits every QoI on the successful training runs and scores it on the
-// successful held-out runs. No MPI, files or output. Throws io::ConfigError
+// successful held-out runs where it is finite. No MPI, files or output. Throws io::ConfigError
 // naming the source when fewer successful runs remain than the fit needs.
 SurrogateStudyResult fit_surrogate_study(const SurrogateStudy& study, const TrainingRuns& training,
                                          const TrainingRuns& held_out);
