@@ -147,6 +147,8 @@ TEST(SurrogateStudy, TrainsOnAResultFileLeavingFailedRunsOut) {
   const std::string file = ishigami_result_file(dir, 400, 7);
   const SurrogateStudy s = load(R"({"type": "surrogate", "name": "f", "model": "ishigami",
       "training": {"file": "mc.h5"}, "pce": {"max_degree": 14, "bootstrap": 0}})", dir);
+  SurrogateStudy resized = s;
+  EXPECT_THROW(set_surrogate_runs(resized, 100), std::invalid_argument);  // --samples sizes a design only
   const TrainingRuns runs = read_result_runs(s.training_file, s, "training");
   EXPECT_EQ(runs.runs(), 400);
   EXPECT_EQ(runs.failed_runs(), 7);
