@@ -1,0 +1,128 @@
+// `rover surrogate`: trains a polynomial chaos or Gaussian-process surrogate
+// of the QoIs on a design run now or on an existing result file, validates and
+// saves it (--study); or evaluates a saved surrogate at the points of a design
+// CSV (--predict). See study/studies/surrogate_study.hpp for the formats.
+#include <chrono>
+#include <iostream>
+
+#include "drivers/command_registry.hpp"
+#include "drivers/study_options.hpp"
+#include "io/csv.hpp"
+#include "study/runtime/mpi_session.hpp"
+#include "study/runtime/study_runner.hpp"
+#include "study/studies/surrogate_prediction.hpp"
+#include "study/studies/surrogate_report.hpp"
+
+namespace rover::cli {
+namespace {
+
+constexpr long long kMaxSamples = 10'000'000;
+
+struct SurrogateOptions {
+  std::string study_path, predict_path, design_path, csv_path;
+  std::optional<long long> samples;
+  study::StudyRunControl control;
+};
+
+std::string resume_command(const SurrogateOptions& o) {
+  return "rover surrogate --study " + o.study_path +
+         (o.samples ? " --samples " + std::to_string(*o.samples) : std::string()) +
+         (o.control.results_path.empty() ? "" : " --out " + o.control.results_path) + " --resume";
+}
+
+int train(SurrogateOptions& o) {
+  study::MpiSession mpi(nullptr, nullptr);
+  FlagChecks checks;
+  check_study_output(checks, o.control, o.study_path);
+  if (o.samples && (*o.samples < 1 || *o.samples > kMaxSamples))
+    checks.add("--samples must be from 1 to 1e7, got " + std::to_string(*o.samples));
+  checks.throw_if_any();
+  study::SurrogateStudy s = study::load_surrogate_study(o.study_path);
+  if (o.samples) study::set_surrogate_runs(s, static_cast<int>(*o.samples));
+  o.control.resume_command = resume_command(o);
+  if (mpi.rank() == 0)
+    std::cerr << "surrogate: " << study::surrogate_kind_name(s.kind) << " of " << s.qoi_names().size()
+              << " QoI(s) over " << s.spec.inputs.size() << " inputs, trained on "
+              << (s.training_file.empty() ? std::to_string(s.spec.design.samples) + " runs of " + s.spec.model->describe() +
+                                                " (" + study::design_type_name(s.spec.design.type) + ") on " +
+                                                std::to_string(mpi.size()) + " rank(s)"
+                                          : s.training_file)
+              << "\n";
+  const study::InterruptGuard interrupts;
+  return run_interruptible("surrogate", [&] {
+    const std::optional<study::SurrogateStudyResult> result = study::run_surrogate_study(s, o.control);
+    if (!result) return 0;
+    io::Hdf5Writer h5(result->results_path);
+    study::write_surrogate_study(h5, s, *result);
+    h5.commit();
+    if (s.training_file.empty()) study::remove_checkpoint(result->results_path);
+    study::report_surrogate_study(std::cerr, s, *result);
+    std::cerr << "surrogate: wrote " << result->results_path << "\n";
+    if (o.control.plot) study::plot_surrogate_study(s, *result, std::cerr);
+    return 0;
+  });
+}
+
+int predict(const SurrogateOptions& o) {
+  FlagChecks checks;
+  if (o.design_path.empty() || o.csv_path.empty()) checks.add("--predict needs --design X.csv and --csv Y.csv");
+  if (o.samples) checks.add("--samples applies to --study, not to --predict");
+  checks.output_file("--csv", o.csv_path);
+  checks.distinct_files("--csv", o.csv_path, "--design", o.design_path);
+  checks.distinct_files("--csv", o.csv_path, "--predict", o.predict_path);
+  checks.throw_if_any();
+  const study::SurrogateSet set = study::read_surrogate_set(o.predict_path);
+  const study::DesignMatrix x = study::surrogate_points(set, study::read_design_csv(o.design_path));
+  const auto start = std::chrono::steady_clock::now();
+  const study::PredictionTable table = study::predict_surrogate_set(set, x);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  io::write_csv(o.csv_path, table.header, table.columns);
+  std::cerr << "surrogate: " << x.rows() << " points of " << set.models.size() << " " << study::surrogate_kind_name(set.kind)
+            << " model(s) in " << 1e6 * seconds / static_cast<double>(x.rows()) << " us per point; wrote "
+            << o.csv_path << "\n";
+  return 0;
+}
+
+int run_surrogate_command(SurrogateOptions& o) {
+  if (o.predict_path.empty() == o.study_path.empty())
+    throw CommandLineError({"give --study S.json (train) or --predict model.h5 (evaluate a saved surrogate)"});
+  if (!o.predict_path.empty()) return predict(o);
+  if (!o.design_path.empty() || !o.csv_path.empty())
+    throw CommandLineError({"--design and --csv go with --predict"});
+  return train(o);
+}
+
+const RegisterCommand registration{
+    57, "surrogate", "Polynomial chaos or kriging surrogate of the QoIs: train, validate and save it; or predict with it",
+    [](CLI::App& app) -> std::function<int()> {
+      auto o = std::make_shared<SurrogateOptions>();
+      app.footer(std::string(
+          "--study: one surrogate per QoI, a sparse polynomial chaos (\"surrogate\": \"pce\", LARS with the\n"
+          "corrected leave-one-out error) or a Gaussian process (\"gp\", Matern 5/2), trained on the\n"
+          "runs of the study's design (run now) or of an existing result file of montecarlo,\n"
+          "evaluate, sensitivity or surrogate (\"training\": {\"file\": ...}); failed runs are left out\n"
+          "and counted. Reports the leave-one-out Q2 (and the held-out Q2 and RMSE with \"held_out\"),\n"
+          "warns below q2_threshold with a larger N, and for a PCE the mean, variance and Sobol'\n"
+          "indices with bootstrap intervals. Writes the model under /surrogate of --out and PNGs\n"
+          "<out>_surrogate.png (surrogate against model) and <out>_surrogate_indices.png.\n"
+          "--predict: the saved model at the rows of a design CSV (header of input names), mean and,\n"
+          "for a GP, sd per QoI; a point outside the training support is refused.\n\n"
+          "Examples:\n"
+          "  mpirun -np 2 rover surrogate --study configs/studies/surrogate_drop.json\n"
+          "  rover surrogate --study configs/studies/surrogate_f_cq_gp.json --out results/gp.h5\n"
+          "  rover surrogate --predict results/surrogate_drop.h5 --design X.csv --csv Y.csv\n\n") +
+          kMpiFooter);
+      app.add_option("--study", o->study_path, "Study file (configs/studies/*.json, type surrogate)")
+          ->check(CLI::ExistingFile);
+      app.add_option("--samples", o->samples, "Override the number of runs of the study's design");
+      app.add_option("--predict", o->predict_path, "A surrogate saved by --study (its --out file)")
+          ->check(CLI::ExistingFile);
+      app.add_option("--design", o->design_path, "With --predict: CSV of points, a header of input names")
+          ->check(CLI::ExistingFile);
+      app.add_option("--csv", o->csv_path, "With --predict: CSV of the predictions");
+      add_study_control(app, o->control);
+      return [o] { return run_surrogate_command(*o); };
+    }};
+
+}  // namespace
+}  // namespace rover::cli

@@ -1,0 +1,163 @@
+// See surrogate_spec.hpp.
+#include "study/studies/surrogate_spec.hpp"
+
+#include <cmath>
+#include <filesystem>
+
+#include "io/scenario_config.hpp"
+
+namespace rover::study {
+namespace {
+
+constexpr double kDefaultConfidence = 0.95;
+constexpr int kMaxGaussianProcessStarts = 100;
+constexpr double kMaxGaussianProcessNugget = 0.1;
+
+// A design without "type" is a Latin hypercube; "lhs" is its alias.
+void default_design_type(io::Json& json) {
+  if (!json.is_object() || !json.contains("design") || !json["design"].is_object()) return;
+  io::Json& design = json["design"];
+  if (!design.contains("type")) design["type"] = "latin_hypercube";
+  if (design["type"] == "lhs") design["type"] = "latin_hypercube";
+}
+
+void check_inputs(const io::JsonReader& r, const StudySpec& spec) {
+  if (spec.inputs.empty()) r.fail("parameters", "a surrogate needs at least one uncertain input");
+  for (const UncertainInput& in : spec.inputs)
+    if (in.distribution.kind == DistributionKind::kFixed)
+      r.fail("parameters", "'" + in.label + "' is fixed: every input of a surrogate varies");
+  if (r.has("channels"))
+    r.fail("channels", "a surrogate study fits QoIs; curves along time come from `rover sensitivity` "
+                       "with \"method\": \"pce\"");
+}
+
+std::string existing_file(const io::JsonReader& r, const std::string& study_path) {
+  const std::string file = io::resolve_relative(study_path, r.string("file"));
+  if (!std::filesystem::is_regular_file(file)) r.fail("file", "no such result file: " + file);
+  return file;
+}
+
+GaussianProcessSettings parse_gp_options(const io::JsonReader& r, std::uint64_t seed) {
+  GaussianProcessSettings gp;
+  gp.seed = seed;
+  if (!r.has("gp")) return gp;
+  const io::JsonReader g = r.child("gp");
+  const std::string trend = g.string_or("trend", "constant");
+  if (trend == "linear") gp.trend = KrigingTrend::kLinear;
+  else if (trend != "constant") g.fail("trend", "expected \"constant\" or \"linear\", got \"" + trend + "\"");
+  gp.starts = g.integer_or("starts", gp.starts);
+  if (gp.starts < 1 || gp.starts > kMaxGaussianProcessStarts)
+    g.fail("starts", "must be from 1 to " + std::to_string(kMaxGaussianProcessStarts));
+  gp.nugget = g.number_or("nugget", gp.nugget);
+  if (!(gp.nugget >= 0.0 && gp.nugget <= kMaxGaussianProcessNugget)) g.fail("nugget", "must lie in [0, 0.1]");
+  gp.q2_threshold = g.number_or("q2_threshold", gp.q2_threshold);
+  if (!(gp.q2_threshold > 0.0 && gp.q2_threshold <= 1.0)) g.fail("q2_threshold", "must lie in (0, 1]");
+  g.finish();
+  return gp;
+}
+
+void parse_held_out(const io::JsonReader& r, SurrogateStudy& s) {
+  if (!r.has("held_out")) return;
+  const io::JsonReader h = r.child("held_out");
+  if (h.has("fraction") == h.has("file"))
+    r.fail("held_out", "give {\"fraction\": f} (the last runs) or {\"file\": \"result.h5\"}");
+  if (h.has("file")) {
+    s.held_out_file = existing_file(h, r.file());
+  } else {
+    s.held_out_fraction = h.number("fraction");
+    if (!(s.held_out_fraction > 0.0 && s.held_out_fraction <= kMaxHeldOutFraction))
+      h.fail("fraction", "must lie in (0, 0.5]");
+  }
+  h.finish();
+}
+
+void check_design_runs(const io::JsonReader& r, const SurrogateStudy& s) {
+  const int training = s.spec.design.samples - s.held_out_runs();
+  const int needed = min_training_runs(s);
+  if (training < needed)
+    r.child("design").fail("samples", std::to_string(training) + " training runs (" +
+                                          std::to_string(s.held_out_runs()) + " held out); a " +
+                                          surrogate_kind_name(s.kind) + " of " +
+                                          std::to_string(s.spec.inputs.size()) + " inputs needs at least " +
+                                          std::to_string(needed));
+}
+
+}  // namespace
+
+double SurrogateStudy::q2_threshold() const {
+  return kind == SurrogateKind::kPolynomialChaos ? pce.settings.q2_threshold : gp.q2_threshold;
+}
+
+std::vector<std::string> SurrogateStudy::qoi_names() const { return spec.model->qoi_names(); }
+
+std::vector<Distribution> SurrogateStudy::distributions() const {
+  std::vector<Distribution> d;
+  for (const UncertainInput& in : spec.inputs) d.push_back(in.distribution);
+  return d;
+}
+
+int SurrogateStudy::held_out_runs() const {
+  if (!training_file.empty()) return 0;
+  return static_cast<int>(std::lround(held_out_fraction * spec.design.samples));
+}
+
+int min_training_runs(const SurrogateStudy& s) {
+  if (s.kind == SurrogateKind::kPolynomialChaos) return min_pce_runs(s.distributions(), s.pce.settings);
+  const int trend_terms = s.gp.trend == KrigingTrend::kConstant ? 1 : static_cast<int>(s.spec.inputs.size()) + 1;
+  return trend_terms + 2;
+}
+
+SurrogateStudy load_surrogate_study(const std::string& path) {
+  io::Json json = io::read_json_file(path);
+  default_design_type(json);
+  const io::JsonReader r(json, path);
+  SurrogateStudy s;
+  const bool from_file = r.has("training");
+  if (from_file && r.has("design"))
+    r.fail("design", "give either \"design\" (runs made now) or \"training\" (the runs of a result file)");
+  s.spec = parse_study_spec(r, {"surrogate"}, from_file ? DesignKey::kByCaller : DesignKey::kRequired);
+  check_inputs(r, s.spec);
+  try {
+    s.kind = surrogate_kind_from_name(r.string_or("surrogate", "pce"));
+  } catch (const std::invalid_argument& e) {
+    r.fail("surrogate", e.what());
+  }
+  const double confidence = r.number_or("confidence", kDefaultConfidence);
+  if (!(confidence > 0.5 && confidence < 1.0)) r.fail("confidence", "must lie in (0.5, 1)");
+  const std::uint64_t seed = s.spec.design.seed;
+  if (s.kind == SurrogateKind::kPolynomialChaos && r.has("gp")) r.fail("gp", "applies to \"surrogate\": \"gp\"");
+  if (s.kind == SurrogateKind::kGaussianProcess && r.has("pce")) r.fail("pce", "applies to \"surrogate\": \"pce\"");
+  s.pce = parse_pce_options(r, confidence, seed);
+  s.gp = parse_gp_options(r, seed);
+  if (from_file) {
+    const io::JsonReader t = r.child("training");
+    s.training_file = existing_file(t, path);
+    t.finish();
+  }
+  parse_held_out(r, s);
+  if (!from_file) check_design_runs(r, s);
+  r.finish();
+  s.spec.fingerprint = extend_fingerprint(
+      s.spec.fingerprint, std::string("surrogate ") + surrogate_kind_name(s.kind) + " " + s.training_file + " " +
+                              s.held_out_file + " " + std::to_string(s.held_out_fraction));
+  return s;
+}
+
+void set_surrogate_runs(SurrogateStudy& s, int runs) {
+  if (!s.training_file.empty())
+    throw std::invalid_argument("--samples sets the runs of a design; this study trains on " + s.training_file);
+  if (s.spec.design.type == DesignType::kGrid)
+    throw std::invalid_argument("--samples does not apply to a grid design (its size is the product of its levels)");
+  SurrogateStudy trial = s;
+  trial.spec.design.samples = runs;
+  const int training = runs - trial.held_out_runs(), needed = min_training_runs(s);
+  if (training < needed)
+    throw std::invalid_argument("--samples " + std::to_string(runs) + ": " + std::to_string(training) +
+                                " training runs; a " + surrogate_kind_name(s.kind) + " of " +
+                                std::to_string(s.spec.inputs.size()) + " inputs needs at least " +
+                                std::to_string(needed));
+  s.spec.design.samples = runs;
+  s.spec.fingerprint = extend_fingerprint(s.spec.fingerprint, "samples " + std::to_string(runs));
+}
+
+}  // namespace rover::study

@@ -1,0 +1,170 @@
+// See surrogate_study.hpp.
+#include "study/studies/surrogate_study.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "io/json_reader.hpp"
+#include "study/runtime/study_runner.hpp"
+#include "study/studies/study_output.hpp"
+
+namespace rover::study {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+std::vector<Eigen::Index> ok_rows(const TrainingRuns& runs) {
+  std::vector<Eigen::Index> rows;
+  for (std::size_t i = 0; i < runs.status.size(); ++i)
+    if (runs.status[i] == run_status::kOk) rows.push_back(static_cast<Eigen::Index>(i));
+  return rows;
+}
+
+// The successful runs of one QoI: inputs and values.
+struct QoiRuns {
+  DesignMatrix x;
+  Eigen::VectorXd y;
+};
+
+// With finite_only, also without the runs whose value of this QoI is not finite.
+QoiRuns successful_runs(const TrainingRuns& runs, Eigen::Index qoi, bool finite_only = false) {
+  std::vector<Eigen::Index> rows = ok_rows(runs);
+  if (finite_only)
+    rows.erase(std::remove_if(rows.begin(), rows.end(), [&](Eigen::Index i) { return !std::isfinite(runs.y(i, qoi)); }),
+               rows.end());
+  QoiRuns out{DesignMatrix(static_cast<Eigen::Index>(rows.size()), runs.x.cols()),
+              Eigen::VectorXd(static_cast<Eigen::Index>(rows.size()))};
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    out.x.row(static_cast<Eigen::Index>(k)) = runs.x.row(rows[k]);
+    out.y(static_cast<Eigen::Index>(k)) = runs.y(rows[k], qoi);
+  }
+  return out;
+}
+
+void fit_pce(const SurrogateStudy& study, const QoiRuns& runs, SurrogateQoiResult& r) {
+  PceQoiResult p = pce_qoi_indices(r.name, runs.x, runs.y, study.distributions(), study.pce);
+  r.fitted = p.fit_done;
+  r.undefined_reason = p.undefined_reason;
+  if (!r.fitted) return;
+  r.model = polynomial_chaos_surrogate(std::move(p.expansion));
+  r.indices_defined = p.indices.defined;
+  r.indices = std::move(p.indices);
+  r.has_intervals = p.has_intervals;
+  r.intervals = std::move(p.intervals);
+}
+
+void fit_gp(const SurrogateStudy& study, const QoiRuns& runs, SurrogateQoiResult& r) {
+  try {
+    r.model = fit_gaussian_process_surrogate(runs.x, runs.y, study.distributions(), study.gp, r.name);
+    r.fitted = true;
+  } catch (const std::invalid_argument& e) {
+    r.undefined_reason = e.what();
+  }
+}
+
+SurrogateQoiResult fit_qoi(const SurrogateStudy& study, const TrainingRuns& training, const TrainingRuns& held_out,
+                           Eigen::Index q) {
+  SurrogateQoiResult r;
+  r.name = study.qoi_names()[static_cast<std::size_t>(q)];
+  const QoiRuns runs = successful_runs(training, q);
+  r.runs_used = static_cast<int>(runs.y.size());
+  if (study.kind == SurrogateKind::kPolynomialChaos) fit_pce(study, runs, r);
+  else fit_gp(study, runs, r);
+  if (!r.fitted) return r;
+  r.actual = runs.y;
+  r.loo_predicted = leave_one_out_predictions(r.model, runs.x, runs.y);
+  const QoiRuns test = successful_runs(held_out, q, /*finite_only=*/true);
+  if (test.y.size() == 0) return r;
+  validate_surrogate(test.x, test.y, study.q2_threshold(), &r.model);
+  r.held_out_actual = test.y;
+  r.held_out_predicted = predict_surrogate(r.model, test.x).mean;
+  return r;
+}
+
+void check_run_count(const SurrogateStudy& study, const TrainingRuns& training) {
+  const int ok = training.runs() - training.failed_runs(), needed = min_training_runs(study);
+  if (ok >= needed) return;
+  throw io::ConfigError(training.source + ": " + std::to_string(ok) + " successful training runs (" +
+                        std::to_string(training.failed_runs()) + " failed); a " + surrogate_kind_name(study.kind) +
+                        " of " + std::to_string(study.spec.inputs.size()) + " inputs needs at least " +
+                        std::to_string(needed));
+}
+
+SurrogateSet surrogate_set(const SurrogateStudy& study, const TrainingRuns& training,
+                           const std::vector<SurrogateQoiResult>& qoi) {
+  SurrogateSet set;
+  set.kind = study.kind;
+  set.q2_threshold = study.q2_threshold();
+  const QoiRuns ok = successful_runs(training, 0);
+  for (std::size_t j = 0; j < study.spec.inputs.size(); ++j) {
+    const UncertainInput& in = study.spec.inputs[j];
+    set.inputs.push_back(surrogate_input(in.name, in.label, in.distribution, ok.x.col(static_cast<Eigen::Index>(j))));
+  }
+  for (const SurrogateQoiResult& q : qoi)
+    if (q.fitted) set.models.push_back(q.model);
+  return set;
+}
+
+std::vector<std::string> study_warnings(const SurrogateStudy& study, const SurrogateStudyResult& r) {
+  std::vector<std::string> w;
+  for (const TrainingRuns* runs : {&r.training, &r.held_out})
+    if (runs->failed_runs() > 0)
+      w.push_back(std::to_string(runs->failed_runs()) + " of " + std::to_string(runs->runs()) +
+                  (runs == &r.training ? " training" : " held-out") + " runs failed and were left out (" +
+                  runs->source + ", see /samples/status)");
+  for (const SurrogateQoiResult& q : r.qoi) {
+    if (!q.fitted) w.push_back(q.name + ": no surrogate: " + q.undefined_reason);
+    else if (!q.undefined_reason.empty()) w.push_back(q.name + ": indices undefined: " + q.undefined_reason);
+    if (q.fitted && q.undefined_reason.empty() && !q.model.validation().warning.empty())
+      w.push_back(q.model.validation().warning);
+    if (q.indices_defined && study.pce.bootstrap > 0 && !q.has_intervals)
+      w.push_back(q.name + ": no bootstrap resample could be refitted; the indices have no intervals");
+  }
+  return w;
+}
+
+}  // namespace
+
+SurrogateStudyResult fit_surrogate_study(const SurrogateStudy& study, const TrainingRuns& training,
+                                         const TrainingRuns& held_out) {
+  check_run_count(study, training);
+  SurrogateStudyResult r;
+  r.training = training;
+  r.held_out = held_out;
+  const auto start = Clock::now();
+  for (Eigen::Index q = 0; q < training.y.cols(); ++q) r.qoi.push_back(fit_qoi(study, training, held_out, q));
+  r.fit_wall_time_s = seconds_since(start);
+  r.set = surrogate_set(study, training, r.qoi);
+  r.warnings = study_warnings(study, r);
+  return r;
+}
+
+std::optional<SurrogateStudyResult> run_surrogate_study(const SurrogateStudy& study, const StudyRunControl& control) {
+  const std::string out = checked_results_path(study.spec.name, control.results_path);
+  const bool root = world_rank() == 0;
+  const auto start = Clock::now();
+  TrainingRuns runs;
+  if (study.training_file.empty()) runs = run_design_runs(study, control, out);
+  else if (root) runs = read_result_runs(study.training_file, study, "training");
+  if (!root) return std::nullopt;
+  const double runs_s = seconds_since(start);
+  TrainingRuns held_out;
+  if (!study.held_out_file.empty()) {
+    held_out = read_result_runs(study.held_out_file, study, "held-out");
+  } else {
+    const int count = static_cast<int>(std::lround(study.held_out_fraction * runs.runs()));
+    held_out = runs.slice(runs.runs() - count, count);
+    runs = runs.slice(0, runs.runs() - count);
+  }
+  SurrogateStudyResult result = fit_surrogate_study(study, runs, held_out);
+  result.results_path = out;
+  result.runs_wall_time_s = runs_s;
+  return result;
+}
+
+}  // namespace rover::study

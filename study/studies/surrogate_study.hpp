@@ -1,0 +1,67 @@
+// The surrogate study: a sparse polynomial chaos expansion (Blatman & Sudret
+// 2011) or a Gaussian process (Rasmussen & Williams 2006) of each QoI,
+// trained on the runs of a design or of an existing result file
+// (surrogate_training.hpp), validated by leave-one-out and, when given, on
+// held-out runs, with the PCE's mean, variance and Sobol' indices in closed
+// form (Sudret 2008) and their bootstrap intervals.
+//
+// load_surrogate_study() (surrogate_spec.hpp) reads the study;
+// run_surrogate_study() makes or reads the runs and fits, printing nothing;
+// write_surrogate_study(), report_surrogate_study() and plot_surrogate_study()
+// (surrogate_report.hpp) put the result in HDF5, on a stream and in PNGs.
+//
+// Failed runs are left out of the fit and counted. A QoI that is constant
+// over the runs or non-finite in a successful run gets no indices (and, for a
+// Gaussian process, no model); the reason is reported, never a NaN.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "study/studies/surrogate_file.hpp"
+#include "study/studies/surrogate_spec.hpp"
+#include "study/studies/surrogate_training.hpp"
+#include "study/surrogate/pce_sobol.hpp"
+
+namespace rover::study {
+
+struct SurrogateQoiResult {
+  std::string name;
+  int runs_used = 0;              // successful training runs
+  bool fitted = false;            // a model exists (saved and predicted)
+  std::string undefined_reason;   // why there is no model or, for a PCE, no indices
+  FittedSurrogate model;
+  // Polynomial chaos only.
+  bool indices_defined = false;
+  PceSobolIndices indices;
+  bool has_intervals = false;
+  PceSobolIntervals intervals;
+  // Predicted against actual: leave-one-out at the training runs, the model at the held-out runs.
+  Eigen::VectorXd actual, loo_predicted;
+  Eigen::VectorXd held_out_actual, held_out_predicted;
+};
+
+struct SurrogateStudyResult {
+  std::string results_path;
+  TrainingRuns training;          // every training run, failed ones included
+  TrainingRuns held_out;          // no runs when there is no held-out validation
+  std::vector<SurrogateQoiResult> qoi;  // in the study's QoI order
+  SurrogateSet set;               // the fitted models and their inputs, as saved
+  double runs_wall_time_s = 0.0, fit_wall_time_s = 0.0;
+  std::vector<std::string> warnings;  // failed runs, low Q^2, undefined indices
+};
+
+// Fits every QoI on the successful training runs and scores it on the
+// successful held-out runs where it is finite. No MPI, files or output. Throws io::ConfigError
+// naming the source when fewer successful runs remain than the fit needs.
+SurrogateStudyResult fit_surrogate_study(const SurrogateStudy& study, const TrainingRuns& training,
+                                         const TrainingRuns& held_out);
+
+// Collective over MPI ranks: the design's runs over the task farm, or the
+// result files read on rank 0; then the fit on rank 0. The result on rank 0,
+// std::nullopt on the others. Throws std::invalid_argument (before any run)
+// for an unusable --out.
+std::optional<SurrogateStudyResult> run_surrogate_study(const SurrogateStudy& study, const StudyRunControl& control);
+
+}  // namespace rover::study

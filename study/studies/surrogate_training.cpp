@@ -1,0 +1,164 @@
+// See surrogate_training.hpp.
+#include "study/studies/surrogate_training.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+
+#include "io/hdf5_file.hpp"
+#include "io/json_reader.hpp"
+#include "study/runtime/study_runner.hpp"
+#include "study/studies/study_output.hpp"
+
+namespace rover::study {
+namespace {
+
+std::string joined(const std::vector<std::string>& names) {
+  return std::accumulate(names.begin(), names.end(), std::string(),
+                         [](const std::string& list, const std::string& n) { return list.empty() ? n : list + ", " + n; });
+}
+
+std::string text(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+// Messages about one file: "<path>: <role> runs: <what>".
+struct FileErrors {
+  std::string path, role;
+  [[noreturn]] void fail(const std::string& what) const {
+    throw io::ConfigError(path + ": " + role + " runs: " + what);
+  }
+};
+
+// The file's column of each study input; refuses a missing input and an
+// unlisted input that varies.
+std::vector<Eigen::Index> input_columns(const FileErrors& errors, const std::vector<std::string>& names,
+                                        const Eigen::MatrixXd& values, const SurrogateStudy& study) {
+  std::vector<Eigen::Index> columns;
+  std::vector<bool> used(names.size(), false);
+  for (const UncertainInput& in : study.spec.inputs) {
+    const auto it = std::find(names.begin(), names.end(), in.name);
+    if (it == names.end())
+      errors.fail("no input '" + in.label + "' (" + in.name + ") in /inputs/names (" + joined(names) + ")");
+    columns.push_back(it - names.begin());
+    used[static_cast<std::size_t>(it - names.begin())] = true;
+  }
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const auto column = values.col(static_cast<Eigen::Index>(k));
+    if (used[k] || values.rows() == 0 || column.minCoeff() == column.maxCoeff()) continue;
+    errors.fail("input '" + names[k] + "' varies over the runs (" + text(column.minCoeff()) + " to " +
+                text(column.maxCoeff()) + ") but is not a parameter of " + study.spec.path +
+                ": list it under \"parameters\"");
+  }
+  return columns;
+}
+
+std::vector<int> statuses(const FileErrors& errors, const io::Hdf5Reader& h5, const Eigen::MatrixXd& y) {
+  if (!h5.exists("/samples/status")) {
+    std::vector<int> status;
+    for (Eigen::Index i = 0; i < y.rows(); ++i)
+      status.push_back(y.row(i).allFinite() ? run_status::kOk : run_status::kError);
+    return status;
+  }
+  std::vector<int> status = h5.read_ints("/samples/status");
+  if (static_cast<Eigen::Index>(status.size()) != y.rows())
+    errors.fail("/samples/status has " + std::to_string(status.size()) + " entries for " +
+                std::to_string(y.rows()) + " runs");
+  return status;
+}
+
+// Every successful run's inputs lie in the support of their distributions.
+void check_support(const FileErrors& errors, const TrainingRuns& runs, const SurrogateStudy& study) {
+  for (Eigen::Index i = 0; i < runs.x.rows(); ++i) {
+    if (runs.status[static_cast<std::size_t>(i)] != run_status::kOk) continue;
+    for (std::size_t j = 0; j < study.spec.inputs.size(); ++j) {
+      const UncertainInput& in = study.spec.inputs[j];
+      const double v = runs.x(i, static_cast<Eigen::Index>(j));
+      if (v >= in.distribution.support_lower() && v <= in.distribution.support_upper()) continue;
+      errors.fail("run " + std::to_string(i) + ": " + in.label + " = " + text(v) + " lies outside its distribution " +
+                  in.distribution.describe() + " in " + study.spec.path);
+    }
+  }
+}
+
+}  // namespace
+
+int TrainingRuns::failed_runs() const {
+  return static_cast<int>(std::count_if(status.begin(), status.end(), [](int s) { return s != run_status::kOk; }));
+}
+
+TrainingRuns TrainingRuns::slice(int first, int count) const {
+  TrainingRuns out;
+  out.source = source;
+  out.x = x.middleRows(first, count);
+  out.y = y.middleRows(first, count);
+  out.status.assign(status.begin() + first, status.begin() + first + count);
+  out.messages.assign(messages.begin() + first, messages.begin() + first + count);
+  return out;
+}
+
+TrainingRuns read_result_runs(const std::string& path, const SurrogateStudy& study, const std::string& role) {
+  const FileErrors errors{path, role};
+  const io::Hdf5Reader h5(path);
+  if (!h5.exists("/inputs/names") || !h5.exists("/inputs/values"))
+    errors.fail("no /inputs/names and /inputs/values: not a result of montecarlo, evaluate, sensitivity or surrogate");
+  const std::vector<std::string> names = h5.read_strings("/inputs/names");
+  const Eigen::MatrixXd values = h5.read_matrix("/inputs/values");
+  if (values.cols() != static_cast<Eigen::Index>(names.size()))
+    errors.fail("/inputs/values has " + std::to_string(values.cols()) + " columns for " +
+                std::to_string(names.size()) + " names");
+  const std::vector<Eigen::Index> columns = input_columns(errors, names, values, study);
+  TrainingRuns runs;
+  runs.source = path;
+  runs.x.resize(values.rows(), static_cast<Eigen::Index>(columns.size()));
+  for (std::size_t j = 0; j < columns.size(); ++j) runs.x.col(static_cast<Eigen::Index>(j)) = values.col(columns[j]);
+  const std::vector<std::string> qois = study.qoi_names();
+  runs.y.resize(values.rows(), static_cast<Eigen::Index>(qois.size()));
+  for (std::size_t q = 0; q < qois.size(); ++q) {
+    if (!h5.exists("/qoi/" + qois[q]))
+      errors.fail("no QoI '" + qois[q] + "' (/qoi holds: " + (h5.exists("/qoi") ? joined(h5.list("/qoi")) : "nothing") + ")");
+    const std::vector<double> v = h5.read_doubles("/qoi/" + qois[q]);
+    if (static_cast<Eigen::Index>(v.size()) != values.rows())
+      errors.fail("/qoi/" + qois[q] + " has " + std::to_string(v.size()) + " values for " +
+                  std::to_string(values.rows()) + " runs");
+    runs.y.col(static_cast<Eigen::Index>(q)) = Eigen::Map<const Eigen::VectorXd>(v.data(), values.rows());
+  }
+  runs.status = statuses(errors, h5, runs.y);
+  runs.messages = h5.exists("/samples/message") ? h5.read_strings("/samples/message")
+                                                 : std::vector<std::string>(runs.status.size());
+  runs.messages.resize(runs.status.size());
+  for (Eigen::Index i = 0; i < runs.x.rows(); ++i)
+    if (runs.status[static_cast<std::size_t>(i)] != run_status::kOk) runs.y.row(i).setConstant(std::nan(""));
+  check_support(errors, runs, study);
+  return runs;
+}
+
+TrainingRuns run_design_runs(const SurrogateStudy& study, const StudyRunControl& control,
+                             const std::string& results_path) {
+  const StudySpec& spec = study.spec;
+  const StudyModel& model = *spec.model;
+  const RecordLayout layout = model.layout();
+  TrainingRuns runs;
+  runs.source = "design";
+  runs.x = study_design(spec);
+  runs.y.resize(runs.x.rows(), layout.qoi_count);
+  auto compute = [&](int i) { return encode_record(i, model.run(runs.x.row(i).data())); };
+  auto consume = [&](TaskResult&& task) {
+    const Eigen::Index i = task.index;
+    const RunRecord record = decode_record(layout, std::move(task));
+    for (int q = 0; q < layout.qoi_count; ++q)
+      runs.y(i, q) = record.ok() ? record.qoi[static_cast<std::size_t>(q)] : std::nan("");
+    runs.status.push_back(record.status);
+    runs.messages.push_back(record.message);
+  };
+  const StudyRunOptions options{results_path, spec.fingerprint, control.resume, "surrogate",
+                                control.progress_interval_s, control.resume_command, control.checkpoint};
+  stream_study_tasks(static_cast<int>(runs.x.rows()), compute, consume, options);
+  if (world_rank() != 0) return TrainingRuns{};
+  return runs;
+}
+
+}  // namespace rover::study

@@ -1,0 +1,48 @@
+// The runs a surrogate is trained and validated on: the study's design run now
+// over the MPI task farm, or the runs of an existing result file of
+// montecarlo, evaluate, sensitivity or surrogate (docs/results_format.md):
+// /inputs/names and /inputs/values (runs x inputs), /qoi/<name> (runs) and,
+// when present, /samples/status (0 = ok). Failed runs keep their rows, with
+// their status and NaN values, so that they are counted and reported; the fit
+// leaves them out.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "study/studies/montecarlo.hpp"
+#include "study/studies/surrogate_spec.hpp"
+
+namespace rover::study {
+
+struct TrainingRuns {
+  std::string source;             // "design" or the result file
+  DesignMatrix x;                 // runs x inputs, in the study's input order
+  Eigen::MatrixXd y;              // runs x QoIs, in the study's QoI order; NaN where a run failed
+  std::vector<int> status;        // per run, run_status (0 ok)
+  std::vector<std::string> messages;
+
+  int runs() const { return static_cast<int>(x.rows()); }
+  int failed_runs() const;
+  // The runs first .. first + count - 1.
+  TrainingRuns slice(int first, int count) const;
+};
+
+// Reads the runs of a result file for the study's inputs and QoIs. Columns
+// are matched by parameter name (/inputs/names) in any order; `role` says
+// what the file is for in messages ("training", "held-out"). Throws
+// io::ConfigError naming the file for: no /inputs/names or /inputs/values, an
+// input of the study missing, an input the study does not list that varies
+// over the runs, a QoI missing (listing those present), sizes that disagree,
+// or an input value outside its distribution's support (naming the run).
+TrainingRuns read_result_runs(const std::string& path, const SurrogateStudy& study, const std::string& role);
+
+// Collective over MPI ranks: runs the study's design (checkpointed beside
+// results_path, --resume as the other studies). The runs on rank 0; empty on
+// the other ranks.
+TrainingRuns run_design_runs(const SurrogateStudy& study, const StudyRunControl& control,
+                             const std::string& results_path);
+
+}  // namespace rover::study
