@@ -24,6 +24,8 @@ run_all() {  # $1: the rover binary, $2: output directory
   "$rover" montecarlo --study "$studies/preload_mc.json" --samples 40 --out "$out/preload_mc.h5"
   "$rover" surface --study "$studies/f_cq_surface_coarse.json" --out "$out/surface.h5"
   "$rover" calibrate --study "$studies/calibration.json" --out "$out/calibration.h5"
+  "$rover" calibrate --study "$studies/calibration.json" --algorithm LN_BOBYQA --max-evaluations 8 --profile \
+    --out "$out/calibration_search.h5"
   "$rover" calibrate --study "$studies/calibration_mcmc.json" --steps 20 --discard 5 --walkers 8 \
     --out "$out/calibration_mcmc.h5" || true  # too short to mix: status 2 is expected
   "$rover" sensitivity --study "$studies/sobol_ishigami.json" --out "$out/sobol_ishigami.h5"

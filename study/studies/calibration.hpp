@@ -84,6 +84,13 @@ inline double fit_natural(const FitParameter& p, double x) { return p.log_scale 
 
 enum class CalibrationMethod { optimize, mcmc };
 
+// The "algorithm" of a fit by Levenberg-Marquardt alone.
+inline constexpr const char* kLeastSquaresAlgorithm = "levenberg_marquardt";
+
+// The reference integrator of the integration check: Dormand-Prince at the
+// tightest tolerances that run through every contact event of the drops.
+IntegratorSettings reference_integrator();
+
 // The samplers of the posterior (study/studies/calibration_mcmc.hpp).
 enum class McmcSampler { independence, ensemble };
 // Burn-in steps left out when the study names none: the independence

@@ -18,6 +18,7 @@
 #include "study/runtime/calibration_mpi.hpp"
 #include "study/runtime/study_runner.hpp"
 #include "study/runtime/task_farm.hpp"
+#include "study/studies/report_number.hpp"
 
 namespace rover::study {
 namespace {
@@ -34,12 +35,6 @@ constexpr double kEnsembleBallStandardErrors = 0.1;
 // replicates per draw.
 constexpr double kLowerTail = 0.00135, kUpperTail = 0.99865;
 constexpr int kNoiseReplicates = 25;
-
-std::string format_number(double v, int digits = 4) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*g", digits, v);
-  return buffer;
-}
 
 // Sample quantile with linear interpolation between order statistics
 // (Hyndman & Fan 1996, type 7) of an unsorted copy.

@@ -4,15 +4,10 @@
 #include <ostream>
 
 #include "study/studies/calibration_mcmc.hpp"
+#include "study/studies/report_number.hpp"
 
 namespace rover::study {
 namespace {
-
-std::string format_number(double v, int digits = 4) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*g", digits, v);
-  return buffer;
-}
 
 std::vector<double> as_vector(const Eigen::VectorXd& v) { return {v.begin(), v.end()}; }
 

@@ -11,15 +11,10 @@
 
 #include "io/plot.hpp"
 #include "study/studies/calibration_mcmc.hpp"
+#include "study/studies/report_number.hpp"
 
 namespace rover::study {
 namespace {
-
-std::string format_number(double v, int digits = 4) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*g", digits, v);
-  return buffer;
-}
 
 // A sampled parameter as the corner plot shows it: its name and unit
 // (study/studies/calibration.hpp), the noise sd in mm rather than metres.

@@ -8,6 +8,7 @@
 #include "study/runtime/calibration_mpi.hpp"
 #include "study/runtime/study_runner.hpp"
 #include "study/runtime/task_farm.hpp"
+#include "study/studies/report_number.hpp"
 
 namespace rover::study {
 namespace {
@@ -48,12 +49,6 @@ std::vector<std::vector<double>> probe_points(const CalibrationStudy& s, const P
     }
   }
   return points;
-}
-
-std::string format_number(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.3g", v);
-  return buffer;
 }
 
 }  // namespace
@@ -117,8 +112,8 @@ std::string describe_flat_parameters(const ProfileProbe& probe, const Calibratio
     for (const std::string& name : probe.flat) flagged = flagged || name == s.fit[k].name;
     if (!flagged) continue;
     text += (text.empty() ? "" : "; ") + s.fit[k].name + ": the objective rises by " +
-            format_number(probe.delta_chi2(row, kColumnMinusTwo)) + " and " +
-            format_number(probe.delta_chi2(row, kColumnPlusTwo)) +
+            format_number(probe.delta_chi2(row, kColumnMinusTwo), 3) + " and " +
+            format_number(probe.delta_chi2(row, kColumnPlusTwo), 3) +
             " chi-square units at -2 and +2 standard errors (4 expected)";
   }
   return text.empty() ? text

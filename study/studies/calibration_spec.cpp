@@ -1,0 +1,437 @@
+// Reading a calibration study file (study/studies/calibration.hpp; the format
+// is in docs/configuration.md): the data curves and their scenarios, the
+// fitted parameters by name, bounds, scales and priors, the method and its
+// options, every value checked before any run.
+#include "study/studies/calibration.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <limits>
+#include <string>
+#include <vector>
+#include <sstream>
+#include <stdexcept>
+
+#include <nlopt.hpp>
+
+#include "core/simulate.hpp"
+#include "io/csv.hpp"
+#include "study/model/distribution_json.hpp"
+#include "study/studies/report_number.hpp"
+
+namespace rover::study {
+namespace {
+
+constexpr const char* kTimeOffset = "time_offset";
+// A measured curve whose heights span less than this is constant.
+constexpr double kConstantCurveRange_m = 1e-9;
+// Data may end this share of the duration past the simulated end (rounding of
+// sample times).
+constexpr double kSpanTolerance = 1e-9;
+// The reference integrator of the integration check: Dormand-Prince at the
+// tightest tolerances that run through every contact event of the drops.
+constexpr double kReferenceRelativeTolerance = 1e-8;
+constexpr double kReferenceAbsoluteTolerance = 1e-11;
+
+}  // namespace
+
+IntegratorSettings reference_integrator() {
+  IntegratorSettings settings = default_integrator_settings(IntegratorMethod::kDormandPrince45);
+  settings.relative_tolerance = kReferenceRelativeTolerance;
+  settings.absolute_tolerance = kReferenceAbsoluteTolerance;
+  return settings;
+}
+
+namespace {
+
+// Positive scale parameters are searched in log10 unless the study says
+// otherwise: the S-joints' sharpness f and every stiffness (a key k or k_*).
+bool log_scale_by_default(const std::string& canonical) {
+  const std::string key = canonical.substr(canonical.rfind('.') + 1);
+  return canonical == "s_structure.f" || key == "k" || key.rfind("k_", 0) == 0;
+}
+
+// Every dataset's model: its scenario, the simulated parameters, its channel
+// and the study's integrator.
+void build_dataset_models(CalibrationStudy& s) {
+  std::vector<std::string> canonical;
+  for (std::size_t k : s.simulated()) canonical.push_back(s.fit[k].canonical);
+  for (CalibrationDataset& d : s.datasets)
+    d.model = std::make_shared<const RoverStudyModel>(d.sources, canonical, std::vector<QoiSpec>{},
+                                                      std::vector<Channel>{calibration_channel(d.channel).channel},
+                                                      s.integrator);
+}
+
+// The names of "fit" (or of --fit, whose errors name the flag).
+std::vector<std::string> fit_names(const io::JsonReader& r, const CalibrationOverrides& o) {
+  std::vector<std::string> names;
+  if (!o.fit.empty()) {
+    (void)r.has("fit");
+    return o.fit;
+  }
+  const io::Json& fit = r.raw("fit");
+  if (!fit.is_array() || fit.empty()) r.fail("fit", "expected a non-empty list of parameter names");
+  for (const auto& n : fit) {
+    if (!n.is_string()) r.fail("fit", "expected parameter names (strings)");
+    names.push_back(n.get<std::string>());
+  }
+  return names;
+}
+
+// The canonical name of a fitted parameter; an unknown one is refused with
+// the nearest names, blamed on --fit or on the study's "fit".
+std::string canonical_fit_name(const io::JsonReader& r, const CalibrationOverrides& o,
+                               const ParameterSpace& space, const std::string& name) {
+  if (name == kTimeOffset) return "";
+  try {
+    return space.canonical(name);
+  } catch (const std::invalid_argument& e) {
+    if (!o.fit.empty()) throw io::ConfigError(std::string("--fit: ") + e.what());
+    r.fail("fit", e.what());
+  }
+  return "";
+}
+
+void read_fit_parameters(const io::JsonReader& r, const CalibrationOverrides& o, const ParameterSpace& space,
+                         CalibrationStudy& s) {
+  const io::JsonReader bounds = r.child("bounds");
+  const io::JsonReader initial = r.child("initial");
+  const io::Json no_scales = io::Json::object();
+  const io::JsonReader log_scale = r.has("log_scale") ? r.child("log_scale") : io::JsonReader(no_scales, s.common.path);
+  for (const std::string& name : fit_names(r, o)) {
+    FitParameter p;
+    p.name = name;
+    p.canonical = canonical_fit_name(r, o, space, name);
+    for (const auto& q : s.fit)
+      if (q.name == name || (!p.canonical.empty() && q.canonical == p.canonical))
+        r.fail("fit", "parameter '" + name + "' is listed twice");
+    if (name == kTimeOffset && s.datasets.size() > 1)
+      r.fail("fit", "time_offset can be fitted for one curve only; with several each curve's offset is profiled");
+    const auto b = bounds.fixed_numbers<2>(name);
+    p.lower = b[0];
+    p.upper = b[1];
+    if (!(p.lower < p.upper))
+      bounds.fail(name, "bounds [" + format_number(p.lower, 6) + ", " + format_number(p.upper, 6) +
+                            "] reversed or empty: lower must be below upper");
+    p.log_scale = log_scale.has(name) ? log_scale.boolean(name) : log_scale_by_default(p.canonical);
+    if (p.log_scale && !(p.lower > 0))
+      bounds.fail(name, "a log-scale parameter needs positive bounds, got [" + format_number(p.lower, 6) + ", " +
+                            format_number(p.upper, 6) + "]");
+    p.initial = initial.has(name) ? initial.number(name)
+                                  : (p.canonical.empty() ? 0.0 : space.nominal(p.canonical));
+    if (!(p.initial >= p.lower && p.initial <= p.upper))
+      initial.fail(name, "initial value " + format_number(p.initial, 6) + " outside the bounds [" +
+                             format_number(p.lower, 6) + ", " + format_number(p.upper, 6) + "]");
+    p.prior = p.log_scale ? log_uniform(p.lower, p.upper) : uniform(p.lower, p.upper);
+    s.fit.push_back(p);
+  }
+  if (r.has("log_scale")) log_scale.finish();
+  (void)bounds;
+  (void)initial;
+}
+
+// A curve the fit can use: more rows than unknowns, not constant, and
+// inside the simulated span for at least the largest offset allowed.
+void check_data_fits_the_run(const CalibrationStudy& s, const CalibrationDataset& d) {
+  if (d.t.size() < s.fit.size() + 2)
+    throw io::ConfigError(d.path + ": " + std::to_string(d.t.size()) + " rows for " + std::to_string(s.fit.size()) +
+                          " fitted parameters and a time offset: need at least " + std::to_string(s.fit.size() + 2));
+  const auto [low, high] = std::minmax_element(d.z.begin(), d.z.end());
+  if (!(*high - *low > kConstantCurveRange_m))
+    throw io::ConfigError(d.path + ": column z is constant (" + format_number(*low, 6) +
+                          " m throughout): a constant curve tells nothing about the parameters");
+  const double duration_s = d.model->nominal().scenario.duration_s;
+  double offset_upper = s.offset_max_s;
+  for (const FitParameter& f : s.fit)
+    if (f.name == kTimeOffset) offset_upper = f.upper;
+  if (d.t.back() - offset_upper > duration_s * (1.0 + kSpanTolerance))
+    throw io::ConfigError(d.path + ": the data run to t = " + format_number(d.t.back(), 6) +
+                          " s, past the end of the simulated " + format_number(duration_s, 6) + " s of " +
+                          d.scenario_path + " even at the largest time offset, " + format_number(offset_upper, 6) +
+                          " s (field 'bounds.time_offset'); lengthen the scenario's \"duration\" or cut the data");
+}
+
+// Bounds and initial values of parameters not fitted are accepted (a study
+// file may list several so that --fit can choose), but each must name a
+// parameter; the offset range is always used.
+void bounds_of_unfitted_parameters(const io::JsonReader& r, const ParameterSpace& space, CalibrationStudy& s) {
+  const io::JsonReader bounds = r.child("bounds");
+  const io::JsonReader initial = r.child("initial");
+  auto check_name = [&](const io::JsonReader& where, const std::string& name) {
+    if (name == kTimeOffset) return;
+    try {
+      (void)space.canonical(name);
+    } catch (const std::invalid_argument& e) {
+      where.fail(name, e.what());
+    }
+  };
+  for (const auto& [name, value] : r.raw("bounds").items()) {
+    check_name(bounds, name);
+    const auto b = bounds.fixed_numbers<2>(name);
+    if (!(b[0] < b[1])) bounds.fail(name, "bounds reversed or empty: lower must be below upper");
+    if (name == kTimeOffset) {
+      s.offset_min_s = b[0];
+      s.offset_max_s = b[1];
+    }
+  }
+  if (r.has("initial"))
+    for (const auto& [name, value] : r.raw("initial").items()) {
+      check_name(initial, name);
+      const double v = initial.number(name);
+      if (name == kTimeOffset) s.offset_initial_s = v;
+    }
+  bounds.finish();
+  initial.finish();
+}
+
+}  // namespace
+
+bool CalibrationStudy::offset_fitted() const {
+  return std::any_of(fit.begin(), fit.end(), [](const FitParameter& p) { return p.name == "time_offset"; });
+}
+
+std::vector<std::size_t> CalibrationStudy::simulated() const {
+  std::vector<std::size_t> out;
+  for (std::size_t k = 0; k < fit.size(); ++k)
+    if (fit[k].name != kTimeOffset) out.push_back(k);
+  return out;
+}
+
+std::vector<double> CalibrationStudy::simulated_values(const std::vector<double>& values) const {
+  std::vector<double> out;
+  for (std::size_t k : simulated()) out.push_back(values.at(k));
+  return out;
+}
+
+CalibrationStudy CalibrationStudy::with_integrator(const IntegratorSettings& settings) const {
+  CalibrationStudy copy = *this;
+  copy.integrator = settings;
+  build_dataset_models(copy);
+  return copy;
+}
+
+const std::vector<CalibrationChannel>& calibration_channels() {
+  static const std::vector<CalibrationChannel> channels{
+      {"B_l_z", Channel::kBlz, "world z of the left bogie pin B_l"},
+      {"B_r_z", Channel::kBrz, "world z of the right bogie pin B_r"},
+      {"G_z", Channel::kGz, "world z of the chassis centre of mass G"},
+  };
+  return channels;
+}
+
+const CalibrationChannel& calibration_channel(const std::string& name) {
+  std::string valid;
+  for (const CalibrationChannel& c : calibration_channels()) {
+    if (c.name == name) return c;
+    valid += (valid.empty() ? "" : ", ") + c.name;
+  }
+  throw std::invalid_argument("unknown channel '" + name + "' (valid: " + valid + ")");
+}
+
+namespace {
+
+// The measured curves: "data" (a file, or a list of {file, scenario,
+// channel}) or --data, each with its scenario, checked before any run.
+void read_datasets(const io::JsonReader& r, const std::string& path, const CalibrationOverrides& o,
+                   CalibrationStudy& s) {
+  if (o.data_path.empty() && !r.has("data")) r.fail("data", "missing: give the measured curve here or with --data");
+  const std::string study_scenario = io::resolve_relative(path, r.string("scenario"));
+  auto add_dataset = [&](const std::string& file, const std::string& scenario, const std::string& channel) {
+    CalibrationDataset d;
+    d.path = file;
+    d.scenario_path = scenario;
+    d.channel = channel;
+    d.sources = io::read_scenario_sources(scenario);
+    (void)io::build_scenario(d.sources);  // the scenario's own checks, before any run
+    // The checks `rover compare` makes (monotonic times, >= 3 rows, sane values).
+    const io::MeasuredCurve curve = io::read_measured_curve(file);
+    d.t = curve.t_s;
+    d.z = curve.z_m;
+    s.data_path += (s.data_path.empty() ? "" : ", ") + file;
+    s.datasets.push_back(std::move(d));
+  };
+  if (!o.data_path.empty()) {
+    (void)r.has("data");  // the command line's curve replaces the study's
+    add_dataset(o.data_path, study_scenario, "B_l_z");
+  } else if (r.raw("data").is_string()) {
+    add_dataset(io::resolve_relative(path, r.string("data")), study_scenario, "B_l_z");
+  } else {
+    const io::Json& list = r.raw("data");
+    if (!list.is_array() || list.empty())
+      r.fail("data", "expected a file name or a non-empty list of {\"file\", \"scenario\", \"channel\"}");
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      if (!list[i].is_object()) r.fail("data", "entry " + std::to_string(i) + " is not an object");
+      const io::JsonReader item(list[i], path, r.field("data") + "[" + std::to_string(i) + "]");
+      const std::string file = io::resolve_relative(path, item.string("file"));
+      const std::string scenario =
+          item.has("scenario") ? io::resolve_relative(path, item.string("scenario")) : study_scenario;
+      const std::string channel = item.string_or("channel", "B_l_z");
+      try {
+        (void)calibration_channel(channel);
+      } catch (const std::invalid_argument& e) {
+        item.fail("channel", e.what());
+      }
+      try {
+        add_dataset(file, scenario, channel);
+      } catch (const io::ConfigError&) {
+        throw;  // names the data file
+      } catch (const std::exception& e) {
+        item.fail("scenario", e.what());
+      }
+      item.finish();
+    }
+  }
+}
+
+CalibrationMethod read_method(const io::JsonReader& r, const CalibrationOverrides& o) {
+  const std::string configured_method = r.string_or("method", "optimize");
+  const std::string method = o.method.empty() ? configured_method : o.method;
+  if (method == "optimize") return CalibrationMethod::optimize;
+  if (method != "mcmc") r.fail("method", "unknown method '" + method + "' (optimize or mcmc)");
+  return CalibrationMethod::mcmc;
+}
+
+// Priors (used by the mcmc method; checked whatever the method).
+void read_priors(const io::JsonReader& r, CalibrationStudy& s) {
+  if (r.has("priors")) {
+    const io::JsonReader priors = r.child("priors");
+    for (FitParameter& p : s.fit) {
+      if (!priors.has(p.name)) continue;
+      const io::JsonReader prior = priors.child(p.name);
+      const Distribution d = parse_distribution(prior, std::numeric_limits<double>::quiet_NaN());
+      std::string why;
+      if (!d.IsValid(&why)) priors.fail(p.name, why);
+      // The prior is truncated to the bounds: it needs mass inside them.
+      if (!(d.cdf(p.upper) - d.cdf(p.lower) > 0.0) && d.kind != DistributionKind::kFixed)
+        priors.fail(p.name, d.describe() + " has no probability inside the bounds [" + format_number(p.lower, 6) +
+                                ", " + format_number(p.upper, 6) + "]");
+      prior.finish();
+      p.prior = d;
+    }
+    priors.finish();
+  }
+}
+
+// "mcmc": the sampler and its target, the noise model.
+void read_mcmc_settings(const io::JsonReader& r, CalibrationStudy& s) {
+  if (r.has("mcmc")) {
+    const io::JsonReader m = r.child("mcmc");
+    const std::string sampler = m.string_or("sampler", "independence");
+    if (sampler == "independence") s.mcmc.sampler = McmcSampler::independence;
+    else if (sampler == "ensemble") s.mcmc.sampler = McmcSampler::ensemble;
+    else m.fail("sampler", "unknown sampler '" + sampler + "' (independence or ensemble)");
+    s.mcmc.walkers = m.integer_or("walkers", s.mcmc.walkers);
+    s.mcmc.steps = m.integer_or("steps", static_cast<int>(s.mcmc.steps));
+    if (m.has("discard")) s.mcmc.discard = m.integer_or("discard", 0);
+    s.mcmc.target_ess = m.has("target_ess") ? m.non_negative("target_ess") : s.mcmc.target_ess;
+    s.mcmc.max_rhat = m.has("max_rhat") ? m.positive("max_rhat") : s.mcmc.max_rhat;
+    if (!(s.mcmc.max_rhat > 1.0)) m.fail("max_rhat", "must be above 1, got " + format_number(s.mcmc.max_rhat, 6));
+    s.mcmc.seed = m.seed_or("seed", s.mcmc.seed);
+    s.mcmc.predictive_draws = m.integer_or("predictive_draws", s.mcmc.predictive_draws);
+    if (m.has("noise_sd")) {
+      if (m.raw("noise_sd").is_number()) {
+        s.mcmc.sample_noise = false;
+        s.mcmc.known_noise_sd_m = m.positive("noise_sd");
+      } else {
+        const io::JsonReader noise = m.child("noise_sd");
+        s.mcmc.noise_prior = parse_distribution(noise, std::numeric_limits<double>::quiet_NaN());
+        std::string why;
+        if (!s.mcmc.noise_prior.IsValid(&why)) m.fail("noise_sd", why);
+        if (!(s.mcmc.noise_prior.support_lower() >= 0))
+          m.fail("noise_sd", "the noise sd prior must not extend below 0");
+        noise.finish();
+      }
+    }
+    if (s.mcmc.predictive_draws < 0) m.fail("predictive_draws", "must not be negative");
+    m.finish();
+  }
+}
+
+// The posterior's sizes after the command line's overrides, checked.
+void check_mcmc_sizes(const io::JsonReader& r, const CalibrationOverrides& o, CalibrationStudy& s) {
+  if (o.walkers) s.mcmc.walkers = *o.walkers;
+  if (o.steps) s.mcmc.steps = *o.steps;
+  if (o.discard) s.mcmc.discard = *o.discard;
+  std::string sampled_names;
+  for (const FitParameter& p : s.fit) sampled_names += (sampled_names.empty() ? "" : ", ") + p.name;
+  if (s.mcmc.sample_noise)
+    for (std::size_t k = 0; k < s.datasets.size(); ++k)
+      sampled_names += s.datasets.size() == 1 ? ", noise_sd" : ", noise_sd[" + std::to_string(k) + "]";
+  const std::size_t sampled = s.fit.size() + (s.mcmc.sample_noise ? s.datasets.size() : 0);
+  if (s.mcmc.walkers < 2 * static_cast<int>(sampled) || s.mcmc.walkers % 2 != 0)
+    r.fail("mcmc.walkers", "got " + std::to_string(s.mcmc.walkers) + "; must be even and at least " +
+                               std::to_string(2 * sampled) + ", twice the " + std::to_string(sampled) +
+                               " sampled parameters (" + sampled_names + ")");
+  if (s.mcmc.steps <= 0) r.fail("mcmc.steps", "must be positive, got " + std::to_string(s.mcmc.steps));
+  const long discard = mcmc_discard(s.mcmc, s.mcmc.sampler);
+  if (discard < 0 || s.mcmc.steps - discard < 4)
+    r.fail("mcmc.discard", "must be >= 0 and leave at least 4 of the " + std::to_string(s.mcmc.steps) +
+                               " steps, got " + std::to_string(discard));
+}
+
+// The fit's options: the first-search algorithm, budgets, profile.
+void read_fit_options(const io::JsonReader& r, const CalibrationOverrides& o, CalibrationStudy& s) {
+  // Read every key even when the command line overrides it (no "unknown key").
+  const std::string configured_algorithm = r.string_or("algorithm", kLeastSquaresAlgorithm);
+  const int configured_evaluations = r.integer_or("max_evaluations", 40);
+  const int configured_starts = r.integer_or("starts", 1);
+  s.algorithm = !o.algorithm.empty() ? o.algorithm : configured_algorithm;
+  if (s.algorithm != kLeastSquaresAlgorithm && static_cast<int>(nlopt_algorithm_from_string(s.algorithm.c_str())) < 0)
+    r.fail("algorithm", "unknown algorithm '" + s.algorithm + "' (levenberg_marquardt, or an NLopt algorithm for a first search: "
+                        "LN_BOBYQA, LN_NELDERMEAD, GN_DIRECT_L, GN_CRS2_LM, ...)");
+  if (s.algorithm.rfind("LD_", 0) == 0 || s.algorithm.rfind("GD_", 0) == 0)
+    r.fail("algorithm", "'" + s.algorithm + "' needs gradients, which the simulated RMS does not have; "
+                        "use a derivative-free algorithm (LN_BOBYQA, LN_SBPLX, LN_NELDERMEAD, GN_DIRECT_L, ...)");
+  s.max_evaluations = o.max_evaluations ? *o.max_evaluations : configured_evaluations;
+  s.max_iterations = o.max_iterations ? *o.max_iterations : r.integer_or("max_iterations", 0);
+  if (s.max_iterations < 0) r.fail("max_iterations", "must be positive (or 0: 10 + 5 per parameter), got " + std::to_string(s.max_iterations));
+  if (s.max_evaluations <= 0) r.fail("max_evaluations", "must be positive, got " + std::to_string(s.max_evaluations));
+  s.xtol_rel = r.has("xtol_rel") ? r.positive("xtol_rel") : 1e-3;
+  s.starts = o.starts ? *o.starts : configured_starts;
+  if (s.starts <= 0) r.fail("starts", "must be positive, got " + std::to_string(s.starts));
+  s.seed = static_cast<std::uint64_t>(r.integer_or("seed", 1));
+  s.profile = r.boolean_or("profile", false) || o.profile;
+  s.profile_points = r.integer_or("profile_points", s.profile_points);
+  if (s.profile_points < 3) r.fail("profile_points", "must be at least 3");
+}
+
+// Everything that changes a result: the files, the data and the options in force.
+std::string calibration_fingerprint(const CalibrationStudy& s) {
+  std::ostringstream key;
+  key << s.common.fingerprint << '\n';
+  for (const auto& d : s.datasets)
+    key << read_text(d.path) << '\n' << read_text(d.scenario_path) << '\n' << d.channel << '\n';
+  key << (s.method == CalibrationMethod::mcmc ? "mcmc" : "optimize") << '\n' << s.algorithm << ' ' << s.max_iterations << ' ' << describe_integrator(s.integrator)
+      << ' ' << s.max_evaluations << ' ' << s.starts << ' ' << s.mcmc.walkers << ' ' << s.mcmc.steps << ' ' << mcmc_discard(s.mcmc, s.mcmc.sampler) << ' ' << static_cast<int>(s.mcmc.sampler) << ' ' << s.mcmc.target_ess << ' ' << s.mcmc.max_rhat << ' ' << s.profile << ' ' << s.profile_points;
+  for (const auto& p : s.fit) key << ' ' << p.name;
+  return io::config_fingerprint(key.str());
+}
+
+}  // namespace
+
+CalibrationStudy load_calibration_study(const std::string& path, const CalibrationOverrides& o) {
+  const io::Json json = io::read_json_file(path);
+  const io::JsonReader r(json, path);
+  CalibrationStudy s;
+  s.common = parse_study_common(r, "calibration");
+  s.integrator = r.has("integrator") || r.has("accuracy") ? s.common.setup.scenario.integrator
+                                     : default_integrator_settings(IntegratorMethod::kRosenbrockW);
+  s.integration_check.reference = reference_integrator();
+  read_datasets(r, path, o, s);
+  s.method = read_method(r, o);
+  const ParameterSpace space(s.datasets.front().sources.rover, s.datasets.front().sources.scenario);
+  read_fit_parameters(r, o, space, s);
+  bounds_of_unfitted_parameters(r, space, s);
+  build_dataset_models(s);
+  for (const CalibrationDataset& d : s.datasets) check_data_fits_the_run(s, d);
+  read_priors(r, s);
+  read_mcmc_settings(r, s);
+  check_mcmc_sizes(r, o, s);
+  read_fit_options(r, o, s);
+  r.finish();
+  s.fingerprint = calibration_fingerprint(s);
+  return s;
+}
+
+}  // namespace rover::study
