@@ -148,12 +148,52 @@ TEST(CmdCalibrate, IntegrationCheckTightensTheIntegratorUntilTheShiftIsSmall) {
   const io::Hdf5Reader h5(dir + "/precise.h5");
   EXPECT_EQ(h5.attribute_integer("/best", "intervals_valid"), 1) << log;
   EXPECT_NE(h5.attribute_string("/best", "integrator"), "rosenbrock at rtol 1e-05, atol 0.0002");
+  // The profile probe: near-quadratic at the 95 % ends (4 expected), no lower point.
+  const auto rises = h5.read_doubles("/best/probe_delta_chi2");
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_GT(rises[8 * k + 2], 2.0) << log;
+    EXPECT_GT(rises[8 * k + 5], 2.0) << log;
+  }
   for (double shift : h5.read_doubles("/best/integration_shift")) EXPECT_LE(std::abs(shift), 0.1) << log;
   const auto lower = h5.read_doubles("/best/lower"), upper = h5.read_doubles("/best/upper");
   EXPECT_LT(lower[0], 0.12) << log;
   EXPECT_GT(upper[0], 0.12) << log;
   EXPECT_LT(lower[1], 8000) << log;
   EXPECT_GT(upper[1], 8000) << log;
+}
+
+// A drop made at f = 3e4 (the S-joints' atan nearly saturated) sampled at
+// 400 Hz with 0.16 mm noise: the objective is far from quadratic, and the
+// profile probe flags the Gauss-Newton intervals as not valid (exit 2),
+// naming the parameter, while the precise drop above passes.
+TEST(CmdCalibrate, ProfileProbeFlagsAnObjectiveFlatterThanItsIntervals) {
+  const std::string dir = rover::testing::temp_dir();
+  const std::string scenario = write_file(dir + "/reference_drop.json", R"({"name": "drop", "rover": ")" +
+      source_path("configs/rover.json") + R"(", "duration": 1.0, "output_rate": 1000,
+      "initial_q": {"z": 0.281, "chi": 0.039, "psi": 0.0042},
+      "integrator": {"method": "dopri5", "rtol": 1e-8, "atol": 1e-11}})");
+  std::string log;
+  ASSERT_EQ(run_command(rover_binary() + " synthesize --scenario " + scenario + " --cq 0.16 --f 30000 --noise 1.6e-4 " +
+                            "--offset 0.03 --rate 400 --seed 3 --out " + dir + "/flat.csv", &log),
+            0) << log;
+  const std::string study = write_file(dir + "/flat.json", R"({"type": "calibration", "name": "f", "scenario": ")" +
+      source_path("configs/scenarios/drop_horizontal.json") + R"(", "data": ")" + dir + R"(/flat.csv",
+      "fit": ["c_q", "f"], "bounds": {"c_q": [0.02, 1.0], "f": [1e2, 1e5], "time_offset": [-0.2, 0.2]},
+      "initial": {"c_q": 0.2, "f": 1e4}})");
+  EXPECT_EQ(run_command(mpiexec() + " -np 2 " + rover_binary() + " calibrate --study " + study + " --no-plot --out " +
+                            dir + "/flat.h5", &log),
+            2) << log;
+  EXPECT_NE(log.find("NOT VALID: the objective is flatter than the Gauss-Newton intervals assume"), std::string::npos)
+      << log;
+  const io::Hdf5Reader h5(dir + "/flat.h5");
+  EXPECT_EQ(h5.attribute_integer("/best", "converged"), 1) << log;
+  EXPECT_EQ(h5.attribute_integer("/best", "intervals_valid"), 0) << log;
+  EXPECT_EQ(h5.shape("/best/probe_delta_chi2"), (std::vector<std::size_t>{2, 8}));
+  const auto rises = h5.read_doubles("/best/probe_delta_chi2");
+  bool below_two_at_two_se = false;  // columns 2 and 5: -2 and +2 standard errors
+  for (std::size_t k = 0; k < 2; ++k)
+    below_two_at_two_se = below_two_at_two_se || rises[8 * k + 2] < 2.0 || rises[8 * k + 5] < 2.0;
+  EXPECT_TRUE(below_two_at_two_se) << log;
 }
 
 // Ranking the next experiment: repeating the experiment just fitted (same
