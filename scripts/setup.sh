@@ -16,6 +16,7 @@ packages=(
   libopenmpi-dev openmpi-bin libhdf5-dev
   nlohmann-json3-dev libcli11-dev libgtest-dev libbenchmark-dev
   gnuplot-nox python3-h5py python3-numpy
+  python3-openturns  # the documented OpenTURNS example and the surrogate comparison
   time bc  # /usr/bin/time and bc, for the timing scripts in bench/
 )
 # Optional: SUNDIALS for bench/sundials_bench, the comparison with CVODE and
