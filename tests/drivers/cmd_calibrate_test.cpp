@@ -123,24 +123,33 @@ TEST(CmdCalibrate, FitsAnyParameterByName) {
   EXPECT_NE(log.find("did you mean 's_structure.k_q'"), std::string::npos) << log;
 }
 
+// A horizontal drop synthesized on Dormand-Prince at rtol 1e-8 (not the
+// stiff integrator the fit uses) with `options` (--cq, --f, --noise, ...),
+// and a study fitting (c_q, f) to it with the defaults; returns the study.
+std::string reference_drop_study(const std::string& dir, const std::string& options) {
+  const std::string scenario = write_file(dir + "/reference_drop.json", R"({"name": "drop", "rover": ")" +
+      source_path("configs/rover.json") + R"(", "duration": 1.0, "output_rate": 1000,
+      "initial_q": {"z": 0.281, "chi": 0.039, "psi": 0.0042},
+      "integrator": {"method": "dopri5", "rtol": 1e-8, "atol": 1e-11}})");
+  std::string log;
+  EXPECT_EQ(run_command(rover_binary() + " synthesize --scenario " + scenario + " " + options + " --out " + dir +
+                            "/data.csv", &log),
+            0) << log;
+  return write_file(dir + "/study.json", R"({"type": "calibration", "name": "p", "scenario": ")" +
+      source_path("configs/scenarios/drop_horizontal.json") + R"(", "data": ")" + dir + R"(/data.csv",
+      "fit": ["c_q", "f"], "bounds": {"c_q": [0.02, 1.0], "f": [1e2, 1e5], "time_offset": [-0.2, 0.2]},
+      "initial": {"c_q": 0.2, "f": 1e4}})");
+}
+
 // Precise data (1 kHz, 0.03 mm noise, made on Dormand-Prince at rtol 1e-8):
 // the stiff integrator's default error moves c_q by several standard
 // errors, so the integration check tightens it and refits until the shift
 // is below 0.1 standard error; the intervals then hold the truths.
 TEST(CmdCalibrate, IntegrationCheckTightensTheIntegratorUntilTheShiftIsSmall) {
   const std::string dir = rover::testing::temp_dir();
-  const std::string scenario = write_file(dir + "/reference_drop.json", R"({"name": "drop", "rover": ")" +
-      source_path("configs/rover.json") + R"(", "duration": 1.0, "output_rate": 1000,
-      "initial_q": {"z": 0.281, "chi": 0.039, "psi": 0.0042},
-      "integrator": {"method": "dopri5", "rtol": 1e-8, "atol": 1e-11}})");
+  const std::string study =
+      reference_drop_study(dir, "--cq 0.12 --f 8000 --noise 3e-5 --offset 0.021 --rate 1000 --seed 5");
   std::string log;
-  ASSERT_EQ(run_command(rover_binary() + " synthesize --scenario " + scenario + " --cq 0.12 --f 8000 --noise 3e-5 " +
-                            "--offset 0.021 --rate 1000 --seed 5 --out " + dir + "/precise.csv", &log),
-            0) << log;
-  const std::string study = write_file(dir + "/precise.json", R"({"type": "calibration", "name": "p", "scenario": ")" +
-      source_path("configs/scenarios/drop_horizontal.json") + R"(", "data": ")" + dir + R"(/precise.csv",
-      "fit": ["c_q", "f"], "bounds": {"c_q": [0.02, 1.0], "f": [1e2, 1e5], "time_offset": [-0.2, 0.2]},
-      "initial": {"c_q": 0.2, "f": 1e4}})");
   ASSERT_EQ(run_command(mpiexec() + " -np 2 " + rover_binary() + " calibrate --study " + study +
                             " --no-plot --out " + dir + "/precise.h5", &log),
             0) << log;
@@ -168,18 +177,9 @@ TEST(CmdCalibrate, IntegrationCheckTightensTheIntegratorUntilTheShiftIsSmall) {
 // naming the parameter, while the precise drop above passes.
 TEST(CmdCalibrate, ProfileProbeFlagsAnObjectiveFlatterThanItsIntervals) {
   const std::string dir = rover::testing::temp_dir();
-  const std::string scenario = write_file(dir + "/reference_drop.json", R"({"name": "drop", "rover": ")" +
-      source_path("configs/rover.json") + R"(", "duration": 1.0, "output_rate": 1000,
-      "initial_q": {"z": 0.281, "chi": 0.039, "psi": 0.0042},
-      "integrator": {"method": "dopri5", "rtol": 1e-8, "atol": 1e-11}})");
+  const std::string study =
+      reference_drop_study(dir, "--cq 0.16 --f 30000 --noise 1.6e-4 --offset 0.03 --rate 400 --seed 3");
   std::string log;
-  ASSERT_EQ(run_command(rover_binary() + " synthesize --scenario " + scenario + " --cq 0.16 --f 30000 --noise 1.6e-4 " +
-                            "--offset 0.03 --rate 400 --seed 3 --out " + dir + "/flat.csv", &log),
-            0) << log;
-  const std::string study = write_file(dir + "/flat.json", R"({"type": "calibration", "name": "f", "scenario": ")" +
-      source_path("configs/scenarios/drop_horizontal.json") + R"(", "data": ")" + dir + R"(/flat.csv",
-      "fit": ["c_q", "f"], "bounds": {"c_q": [0.02, 1.0], "f": [1e2, 1e5], "time_offset": [-0.2, 0.2]},
-      "initial": {"c_q": 0.2, "f": 1e4}})");
   EXPECT_EQ(run_command(mpiexec() + " -np 2 " + rover_binary() + " calibrate --study " + study + " --no-plot --out " +
                             dir + "/flat.h5", &log),
             2) << log;
