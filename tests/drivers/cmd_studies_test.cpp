@@ -148,7 +148,8 @@ TEST(CmdStudies, InterruptSavesTheCheckpointAndTellsHowToResume) {
         &log);
     EXPECT_EQ(status, 130) << log;
     EXPECT_NE(log.find("interrupted"), std::string::npos) << log;
-    EXPECT_NE(log.find("montecarlo --study " + study + " --out " + out + " --resume"), std::string::npos) << log;
+    EXPECT_NE(log.find("rover montecarlo --study " + study + " --checkpoint-every 1 --no-plot --out " + out + " --resume"),
+              std::string::npos) << log;
     EXPECT_FALSE(std::ifstream(out).good()) << "no result file after an interrupt";
     EXPECT_TRUE(std::ifstream(out + ".checkpoint").good());
   }
@@ -179,7 +180,8 @@ TEST(CmdStudies, InterruptOfMpirunSavesTheCheckpointAndResumesToTheSameResult) {
   ASSERT_FALSE(std::ifstream(out).good()) << "the study finished before the interrupt: " << log;
   EXPECT_NE(status, 0) << log;  // mpirun's own status (1 with Open MPI 4.1), not the ranks'
   EXPECT_NE(log.find("interrupt"), std::string::npos) << log;
-  EXPECT_NE(log.find("montecarlo --study " + study + " --out " + out + " --resume"), std::string::npos) << log;
+  EXPECT_NE(log.find("rover montecarlo --study " + study + " --checkpoint-every 20 --no-plot --out " + out + " --resume"),
+            std::string::npos) << log;
   ASSERT_TRUE(std::ifstream(out + ".checkpoint").good()) << log;
   ASSERT_EQ(run_command(mpiexec() + " -np 2 " + rover_binary() + " montecarlo --study " + study +
                             " --no-plot --resume --out " + out, &log), 0) << log;
