@@ -88,6 +88,7 @@ const RegisterCommand registration{
                      "Replace the scenario's integrator by this method at its default tolerances: " +
                          integrator_choices_text());
       app.add_flag("--resume", o->run.resume, "Continue from <out>.checkpoint: only the missing rows run");
+      add_plots_flags(app, o->run);
       add_progress_flags(app, o->run);
       return [o, &app] { return run_study_command(app, o->run, "", [&] { return load(*o); }); };
     }};

@@ -38,10 +38,8 @@ inline void add_output_flags(CLI::App& app, study::StudyRunOptions& o) {
                "missing runs are computed");
 }
 
-// The flags of every study subcommand: --out, --resume, --plots (and
-// --no-plot, the same as --plots none), --progress-interval, --checkpoint-every.
-inline void add_study_flags(CLI::App& app, study::StudyRunOptions& o) {
-  add_output_flags(app, o);
+// --plots (and --no-plot, the same as --plots none).
+inline void add_plots_flags(CLI::App& app, study::StudyRunOptions& o) {
   const std::map<std::string, study::PlotSelection> plots{{"none", study::PlotSelection::kNone},
                                                           {"summary", study::PlotSelection::kSummary},
                                                           {"all", study::PlotSelection::kAll}};
@@ -49,6 +47,13 @@ inline void add_study_flags(CLI::App& app, study::StudyRunOptions& o) {
                                      "QoI and channel) or none")
       ->transform(CLI::CheckedTransformer(plots, CLI::ignore_case))->default_str("summary");
   app.add_flag_callback("--no-plot", [&o] { o.plots = study::PlotSelection::kNone; }, "Same as --plots none");
+}
+
+// The flags of every study subcommand: --out, --resume, --plots, --no-plot,
+// --progress-interval, --checkpoint-every.
+inline void add_study_flags(CLI::App& app, study::StudyRunOptions& o) {
+  add_output_flags(app, o);
+  add_plots_flags(app, o);
   add_progress_flags(app, o);
 }
 

@@ -13,6 +13,7 @@
 #include "io/hdf5_file.hpp"
 #include "io/json_reader.hpp"
 #include "study/studies/study_output.hpp"
+#include "study/studies/summary_figure.hpp"
 #include "study/runtime/study_runner.hpp"
 #include "study/studies/study_spec.hpp"
 
@@ -251,6 +252,23 @@ void write_evaluate_csv(const EvaluateResult& result, const std::string& path) {
   std::filesystem::rename(partial, path);
 }
 
+void plot_evaluate(const EvaluateResult& result, const std::string& results_path, PlotSelection plots) {
+  if (plots == PlotSelection::kNone) return;
+  const StudyModel& model = *result.study.model;
+  std::vector<io::LinePlot> panels;
+  for (std::size_t q = 0; q < result.qoi.size(); ++q) {
+    std::vector<double> ok;
+    for (std::size_t i = 0; i < result.status.size(); ++i)
+      if (result.status[i] == run_status::kOk) ok.push_back(result.qoi[q][i]);
+    if (auto h = histogram_panel(model.qoi_names()[q], model.qoi_units()[q], ok, nullptr, 0.0))
+      panels.push_back(std::move(*h));
+  }
+  write_summary_figure("evaluate " + result.study.request.design_path + ": " +
+                           std::to_string(result.status.size()) + " rows (" + std::to_string(result.failed) +
+                           " failed)",
+                       panels, sibling_path(results_path, "_summary.png"), "evaluate");
+}
+
 StudyProgram<EvaluateResult> evaluate_program(EvaluateStudy study) {
   StudyProgram<EvaluateResult> p;
   p.command = "evaluate";
@@ -259,6 +277,7 @@ StudyProgram<EvaluateResult> evaluate_program(EvaluateStudy study) {
   p.run = [study](const StudyRuntime& runtime) { return run_evaluate(study, runtime); };
   p.write = write_evaluate;
   p.write_csv = write_evaluate_csv;
+  p.plot = plot_evaluate;
   p.counts = [](const EvaluateResult& r) {
     RunCounts c{static_cast<long long>(r.status.size()), r.failed, ""};
     for (std::size_t i = 0; i < r.status.size() && c.first_failure.empty(); ++i)

@@ -18,7 +18,7 @@
 // The study's parts, run by the study driver (study_driver.hpp):
 // load_evaluate() (the flags, the scenario and every design row checked),
 // run_evaluate() (the runs; curves streamed into the HDF5 file),
-// write_evaluate() or write_evaluate_csv().
+// write_evaluate() or write_evaluate_csv(), and plot_evaluate().
 #pragma once
 
 #include <string>
@@ -81,6 +81,9 @@ void write_evaluate(const EvaluateResult& result, io::Hdf5Writer& h5);
 // The CSV: a header row, then one row per design row (inputs as given, QoIs,
 // status, message), written to "<path>.partial" and renamed into place.
 void write_evaluate_csv(const EvaluateResult& result, const std::string& path);
+
+// <results>_summary.png: a histogram of each QoI over the successful rows.
+void plot_evaluate(const EvaluateResult& result, const std::string& results_path, PlotSelection plots);
 
 // The study as the driver runs it: exit status 2 when any run failed.
 StudyProgram<EvaluateResult> evaluate_program(EvaluateStudy study);

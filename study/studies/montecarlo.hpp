@@ -79,8 +79,9 @@ MonteCarloResult run_montecarlo(const MonteCarloStudy& study, const StudyRuntime
 void write_montecarlo(const MonteCarloResult& result, io::Hdf5Writer& h5);
 // Per QoI: mean and sd with their intervals, and the quantiles' note.
 void report_montecarlo(const MonteCarloResult& result, std::ostream& out);
-// <results>_band_<channel>.png, <results>_hist_<qoi>.png and
-// <results>_convergence_<qoi>_{mean,sd}.png.
+// <results>_summary.png (each channel's band, each QoI's histogram and
+// running mean); with PlotSelection::kAll also <results>_band_<channel>.png,
+// <results>_hist_<qoi>.png and <results>_convergence_<qoi>_{mean,sd}.png.
 void plot_montecarlo(const MonteCarloResult& result, const std::string& results_path, PlotSelection plots);
 
 // The study as the driver runs it.

@@ -101,6 +101,8 @@ void write_sensitivity(const SensitivityResult& result, io::Hdf5Writer& h5);
 // Where runs failed, the indices ranked per QoI, the aggregated indices per
 // channel, and the warnings.
 void report_sensitivity(const SensitivityResult& result, std::ostream& out);
+// <results>_summary.png (S1 and ST per QoI, indices along time per channel,
+// or the Morris planes); with PlotSelection::kAll also
 // <results>_sobol_<qoi>.png, <results>_sobol_t_<channel>.png (and
 // _variance.png), <results>_morris_<qoi>.png, or the PCE's figures
 // (plot_pce_sensitivity).

@@ -1,13 +1,17 @@
-// The sensitivity study's figures (sensitivity.hpp): Sobol' indices with
-// their intervals per QoI, along time per channel, and the Morris mu*-sigma
-// plane per QoI.
+// The sensitivity study's figures (sensitivity.hpp): the summary (S1 and ST
+// per QoI, the indices along time per channel, or the Morris mu*-sigma plane
+// per QoI), and with --plots all each of them on its own, with the
+// intervals as bars and the output variance along time.
 #include <algorithm>
 #include <iostream>
+#include <numeric>
+#include <optional>
 
 #include "io/plot.hpp"
 #include "study/studies/report_format.hpp"
 #include "study/studies/sensitivity.hpp"
 #include "study/studies/study_output.hpp"
+#include "study/studies/summary_figure.hpp"
 
 namespace rover::study {
 namespace {
@@ -29,9 +33,9 @@ void plot_sobol(const std::string& png, const std::string& qoi, const SobolIndic
   io::write_png_or_warn(plot, png, "sensitivity", std::cerr);
 }
 
-// S_i(t) of the inputs that matter, under the output variance V(t).
-void plot_sobol_t(const std::string& png, const std::string& channel, const SobolIndicesAlongTime& s,
-                  const std::vector<double>& t, const std::vector<std::string>& labels) {
+// S_i(t) of the inputs that matter; nullopt when none does.
+std::optional<io::LinePlot> indices_along_time(const std::string& channel, const SobolIndicesAlongTime& s,
+                                               const std::vector<double>& t, const std::vector<std::string>& labels) {
   io::LinePlot indices;
   indices.title = channel + ": first-order (solid) and total (dashed) Sobol' indices along time";
   indices.x_label = "t [s]";
@@ -48,17 +52,43 @@ void plot_sobol_t(const std::string& png, const std::string& channel, const Sobo
     indices.series.push_back({name + " S1", t, s1});
     indices.series.push_back({name + " ST", t, st, io::SeriesStyle::dashed});
   }
-  if (!indices.series.empty()) io::write_png_or_warn(indices, png, "sensitivity", std::cerr);
+  if (indices.series.empty()) return std::nullopt;
+  return indices;
+}
+
+// The output variance V(t) under the indices.
+io::LinePlot variance_along_time(const std::string& channel, const SobolIndicesAlongTime& s,
+                                 const std::vector<double>& t) {
   io::LinePlot variance;
   variance.title = channel + ": output variance along time";
   variance.x_label = "t [s]";
   variance.y_label = "Var " + channel;
   variance.series.push_back({"V(t)", t, to_vector(s.variance)});
-  io::write_png_or_warn(variance, sibling_path(png, "_variance.png"), "sensitivity", std::cerr);
+  return variance;
 }
 
-void plot_morris(const std::string& png, const std::string& qoi, const MorrisResult& m,
-                 const std::vector<std::string>& labels) {
+// S1 and ST of every input (numbered on the x axis, named at ST), with the
+// interval of ST when there is one.
+io::LinePlot indices_panel(const std::string& title, const std::vector<std::string>& labels,
+                           const Eigen::VectorXd& S1, const Eigen::VectorXd& ST, const Eigen::VectorXd* ST_lower,
+                           const Eigen::VectorXd* ST_upper) {
+  io::LinePlot p;
+  p.title = title;
+  p.x_label = "input";
+  p.y_label = "index";
+  p.x_range = io::AxisRange{0.5, static_cast<double>(labels.size()) + 0.5};
+  std::vector<double> x(labels.size());
+  std::iota(x.begin(), x.end(), 1.0);
+  p.series.push_back({"S1", x, to_vector(S1), io::SeriesStyle::points});
+  p.series.push_back({"ST", x, to_vector(ST), io::SeriesStyle::points});
+  if (ST_lower != nullptr && ST_upper != nullptr && ST_lower->size() == ST.size())
+    p.bands.push_back({"ST interval", x, to_vector(*ST_lower), to_vector(*ST_upper)});
+  for (std::size_t i = 0; i < labels.size(); ++i)
+    p.labels.push_back({x[i], ST[static_cast<Eigen::Index>(i)], labels[i]});
+  return p;
+}
+
+io::LinePlot morris_plane(const std::string& qoi, const MorrisResult& m, const std::vector<std::string>& labels) {
   io::LinePlot plot;
   plot.title = qoi + ": Morris screening (" + std::to_string(m.trajectories_used) + " trajectories)";
   plot.x_label = "mu* (mean |elementary effect|)";
@@ -75,7 +105,32 @@ void plot_morris(const std::string& png, const std::string& qoi, const MorrisRes
   plot.x_range = io::AxisRange{0.0, kMorrisLabelRoomX * m.mu_star.maxCoeff()};
   plot.y_range = io::AxisRange{0.0, kMorrisLabelRoomY * std::max(m.sigma.maxCoeff(), m.mu_star.maxCoeff())};
   plot.series.push_back({"sigma = mu*", {0.0, m.mu_star.maxCoeff()}, {0.0, m.mu_star.maxCoeff()}, io::SeriesStyle::dashed});
-  io::write_png_or_warn(plot, png, "sensitivity", std::cerr);
+  return plot;
+}
+
+std::vector<io::LinePlot> summary_panels(const SensitivityResult& result) {
+  const SensitivityStudy& study = result.study;
+  const StudyModel& model = *study.spec.model;
+  const std::vector<std::string> labels = input_labels(study.spec);
+  std::vector<io::LinePlot> panels;
+  for (std::size_t q = 0; q < result.sobol.size(); ++q) {
+    const SobolIndices& s = result.sobol[q];
+    panels.push_back(indices_panel(model.qoi_names()[q] + ": Sobol' S1 and ST", labels, s.S1, s.ST, &s.ST_lower,
+                                   &s.ST_upper));
+  }
+  for (const PceQoiResult& q : result.pce.qoi) {
+    if (!q.indices.defined) continue;
+    const bool intervals = q.has_intervals;
+    panels.push_back(indices_panel(q.name + ": PCE S1 and ST", labels, q.indices.S1, q.indices.ST,
+                                   intervals ? &q.intervals.ST_lower : nullptr,
+                                   intervals ? &q.intervals.ST_upper : nullptr));
+  }
+  for (std::size_t c = 0; c < result.sobol_t.size(); ++c)
+    if (auto p = indices_along_time(model.channel_names()[c], result.sobol_t[c], model.time_s(), labels))
+      panels.push_back(std::move(*p));
+  for (std::size_t q = 0; q < result.morris.size(); ++q)
+    panels.push_back(morris_plane(model.qoi_names()[q], result.morris[q], labels));
+  return panels;
 }
 
 }  // namespace
@@ -86,15 +141,24 @@ void plot_sensitivity(const SensitivityResult& result, const std::string& result
   const StudyModel& model = *study.spec.model;
   const std::vector<std::string> labels = input_labels(study.spec);
   auto png = [&](const std::string& suffix) { return sibling_path(results_path, suffix); };
+  write_summary_figure(study.spec.name + ": " + sensitivity_method_name(study.method) + ", " +
+                           std::to_string(result.status.size()) + " runs",
+                       summary_panels(result), png("_summary.png"), "sensitivity");
+  if (plots != PlotSelection::kAll) return;
   if (study.method == SensitivityMethod::kPce) plot_pce_sensitivity(results_path, study.spec, result.pce);
   for (std::size_t q = 0; q < result.sobol.size(); ++q)
     plot_sobol(png("_sobol_" + model.qoi_names()[q] + ".png"), model.qoi_names()[q], result.sobol[q], labels,
                study.sobol.confidence);
-  for (std::size_t c = 0; c < result.sobol_t.size(); ++c)
-    plot_sobol_t(png("_sobol_t_" + model.channel_names()[c] + ".png"), model.channel_names()[c], result.sobol_t[c],
-                 model.time_s(), labels);
+  for (std::size_t c = 0; c < result.sobol_t.size(); ++c) {
+    const std::string& channel = model.channel_names()[c];
+    if (const auto p = indices_along_time(channel, result.sobol_t[c], model.time_s(), labels))
+      io::write_png_or_warn(*p, png("_sobol_t_" + channel + ".png"), "sensitivity", std::cerr);
+    io::write_png_or_warn(variance_along_time(channel, result.sobol_t[c], model.time_s()),
+                          png("_sobol_t_" + channel + "_variance.png"), "sensitivity", std::cerr);
+  }
   for (std::size_t q = 0; q < result.morris.size(); ++q)
-    plot_morris(png("_morris_" + model.qoi_names()[q] + ".png"), model.qoi_names()[q], result.morris[q], labels);
+    io::write_png_or_warn(morris_plane(model.qoi_names()[q], result.morris[q], labels),
+                          png("_morris_" + model.qoi_names()[q] + ".png"), "sensitivity", std::cerr);
 }
 
 }  // namespace rover::study

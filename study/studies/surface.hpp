@@ -83,8 +83,10 @@ LinearFit linear_regression(const std::vector<double>& x, const std::vector<doub
 SurfaceResult run_surface(const SurfaceStudy& study, const StudyRuntime& runtime);
 
 void write_surface(const SurfaceResult& result, io::Hdf5Writer& h5);
-// <results>_rms.png and <results>_tc.png (heat maps over (f, c_q)) and
-// <results>_sweep.png (t_c over f with its regression).
+// <results>_summary.png (the RMS error and t_c over f per c_q, the sweep);
+// with PlotSelection::kAll also <results>_rms.png and <results>_tc.png (heat
+// maps over (f, c_q)) and <results>_sweep.png (t_c over f with its
+// regression).
 void plot_surface(const SurfaceResult& result, const std::string& results_path, PlotSelection plots);
 
 // The study as the driver runs it.

@@ -1,11 +1,14 @@
-// The surface study's figures (surface.hpp): heat maps of the RMS error and
-// of t_c over (f, c_q), and t_c over f with its regression.
+// The surface study's figures (surface.hpp): the summary (the RMS error and
+// t_c over f, one line per c_q, and the sweep of t_c over f with its
+// regression), and with --plots all heat maps of the RMS error and of t_c
+// over (f, c_q) and the sweep on its own.
 #include <iostream>
 
 #include "core/number_text.hpp"
 #include "io/plot.hpp"
 #include "study/studies/report_format.hpp"
 #include "study/studies/study_output.hpp"
+#include "study/studies/summary_figure.hpp"
 #include "study/studies/surface.hpp"
 
 namespace rover::study {
@@ -40,11 +43,40 @@ io::LinePlot sweep_plot(const SurfaceResult& r) {
   return p;
 }
 
+// z(f) for every c_q of the grid.
+io::LinePlot lines_over_f(const SurfaceResult& r, const Eigen::MatrixXd& z, double scale, const std::string& label) {
+  io::LinePlot p;
+  p.title = r.study.name + ": " + label;
+  p.x_label = "f [1/rad]";
+  p.y_label = label;
+  p.log_x = true;
+  for (Eigen::Index j = 0; j < z.cols(); ++j) {
+    io::Series line{"c_q = " + number_text(r.study.c_q[static_cast<std::size_t>(j)]), r.study.f, {},
+                    io::SeriesStyle::lines_points};
+    for (Eigen::Index i = 0; i < z.rows(); ++i) line.y.push_back(scale * z(i, j));
+    p.series.push_back(std::move(line));
+  }
+  return p;
+}
+
+std::vector<io::LinePlot> summary_panels(const SurfaceResult& r) {
+  std::vector<io::LinePlot> panels;
+  const DisplayUnit mm = display_unit("m");
+  panels.push_back(lines_over_f(r, r.rms, mm.factor, "RMS of B_l z [" + mm.name + "]"));
+  panels.push_back(lines_over_f(r, r.t_c, 1.0, "t_c [s]"));
+  if (r.study.sweep_f.size() > 1) panels.push_back(sweep_plot(r));
+  return panels;
+}
+
 }  // namespace
 
 void plot_surface(const SurfaceResult& r, const std::string& results_path, PlotSelection plots) {
   if (plots == PlotSelection::kNone) return;
   auto png = [&](const std::string& suffix) { return sibling_path(results_path, suffix); };
+  write_summary_figure(r.study.name + " (" + integrator_name(r.integrator.method) + "): " +
+                           std::to_string(r.runs) + " runs (" + std::to_string(r.failed) + " failed)",
+                       summary_panels(r), png("_summary.png"), "surface");
+  if (plots != PlotSelection::kAll) return;
   try {
     if (r.rms.rows() > 1 && r.rms.cols() > 1) {
       const DisplayUnit mm = display_unit("m");

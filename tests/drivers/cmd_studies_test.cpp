@@ -1,7 +1,9 @@
 // End-to-end tests of the study subcommands (montecarlo, surface; calibrate
 // has tests/drivers/cmd_calibrate_test.cpp)
 // through the built `rover`, with and without mpirun.
+#include <algorithm>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 
 #include <gtest/gtest.h>
@@ -204,6 +206,34 @@ TEST(CmdStudies, AnOutputPathThatCannotBeWrittenIsRefusedBeforeAnyRun) {
     EXPECT_NE(log.find(out), std::string::npos) << log;
     EXPECT_EQ(log.find("montecarlo: 0/"), std::string::npos) << "no run may start: " << log;
   }
+}
+
+TEST(CmdStudies, OneSummaryFigureByDefaultAndEveryFigureOnRequest) {
+  if (std::system("command -v gnuplot > /dev/null 2>&1") != 0) GTEST_SKIP() << "gnuplot is not installed";
+  const std::string dir = rover::testing::temp_dir();
+  const std::string study = mc_study(dir, 1.0, 6);
+  const auto pngs = [&](const std::string& stem) {
+    std::vector<std::string> names;
+    for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+      const std::string name = entry.path().filename().string();
+      if (name.starts_with(stem + "_") && name.ends_with(".png")) names.push_back(name);
+    }
+    std::sort(names.begin(), names.end());
+    return names;
+  };
+  std::string log;
+  for (const char* plots : {"summary", "all", "none"}) {
+    const std::string stem = std::string("p_") + plots;
+    const std::string flag = std::string(plots) == "summary" ? "" : std::string(" --plots ") + plots;
+    ASSERT_EQ(run_command(rover_binary() + " montecarlo --study " + study + flag + " --out " + dir + "/" + stem + ".h5",
+                          &log), 0) << log;
+  }
+  EXPECT_EQ(pngs("p_summary"), std::vector<std::string>{"p_summary_summary.png"});
+  const std::vector<std::string> all = pngs("p_all");
+  EXPECT_NE(std::find(all.begin(), all.end(), "p_all_summary.png"), all.end());
+  EXPECT_NE(std::find(all.begin(), all.end(), "p_all_band_B_l_z.png"), all.end());
+  EXPECT_NE(std::find(all.begin(), all.end(), "p_all_hist_deflection.png"), all.end());
+  EXPECT_TRUE(pngs("p_none").empty());
 }
 
 TEST(CmdStudies, EveryRunFailingIsAnErrorButTheResultsAreKept) {
