@@ -76,6 +76,54 @@ std::vector<std::string> sobol_warnings(const std::string& qoi, const SobolIndic
   return w;
 }
 
+// Why a QoI's indices are undefined: it does not vary over the runs that
+// succeeded ("" when it does).
+std::string constant_qoi_reason(const std::vector<double>& values) {
+  double lo = INFINITY, hi = -INFINITY;
+  for (double v : values)
+    if (std::isfinite(v)) {
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+  if (hi > lo) return "";
+  if (!(hi >= lo)) return "no run gave a finite value";
+  std::ostringstream os;
+  os << "constant (" << lo << ") over every run that succeeded: its variance is zero";
+  return os.str();
+}
+
+// The Sobol' indices or Morris effects of one QoI, appended to `out`; an
+// empty entry, its reason in out.undefined, when they are undefined.
+void estimate_qoi_indices(const SensitivityStudy& study, const MorrisDesign& morris, const std::string& name,
+                          const std::vector<std::string>& labels, const std::vector<double>& values,
+                          SensitivityResult& out) {
+  const Eigen::Map<const Eigen::VectorXd> y(values.data(), static_cast<Eigen::Index>(values.size()));
+  const bool sobol = study.method == SensitivityMethod::kSobol;
+  if (sobol) out.sobol.emplace_back();
+  else out.morris.emplace_back();
+  std::string reason = constant_qoi_reason(values);
+  if (reason.empty()) {
+    try {
+      if (sobol) out.sobol.back() = estimate_sobol_indices(study.layout, y, study.sobol);
+      else out.morris.back() = morris_effects(morris, y, study.morris);
+    } catch (const std::invalid_argument& e) {
+      reason = e.what();
+    }
+  }
+  if (sobol && reason.empty() && !out.sobol.back().S1.allFinite())
+    reason = "its variance is zero at rounding level";
+  if (!reason.empty()) {
+    if (sobol) out.sobol.back() = SobolIndices{};
+    else out.morris.back() = MorrisResult{};
+    out.undefined.push_back({name, reason});
+    out.warnings.push_back(name + ": indices undefined: " + reason);
+    return;
+  }
+  if (sobol)
+    for (std::string& w : sobol_warnings(name, out.sobol.back(), labels, study.layout.base_samples))
+      out.warnings.push_back(std::move(w));
+}
+
 // Method pce: any space-filling design of the study core, and the "pce" settings.
 void load_pce_design(const io::JsonReader& r, const io::JsonReader& d, SensitivityStudy& s, double confidence) {
   std::string type = d.string_or("type", "latin_hypercube");
@@ -256,17 +304,9 @@ SensitivityResult analyse_sensitivity(const SensitivityStudy& study, const Desig
                                   ? morris_design(varied_count(study.spec), study.trajectories, study.levels,
                                                   study.spec.design.seed)
                                   : MorrisDesign{};
-  for (int q = 0; q < layout.qoi_count; ++q) {
-    const Eigen::Map<const Eigen::VectorXd> y(out.qoi[static_cast<std::size_t>(q)].data(), runs);
-    const std::string& name = model.qoi_names()[static_cast<std::size_t>(q)];
-    if (study.method == SensitivityMethod::kSobol) {
-      out.sobol.push_back(estimate_sobol_indices(study.layout, y, study.sobol));
-      for (std::string& w : sobol_warnings(name, out.sobol.back(), labels, study.layout.base_samples))
-        out.warnings.push_back(std::move(w));
-    } else {
-      out.morris.push_back(morris_effects(morris, y, study.morris));
-    }
-  }
+  for (int q = 0; q < layout.qoi_count; ++q)
+    estimate_qoi_indices(study, morris, model.qoi_names()[static_cast<std::size_t>(q)], labels,
+                         out.qoi[static_cast<std::size_t>(q)], out);
   if (study.method == SensitivityMethod::kSobol)
     for (int c = 0; c < layout.channel_count; ++c) {
       Eigen::MatrixXd Y(runs, layout.time_samples);

@@ -67,10 +67,16 @@ void set_pce_runs(SensitivityStudy& study, int runs);
 // The runs of the study in physical units (rows in run order).
 DesignMatrix sensitivity_design(const SensitivityStudy& study);
 
+// A QoI whose indices are undefined (a constant QoI), and why.
+struct UndefinedIndices {
+  std::string qoi, reason;
+};
+
 struct SensitivityResult {
-  std::vector<SobolIndices> sobol;                 // [qoi]
+  std::vector<SobolIndices> sobol;                 // [qoi]; empty vectors where undefined
   std::vector<SobolIndicesAlongTime> sobol_t;      // [channel]
-  std::vector<MorrisResult> morris;                // [qoi]
+  std::vector<MorrisResult> morris;                // [qoi]; empty vectors where undefined
+  std::vector<UndefinedIndices> undefined;         // Sobol' and Morris QoIs without indices
   PceSensitivityResult pce;                        // method pce only
   std::vector<std::vector<double>> qoi;            // [qoi][run]
   std::vector<int> status;                         // [run]
@@ -86,7 +92,9 @@ struct SensitivityResult {
 
 // Compute: the indices from the records of every run, in run order (in-process,
 // testable without MPI or files). Throws std::runtime_error when more than
-// max_failed_fraction of the groups or trajectories failed.
+// max_failed_fraction of the groups or trajectories failed. A QoI that is
+// constant over the successful runs has no indices: it is named in
+// `undefined` (and in the warnings), and the other QoIs' indices are kept.
 SensitivityResult analyse_sensitivity(const SensitivityStudy& study, const DesignMatrix& x,
                                       const std::vector<RunRecord>& records);
 

@@ -14,6 +14,20 @@ namespace {
 
 constexpr int kLabelWidth = 28;
 
+// The group of a QoI without indices: attributes defined = 0 and
+// undefined_reason.
+void write_undefined(io::Hdf5Writer& h5, const std::string& group, const std::string& reason) {
+  h5.create_group(group);
+  h5.attribute(group, "defined", 0LL);
+  h5.attribute(group, "undefined_reason", reason);
+}
+
+const std::string* undefined_reason(const SensitivityResult& result, const std::string& qoi) {
+  for (const UndefinedIndices& u : result.undefined)
+    if (u.qoi == qoi) return &u.reason;
+  return nullptr;
+}
+
 void write_sobol(io::Hdf5Writer& h5, const std::string& qoi, const SobolIndices& s, const SobolOptions& options) {
   const std::string g = "/indices/" + qoi + "/";
   h5.write(g + "S1", to_vector(s.S1));
@@ -98,12 +112,24 @@ void write_sensitivity(const SensitivityResult& result, io::Hdf5Writer& h5) {
   for (std::size_t q = 0; q < result.qoi.size(); ++q) h5.write("/qoi/" + model.qoi_names()[q], result.qoi[q]);
   h5.write("/samples/status", result.status);
   h5.write("/samples/message", result.messages);
-  for (std::size_t q = 0; q < result.sobol.size(); ++q)
-    write_sobol(h5, model.qoi_names()[q], result.sobol[q], study.sobol);
+  for (std::size_t q = 0; q < result.sobol.size(); ++q) {
+    const std::string& name = model.qoi_names()[q];
+    if (const std::string* why = undefined_reason(result, name)) write_undefined(h5, "/indices/" + name, *why);
+    else write_sobol(h5, name, result.sobol[q], study.sobol);
+  }
   if (!result.sobol_t.empty()) h5.write("/t", model.time_s());
   for (std::size_t c = 0; c < result.sobol_t.size(); ++c)
     write_sobol_t(h5, model.channel_names()[c], result.sobol_t[c]);
-  for (std::size_t q = 0; q < result.morris.size(); ++q) write_morris(h5, model.qoi_names()[q], result.morris[q]);
+  for (std::size_t q = 0; q < result.morris.size(); ++q) {
+    const std::string& name = model.qoi_names()[q];
+    if (const std::string* why = undefined_reason(result, name)) write_undefined(h5, "/morris/" + name, *why);
+    else write_morris(h5, name, result.morris[q]);
+  }
+  if (!result.undefined.empty()) {
+    std::string names;
+    for (const UndefinedIndices& u : result.undefined) names += (names.empty() ? "" : ", ") + u.qoi;
+    h5.attribute("/", "undefined_indices", names);
+  }
   if (study.method == SensitivityMethod::kPce) write_pce_sensitivity(h5, study.spec, study.pce, result.pce);
 }
 
@@ -115,10 +141,12 @@ void report_sensitivity(const SensitivityResult& result, std::ostream& out) {
       << fixed_text(result.analysis_wall_time_s, 2) << " s\n";
   if (!result.failure_report.empty()) out << "  " << result.failure_report << "\n";
   for (std::size_t q = 0; q < result.sobol.size(); ++q)
-    print_sobol(out, model.qoi_names()[q], result.sobol[q], labels, study.sobol.confidence);
+    if (!undefined_reason(result, model.qoi_names()[q]))
+      print_sobol(out, model.qoi_names()[q], result.sobol[q], labels, study.sobol.confidence);
   if (study.method == SensitivityMethod::kPce) print_pce_sensitivity(out, study.spec, study.pce, result.pce);
   for (std::size_t q = 0; q < result.morris.size(); ++q)
-    print_morris(out, model.qoi_names()[q], result.morris[q], labels);
+    if (!undefined_reason(result, model.qoi_names()[q]))
+      print_morris(out, model.qoi_names()[q], result.morris[q], labels);
   for (std::size_t c = 0; c < result.sobol_t.size(); ++c)
     print_aggregated(out, model.channel_names()[c], result.sobol_t[c], labels);
   for (const std::string& w : result.warnings) out << "sensitivity: warning: " << w << "\n";

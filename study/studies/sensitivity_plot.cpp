@@ -115,6 +115,7 @@ std::vector<io::LinePlot> summary_panels(const SensitivityResult& result) {
   std::vector<io::LinePlot> panels;
   for (std::size_t q = 0; q < result.sobol.size(); ++q) {
     const SobolIndices& s = result.sobol[q];
+    if (s.S1.size() == 0) continue;  // undefined
     panels.push_back(indices_panel(model.qoi_names()[q] + ": Sobol' S1 and ST", labels, s.S1, s.ST, &s.ST_lower,
                                    &s.ST_upper));
   }
@@ -129,7 +130,8 @@ std::vector<io::LinePlot> summary_panels(const SensitivityResult& result) {
     if (auto p = indices_along_time(model.channel_names()[c], result.sobol_t[c], model.time_s(), labels))
       panels.push_back(std::move(*p));
   for (std::size_t q = 0; q < result.morris.size(); ++q)
-    panels.push_back(morris_plane(model.qoi_names()[q], result.morris[q], labels));
+    if (result.morris[q].mu_star.size() != 0)
+      panels.push_back(morris_plane(model.qoi_names()[q], result.morris[q], labels));
   return panels;
 }
 
@@ -147,8 +149,9 @@ void plot_sensitivity(const SensitivityResult& result, const std::string& result
   if (plots != PlotSelection::kAll) return;
   if (study.method == SensitivityMethod::kPce) plot_pce_sensitivity(results_path, study.spec, result.pce);
   for (std::size_t q = 0; q < result.sobol.size(); ++q)
-    plot_sobol(png("_sobol_" + model.qoi_names()[q] + ".png"), model.qoi_names()[q], result.sobol[q], labels,
-               study.sobol.confidence);
+    if (result.sobol[q].S1.size() != 0)
+      plot_sobol(png("_sobol_" + model.qoi_names()[q] + ".png"), model.qoi_names()[q], result.sobol[q], labels,
+                 study.sobol.confidence);
   for (std::size_t c = 0; c < result.sobol_t.size(); ++c) {
     const std::string& channel = model.channel_names()[c];
     if (const auto p = indices_along_time(channel, result.sobol_t[c], model.time_s(), labels))
@@ -157,8 +160,9 @@ void plot_sensitivity(const SensitivityResult& result, const std::string& result
                           png("_sobol_t_" + channel + "_variance.png"), "sensitivity", std::cerr);
   }
   for (std::size_t q = 0; q < result.morris.size(); ++q)
-    io::write_png_or_warn(morris_plane(model.qoi_names()[q], result.morris[q], labels),
-                          png("_morris_" + model.qoi_names()[q] + ".png"), "sensitivity", std::cerr);
+    if (result.morris[q].mu_star.size() != 0)
+      io::write_png_or_warn(morris_plane(model.qoi_names()[q], result.morris[q], labels),
+                            png("_morris_" + model.qoi_names()[q] + ".png"), "sensitivity", std::cerr);
 }
 
 }  // namespace rover::study

@@ -72,7 +72,7 @@ struct StudyProgram {
 
 // The exit status of a study whose every run failed (its results are kept),
 // and of one whose some runs failed where the study counts that as an error.
-inline constexpr int kEveryRunFailedStatus = 1;
+inline constexpr int kEveryRunFailedStatus = 2;
 inline constexpr int kSomeRunsFailedStatus = 2;
 
 namespace driver_detail {

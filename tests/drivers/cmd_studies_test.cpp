@@ -244,7 +244,7 @@ TEST(CmdStudies, EveryRunFailingIsAnErrorButTheResultsAreKept) {
       "parameters": {"scenario.initial_q.z": {"distribution": "uniform", "min": -0.6, "max": -0.5}},
       "design": {"type": "monte_carlo", "samples": 3}, "qoi": ["t_min"]})");
   std::string log;
-  EXPECT_EQ(run_command(rover_binary() + " montecarlo --study " + path + " --no-plot --out " + dir + "/f.h5", &log), 1) << log;
+  EXPECT_EQ(run_command(rover_binary() + " montecarlo --study " + path + " --no-plot --out " + dir + "/f.h5", &log), 2) << log;
   EXPECT_NE(log.find("every run failed"), std::string::npos) << log;
   const io::Hdf5Reader h5(dir + "/f.h5");
   EXPECT_EQ(h5.read_ints("/samples/status"), (std::vector<int>{10, 10, 10}));
