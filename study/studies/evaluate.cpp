@@ -278,12 +278,7 @@ StudyProgram<EvaluateResult> evaluate_program(EvaluateStudy study) {
   p.write = write_evaluate;
   p.write_csv = write_evaluate_csv;
   p.plot = plot_evaluate;
-  p.counts = [](const EvaluateResult& r) {
-    RunCounts c{static_cast<long long>(r.status.size()), r.failed, ""};
-    for (std::size_t i = 0; i < r.status.size() && c.first_failure.empty(); ++i)
-      if (r.status[i] != run_status::kOk) c.first_failure = r.messages[i];
-    return c;
-  };
+  p.counts = [](const EvaluateResult& r) { return count_runs(r.status, r.messages); };
   p.status_when_some_failed = kSomeRunsFailedStatus;
   return p;
 }

@@ -125,15 +125,7 @@ StudyProgram<MonteCarloResult> montecarlo_program(MonteCarloStudy study) {
   p.run = [study](const StudyRuntime& runtime) { return run_montecarlo(study, runtime); };
   p.provenance = [spec = study.spec](io::Hdf5Writer& h5) { write_study_provenance(h5, spec, spec.fingerprint); };
   p.write = write_montecarlo;
-  p.counts = [](const MonteCarloResult& r) {
-    RunCounts c{r.samples, r.failed, ""};
-    for (std::size_t i = 0; i < r.status.size(); ++i)
-      if (r.status[i] != run_status::kOk) {
-        c.first_failure = r.messages[i];
-        break;
-      }
-    return c;
-  };
+  p.counts = [](const MonteCarloResult& r) { return count_runs(r.status, r.messages); };
   p.report = report_montecarlo;
   p.plot = plot_montecarlo;
   return p;

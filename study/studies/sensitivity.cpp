@@ -369,12 +369,7 @@ StudyProgram<SensitivityResult> sensitivity_program(SensitivityStudy study) {
   p.run = [study](const StudyRuntime& runtime) { return run_sensitivity(study, runtime); };
   p.provenance = [spec = study.spec](io::Hdf5Writer& h5) { write_study_provenance(h5, spec, spec.fingerprint); };
   p.write = write_sensitivity;
-  p.counts = [](const SensitivityResult& r) {
-    RunCounts c{static_cast<long long>(r.status.size()), r.failed_runs, ""};
-    for (std::size_t i = 0; i < r.status.size() && c.first_failure.empty(); ++i)
-      if (r.status[i] != run_status::kOk) c.first_failure = r.messages[i];
-    return c;
-  };
+  p.counts = [](const SensitivityResult& r) { return count_runs(r.status, r.messages); };
   p.report = report_sensitivity;
   p.plot = plot_sensitivity;
   return p;

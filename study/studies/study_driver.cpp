@@ -1,7 +1,22 @@
 // See study_driver.hpp.
 #include "study/studies/study_driver.hpp"
 
+#include "study/runtime/run_record.hpp"
 #include "study/studies/study_output.hpp"
+
+namespace rover::study {
+
+RunCounts count_runs(const std::vector<int>& status, const std::vector<std::string>& messages) {
+  RunCounts counts;
+  counts.runs = static_cast<long long>(status.size());
+  for (std::size_t i = 0; i < status.size(); ++i) {
+    if (status[i] == run_status::kOk) continue;
+    if (counts.failed++ == 0) counts.first_failure = messages[i];
+  }
+  return counts;
+}
+
+}  // namespace rover::study
 
 namespace rover::study::driver_detail {
 

@@ -24,6 +24,7 @@
 #include <memory>
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include "io/hdf5_file.hpp"
 #include "study/runtime/study_runner.hpp"
@@ -36,6 +37,10 @@ struct RunCounts {
   long long failed = 0;
   std::string first_failure;  // the message of the first failed run
 };
+
+// The counts of runs of these statuses (run_status::kOk: done), with the
+// message of the first that failed.
+RunCounts count_runs(const std::vector<int>& status, const std::vector<std::string>& messages);
 
 // The bytes a study holds on rank 0 (`what` says what they are).
 struct MemoryEstimate {

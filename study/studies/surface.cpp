@@ -247,9 +247,9 @@ StudyProgram<SurfaceResult> surface_program(SurfaceStudy study) {
   p.run = [study](const StudyRuntime& runtime) { return run_surface(study, runtime); };
   p.write = write_surface;
   p.counts = [](const SurfaceResult& r) {
-    RunCounts c{r.runs, r.failed, ""};
-    for (std::size_t i = 0; i < r.status.size() && c.first_failure.empty(); ++i)
-      if (r.status[i] != run_status::kOk) c.first_failure = r.messages[i];
+    RunCounts c = count_runs(r.status, r.messages);  // the grid's; the counts include the sweep
+    c.runs = r.runs;
+    c.failed = r.failed;
     return c;
   };
   p.plot = plot_surface;

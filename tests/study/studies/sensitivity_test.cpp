@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "study/estimators/test_models.hpp"
+#include "study/studies/constant_qoi_model.hpp"
 #include "test_support.hpp"
 
 namespace rover::study {
@@ -54,46 +55,29 @@ TEST(Sensitivity, MorrisRanksTheGFunctionByItsCoefficients) {
   EXPECT_EQ(rank[3], 3);  // a = 9
 }
 
-// Three inputs, two QoIs: y = x1 + 2 x2 and c, which is constant.
-class LinearAndConstantModel : public StudyModel {
- public:
-  RunRecord run(const double* x) const override {
-    RunRecord r;
-    r.qoi = {x[0] + 2.0 * x[1], 1.5};
-    return r;
-  }
-  const std::vector<std::string>& input_names() const override { return inputs_; }
-  const std::vector<std::string>& qoi_names() const override { return qois_; }
-  const std::vector<std::string>& qoi_units() const override { return units_; }
-  const std::vector<std::string>& channel_names() const override { return none_; }
-  const std::vector<double>& time_s() const override { return no_time_; }
-  std::string describe() const override { return "y = x1 + 2 x2, c = 1.5"; }
-
- private:
-  std::vector<std::string> inputs_{"x1", "x2", "x3"}, qois_{"y", "c"}, units_{"", ""}, none_;
-  std::vector<double> no_time_;
-};
-
 TEST(Sensitivity, AConstantQoiHasUndefinedIndicesAndTheOthersAreKept) {
   for (const std::string method : {"sobol", "morris"}) {
     const std::string design = method == "sobol" ? R"({"type": "sobol", "samples": 256, "seed": 3})"
                                                  : R"({"trajectories": 20, "levels": 4, "seed": 2})";
     SensitivityStudy s = load(R"({"type": "sensitivity", "method": ")" + method +
                               R"(", "name": "i", "model": "ishigami", "design": )" + design + R"(, "bootstrap": 200})");
-    s.spec.model = std::make_shared<LinearAndConstantModel>();
+    s.spec.model = std::make_shared<ConstantQoiModel>(3);
     const SensitivityResult r = run_in_process(s);
-    ASSERT_EQ(r.undefined.size(), 1u) << method;
-    EXPECT_EQ(r.undefined[0].qoi, "c");
-    EXPECT_NE(r.undefined[0].reason.find("constant"), std::string::npos) << r.undefined[0].reason;
+    const auto c = std::find_if(r.undefined.begin(), r.undefined.end(),
+                                [](const UndefinedIndices& u) { return u.qoi == "c"; });
+    ASSERT_NE(c, r.undefined.end()) << method;
+    EXPECT_NE(c->reason.find("constant"), std::string::npos) << c->reason;
+    EXPECT_TRUE(std::none_of(r.undefined.begin(), r.undefined.end(),
+                             [](const UndefinedIndices& u) { return u.qoi == "y"; }));
     EXPECT_TRUE(std::any_of(r.warnings.begin(), r.warnings.end(),
                             [](const std::string& w) { return w.starts_with("c: indices undefined"); }));
     if (method == "sobol") {
-      ASSERT_EQ(r.sobol.size(), 2u);
+      ASSERT_EQ(r.sobol.size(), 3u);
       EXPECT_EQ(r.sobol[1].S1.size(), 0);
-      EXPECT_GT(r.sobol[0].ST[1], r.sobol[0].ST[0]);  // x2 weighs 4 times the variance of x1
+      EXPECT_GT(r.sobol[0].ST[1], r.sobol[0].ST[0]);  // on (-pi, pi), 2 x2^2 varies ten times more than x1
       EXPECT_NEAR(r.sobol[0].ST[2], 0.0, 1e-12);      // x3 does not enter y
     } else {
-      ASSERT_EQ(r.morris.size(), 2u);
+      ASSERT_EQ(r.morris.size(), 3u);
       EXPECT_EQ(r.morris[1].mu_star.size(), 0);
       EXPECT_EQ(r.morris[0].ranking[0], 1);
     }
