@@ -31,8 +31,9 @@ const RegisterCommand registration{
       app.footer(std::string(
           "At each (f, c_q) grid point: RMS of B_l z against the reference curve, and the wall\n"
           "time t_c of the run; plus a sweep over f with the regression t_c = a + b f. Writes\n"
-          "/f /c_q /rms /t_c /sweep/{f,t_c,regression} and PNGs <out>_rms.png, <out>_tc.png,\n"
-          "<out>_sweep.png. The integrator that produced t_c is recorded.\n\n"
+          "/f /c_q /rms /t_c /sweep/{f,t_c,regression} and the figure <out>_summary.png; --plots all\n"
+          "adds <out>_rms.png, <out>_tc.png, <out>_sweep.png. The integrator that produced t_c is\n"
+          "recorded.\n\n"
           "Examples:\n"
           "  rover surface --study configs/studies/f_cq_surface.json\n"
           "  rover surface --study configs/studies/f_cq_surface.json --integrator rk4 --out results/rk4.h5\n"
