@@ -40,12 +40,15 @@ inline void add_output_flags(CLI::App& app, study::StudyRunOptions& o) {
 
 // --plots (and --no-plot, the same as --plots none).
 inline void add_plots_flags(CLI::App& app, study::StudyRunOptions& o) {
-  const std::map<std::string, study::PlotSelection> plots{{"none", study::PlotSelection::kNone},
-                                                          {"summary", study::PlotSelection::kSummary},
-                                                          {"all", study::PlotSelection::kAll}};
-  app.add_option("--plots", o.plots, "Figures beside the result file: summary (one figure), all (also one per "
-                                     "QoI and channel) or none")
-      ->transform(CLI::CheckedTransformer(plots, CLI::ignore_case))->default_str("summary");
+  static const std::map<std::string, study::PlotSelection> kPlots{{"none", study::PlotSelection::kNone},
+                                                                   {"summary", study::PlotSelection::kSummary},
+                                                                   {"all", study::PlotSelection::kAll}};
+  app.add_option_function<std::string>(
+         "--plots", [&o](const std::string& value) { o.plots = kPlots.at(value); },
+         "Figures beside the result file: summary (one figure), all (also one per QoI and channel) or none")
+      ->check(CLI::IsMember({"summary", "all", "none"}))
+      ->type_name("WHICH")
+      ->default_str("summary");
   app.add_flag_callback("--no-plot", [&o] { o.plots = study::PlotSelection::kNone; }, "Same as --plots none");
 }
 
