@@ -8,10 +8,8 @@
 #include "drivers/command_registry.hpp"
 #include "drivers/options.hpp"
 #include "drivers/study_options.hpp"
-#include "study/studies/evaluate.hpp"
-#include "study/runtime/mpi_session.hpp"
 #include "study/model/qoi.hpp"
-#include "study/runtime/study_runner.hpp"
+#include "study/studies/evaluate.hpp"
 
 namespace rover::cli {
 namespace {
@@ -28,12 +26,13 @@ std::vector<std::string> split_list(const std::string& text) {
 struct EvaluateOptions {
   std::string qoi = "B_l_z_min,deflection", channels;
   study::EvaluateRequest request;
+  study::StudyRunOptions run;
 };
 
-int run_evaluate_command(EvaluateOptions& o) {
-  study::MpiSession mpi(nullptr, nullptr);
+study::StudyProgram<study::EvaluateResult> load(EvaluateOptions& o) {
   o.request.qoi_names = split_list(o.qoi);
   o.request.channel_names = split_list(o.channels);
+  o.request.out_path = o.run.results_path;
   FlagChecks checks;
   for (const std::string& q : o.request.qoi_names) {
     try {
@@ -52,23 +51,10 @@ int run_evaluate_command(EvaluateOptions& o) {
   if (o.request.qoi_names.empty() && o.request.channel_names.empty())
     checks.add("--qoi '" + o.qoi + "' names no quantity of interest (and no --channels are given): nothing to compute");
   check_integrator_flag(checks, o.request.integrator);
-  checks.output_file("--out", o.request.out_path);
   checks.distinct_files("--out", o.request.out_path, "--design", o.request.design_path);
   checks.distinct_files("--out", o.request.out_path, "--scenario", o.request.scenario_path);
   checks.throw_if_any();
-  if (o.request.progress_interval_s < 1)
-    throw std::invalid_argument("--progress-interval must be at least 1 s, got " +
-                                std::to_string(o.request.progress_interval_s));
-  o.request.resume_command = "rover evaluate --scenario " + o.request.scenario_path + " --design " +
-                             o.request.design_path + " --qoi " + o.qoi + " --out " + o.request.out_path +
-                             (o.channels.empty() ? "" : " --channels " + o.channels) +
-                             (o.request.integrator.empty() ? "" : " --integrator " + o.request.integrator) +
-                             " --resume";
-  const study::InterruptGuard interrupts;
-  return run_interruptible("evaluate", [&] {
-    const int failed = study::run_evaluate(o.request);
-    return mpi.rank() == 0 && failed > 0 ? 2 : 0;
-  });
+  return study::evaluate_program(study::load_evaluate(o.request));
 }
 
 const RegisterCommand registration{
@@ -80,7 +66,8 @@ const RegisterCommand registration{
           "bodies.chassis.mass, scenario.initial_q.z, or the aliases f, c_q, M0_11 .. M0_42); each row\n"
           "is one run, every other parameter at its configured value. Every row is validated before\n"
           "any run. The output (.csv or .h5) holds, in row order, the inputs, each QoI, the status\n"
-          "(0 = ok) and the message of every run. Exit code 2 if some runs failed.\n\n"
+          "(0 = ok) and the message of every run, and the figure <out>_summary.png shows each QoI's\n"
+          "histogram (--plots none: no figure). Exit code 2 if some runs failed.\n\n"
           "Examples:\n"
           "  rover evaluate --scenario configs/scenarios/drop_horizontal.json --design X.csv \\\n"
           "      --qoi B_l_z_min,deflection --out Y.csv\n"
@@ -97,14 +84,14 @@ const RegisterCommand registration{
           ->capture_default_str();
       app.add_option("--channels", o->channels, "Comma-separated curves to store (.h5 only): B_l_z, B_r_z, G_z, "
                                                 "pitch, roll, Fn_1 .. Fn_4");
-      app.add_option("--out", o->request.out_path, "Output file, .csv or .h5")->required();
+      app.add_option("--out", o->run.results_path, "Output file, .csv or .h5")->required();
       app.add_option("--integrator", o->request.integrator,
                      "Replace the scenario's integrator by this method at its default tolerances: " +
                          integrator_choices_text());
-      app.add_flag("--resume", o->request.resume, "Continue from <out>.checkpoint: only the missing rows run");
-      app.add_option("--progress-interval", o->request.progress_interval_s, "Seconds between progress lines")
-          ->capture_default_str();
-      return [o] { return run_evaluate_command(*o); };
+      app.add_flag("--resume", o->run.resume, "Continue from <out>.checkpoint: only the missing rows run");
+      add_plots_flags(app, o->run);
+      add_progress_flags(app, o->run);
+      return [o, &app] { return run_study_command(app, o->run, "", [&] { return load(*o); }); };
     }};
 
 }  // namespace

@@ -113,6 +113,37 @@ DriveCommand command_from_options(const KinematicsOptions& o, const DriveKinemat
   throw std::invalid_argument("unknown mode");
 }
 
+// The console table of `rover kinematics`: the body velocity, the ICR, and
+// each wheel's steering angle and speed.
+void print_wheel_table(std::ostream& out, DriveMode mode, const std::string& config, const DriveKinematics& kin,
+                       const PlanarMotion& motion, const WheelCommands& wheels) {
+  const BodyVelocityCommand body = body_velocity(motion);
+  const bool has_icr = motion.kind == PlanarMotion::Kind::kRotation;
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(4);
+  s << drive_mode_name(mode) << " mode (" << config << "; steering limit +-"
+    << std::setprecision(1) << kin.steering_limit_rad * kDegPerRad << " deg, wheel radius "
+    << std::setprecision(4) << kin.wheel_radius_m << " m)\n";
+  s << "body velocity at G: v_x " << body.forward_mps << " m/s, v_y " << body.lateral_mps
+    << " m/s, yaw rate " << body.yaw_rate_radps << " rad/s";
+  if (has_icr) {
+    s << "; ICR (" << motion.icr_m.x() << ", " << motion.icr_m.y() << ") m";
+  } else if (motion.kind == PlanarMotion::Kind::kTranslation) {
+    s << "; ICR at infinity";
+  }
+  s << "\n\n";
+  s << "wheel  centre x [m]  centre y [m]  steer [rad]  steer [deg]  speed [rad/s]  ground [m/s]\n";
+  for (int leg = 0; leg < kNumLegs; ++leg) {
+    s << std::setw(5) << kWheelNames[leg] << std::setw(14) << kin.wheel_centre_m[leg].x()
+      << std::setw(14) << kin.wheel_centre_m[leg].y() << std::setw(13) << wheels.steer_rad[leg]
+      << std::setw(13) << std::setprecision(2) << wheels.steer_rad[leg] * kDegPerRad
+      << std::setprecision(4) << std::setw(15) << wheels.wheel_speed_radps[leg] << std::setw(14)
+      << wheels.wheel_speed_radps[leg] * kin.wheel_radius_m
+      << (wheels.flipped[leg] ? "  (flipped)" : "") << "\n";
+  }
+  out << s.str();
+}
+
 int run_kinematics(const KinematicsOptions& o) {
   FlagChecks checks;
   const std::vector<std::pair<const CLI::Option*, double>> numbers = {
@@ -174,29 +205,7 @@ int run_kinematics(const KinematicsOptions& o) {
     return 0;
   }
 
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(4);
-  s << drive_mode_name(*mode) << " mode (" << config << "; steering limit +-"
-    << std::setprecision(1) << kin.steering_limit_rad * kDegPerRad << " deg, wheel radius "
-    << std::setprecision(4) << kin.wheel_radius_m << " m)\n";
-  s << "body velocity at G: v_x " << body.forward_mps << " m/s, v_y " << body.lateral_mps
-    << " m/s, yaw rate " << body.yaw_rate_radps << " rad/s";
-  if (has_icr) {
-    s << "; ICR (" << command.motion.icr_m.x() << ", " << command.motion.icr_m.y() << ") m";
-  } else if (command.motion.kind == PlanarMotion::Kind::kTranslation) {
-    s << "; ICR at infinity";
-  }
-  s << "\n\n";
-  s << "wheel  centre x [m]  centre y [m]  steer [rad]  steer [deg]  speed [rad/s]  ground [m/s]\n";
-  for (int leg = 0; leg < kNumLegs; ++leg) {
-    s << std::setw(5) << kWheelNames[leg] << std::setw(14) << kin.wheel_centre_m[leg].x()
-      << std::setw(14) << kin.wheel_centre_m[leg].y() << std::setw(13) << wheels.steer_rad[leg]
-      << std::setw(13) << std::setprecision(2) << wheels.steer_rad[leg] * kDegPerRad
-      << std::setprecision(4) << std::setw(15) << wheels.wheel_speed_radps[leg] << std::setw(14)
-      << wheels.wheel_speed_radps[leg] * kin.wheel_radius_m
-      << (wheels.flipped[leg] ? "  (flipped)" : "") << "\n";
-  }
-  std::cout << s.str();
+  print_wheel_table(std::cout, *mode, config, kin, command.motion, wheels);
   return 0;
 }
 

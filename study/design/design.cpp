@@ -219,4 +219,22 @@ double centered_l2_discrepancy(const DesignMatrix& unit) {
   return std::sqrt(std::max(0.0, squared));
 }
 
+std::vector<double> linear_grid(double min, double max, int n) {
+  if (n < 1) throw std::invalid_argument("a grid needs at least one point");
+  std::vector<double> v(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) v[i] = n == 1 ? min : min + (max - min) * i / (n - 1);
+  return v;
+}
+
+std::vector<double> log_grid(double min, double max, int n) {
+  if (!(min > 0.0 && max > 0.0)) throw std::invalid_argument("a log grid needs positive bounds");
+  std::vector<double> v = linear_grid(std::log10(min), std::log10(max), n);
+  for (double& x : v) x = std::pow(10.0, x);
+  if (n > 1) {
+    v.front() = min;
+    v.back() = max;
+  }
+  return v;
+}
+
 }  // namespace rover::study

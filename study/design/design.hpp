@@ -65,6 +65,13 @@ DesignMatrix unit_design(DesignType type, int samples, int dimensions, std::uint
 // level count < 1, or a total number of points that overflows int.
 DesignMatrix unit_grid(const std::vector<int>& levels);
 
+// One axis of a grid in physical units: n values from `min` to `max`
+// inclusive, evenly spaced (log_grid: evenly in log10, the end points exact;
+// a single value is `min`). Throws std::invalid_argument for n < 1, and
+// log_grid for bounds that are not positive.
+std::vector<double> linear_grid(double min, double max, int n);
+std::vector<double> log_grid(double min, double max, int n);
+
 // x_ij = distributions[j].quantile(u_ij). Throws std::invalid_argument if the
 // column count differs from distributions.size() or a distribution is not
 // IsValid(); std::domain_error (from quantile) for u = 0 or 1 on an infinite

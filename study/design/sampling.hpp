@@ -1,6 +1,5 @@
-// Sampling for the studies: preload draws for the Monte Carlo (docs/model.md
-// section 5, M0 ~ Normal(mean, sd)) and the parameter grids of the response
-// surfaces (paper section 3.5, Fig. 13).
+// Preload draws for the Monte Carlo (docs/model.md section 5,
+// M0 ~ Normal(mean, sd)).
 //
 // Sample i's draws depend only on (seed, i): its own Boost.Random engine is
 // seeded from a SplitMix64 hash of the pair, so a study gives bit-identical
@@ -19,9 +18,5 @@ namespace rover::study {
 std::array<double, kNumSJoints> sample_preloads(const SStructureParameters& s_structure,
                                                 std::uint64_t seed, std::uint64_t index,
                                                 double sd_scale = 1.0);
-
-// n values from `min` to `max` inclusive, evenly spaced (log: evenly in log10).
-std::vector<double> linear_grid(double min, double max, int n);
-std::vector<double> log_grid(double min, double max, int n);
 
 }  // namespace rover::study

@@ -1,3 +1,4 @@
+// See least_squares_uncertainty.hpp.
 #include "study/estimators/least_squares_uncertainty.hpp"
 
 #include <algorithm>
@@ -42,12 +43,9 @@ void append(std::string& warning, const std::string& sentence) {
   warning += sentence;
 }
 
-}  // namespace
-
-LeastSquaresUncertainty gauss_newton_uncertainty(const Eigen::VectorXd& parameters,
-                                                 const Eigen::VectorXd& residuals,
-                                                 const Eigen::MatrixXd& jacobian, double confidence,
-                                                 const std::vector<std::string>& names) {
+// The arguments' sizes and values (throws std::invalid_argument).
+void check_arguments(const Eigen::VectorXd& parameters, const Eigen::VectorXd& residuals,
+                     const Eigen::MatrixXd& jacobian, double confidence, const std::vector<std::string>& names) {
   const Eigen::Index n = residuals.size(), p = parameters.size();
   if (p < 1) throw std::invalid_argument("gauss_newton_uncertainty: no parameters");
   if (jacobian.rows() != n || jacobian.cols() != p)
@@ -65,6 +63,53 @@ LeastSquaresUncertainty gauss_newton_uncertainty(const Eigen::VectorXd& paramete
     throw std::invalid_argument("gauss_newton_uncertainty: confidence must be in (0, 1)");
   if (!parameters.allFinite() || !residuals.allFinite() || !jacobian.allFinite())
     throw std::invalid_argument("gauss_newton_uncertainty: non-finite parameter, residual or Jacobian entry");
+}
+
+// The warnings of u.warning: a rank-deficient J (which parameters are
+// confounded, which have no effect at all), an ill-conditioned J, and every
+// strongly correlated pair.
+void append_identifiability_warnings(LeastSquaresUncertainty& u, const std::vector<bool>& zero_column,
+                                     const std::vector<std::string>& confounded,
+                                     const std::vector<std::string>& names) {
+  const auto p = static_cast<Eigen::Index>(zero_column.size());
+  if (u.rank < p) {
+    std::ostringstream text;
+    text << "J is rank deficient (rank " << u.rank << " of " << p << "): ";
+    std::vector<std::string> zero;
+    for (Eigen::Index j = 0; j < p; ++j)
+      if (zero_column[static_cast<std::size_t>(j)]) zero.push_back(parameter_name(names, j));
+    if (confounded.size() == 1)
+      text << confounded.front() << " is not identifiable from these data";
+    else
+      text << join_names(confounded) << " are not separately identifiable from these data";
+    if (!zero.empty())
+      text << " (" << join_names(zero) << (zero.size() == 1 ? " has" : " have")
+           << " no effect on the residuals)";
+    append(u.warning, text.str());
+  } else if (u.condition_number > kIllConditioned) {
+    std::ostringstream text;
+    text << "J is ill-conditioned (condition number " << u.condition_number
+         << " after column scaling): some parameter combination is barely identifiable";
+    append(u.warning, text.str());
+  }
+  for (Eigen::Index i = 0; i < p; ++i)
+    for (Eigen::Index j = i + 1; j < p; ++j)
+      if (std::abs(u.correlation(i, j)) > kStrongCorrelation) {
+        std::ostringstream text;
+        text << parameter_name(names, i) << " and " << parameter_name(names, j)
+             << " are strongly correlated (r = " << u.correlation(i, j) << ")";
+        append(u.warning, text.str());
+      }
+}
+
+}  // namespace
+
+LeastSquaresUncertainty gauss_newton_uncertainty(const Eigen::VectorXd& parameters,
+                                                 const Eigen::VectorXd& residuals,
+                                                 const Eigen::MatrixXd& jacobian, double confidence,
+                                                 const std::vector<std::string>& names) {
+  check_arguments(parameters, residuals, jacobian, confidence, names);
+  const Eigen::Index n = residuals.size(), p = parameters.size();
 
   // Column scaling: J = Js D with unit-norm columns of Js (a zero column stays zero).
   Eigen::VectorXd column_scale = jacobian.colwise().norm().transpose();
@@ -121,34 +166,7 @@ LeastSquaresUncertainty gauss_newton_uncertainty(const Eigen::VectorXd& paramete
       u.correlation(i, j) = i == j ? 1.0 : (both && denominator > 0.0 ? u.covariance(i, j) / denominator : kNaN);
     }
 
-  if (rank < p) {
-    std::ostringstream text;
-    text << "J is rank deficient (rank " << rank << " of " << p << "): ";
-    std::vector<std::string> zero;
-    for (Eigen::Index j = 0; j < p; ++j)
-      if (zero_column[static_cast<std::size_t>(j)]) zero.push_back(parameter_name(names, j));
-    if (confounded.size() == 1)
-      text << confounded.front() << " is not identifiable from these data";
-    else
-      text << join_names(confounded) << " are not separately identifiable from these data";
-    if (!zero.empty())
-      text << " (" << join_names(zero) << (zero.size() == 1 ? " has" : " have")
-           << " no effect on the residuals)";
-    append(u.warning, text.str());
-  } else if (u.condition_number > kIllConditioned) {
-    std::ostringstream text;
-    text << "J is ill-conditioned (condition number " << u.condition_number
-         << " after column scaling): some parameter combination is barely identifiable";
-    append(u.warning, text.str());
-  }
-  for (Eigen::Index i = 0; i < p; ++i)
-    for (Eigen::Index j = i + 1; j < p; ++j)
-      if (std::abs(u.correlation(i, j)) > kStrongCorrelation) {
-        std::ostringstream text;
-        text << parameter_name(names, i) << " and " << parameter_name(names, j)
-             << " are strongly correlated (r = " << u.correlation(i, j) << ")";
-        append(u.warning, text.str());
-      }
+  append_identifiability_warnings(u, zero_column, confounded, names);
   return u;
 }
 

@@ -257,6 +257,48 @@ void bootstrap_interval(double estimate, std::vector<double>& replicates,
   upper = quantile(replicates, p_upper);
 }
 
+// The bootstrap intervals of every estimate (resampling the groups' term
+// rows), with the jackknife the BCa interval needs; `point` holds the
+// estimates themselves.
+void bootstrap_intervals(const TermColumns& columns, const SobolOptions& options, const Eigen::MatrixXd& terms,
+                         const Eigen::VectorXd& totals, double n, const Eigen::VectorXd& point,
+                         Eigen::VectorXd& lower, Eigen::VectorXd& upper) {
+  const int estimates = columns.estimates();
+  const int R = options.bootstrap_resamples;
+  // Bootstrap: replicates(e, r) is estimate e on resample r.
+  Eigen::MatrixXd replicates(estimates, R);
+  Eigen::VectorXd counts(terms.rows()), sums(terms.cols());
+  boost::random::mt19937_64 engine(options.seed);
+  boost::random::uniform_int_distribution<Eigen::Index> draw(0, terms.rows() - 1);
+  for (int r = 0; r < R; ++r) {
+    counts.setZero();
+    for (Eigen::Index k = 0; k < terms.rows(); ++k) counts[draw(engine)] += 1.0;
+    sums.noalias() = terms.transpose() * counts;
+    estimates_from_sums(columns, options.estimator, sums.data(), n, replicates.col(r).data());
+  }
+  // Jackknife (leave one group out), for the BCa acceleration.
+  Eigen::MatrixXd jackknife;
+  if (options.interval == BootstrapInterval::kBca) {
+    jackknife.resize(estimates, terms.rows());
+    for (Eigen::Index g = 0; g < terms.rows(); ++g) {
+      sums = totals - terms.row(g).transpose();
+      estimates_from_sums(columns, options.estimator, sums.data(), n - 1.0,
+                          jackknife.col(g).data());
+    }
+  }
+  std::vector<double> values(static_cast<std::size_t>(R)), leave_one_out;
+  for (int e = 0; e < estimates; ++e) {
+    const Eigen::VectorXd row = replicates.row(e).transpose();
+    values.assign(row.data(), row.data() + R);
+    if (jackknife.size() > 0) {
+      const Eigen::VectorXd jack = jackknife.row(e).transpose();
+      leave_one_out.assign(jack.data(), jack.data() + jack.size());
+    }
+    bootstrap_interval(point[e], values, leave_one_out, options.confidence, options.interval,
+                       lower[e], upper[e]);
+  }
+}
+
 }  // namespace
 
 SobolIndices estimate_sobol_indices(const PickFreezeLayout& layout, const Eigen::VectorXd& y,
@@ -310,41 +352,8 @@ SobolIndices estimate_sobol_indices(const PickFreezeLayout& layout, const Eigen:
 
   Eigen::VectorXd lower = Eigen::VectorXd::Constant(estimates, kNaN);
   Eigen::VectorXd upper = lower;
-  const int R = options.bootstrap_resamples;
-  if (R > 0) {
-    // Bootstrap: replicates(e, r) is estimate e on resample r.
-    Eigen::MatrixXd replicates(estimates, R);
-    Eigen::VectorXd counts(terms.rows()), sums(terms.cols());
-    boost::random::mt19937_64 engine(options.seed);
-    boost::random::uniform_int_distribution<Eigen::Index> draw(0, terms.rows() - 1);
-    for (int r = 0; r < R; ++r) {
-      counts.setZero();
-      for (Eigen::Index k = 0; k < terms.rows(); ++k) counts[draw(engine)] += 1.0;
-      sums.noalias() = terms.transpose() * counts;
-      estimates_from_sums(columns, options.estimator, sums.data(), n, replicates.col(r).data());
-    }
-    // Jackknife (leave one group out), for the BCa acceleration.
-    Eigen::MatrixXd jackknife;
-    if (options.interval == BootstrapInterval::kBca) {
-      jackknife.resize(estimates, terms.rows());
-      for (Eigen::Index g = 0; g < terms.rows(); ++g) {
-        sums = totals - terms.row(g).transpose();
-        estimates_from_sums(columns, options.estimator, sums.data(), n - 1.0,
-                            jackknife.col(g).data());
-      }
-    }
-    std::vector<double> values(static_cast<std::size_t>(R)), leave_one_out;
-    for (int e = 0; e < estimates; ++e) {
-      const Eigen::VectorXd row = replicates.row(e).transpose();
-      values.assign(row.data(), row.data() + R);
-      if (jackknife.size() > 0) {
-        const Eigen::VectorXd jack = jackknife.row(e).transpose();
-        leave_one_out.assign(jack.data(), jack.data() + jack.size());
-      }
-      bootstrap_interval(point[e], values, leave_one_out, options.confidence, options.interval,
-                         lower[e], upper[e]);
-    }
-  }
+  if (options.bootstrap_resamples > 0)
+    bootstrap_intervals(columns, options, terms, totals, n, point, lower, upper);
 
   result.S1 = point.head(d);
   result.ST = point.segment(d, d);

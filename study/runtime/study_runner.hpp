@@ -18,6 +18,12 @@ namespace rover::study {
 int world_rank();
 int world_size();
 
+// The figures a study writes beside its result file: none, its one summary
+// figure, or the summary and one figure per QoI and channel.
+enum class PlotSelection { kNone, kSummary, kAll };
+
+// How a study runs: where its results and checkpoint go, what identifies it,
+// how it reports progress and what it plots.
 struct StudyRunOptions {
   std::string results_path;   // the study's HDF5 file; the checkpoint lives beside it
   std::string fingerprint;    // identifies the configuration (config_fingerprint of its text)
@@ -26,6 +32,7 @@ struct StudyRunOptions {
   int progress_interval_s = 5;
   std::string resume_command;  // the command line that resumes the study (for messages)
   io::CheckpointPolicy checkpoint;  // how often finished runs are flushed to the checkpoint
+  PlotSelection plots = PlotSelection::kSummary;
 };
 
 // Collective: every rank calls it. stream_study_tasks() (below) collecting

@@ -270,108 +270,143 @@ void deliver_inbox_locked(Rank0State& state, Delivery& delivery) {
 }
 
 // The master: rank 0's communication thread, the only thread calling MPI
-// while it runs. Returns when no worker can send anything more.
-void master_loop(MPI_Comm comm, int size, Rank0State& state, Progress& progress, Delivery& delivery,
-                 const std::function<void()>& on_stop) {
-  try {
-    const auto workers = static_cast<std::size_t>(size);
-    std::vector<int> owed(workers, 0);     // requests for a task not answered yet
-    std::vector<int> in_hand(workers, 0);  // tasks sent, result not received
-    std::vector<bool> retired(workers, false);  // handed a task back: gets kStop only
-    bool stop_seen = false;
-    int started = 0;                       // workers whose first request arrived
-    int total_in_hand = 0;
-    std::vector<char> buffer;
+// while it runs; its run returns once no worker can send anything more.
+class Master {
+ public:
+  Master(MPI_Comm comm, int size, Rank0State& state, Progress& progress, Delivery& delivery,
+         const std::function<void()>& on_stop)
+      : comm_(comm), size_(size), state_(state), progress_(progress), delivery_(delivery), on_stop_(on_stop),
+        workers_(static_cast<std::size_t>(size)), owed_(workers_, 0), in_hand_(workers_, 0),
+        retired_(workers_, false) {}
 
-    const auto send = [&](int worker, int message) {
-      MPI_Send(&message, 1, MPI_INT, worker, kTagTask, comm);
-      --owed[static_cast<std::size_t>(worker)];
-    };
-    // Answers worker's owed requests: a task if it has none in hand (or few
-    // ranks would be left without work otherwise), kStop once the queue is empty.
-    const auto serve = [&](int worker) {
-      const auto w = static_cast<std::size_t>(worker);
-      while (owed[w] > 0) {
-        const std::size_t remaining = state.remaining();
-        if (remaining == 0 || retired[w]) {
-          send(worker, kStop);
-        } else if (in_hand[w] == 0 || remaining >= 2 * workers) {
-          const std::optional<int> task = state.take();  // may have been emptied meanwhile
-          if (task) {
-            ++in_hand[w];
-            ++total_in_hand;
-          }
-          send(worker, task.value_or(kStop));
-        } else {
-          return;  // hold the request until this worker returns a result
-        }
-      }
-    };
-
-    // A stop: deliver what the main thread has not taken yet, then on_stop;
-    // later results are delivered as they arrive.
-    const auto handle_stop = [&] {
-      stop_seen = true;
-      auto delivering = delivery.lock();
-      deliver_inbox_locked(state, delivery);
-      if (on_stop) on_stop();
-    };
-
+  void run() {
     while (true) {
-      progress.maybe_report();
-      if (!stop_seen && state.stop != nullptr && state.stop->load()) handle_stop();
-      if (state.remaining() == 0) {
-        for (int worker = 1; worker < size; ++worker) serve(worker);
-        if (started == size - 1 && total_in_hand == 0) break;
+      progress_.maybe_report();
+      if (!stop_seen_ && state_.stop != nullptr && state_.stop->load()) handle_stop();
+      if (state_.remaining() == 0) {
+        for (int worker = 1; worker < size_; ++worker) serve(worker);
+        if (started_ == size_ - 1 && total_in_hand_ == 0) return;
       }
       int arrived = 0;
       MPI_Status status;
-      MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, comm, &arrived, &status);
+      MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, comm_, &arrived, &status);
       if (!arrived) {
         std::this_thread::sleep_for(kMasterPoll);
         continue;
       }
       const int worker = status.MPI_SOURCE;
-      const auto w = static_cast<std::size_t>(worker);
       if (status.MPI_TAG == kTagRequest) {
-        int count = 0;
-        MPI_Recv(&count, 1, MPI_INT, worker, kTagRequest, comm, MPI_STATUS_IGNORE);
-        owed[w] += count;
-        ++started;
+        receive_request(worker);
       } else if (status.MPI_TAG == kTagResult) {
-        int bytes = 0;
-        MPI_Get_count(&status, MPI_BYTE, &bytes);
-        buffer.resize(static_cast<std::size_t>(bytes));
-        MPI_Recv(buffer.data(), bytes, MPI_BYTE, worker, kTagResult, comm, MPI_STATUS_IGNORE);
-        TaskResult result = deserialize(buffer);
-        --in_hand[w];
-        --total_in_hand;
-        ++owed[w];
-        progress.record(result);
-        if (stop_seen) {
-          auto delivering = delivery.lock();
-          delivery.deliver(std::move(result));
-        } else {
-          {
-            const std::lock_guard lock(state.mutex);
-            state.inbox.push_back(std::move(result));
-          }
-          state.changed.notify_one();
-        }
+        receive_result(worker, status);
       } else if (status.MPI_TAG == kTagReturned) {
-        int index = kStop;
-        MPI_Recv(&index, 1, MPI_INT, worker, kTagReturned, comm, MPI_STATUS_IGNORE);
-        --in_hand[w];
-        --total_in_hand;
-        retired[w] = true;
-        state.give_back(index);
+        receive_returned(worker);
       } else {
-        throw std::runtime_error("run_task_farm: unexpected message tag " +
-                                 std::to_string(status.MPI_TAG) + " from rank " +
-                                 std::to_string(worker));
+        throw std::runtime_error("run_task_farm: unexpected message tag " + std::to_string(status.MPI_TAG) +
+                                 " from rank " + std::to_string(worker));
       }
       serve(worker);
     }
+  }
+
+ private:
+  void send(int worker, int message) {
+    MPI_Send(&message, 1, MPI_INT, worker, kTagTask, comm_);
+    --owed_[static_cast<std::size_t>(worker)];
+  }
+
+  // Answers worker's owed requests: a task if it has none in hand (or few
+  // ranks would be left without work otherwise), kStop once the queue is empty.
+  void serve(int worker) {
+    const auto w = static_cast<std::size_t>(worker);
+    while (owed_[w] > 0) {
+      const std::size_t remaining = state_.remaining();
+      if (remaining == 0 || retired_[w]) {
+        send(worker, kStop);
+      } else if (in_hand_[w] == 0 || remaining >= 2 * workers_) {
+        const std::optional<int> task = state_.take();  // may have been emptied meanwhile
+        if (task) {
+          ++in_hand_[w];
+          ++total_in_hand_;
+        }
+        send(worker, task.value_or(kStop));
+      } else {
+        return;  // hold the request until this worker returns a result
+      }
+    }
+  }
+
+  // A stop: deliver what the main thread has not taken yet, then on_stop;
+  // later results are delivered as they arrive.
+  void handle_stop() {
+    stop_seen_ = true;
+    auto delivering = delivery_.lock();
+    deliver_inbox_locked(state_, delivery_);
+    if (on_stop_) on_stop_();
+  }
+
+  void receive_request(int worker) {
+    int count = 0;
+    MPI_Recv(&count, 1, MPI_INT, worker, kTagRequest, comm_, MPI_STATUS_IGNORE);
+    owed_[static_cast<std::size_t>(worker)] += count;
+    ++started_;
+  }
+
+  void receive_result(int worker, const MPI_Status& status) {
+    const auto w = static_cast<std::size_t>(worker);
+    int bytes = 0;
+    MPI_Get_count(&status, MPI_BYTE, &bytes);
+    buffer_.resize(static_cast<std::size_t>(bytes));
+    MPI_Recv(buffer_.data(), bytes, MPI_BYTE, worker, kTagResult, comm_, MPI_STATUS_IGNORE);
+    TaskResult result = deserialize(buffer_);
+    --in_hand_[w];
+    --total_in_hand_;
+    ++owed_[w];
+    progress_.record(result);
+    if (stop_seen_) {
+      auto delivering = delivery_.lock();
+      delivery_.deliver(std::move(result));
+      return;
+    }
+    {
+      const std::lock_guard lock(state_.mutex);
+      state_.inbox.push_back(std::move(result));
+    }
+    state_.changed.notify_one();
+  }
+
+  void receive_returned(int worker) {
+    const auto w = static_cast<std::size_t>(worker);
+    int index = kStop;
+    MPI_Recv(&index, 1, MPI_INT, worker, kTagReturned, comm_, MPI_STATUS_IGNORE);
+    --in_hand_[w];
+    --total_in_hand_;
+    retired_[w] = true;
+    state_.give_back(index);
+  }
+
+  MPI_Comm comm_;
+  int size_;
+  Rank0State& state_;
+  Progress& progress_;
+  Delivery& delivery_;
+  const std::function<void()>& on_stop_;
+  std::size_t workers_;
+  std::vector<int> owed_;      // requests for a task not answered yet
+  std::vector<int> in_hand_;   // tasks sent, result not received
+  std::vector<bool> retired_;  // handed a task back: gets kStop only
+  bool stop_seen_ = false;
+  int started_ = 0;            // workers whose first request arrived
+  int total_in_hand_ = 0;
+  std::vector<char> buffer_;
+};
+
+// Rank 0's communication thread: runs the master and, whatever happens,
+// tells the main thread it is done (with the master's error, if any).
+void master_loop(MPI_Comm comm, int size, Rank0State& state, Progress& progress, Delivery& delivery,
+                 const std::function<void()>& on_stop) {
+  try {
+    Master(comm, size, state, progress, delivery, on_stop).run();
   } catch (...) {
     const std::lock_guard lock(state.mutex);
     state.master_error = std::current_exception();

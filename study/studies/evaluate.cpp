@@ -13,6 +13,7 @@
 #include "io/hdf5_file.hpp"
 #include "io/json_reader.hpp"
 #include "study/studies/study_output.hpp"
+#include "study/studies/summary_figure.hpp"
 #include "study/runtime/study_runner.hpp"
 #include "study/studies/study_spec.hpp"
 
@@ -106,18 +107,9 @@ DesignTable read_design_csv(const std::string& path) {
   return table;
 }
 
-int run_evaluate(const EvaluateRequest& request) {
-  const bool root = world_rank() == 0;
-  const std::string& out = request.out_path;
-  const bool to_csv = out.ends_with(".csv");
-  if (!to_csv && !out.ends_with(".h5")) throw std::invalid_argument("--out must end in .csv or .h5, got '" + out + "'");
-  if (std::filesystem::is_directory(out)) throw std::invalid_argument("--out '" + out + "' is a directory");
-  if (to_csv && !request.channel_names.empty())
-    throw std::invalid_argument("--channels needs an .h5 output (curves do not fit a CSV row)");
+namespace {
 
-  io::ScenarioSources sources = io::read_scenario_sources(request.scenario_path);
-  const DesignTable design = read_design_csv(request.design_path);
-  const ParameterSpace space(sources.rover, sources.scenario);
+std::vector<std::string> canonical_columns(const DesignTable& design, const ParameterSpace& space) {
   std::vector<std::string> names;
   for (std::size_t j = 0; j < design.columns.size(); ++j) {
     try {
@@ -131,8 +123,12 @@ int run_evaluate(const EvaluateRequest& request) {
         throw io::ConfigError(design.path + ": columns " + std::to_string(k + 1) + " and " + std::to_string(j + 1) +
                               " name the same parameter (" + names[j] + ")");
   }
+  return names;
+}
+
+std::vector<QoiSpec> plain_qois(const std::vector<std::string>& qoi_names) {
   std::vector<QoiSpec> qois;
-  for (const std::string& q : request.qoi_names) {
+  for (const std::string& q : qoi_names) {
     QoiSpec spec;
     spec.name = q;
     spec.kind = qoi_kind_from_name(q);
@@ -140,110 +136,151 @@ int run_evaluate(const EvaluateRequest& request) {
       throw std::invalid_argument("--qoi rms_vs needs a reference curve: use a montecarlo study file for it");
     qois.push_back(spec);
   }
+  return qois;
+}
+
+// Every row is checked before any run starts.
+void check_rows(const DesignTable& design, const RoverStudyModel& model) {
+  for (Eigen::Index i = 0; i < design.values.rows(); ++i) {
+    try {
+      (void)model.setup_at(design.values.row(i).data());
+    } catch (const std::exception& e) {
+      throw io::ConfigError(design.path + ":" + std::to_string(design.line_numbers[static_cast<std::size_t>(i)]) +
+                            ": this row's values are not a valid configuration: " + e.what());
+    }
+  }
+}
+
+std::string evaluate_fingerprint(const EvaluateRequest& request, const io::ScenarioSources& sources) {
+  std::string options = "|qoi:";
+  for (const auto& q : request.qoi_names) options += q + ",";
+  for (const auto& c : request.channel_names) options += c + ";";
+  options += "|integrator:" + request.integrator;
+  return io::config_fingerprint(file_text(request.design_path) + file_text(request.scenario_path) +
+                                file_text(sources.rover_path) + file_text(sources.terrain_path) + options);
+}
+
+}  // namespace
+
+EvaluateStudy load_evaluate(const EvaluateRequest& request) {
+  if (request.out_path.ends_with(".csv") && !request.channel_names.empty())
+    throw std::invalid_argument("--channels needs an .h5 output (curves do not fit a CSV row)");
+  EvaluateStudy s;
+  s.request = request;
+  io::ScenarioSources sources = io::read_scenario_sources(request.scenario_path);
+  s.design = read_design_csv(request.design_path);
+  s.names = canonical_columns(s.design, ParameterSpace(sources.rover, sources.scenario));
   std::vector<Channel> channels;
   for (const std::string& c : request.channel_names) channels.push_back(channel_from_name(c));
   std::optional<IntegratorSettings> integrator;
   if (!request.integrator.empty())
     integrator = default_integrator_settings(integrator_from_name(request.integrator));
-  const RoverStudyModel model(sources, names, qois, channels, integrator);
+  s.fingerprint = evaluate_fingerprint(request, sources);
+  s.model = std::make_shared<RoverStudyModel>(std::move(sources), s.names, plain_qois(request.qoi_names), channels,
+                                              integrator);
+  if (world_rank() == 0) check_rows(s.design, *s.model);
+  return s;
+}
 
-  // Every row is checked before any run starts.
-  const auto rows = static_cast<int>(design.values.rows());
-  if (root)
-    for (int i = 0; i < rows; ++i) {
-      try {
-        (void)model.setup_at(design.values.row(i).data());
-      } catch (const std::exception& e) {
-        throw io::ConfigError(design.path + ":" + std::to_string(design.line_numbers[static_cast<std::size_t>(i)]) +
-                              ": this row's values are not a valid configuration: " + e.what());
-      }
-    }
-
+EvaluateResult run_evaluate(const EvaluateStudy& study, const StudyRuntime& runtime) {
+  const RoverStudyModel& model = *study.model;
+  const DesignMatrix& x = study.design.values;
+  const std::vector<std::string>& channels = study.request.channel_names;
+  const auto rows = static_cast<int>(x.rows());
   const RecordLayout layout = model.layout();
-  std::unique_ptr<io::Hdf5Writer> h5;
-  std::ofstream csv;
-  const std::string partial = out + ".partial";
-  if (root) {
-    if (const auto dir = std::filesystem::path(out).parent_path(); !dir.empty()) std::filesystem::create_directories(dir);
-    if (to_csv) {
-      csv.open(partial, std::ios::binary | std::ios::trunc);
-      if (!csv) throw std::runtime_error("cannot write " + partial);
-      for (const std::string& c : design.columns) csv << c << ",";
-      for (const std::string& q : request.qoi_names) csv << q << ",";
-      csv << "status,message\n";
-    } else {
-      h5 = std::make_unique<io::Hdf5Writer>(out);
-      for (const std::string& c : request.channel_names)
-        h5->create_matrix("/curves/" + c, static_cast<std::size_t>(rows), static_cast<std::size_t>(layout.time_samples),
-                          std::nan(""));
-    }
-  }
-  std::vector<std::vector<double>> qoi_values(qois.size());
-  std::vector<int> status;
-  std::vector<std::string> messages;
-  int failed = 0;
-  auto compute = [&](int i) { return encode_record(i, model.run(design.values.row(i).data())); };
+  const auto T = static_cast<std::size_t>(layout.time_samples);
+  io::Hdf5Writer* h5 = runtime.h5;
+  if (h5 != nullptr)
+    for (const std::string& c : channels) h5->create_matrix("/curves/" + c, static_cast<std::size_t>(rows), T, std::nan(""));
+  EvaluateResult result;
+  result.qoi.resize(static_cast<std::size_t>(layout.qoi_count));
+  auto compute = [&](int i) { return encode_record(i, model.run(x.row(i).data())); };
   auto consume = [&](TaskResult&& task) {
     const int index = task.index;
     const RunRecord r = decode_record(layout, std::move(task));
-    failed += r.ok() ? 0 : 1;
-    if (to_csv) {
-      for (Eigen::Index j = 0; j < design.values.cols(); ++j) csv << number(design.values(index, j)) << ",";
-      for (double q : r.qoi) csv << number(q) << ",";
-      csv << r.status << "," << csv_quoted(r.message) << "\n";
-      if (!csv) throw std::runtime_error("writing " + partial + " failed (disk full?)");
-    } else {
-      for (std::size_t q = 0; q < qois.size(); ++q) qoi_values[q].push_back(r.qoi[q]);
-      status.push_back(r.status);
-      messages.push_back(r.message);
-      if (r.ok())
-        for (int c = 0; c < layout.channel_count; ++c)
-          h5->write_row("/curves/" + request.channel_names[static_cast<std::size_t>(c)], static_cast<std::size_t>(index),
-                        r.curve(c, layout.time_samples), static_cast<std::size_t>(layout.time_samples));
-    }
+    result.failed += r.ok() ? 0 : 1;
+    for (std::size_t q = 0; q < result.qoi.size(); ++q) result.qoi[q].push_back(r.qoi[q]);
+    result.status.push_back(r.status);
+    result.messages.push_back(r.message);
+    if (r.ok() && h5 != nullptr)
+      for (int c = 0; c < layout.channel_count; ++c)
+        h5->write_row("/curves/" + channels[static_cast<std::size_t>(c)], static_cast<std::size_t>(index),
+                      r.curve(c, layout.time_samples), T);
   };
-  std::string fingerprint = io::config_fingerprint(file_text(request.design_path) + file_text(request.scenario_path) +
-                                                   file_text(sources.rover_path) + file_text(sources.terrain_path) +
-                                                   "|qoi:" + [&] {
-                                                     std::string s;
-                                                     for (const auto& q : request.qoi_names) s += q + ",";
-                                                     for (const auto& c : request.channel_names) s += c + ";";
-                                                     return s + "|integrator:" + request.integrator;
-                                                   }());
-  StudyRunOptions options{out, fingerprint, request.resume, "evaluate", request.progress_interval_s,
-                          request.resume_command, io::CheckpointPolicy{}};
-  try {
-    stream_study_tasks(rows, compute, consume, options);
-  } catch (...) {
-    if (csv.is_open()) {
-      csv.close();
-      std::filesystem::remove(partial);
-    }
-    throw;
+  stream_study_tasks(rows, compute, consume, runtime.options);
+  if (world_rank() != 0) return {};
+  result.study = study;
+  return result;
+}
+
+void write_evaluate(const EvaluateResult& result, io::Hdf5Writer& h5) {
+  const EvaluateStudy& study = result.study;
+  h5.write("/inputs/names", study.names);
+  h5.write("/inputs/labels", study.design.columns);
+  h5.write("/inputs/values", Eigen::MatrixXd(study.design.values));
+  for (std::size_t q = 0; q < result.qoi.size(); ++q) h5.write("/qoi/" + study.request.qoi_names[q], result.qoi[q]);
+  h5.write("/samples/status", result.status);
+  h5.write("/samples/message", result.messages);
+  if (!study.request.channel_names.empty()) h5.write("/t", study.model->time_s());
+  h5.attribute("/", "study", "evaluate");
+  h5.attribute("/", "scenario_file", study.request.scenario_path);
+  h5.attribute("/", "design_file", study.request.design_path);
+  h5.attribute("/", "fingerprint", study.fingerprint);
+  h5.attribute("/", "project_version", ROVER_VERSION);
+}
+
+void write_evaluate_csv(const EvaluateResult& result, const std::string& path) {
+  const EvaluateStudy& study = result.study;
+  const DesignMatrix& x = study.design.values;
+  const std::string partial = path + ".partial";
+  std::ofstream csv(partial, std::ios::binary | std::ios::trunc);
+  if (!csv) throw std::runtime_error("cannot write " + partial);
+  for (const std::string& c : study.design.columns) csv << c << ",";
+  for (const std::string& q : study.request.qoi_names) csv << q << ",";
+  csv << "status,message\n";
+  for (Eigen::Index i = 0; i < x.rows(); ++i) {
+    const auto row = static_cast<std::size_t>(i);
+    for (Eigen::Index j = 0; j < x.cols(); ++j) csv << number(x(i, j)) << ",";
+    for (const std::vector<double>& q : result.qoi) csv << number(q[row]) << ",";
+    csv << result.status[row] << "," << csv_quoted(result.messages[row]) << "\n";
   }
-  if (!root) return failed;
-  if (to_csv) {
-    csv.close();
-    if (!csv) throw std::runtime_error("writing " + partial + " failed (disk full?)");
-    std::filesystem::rename(partial, out);
-  } else {
-    h5->write("/inputs/names", names);
-    h5->write("/inputs/labels", design.columns);
-    h5->write("/inputs/values", Eigen::MatrixXd(design.values));
-    for (std::size_t q = 0; q < qois.size(); ++q) h5->write("/qoi/" + qois[q].name, qoi_values[q]);
-    h5->write("/samples/status", status);
-    h5->write("/samples/message", messages);
-    if (!channels.empty()) h5->write("/t", model.time_s());
-    h5->attribute("/", "study", "evaluate");
-    h5->attribute("/", "scenario_file", request.scenario_path);
-    h5->attribute("/", "design_file", request.design_path);
-    h5->attribute("/", "fingerprint", fingerprint);
-    h5->attribute("/", "project_version", ROVER_VERSION);
-    h5->commit();
+  csv.close();
+  if (!csv) {
+    std::filesystem::remove(partial);
+    throw std::runtime_error("writing " + partial + " failed (disk full?)");
   }
-  remove_checkpoint(out);
-  std::cerr << "evaluate: " << rows << " runs (" << failed << " failed), wrote " << out << "\n";
-  return failed;
+  std::filesystem::rename(partial, path);
+}
+
+void plot_evaluate(const EvaluateResult& result, const std::string& results_path, PlotSelection plots) {
+  if (plots == PlotSelection::kNone) return;
+  const StudyModel& model = *result.study.model;
+  std::vector<io::LinePlot> panels;
+  for (std::size_t q = 0; q < result.qoi.size(); ++q) {
+    std::vector<double> ok;
+    for (std::size_t i = 0; i < result.status.size(); ++i)
+      if (result.status[i] == run_status::kOk) ok.push_back(result.qoi[q][i]);
+    if (auto h = histogram_panel(model.qoi_names()[q], model.qoi_units()[q], ok, nullptr, 0.0))
+      panels.push_back(std::move(*h));
+  }
+  write_summary_figure("evaluate " + result.study.request.design_path + ": " +
+                           std::to_string(result.status.size()) + " rows (" + std::to_string(result.failed) +
+                           " failed)",
+                       panels, sibling_path(results_path, "_summary.png"), "evaluate");
+}
+
+StudyProgram<EvaluateResult> evaluate_program(EvaluateStudy study) {
+  StudyProgram<EvaluateResult> p;
+  p.command = "evaluate";
+  p.name = "evaluate";
+  p.fingerprint = study.fingerprint;
+  p.run = [study](const StudyRuntime& runtime) { return run_evaluate(study, runtime); };
+  p.write = write_evaluate;
+  p.write_csv = write_evaluate_csv;
+  p.plot = plot_evaluate;
+  p.counts = [](const EvaluateResult& r) { return count_runs(r.status, r.messages); };
+  p.status_when_some_failed = kSomeRunsFailedStatus;
+  return p;
 }
 
 }  // namespace rover::study

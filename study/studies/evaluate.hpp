@@ -14,13 +14,22 @@
 // Output: .csv (header: inputs..., qois..., status, message) or .h5
 // (/inputs/names, /inputs/values, /qoi/<name>, /samples/status,
 // /samples/message, /t and /curves/<channel> when channels are asked for).
+//
+// The study's parts, run by the study driver (study_driver.hpp):
+// load_evaluate() (the flags, the scenario and every design row checked),
+// run_evaluate() (the runs; curves streamed into the HDF5 file),
+// write_evaluate() or write_evaluate_csv(), and plot_evaluate().
 #pragma once
 
 #include <string>
 #include <vector>
 
+#include <memory>
+
+#include "io/hdf5_file.hpp"
 #include "study/design/design.hpp"
 #include "study/model/study_model.hpp"
+#include "study/studies/study_driver.hpp"
 
 namespace rover::study {
 
@@ -40,13 +49,43 @@ struct EvaluateRequest {
   std::vector<std::string> qoi_names;      // plain QoI names
   std::vector<std::string> channel_names;  // optional, .h5 output only
   std::string integrator;                  // optional method name
-  bool resume = false;
-  int progress_interval_s = 5;
-  std::string resume_command;
 };
 
-// Collective over MPI ranks; rank 0 writes the output. Returns the number of
-// failed runs.
-int run_evaluate(const EvaluateRequest& request);
+struct EvaluateStudy {
+  EvaluateRequest request;
+  DesignTable design;
+  std::vector<std::string> names;  // the canonical parameter of each design column
+  std::shared_ptr<const RoverStudyModel> model;
+  std::string fingerprint;         // design, scenario, rover, terrain, QoIs, channels, integrator
+};
+
+// Reads the scenario and the design and checks every row (rank 0) before any
+// run. Throws std::invalid_argument for curves asked into a CSV,
+// io::ConfigError naming the file, line and column for a bad design.
+EvaluateStudy load_evaluate(const EvaluateRequest& request);
+
+// Per design row, in row order.
+struct EvaluateResult {
+  EvaluateStudy study;
+  std::vector<std::vector<double>> qoi;  // [qoi][row]
+  std::vector<int> status;
+  std::vector<std::string> messages;
+  int failed = 0;
+};
+
+// Collective over MPI ranks; on rank 0 the curves go into runtime.h5 (HDF5
+// output only) as the runs arrive. The result is meaningful on rank 0.
+EvaluateResult run_evaluate(const EvaluateStudy& study, const StudyRuntime& runtime);
+
+void write_evaluate(const EvaluateResult& result, io::Hdf5Writer& h5);
+// The CSV: a header row, then one row per design row (inputs as given, QoIs,
+// status, message), written to "<path>.partial" and renamed into place.
+void write_evaluate_csv(const EvaluateResult& result, const std::string& path);
+
+// <results>_summary.png: a histogram of each QoI over the successful rows.
+void plot_evaluate(const EvaluateResult& result, const std::string& results_path, PlotSelection plots);
+
+// The study as the driver runs it: exit status 2 when any run failed.
+StudyProgram<EvaluateResult> evaluate_program(EvaluateStudy study);
 
 }  // namespace rover::study

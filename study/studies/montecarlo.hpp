@@ -5,11 +5,11 @@
 // intervals (mean: Student t; sd: bootstrap; quantiles: distribution-free,
 // from order statistics, reported as missing when N is too small).
 //
-// Three parts: load_montecarlo_study() (config), MonteCarloAnalysis (compute:
-// consumes run records in index order; pure, testable in-process) and
-// run_montecarlo() (the runs over the MPI farm, streamed into the analysis and
-// into the HDF5 file row by row; rank 0's memory does not grow with N beyond
-// the QoI values).
+// The study's parts, run by the study driver (study_driver.hpp):
+// load_montecarlo_study() (config), run_montecarlo() (the runs over the MPI
+// farm, streamed into MonteCarloAnalysis and into the result file row by row,
+// so rank 0's memory does not grow with N beyond the QoI values),
+// write_montecarlo(), report_montecarlo() and plot_montecarlo().
 //
 // HDF5 (docs/results_format.md): /inputs/names, /inputs/values
 // (N x d), /qoi/<name> (N), /summary/<qoi>/..., /t (T), /curves/<channel>
@@ -17,13 +17,15 @@
 // p99865}, /samples/{status,message,wall_time_s,rhs_evaluations}.
 #pragma once
 
+#include <ostream>
 #include <string>
 #include <vector>
 
-#include "io/checkpoint.hpp"
+#include "io/hdf5_file.hpp"
 #include "study/estimators/band_statistics.hpp"
 #include "study/estimators/qoi_summary.hpp"
 #include "study/estimators/streaming_band.hpp"
+#include "study/studies/study_driver.hpp"
 #include "study/studies/study_spec.hpp"
 
 namespace rover::study {
@@ -44,6 +46,9 @@ struct MonteCarloResult {
   std::vector<int> status;                     // [sample]
   std::vector<std::string> messages;           // [sample]
   std::vector<double> wall_time_s, rhs_evaluations;  // [sample]
+  // Set by run_montecarlo(): what the result belongs to.
+  MonteCarloStudy study;
+  DesignMatrix inputs;                         // the design, samples x inputs
 };
 
 // Consumes the records of samples 0, 1, ..., N-1 in that order.
@@ -63,17 +68,23 @@ class MonteCarloAnalysis {
   std::vector<StreamingBand> bands_;
 };
 
-struct StudyRunControl {
-  std::string results_path;   // empty: results/<name>.h5
-  bool resume = false;
-  bool plot = true;
-  int progress_interval_s = 5;
-  std::string resume_command;
-  io::CheckpointPolicy checkpoint;
-};
+// The bytes rank 0 holds: the design on every rank, the QoIs, statuses and
+// band heaps on rank 0.
+MemoryEstimate montecarlo_memory(const MonteCarloStudy& study);
 
-// Collective over MPI ranks; rank 0 writes the HDF5 file and the PNGs.
-// Returns the results path. Throws (rank 0) if every sample failed.
-std::string run_montecarlo(const MonteCarloStudy& study, const StudyRunControl& control);
+// Collective over MPI ranks; on rank 0 the curves go into runtime.h5 as the
+// runs arrive. The result is meaningful on rank 0.
+MonteCarloResult run_montecarlo(const MonteCarloStudy& study, const StudyRuntime& runtime);
+
+void write_montecarlo(const MonteCarloResult& result, io::Hdf5Writer& h5);
+// Per QoI: mean and sd with their intervals, and the quantiles' note.
+void report_montecarlo(const MonteCarloResult& result, std::ostream& out);
+// <results>_summary.png (each channel's band, each QoI's histogram and
+// running mean); with PlotSelection::kAll also <results>_band_<channel>.png,
+// <results>_hist_<qoi>.png and <results>_convergence_<qoi>_{mean,sd}.png.
+void plot_montecarlo(const MonteCarloResult& result, const std::string& results_path, PlotSelection plots);
+
+// The study as the driver runs it.
+StudyProgram<MonteCarloResult> montecarlo_program(MonteCarloStudy study);
 
 }  // namespace rover::study

@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "io/plot.hpp"
+#include "study/studies/report_format.hpp"
 #include "study/studies/study_output.hpp"
 
 namespace rover::study {
@@ -21,14 +22,6 @@ constexpr double kCurveExplainedVariance = 0.99;
 // Inputs whose aggregated total index exceeds this are drawn along time.
 constexpr double kPlottedTotalIndex = 0.01;
 constexpr int kLabelWidth = 28;
-
-std::vector<double> to_vector(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
-
-std::string fixed(double x, int digits = 3) {
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(digits) << x;
-  return os.str();
-}
 
 std::vector<Distribution> input_distributions(const StudySpec& spec) {
   std::vector<Distribution> d;
@@ -147,7 +140,7 @@ void write_channel(io::Hdf5Writer& h5, const PceChannelResult& c) {
 }
 
 std::string interval(const Eigen::VectorXd& lower, const Eigen::VectorXd& upper, Eigen::Index i, bool has) {
-  return has ? "[" + fixed(lower[i]) + ", " + fixed(upper[i]) + "]" : "";
+  return has ? "[" + fixed_text(lower[i]) + ", " + fixed_text(upper[i]) + "]" : "";
 }
 
 void print_qoi(std::ostream& out, const PceQoiResult& q, const std::vector<std::string>& labels, double confidence) {
@@ -158,7 +151,7 @@ void print_qoi(std::ostream& out, const PceQoiResult& q, const std::vector<std::
   const PceSobolIndices& s = q.indices;
   const PceSobolIntervals& ci = q.intervals;
   out << q.name << " (PCE degree " << q.expansion.degree << ", " << q.expansion.multi_indices.size() << " terms, "
-      << q.runs_used << " runs, Q2_LOO " << fixed(q.expansion.validation.q2_loo, 4) << "; mean " << s.mean
+      << q.runs_used << " runs, Q2_LOO " << fixed_text(q.expansion.validation.q2_loo, 4) << "; mean " << s.mean
       << ", variance " << s.variance;
   if (q.has_intervals)
     out << "; " << static_cast<int>(std::lround(100 * confidence)) << " % bootstrap intervals, "
@@ -169,15 +162,15 @@ void print_qoi(std::ostream& out, const PceQoiResult& q, const std::vector<std::
   std::sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) { return s.ST[a] > s.ST[b]; });
   for (Eigen::Index i : order)
     out << "  " << std::left << std::setw(kLabelWidth) << labels[static_cast<std::size_t>(i)] << std::right
-        << " S1 " << std::setw(6) << fixed(s.S1[i]) << " " << std::setw(16)
-        << interval(ci.S1_lower, ci.S1_upper, i, q.has_intervals) << "   ST " << std::setw(6) << fixed(s.ST[i]) << " "
+        << " S1 " << std::setw(6) << fixed_text(s.S1[i]) << " " << std::setw(16)
+        << interval(ci.S1_lower, ci.S1_upper, i, q.has_intervals) << "   ST " << std::setw(6) << fixed_text(s.ST[i]) << " "
         << interval(ci.ST_lower, ci.ST_upper, i, q.has_intervals) << "\n";
 }
 
 void plot_qoi(const std::string& png, const PceQoiResult& q, const std::vector<std::string>& labels) {
   io::BarPlot plot;
   plot.title = q.name + ": Sobol' indices from PCE (" + std::to_string(q.runs_used) + " runs, Q2 " +
-               fixed(q.expansion.validation.q2_loo) + ")" + (q.has_intervals ? ", bootstrap intervals" : "");
+               fixed_text(q.expansion.validation.q2_loo) + ")" + (q.has_intervals ? ", bootstrap intervals" : "");
   plot.y_label = "index";
   plot.categories = labels;
   // Without intervals (bootstrap 0) the error bars collapse onto the bars.
@@ -254,7 +247,7 @@ PceQoiResult pce_qoi_indices(const std::string& name, const DesignMatrix& x_ok, 
   if (q.expansion.constant_output || !q.indices.defined) {
     q.indices.defined = false;
     q.undefined_reason = "the QoI is constant over the " + std::to_string(q.runs_used) + " runs (" +
-                         fixed(y_ok.size() ? y_ok[0] : 0.0, 6) + "): no variance to apportion";
+                         fixed_text(y_ok.size() ? y_ok[0] : 0.0, 6) + "): no variance to apportion";
     return q;
   }
   if (options.bootstrap == 0) return q;
@@ -323,10 +316,10 @@ void print_pce_sensitivity(std::ostream& out, const StudySpec& spec, const PceSe
   for (const PceChannelResult& c : result.channels) {
     if (!c.defined) continue;
     out << c.name << " along time (PCE, " << c.curves.multi_indices.size() << " shared terms, min Q2_LOO "
-        << fixed(c.curves.q2_loo.minCoeff(), 4) << "), variance-weighted: ";
+        << fixed_text(c.curves.q2_loo.minCoeff(), 4) << "), variance-weighted: ";
     for (Eigen::Index i = 0; i < c.indices.aggregated_ST.size(); ++i)
-      out << labels[static_cast<std::size_t>(i)] << " S1 " << fixed(c.indices.aggregated_S1[i]) << " ST "
-          << fixed(c.indices.aggregated_ST[i]) << (i + 1 < c.indices.aggregated_ST.size() ? "; " : "\n");
+      out << labels[static_cast<std::size_t>(i)] << " S1 " << fixed_text(c.indices.aggregated_S1[i]) << " ST "
+          << fixed_text(c.indices.aggregated_ST[i]) << (i + 1 < c.indices.aggregated_ST.size() ? "; " : "\n");
   }
 }
 

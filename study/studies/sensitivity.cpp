@@ -1,4 +1,4 @@
-// See sensitivity.hpp.
+// See sensitivity.hpp: the study's configuration, design, runs and analysis.
 #include "study/studies/sensitivity.hpp"
 
 #include <algorithm>
@@ -9,24 +9,20 @@
 #include <numeric>
 #include <sstream>
 
-#include "io/hdf5_file.hpp"
-#include "io/plot.hpp"
-#include "study/studies/study_output.hpp"
 #include "study/runtime/study_runner.hpp"
+#include "study/studies/report_format.hpp"
+#include "study/studies/study_output.hpp"
 
 namespace rover::study {
 namespace {
 
-std::vector<double> to_vector(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
+// Rank 0 holds every run's record; the vectors holding them take about this
+// much more than the values themselves.
+constexpr double kRecordOverhead = 1.2;
+constexpr double kBytesPerValue = 8.0;
 
-std::string fixed(double x, int digits = 3) {
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(digits) << x;
-  return os.str();
-}
-
-const char* method_name(SensitivityMethod m) {
-  return m == SensitivityMethod::kSobol ? "sobol" : m == SensitivityMethod::kMorris ? "morris" : "pce";
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 int varied_count(const StudySpec& spec) { return static_cast<int>(spec.inputs.size()); }
@@ -67,99 +63,65 @@ std::vector<std::string> sobol_warnings(const std::string& qoi, const SobolIndic
     widest = std::max(widest, width);
     const double index = std::max(std::abs(s.S1[i]), std::abs(s.ST[i]));
     if (width > index && index > 0.01)
-      w.push_back(qoi + ": the interval of " + labels[static_cast<std::size_t>(i)] + " (width " + fixed(width) +
-                  ") is wider than its index (" + fixed(index) + ")");
+      w.push_back(qoi + ": the interval of " + labels[static_cast<std::size_t>(i)] + " (width " + fixed_text(width) +
+                  ") is wider than its index (" + fixed_text(index) + ")");
   }
   const double s1_sum = s.S1.sum();
   const double s1_sum_upper_slack = (s.S1_upper - s.S1).sum();
   if (s1_sum - 1.0 > s1_sum_upper_slack)
-    w.push_back(qoi + ": the first-order indices sum to " + fixed(s1_sum) + ", above 1 beyond their intervals");
+    w.push_back(qoi + ": the first-order indices sum to " + fixed_text(s1_sum) + ", above 1 beyond their intervals");
   if (!w.empty() && widest > 0.05)
     w.push_back(qoi + ": for intervals about 0.05 wide, use about N = " + std::to_string(suggested_samples(n, widest, 0.05)) +
                 " base samples (now " + std::to_string(n) + ")");
   return w;
 }
 
-void plot_sobol(const std::string& png, const std::string& qoi, const SobolIndices& s,
-                const std::vector<std::string>& labels) {
-  io::BarPlot plot;
-  plot.title = qoi + ": Sobol' indices (" + std::to_string(s.groups_used) + " groups), 95 % intervals";
-  plot.y_label = "index";
-  plot.categories = labels;
-  plot.groups.push_back({"S1 (first order)", to_vector(s.S1), to_vector(s.S1_lower), to_vector(s.S1_upper)});
-  plot.groups.push_back({"ST (total)", to_vector(s.ST), to_vector(s.ST_lower), to_vector(s.ST_upper)});
-  io::write_png_or_warn(plot, png, "sensitivity", std::cerr);
-}
-
-// S_i(t) of the inputs that matter, under the output variance V(t).
-void plot_sobol_t(const std::string& png, const std::string& channel, const SobolIndicesAlongTime& s,
-                  const std::vector<double>& t, const std::vector<std::string>& labels) {
-  io::LinePlot indices;
-  indices.title = channel + ": first-order (solid) and total (dashed) Sobol' indices along time";
-  indices.x_label = "t [s]";
-  indices.y_label = "index";
-  indices.y_range = io::AxisRange{-0.05, 1.05};
-  for (Eigen::Index i = 0; i < s.S1.rows(); ++i) {
-    if (!(s.aggregated_ST[i] > 0.01)) continue;
-    const std::string& name = labels[static_cast<std::size_t>(i)];
-    std::vector<double> s1, st;
-    for (Eigen::Index k = 0; k < s.S1.cols(); ++k) {
-      s1.push_back(s.S1(i, k));
-      st.push_back(s.ST(i, k));
+// Why a QoI's indices are undefined: it does not vary over the runs that
+// succeeded ("" when it does).
+std::string constant_qoi_reason(const std::vector<double>& values) {
+  double lo = INFINITY, hi = -INFINITY;
+  for (double v : values)
+    if (std::isfinite(v)) {
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
     }
-    indices.series.push_back({name + " S1", t, s1});
-    indices.series.push_back({name + " ST", t, st, io::SeriesStyle::dashed});
+  if (hi > lo) return "";
+  if (!(hi >= lo)) return "no run gave a finite value";
+  std::ostringstream os;
+  os << "constant (" << lo << ") over every run that succeeded: its variance is zero";
+  return os.str();
+}
+
+// The Sobol' indices or Morris effects of one QoI, appended to `out`; an
+// empty entry, its reason in out.undefined, when they are undefined.
+void estimate_qoi_indices(const SensitivityStudy& study, const MorrisDesign& morris, const std::string& name,
+                          const std::vector<std::string>& labels, const std::vector<double>& values,
+                          SensitivityResult& out) {
+  const Eigen::Map<const Eigen::VectorXd> y(values.data(), static_cast<Eigen::Index>(values.size()));
+  const bool sobol = study.method == SensitivityMethod::kSobol;
+  if (sobol) out.sobol.emplace_back();
+  else out.morris.emplace_back();
+  std::string reason = constant_qoi_reason(values);
+  if (reason.empty()) {
+    try {
+      if (sobol) out.sobol.back() = estimate_sobol_indices(study.layout, y, study.sobol);
+      else out.morris.back() = morris_effects(morris, y, study.morris);
+    } catch (const std::invalid_argument& e) {
+      reason = e.what();
+    }
   }
-  if (!indices.series.empty()) io::write_png_or_warn(indices, png, "sensitivity", std::cerr);
-  io::LinePlot variance;
-  variance.title = channel + ": output variance along time";
-  variance.x_label = "t [s]";
-  variance.y_label = "Var " + channel;
-  variance.series.push_back({"V(t)", t, to_vector(s.variance)});
-  io::write_png_or_warn(variance, sibling_path(png, "_variance.png"), "sensitivity", std::cerr);
-}
-
-void plot_morris(const std::string& png, const std::string& qoi, const MorrisResult& m,
-                 const std::vector<std::string>& labels) {
-  io::LinePlot plot;
-  plot.title = qoi + ": Morris screening (" + std::to_string(m.trajectories_used) + " trajectories)";
-  plot.x_label = "mu* (mean |elementary effect|)";
-  plot.y_label = "sigma (sd of the elementary effects)";
-  io::Series points{"inputs"};
-  points.style = io::SeriesStyle::points;
-  for (Eigen::Index i = 0; i < m.mu_star.size(); ++i) {
-    points.x.push_back(m.mu_star[i]);
-    points.y.push_back(m.sigma[i]);
-    plot.labels.push_back({m.mu_star[i], m.sigma[i], labels[static_cast<std::size_t>(i)]});
+  if (sobol && reason.empty() && !out.sobol.back().S1.allFinite())
+    reason = "its variance is zero at rounding level";
+  if (!reason.empty()) {
+    if (sobol) out.sobol.back() = SobolIndices{};
+    else out.morris.back() = MorrisResult{};
+    out.undefined.push_back({name, reason});
+    out.warnings.push_back(name + ": indices undefined: " + reason);
+    return;
   }
-  plot.series.push_back(points);
-  // Room for the labels of the largest effects.
-  plot.x_range = io::AxisRange{0.0, 1.3 * m.mu_star.maxCoeff()};
-  plot.y_range = io::AxisRange{0.0, 1.15 * std::max(m.sigma.maxCoeff(), m.mu_star.maxCoeff())};
-  plot.series.push_back({"sigma = mu*", {0.0, m.mu_star.maxCoeff()}, {0.0, m.mu_star.maxCoeff()}, io::SeriesStyle::dashed});
-  io::write_png_or_warn(plot, png, "sensitivity", std::cerr);
-}
-
-void print_sobol(std::ostream& out, const std::string& qoi, const SobolIndices& s,
-                 const std::vector<std::string>& labels, double confidence) {
-  std::vector<Eigen::Index> order(static_cast<std::size_t>(s.ST.size()));
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) { return s.ST[a] > s.ST[b]; });
-  out << qoi << " (mean " << s.mean << ", variance " << s.variance << ", " << s.groups_used << " of "
-      << s.groups_total << " groups; " << static_cast<int>(100 * confidence) << " % intervals), by total index:\n";
-  for (Eigen::Index i : order)
-    out << "  " << std::left << std::setw(28) << labels[static_cast<std::size_t>(i)] << std::right << " S1 "
-        << std::setw(6) << fixed(s.S1[i]) << " [" << fixed(s.S1_lower[i]) << ", " << fixed(s.S1_upper[i]) << "]   ST "
-        << std::setw(6) << fixed(s.ST[i]) << " [" << fixed(s.ST_lower[i]) << ", " << fixed(s.ST_upper[i]) << "]\n";
-}
-
-void print_morris(std::ostream& out, const std::string& qoi, const MorrisResult& m,
-                  const std::vector<std::string>& labels) {
-  out << qoi << " (Morris, " << m.trajectories_used << " trajectories), by mu*:\n";
-  for (int i : m.ranking)
-    out << "  " << std::left << std::setw(28) << labels[static_cast<std::size_t>(i)] << std::right << " mu* "
-        << std::setw(10) << m.mu_star[i] << " [" << m.mu_star_lower[i] << ", " << m.mu_star_upper[i] << "]  mu "
-        << std::setw(10) << m.mu[i] << "  sigma " << m.sigma[i] << "\n";
+  if (sobol)
+    for (std::string& w : sobol_warnings(name, out.sobol.back(), labels, study.layout.base_samples))
+      out.warnings.push_back(std::move(w));
 }
 
 // Method pce: any space-filling design of the study core, and the "pce" settings.
@@ -325,7 +287,7 @@ SensitivityResult analyse_sensitivity(const SensitivityStudy& study, const Desig
   if (failed_units > study.max_failed_fraction * units)
     throw std::runtime_error(std::to_string(failed_units) + " of " + std::to_string(units) + " " + unit_name +
                              " have a failed run, more than max_failed_fraction = " +
-                             fixed(study.max_failed_fraction, 2) + "; the indices would not describe the model. " +
+                             fixed_text(study.max_failed_fraction, 2) + "; the indices would not describe the model. " +
                              out.failure_report);
   if (failed_units > 0)
     out.warnings.push_back(std::to_string(failed_units) + " of " + std::to_string(units) + " " + unit_name +
@@ -342,17 +304,9 @@ SensitivityResult analyse_sensitivity(const SensitivityStudy& study, const Desig
                                   ? morris_design(varied_count(study.spec), study.trajectories, study.levels,
                                                   study.spec.design.seed)
                                   : MorrisDesign{};
-  for (int q = 0; q < layout.qoi_count; ++q) {
-    const Eigen::Map<const Eigen::VectorXd> y(out.qoi[static_cast<std::size_t>(q)].data(), runs);
-    const std::string& name = model.qoi_names()[static_cast<std::size_t>(q)];
-    if (study.method == SensitivityMethod::kSobol) {
-      out.sobol.push_back(estimate_sobol_indices(study.layout, y, study.sobol));
-      for (std::string& w : sobol_warnings(name, out.sobol.back(), labels, study.layout.base_samples))
-        out.warnings.push_back(std::move(w));
-    } else {
-      out.morris.push_back(morris_effects(morris, y, study.morris));
-    }
-  }
+  for (int q = 0; q < layout.qoi_count; ++q)
+    estimate_qoi_indices(study, morris, model.qoi_names()[static_cast<std::size_t>(q)], labels,
+                         out.qoi[static_cast<std::size_t>(q)], out);
   if (study.method == SensitivityMethod::kSobol)
     for (int c = 0; c < layout.channel_count; ++c) {
       Eigen::MatrixXd Y(runs, layout.time_samples);
@@ -365,121 +319,60 @@ SensitivityResult analyse_sensitivity(const SensitivityStudy& study, const Desig
   return out;
 }
 
-std::string run_sensitivity(const SensitivityStudy& study, const StudyRunControl& control) {
+
+const char* sensitivity_method_name(SensitivityMethod m) {
+  return m == SensitivityMethod::kSobol ? "sobol" : m == SensitivityMethod::kMorris ? "morris" : "pce";
+}
+
+MemoryEstimate sensitivity_memory(const SensitivityStudy& study) {
   const StudySpec& spec = study.spec;
-  const StudyModel& model = *spec.model;
-  const bool root = world_rank() == 0;
-  const std::string out = checked_results_path(spec.name, control.results_path);
+  const RecordLayout layout = spec.model->layout();
+  return {"run records (" + std::to_string(spec.design.samples) + " runs with " +
+              std::to_string(layout.channel_count) + " curves of " + std::to_string(layout.time_samples) +
+              " samples)",
+          kBytesPerValue * spec.design.samples * static_cast<double>(layout.value_count() + spec.inputs.size()) *
+              kRecordOverhead};
+}
+
+SensitivityResult run_sensitivity(const SensitivityStudy& study, const StudyRuntime& runtime) {
+  const StudyModel& model = *study.spec.model;
   const RecordLayout layout = model.layout();
-  // Every run's record (QoIs and curves) is held until the indices are estimated.
-  require_memory("run records (" + std::to_string(spec.design.samples) + " runs with " +
-                     std::to_string(layout.channel_count) + " curves of " + std::to_string(layout.time_samples) +
-                     " samples)",
-                 8.0 * spec.design.samples * static_cast<double>(layout.value_count() + spec.inputs.size()) * 1.2);
   const DesignMatrix x = sensitivity_design(study);
   std::vector<RunRecord> records;
-  if (root) records.reserve(static_cast<std::size_t>(x.rows()));
+  if (world_rank() == 0) records.reserve(static_cast<std::size_t>(x.rows()));
   auto compute = [&](int i) { return encode_record(i, model.run(x.row(i).data())); };
   auto consume = [&](TaskResult&& task) { records.push_back(decode_record(layout, std::move(task))); };
-  StudyRunOptions options{out, spec.fingerprint, control.resume, "sensitivity", control.progress_interval_s,
-                          control.resume_command, control.checkpoint};
   const auto started = std::chrono::steady_clock::now();
-  stream_study_tasks(static_cast<int>(x.rows()), compute, consume, options);
-  if (!root) return out;
-  const double runs_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-
+  stream_study_tasks(static_cast<int>(x.rows()), compute, consume, runtime.options);
+  if (world_rank() != 0) return {};
+  const double runs_s = seconds_since(started);
   const auto analysis_start = std::chrono::steady_clock::now();
-  const SensitivityResult result = analyse_sensitivity(study, x, records);
-  const double analysis_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - analysis_start).count();
-  const std::vector<std::string> labels = input_labels(spec);
+  SensitivityResult result = analyse_sensitivity(study, x, records);
+  result.analysis_wall_time_s = seconds_since(analysis_start);
+  result.runs_wall_time_s = runs_s;
+  result.study = study;
+  result.inputs = x;
+  return result;
+}
 
-  io::Hdf5Writer h5(out);
-  write_study_provenance(h5, spec, spec.fingerprint);
-  write_study_inputs(h5, spec, x);
-  h5.attribute("/", "method", method_name(study.method));
-  h5.attribute("/", "runs", static_cast<long long>(x.rows()));
-  h5.attribute("/", "failed_runs", static_cast<long long>(result.failed_runs));
-  h5.attribute("/", "runs_wall_time_s", runs_s);
-  h5.attribute("/", "analysis_wall_time_s", analysis_s);
-  for (std::size_t q = 0; q < result.qoi.size(); ++q) h5.write("/qoi/" + model.qoi_names()[q], result.qoi[q]);
-  h5.write("/samples/status", result.status);
-  h5.write("/samples/message", result.messages);
-  for (std::size_t q = 0; q < result.sobol.size(); ++q) {
-    const SobolIndices& s = result.sobol[q];
-    const std::string g = "/indices/" + model.qoi_names()[q] + "/";
-    h5.write(g + "S1", to_vector(s.S1));
-    h5.write(g + "ST", to_vector(s.ST));
-    h5.write(g + "S1_lower", to_vector(s.S1_lower));
-    h5.write(g + "S1_upper", to_vector(s.S1_upper));
-    h5.write(g + "ST_lower", to_vector(s.ST_lower));
-    h5.write(g + "ST_upper", to_vector(s.ST_upper));
-    h5.write(g + "mean", std::vector<double>{s.mean});
-    h5.write(g + "variance", std::vector<double>{s.variance});
-    if (s.S2.size()) {
-      h5.write(g + "S2", s.S2);
-      h5.write(g + "S2_lower", s.S2_lower);
-      h5.write(g + "S2_upper", s.S2_upper);
-    }
-    h5.attribute(g + "S1", "groups_used", static_cast<long long>(s.groups_used));
-    h5.attribute(g + "S1", "groups_total", static_cast<long long>(s.groups_total));
-    h5.attribute(g + "S1", "confidence", study.sobol.confidence);
-    h5.attribute(g + "S1", "bootstrap_resamples", static_cast<long long>(study.sobol.bootstrap_resamples));
-  }
-  if (!result.sobol_t.empty()) h5.write("/t", model.time_s());
-  for (std::size_t c = 0; c < result.sobol_t.size(); ++c) {
-    const SobolIndicesAlongTime& s = result.sobol_t[c];
-    const std::string& channel = model.channel_names()[c];
-    h5.write("/indices_t/" + channel + "/S1", s.S1);
-    h5.write("/indices_t/" + channel + "/ST", s.ST);
-    h5.write("/indices_t/" + channel + "/variance", to_vector(s.variance));
-    h5.write("/aggregated/" + channel + "/S1", to_vector(s.aggregated_S1));
-    h5.write("/aggregated/" + channel + "/ST", to_vector(s.aggregated_ST));
-  }
-  for (std::size_t q = 0; q < result.morris.size(); ++q) {
-    const MorrisResult& m = result.morris[q];
-    const std::string g = "/morris/" + model.qoi_names()[q] + "/";
-    h5.write(g + "mu", to_vector(m.mu));
-    h5.write(g + "mu_star", to_vector(m.mu_star));
-    h5.write(g + "sigma", to_vector(m.sigma));
-    h5.write(g + "mu_star_lower", to_vector(m.mu_star_lower));
-    h5.write(g + "mu_star_upper", to_vector(m.mu_star_upper));
-    h5.write(g + "ranking", m.ranking);
-    h5.attribute(g + "mu", "trajectories_used", static_cast<long long>(m.trajectories_used));
-  }
-  if (study.method == SensitivityMethod::kPce) write_pce_sensitivity(h5, spec, study.pce, result.pce);
-  h5.commit();
-  remove_checkpoint(out);
-
-  std::ostream& log = std::cerr;
-  log << "sensitivity: " << x.rows() << " runs (" << result.failed_runs << " failed) in " << fixed(runs_s, 1)
-      << " s, analysis " << fixed(analysis_s, 2) << " s; wrote " << out << "\n";
-  if (!result.failure_report.empty()) log << "  " << result.failure_report << "\n";
-  for (std::size_t q = 0; q < result.sobol.size(); ++q)
-    print_sobol(log, model.qoi_names()[q], result.sobol[q], labels, study.sobol.confidence);
-  if (study.method == SensitivityMethod::kPce) print_pce_sensitivity(log, spec, study.pce, result.pce);
-  for (std::size_t q = 0; q < result.morris.size(); ++q)
-    print_morris(log, model.qoi_names()[q], result.morris[q], labels);
-  for (std::size_t c = 0; c < result.sobol_t.size(); ++c) {
-    log << model.channel_names()[c] << " along time, variance-weighted: ";
-    for (Eigen::Index i = 0; i < result.sobol_t[c].aggregated_ST.size(); ++i)
-      log << labels[static_cast<std::size_t>(i)] << " S1 " << fixed(result.sobol_t[c].aggregated_S1[i]) << " ST "
-          << fixed(result.sobol_t[c].aggregated_ST[i]) << (i + 1 < result.sobol_t[c].aggregated_ST.size() ? "; " : "\n");
-  }
-  for (const std::string& w : result.warnings) log << "sensitivity: warning: " << w << "\n";
-
-  if (control.plot) {
-    if (study.method == SensitivityMethod::kPce) plot_pce_sensitivity(out, spec, result.pce);
-    for (std::size_t q = 0; q < result.sobol.size(); ++q)
-      plot_sobol(sibling_path(out, "_sobol_" + model.qoi_names()[q] + ".png"), model.qoi_names()[q], result.sobol[q],
-                 labels);
-    for (std::size_t c = 0; c < result.sobol_t.size(); ++c)
-      plot_sobol_t(sibling_path(out, "_sobol_t_" + model.channel_names()[c] + ".png"), model.channel_names()[c],
-                   result.sobol_t[c], model.time_s(), labels);
-    for (std::size_t q = 0; q < result.morris.size(); ++q)
-      plot_morris(sibling_path(out, "_morris_" + model.qoi_names()[q] + ".png"), model.qoi_names()[q],
-                  result.morris[q], labels);
-  }
-  return out;
+StudyProgram<SensitivityResult> sensitivity_program(SensitivityStudy study) {
+  const StudySpec& spec = study.spec;
+  static constexpr const char* kMethodTitle[] = {"Sobol'", "Morris", "polynomial chaos"};
+  StudyProgram<SensitivityResult> p;
+  p.command = "sensitivity";
+  p.name = spec.name;
+  p.fingerprint = spec.fingerprint;
+  p.banner = std::string(kMethodTitle[static_cast<int>(study.method)]) + ", " + std::to_string(spec.inputs.size()) +
+             " inputs, " + std::to_string(spec.design.samples) + " runs of " + spec.model->describe() + " on " +
+             std::to_string(world_size()) + " rank(s)";
+  p.memory = sensitivity_memory(study);
+  p.run = [study](const StudyRuntime& runtime) { return run_sensitivity(study, runtime); };
+  p.provenance = [spec = study.spec](io::Hdf5Writer& h5) { write_study_provenance(h5, spec, spec.fingerprint); };
+  p.write = write_sensitivity;
+  p.counts = [](const SensitivityResult& r) { return count_runs(r.status, r.messages); };
+  p.report = report_sensitivity;
+  p.plot = plot_sensitivity;
+  return p;
 }
 
 }  // namespace rover::study

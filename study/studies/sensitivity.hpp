@@ -26,18 +26,23 @@
 // (pce_sensitivity.hpp). A failed run is left out of a PCE alone.
 #pragma once
 
+#include <ostream>
 #include <string>
 #include <vector>
 
+#include "io/hdf5_file.hpp"
 #include "study/estimators/morris.hpp"
-#include "study/studies/montecarlo.hpp"
 #include "study/estimators/sobol_indices.hpp"
 #include "study/studies/pce_sensitivity.hpp"
+#include "study/studies/study_driver.hpp"
 #include "study/studies/study_spec.hpp"
 
 namespace rover::study {
 
 enum class SensitivityMethod { kSobol, kMorris, kPce };
+
+// "sobol", "morris", "pce".
+const char* sensitivity_method_name(SensitivityMethod method);
 
 struct SensitivityStudy {
   StudySpec spec;
@@ -62,10 +67,16 @@ void set_pce_runs(SensitivityStudy& study, int runs);
 // The runs of the study in physical units (rows in run order).
 DesignMatrix sensitivity_design(const SensitivityStudy& study);
 
+// A QoI whose indices are undefined (a constant QoI), and why.
+struct UndefinedIndices {
+  std::string qoi, reason;
+};
+
 struct SensitivityResult {
-  std::vector<SobolIndices> sobol;                 // [qoi]
+  std::vector<SobolIndices> sobol;                 // [qoi]; empty vectors where undefined
   std::vector<SobolIndicesAlongTime> sobol_t;      // [channel]
-  std::vector<MorrisResult> morris;                // [qoi]
+  std::vector<MorrisResult> morris;                // [qoi]; empty vectors where undefined
+  std::vector<UndefinedIndices> undefined;         // Sobol' and Morris QoIs without indices
   PceSensitivityResult pce;                        // method pce only
   std::vector<std::vector<double>> qoi;            // [qoi][run]
   std::vector<int> status;                         // [run]
@@ -73,16 +84,39 @@ struct SensitivityResult {
   int failed_runs = 0;
   std::string failure_report;                      // where in input space runs failed
   std::vector<std::string> warnings;               // intervals too wide, S1 sum above 1, ...
+  // Set by run_sensitivity(): what the result belongs to, and its timings.
+  SensitivityStudy study;
+  DesignMatrix inputs;                             // the runs' inputs, in run order
+  double runs_wall_time_s = 0.0, analysis_wall_time_s = 0.0;
 };
 
 // Compute: the indices from the records of every run, in run order (in-process,
 // testable without MPI or files). Throws std::runtime_error when more than
-// max_failed_fraction of the groups or trajectories failed.
+// max_failed_fraction of the groups or trajectories failed. A QoI that is
+// constant over the successful runs has no indices: it is named in
+// `undefined` (and in the warnings), and the other QoIs' indices are kept.
 SensitivityResult analyse_sensitivity(const SensitivityStudy& study, const DesignMatrix& x,
                                       const std::vector<RunRecord>& records);
 
-// Collective over MPI ranks; rank 0 writes the HDF5 file, the PNGs and the
-// ranked console summary. Returns the results path.
-std::string run_sensitivity(const SensitivityStudy& study, const StudyRunControl& control);
+// The bytes rank 0 holds: every run's record until the indices are estimated.
+MemoryEstimate sensitivity_memory(const SensitivityStudy& study);
+
+// Collective over MPI ranks: the runs, then (rank 0) analyse_sensitivity().
+// The result is meaningful on rank 0.
+SensitivityResult run_sensitivity(const SensitivityStudy& study, const StudyRuntime& runtime);
+
+void write_sensitivity(const SensitivityResult& result, io::Hdf5Writer& h5);
+// Where runs failed, the indices ranked per QoI, the aggregated indices per
+// channel, and the warnings.
+void report_sensitivity(const SensitivityResult& result, std::ostream& out);
+// <results>_summary.png (S1 and ST per QoI, indices along time per channel,
+// or the Morris planes); with PlotSelection::kAll also
+// <results>_sobol_<qoi>.png, <results>_sobol_t_<channel>.png (and
+// _variance.png), <results>_morris_<qoi>.png, or the PCE's figures
+// (plot_pce_sensitivity).
+void plot_sensitivity(const SensitivityResult& result, const std::string& results_path, PlotSelection plots);
+
+// The study as the driver runs it.
+StudyProgram<SensitivityResult> sensitivity_program(SensitivityStudy study);
 
 }  // namespace rover::study

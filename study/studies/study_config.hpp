@@ -1,5 +1,6 @@
-// What every study config (configs/studies/*.json) has in common:
-//   "type": "montecarlo" | "surface" | "calibration",
+// The common keys of a calibration study file (the other studies read theirs
+// into a StudySpec, study_spec.hpp), and the study's integrator block:
+//   "type": "calibration",
 //   "name": "...", "description": "...",
 //   "scenario": "../scenarios/drop_horizontal.json"  (relative to the study file),
 //   "integrator": {"method": "dopri5", "rtol": .., ...}  (optional override of the scenario's)
@@ -13,9 +14,18 @@
 #include "io/hdf5_file.hpp"
 #include "io/json_reader.hpp"
 #include "io/scenario_config.hpp"
+#include "study/runtime/study_runner.hpp"
 
 namespace rover::study {
 
+// used by calibration until it moves to the study driver (study_driver.hpp):
+// the run options with calibration's on/off plot switch.
+struct StudyRunControl : StudyRunOptions {
+  bool plot = true;
+};
+
+// used by calibration until it moves to the study driver; the other studies
+// read their common keys into a StudySpec (study_spec.hpp).
 struct StudyCommon {
   std::string path, name, type;
   io::ScenarioSetup setup;
@@ -42,8 +52,9 @@ std::string read_text(const std::string& path);
 // ranks, fingerprint, project_version.
 void write_study_provenance(io::Hdf5Writer& h5, const StudyCommon& common);
 
-// Where a study writes: the path the user asked for, or results/<name>.h5
-// if that is empty.
+// used by calibration until it moves to the study driver, which checks the
+// path with checked_results_path() (study_output.hpp). Where a study writes:
+// the path the user asked for, or results/<name>.h5 if that is empty.
 std::string results_path(const StudyCommon& common, const std::string& requested);
 
 }  // namespace rover::study

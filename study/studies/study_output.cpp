@@ -12,12 +12,14 @@
 
 namespace rover::study {
 
-std::string checked_results_path(const std::string& name, const std::string& requested) {
+std::string checked_results_path(const std::string& name, const std::string& requested, bool csv_allowed) {
   const std::string path = requested.empty() ? "results/" + name + ".h5" : requested;
   const std::filesystem::path p(path);
   if (std::filesystem::is_directory(p))
     throw std::invalid_argument("--out '" + path + "' is a directory; give a file name ending in .h5");
-  if (p.extension() != ".h5")
+  if (csv_allowed && p.extension() != ".h5" && p.extension() != ".csv")
+    throw std::invalid_argument("--out must end in .csv or .h5, got '" + path + "'");
+  if (!csv_allowed && p.extension() != ".h5")
     throw std::invalid_argument("--out '" + path + "' must end in .h5 (an HDF5 file)");
   if (const auto dir = p.parent_path(); !dir.empty()) {
     std::error_code error;

@@ -12,8 +12,8 @@ namespace rover::study {
 
 // The result file: `requested`, or results/<name>.h5. Throws
 // std::invalid_argument before any run if it names a directory, does not end
-// in .h5, or its directory cannot be created.
-std::string checked_results_path(const std::string& name, const std::string& requested);
+// in .h5 (or .csv, when `csv_allowed`), or its directory cannot be created.
+std::string checked_results_path(const std::string& name, const std::string& requested, bool csv_allowed = false);
 
 // Refuses up front, with the estimate, a study whose rank-0 working set would
 // exceed max_bytes (8 GiB): "sensitivity would hold 12.3 GB of run records

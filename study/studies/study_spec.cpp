@@ -51,6 +51,40 @@ Distribution preload_distribution(const io::JsonReader& p, const io::Json& rover
   return d;
 }
 
+// Relative size of the step that tells whether an input can vary alone.
+constexpr double kAloneStep = 1e-6;
+
+// Refuses, before any run, an input that cannot change while every other
+// input keeps its nominal value: an off-diagonal inertia entry, say, whose
+// symmetric partner stays put. Such an input fails a step of kAloneStep (of
+// its magnitude) either way from its nominal value; an input that is merely
+// at a bound of its valid range passes one way.
+void refuse_inputs_that_cannot_vary_alone(const io::JsonReader& r, const RoverStudyModel& model,
+                                          const std::vector<UncertainInput>& inputs) {
+  std::vector<double> nominal;
+  for (const UncertainInput& in : inputs) nominal.push_back(in.nominal);
+  for (std::size_t j = 0; j < inputs.size(); ++j) {
+    if (inputs[j].distribution.kind == DistributionKind::kFixed) continue;
+    const double step = kAloneStep * std::max(1.0, std::abs(nominal[j]));
+    std::string why;
+    bool varies = false;
+    for (double sign : {1.0, -1.0}) {
+      std::vector<double> x = nominal;
+      x[j] += sign * step;
+      try {
+        (void)model.setup_at(x.data());
+        varies = true;
+        break;
+      } catch (const std::exception& e) {
+        why = e.what();
+      }
+    }
+    if (!varies)
+      r.fail("parameters", "'" + inputs[j].label + "' cannot vary alone: with every other parameter at its " +
+                               "configured value, any change of it is refused (" + why + ")");
+  }
+}
+
 std::vector<UncertainInput> parse_rover_parameters_block(const io::JsonReader& r,
                                                          const io::ScenarioSources& sources) {
   std::vector<UncertainInput> inputs;
@@ -327,6 +361,7 @@ StudySpec parse_study_spec(const io::JsonReader& r, const std::vector<std::strin
     for (const QoiSpec& q : qois)
       if (q.reference) fingerprint_text += file_text(q.reference->path);
     auto rover = std::make_shared<RoverStudyModel>(std::move(sources), names, qois, channels, integrator);
+    refuse_inputs_that_cannot_vary_alone(r, *rover, s.inputs);
     s.rover = rover;
     s.model = rover;
   }

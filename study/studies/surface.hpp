@@ -14,10 +14,12 @@
 // A reference file is CSV "t,z" or an HDF5 trajectory; time_offset is
 // subtracted from its times (measured curves rarely start at the release).
 //
-// Config -> compute -> output: load_surface_study() only reads (a simulated
-// reference is run by run_surface()); the runs are a grid design of the study
-// core (study/model/study_model.hpp) with the rms_vs QoI, over the MPI farm with
-// checkpoint and --resume.
+// The study's parts, run by the study driver (study_driver.hpp):
+// load_surface_study() only reads (a simulated reference is run by
+// run_surface()); the runs are a grid of the study core
+// (study/model/study_model.hpp) with the rms_vs QoI, over the MPI farm with
+// checkpoint and --resume; write_surface(), report_surface() and
+// plot_surface() take the SurfaceResult.
 //
 // HDF5 result: /f (nf), /c_q (nc), /rms (nf x nc, m), /t_c (nf x nc, s),
 // /status (nf x nc), /rhs_evaluations (nf x nc), /reference/t, /reference/z,
@@ -29,8 +31,11 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "core/metrics.hpp"
-#include "study/studies/montecarlo.hpp"
+#include "io/hdf5_file.hpp"
+#include "study/studies/study_driver.hpp"
 #include "study/studies/study_spec.hpp"
 
 namespace rover::study {
@@ -52,9 +57,39 @@ struct SurfaceStudy {
 
 SurfaceStudy load_surface_study(const std::string& path);
 
-// Least squares y = a + b x; returns {a, b, r^2}.
-std::array<double, 3> linear_regression(const std::vector<double>& x, const std::vector<double>& y);
+// A least-squares line t_c = intercept + slope f and its r^2.
+struct LinearFit {
+  double intercept = 0.0, slope = 0.0, r_squared = 0.0;
+};
 
-std::string run_surface(const SurfaceStudy& study, const StudyRunControl& control);
+// The grid runs (nf x nc matrices, NaN where a run failed) and the sweep.
+struct SurfaceResult {
+  SurfaceStudy study;
+  IntegratorSettings integrator;     // the one that produced t_c
+  std::string scenario_name;
+  Eigen::MatrixXd rms, t_c, rhs_evaluations;
+  std::vector<int> status;           // [f index * nc + c_q index]
+  std::vector<std::string> messages;
+  std::vector<double> sweep_t_c, sweep_rhs_evaluations;  // [sweep point]
+  LinearFit regression;              // of the sweep's successful runs
+  int runs = 0, failed = 0;
+};
+
+// Least squares y = a + b x (NaN for fewer than two points).
+LinearFit linear_regression(const std::vector<double>& x, const std::vector<double>& y);
+
+// Collective over MPI ranks; the result is meaningful on rank 0. Throws
+// std::runtime_error if a simulated reference cannot be run.
+SurfaceResult run_surface(const SurfaceStudy& study, const StudyRuntime& runtime);
+
+void write_surface(const SurfaceResult& result, io::Hdf5Writer& h5);
+// <results>_summary.png (the RMS error and t_c over f per c_q, the sweep);
+// with PlotSelection::kAll also <results>_rms.png and <results>_tc.png (heat
+// maps over (f, c_q)) and <results>_sweep.png (t_c over f with its
+// regression).
+void plot_surface(const SurfaceResult& result, const std::string& results_path, PlotSelection plots);
+
+// The study as the driver runs it.
+StudyProgram<SurfaceResult> surface_program(SurfaceStudy study);
 
 }  // namespace rover::study

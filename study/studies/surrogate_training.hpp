@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 
 #include "study/studies/montecarlo.hpp"
+#include "study/studies/study_config.hpp"
 #include "study/studies/surrogate_spec.hpp"
 
 namespace rover::study {

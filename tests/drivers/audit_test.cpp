@@ -42,6 +42,7 @@ enum class Want {
   kError,        // status 1, and the message holds every mention
   kRuns,         // status 0
   kRunsOrFails,  // status 0, or 2 (a run failed and was recorded as failed)
+  kAllFailed,    // status 2: every run failed, and the results say so
 };
 
 struct Case {
@@ -232,6 +233,7 @@ void run_table(const std::string& dir, const std::vector<Case>& cases) {
       case Want::kError: EXPECT_EQ(o.status, 1); break;
       case Want::kRuns: EXPECT_EQ(o.status, 0); break;
       case Want::kRunsOrFails: EXPECT_TRUE(o.status == 0 || o.status == 2) << o.status; break;
+      case Want::kAllFailed: EXPECT_EQ(o.status, 2); break;
     }
     for (const std::string& m : c.mentions) EXPECT_NE(o.output.find(m), std::string::npos) << "missing '" << m << "'";
   }
@@ -697,6 +699,60 @@ TEST_F(Audit, SensitivityStudy) {
   s_case("bootstrap as a string", [](Json& j) { j["bootstrap"] = "10"; }, Want::kError, {"'bootstrap'", "10"});
   s_case("Morris of the Ishigami function", morris, Want::kRuns, {});
   s_case("Sobol' of the Ishigami function", [](Json&) {}, Want::kRuns, {});
+  run_table(w().dir(), cases);
+}
+
+// ---- study-level reliability: degenerate QoIs and parameters, failed studies ---
+
+TEST_F(Audit, StudyLevelReliability) {
+  std::vector<Case> cases;
+  const Json uniform_c_q{{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.2}};
+  const Json off_diagonal{{"distribution", "uniform"}, {"min", -0.01}, {"max", 0.01}};
+  const std::string inertia = "bodies.chassis.inertia[0][1]";
+  // Parameters that cannot vary alone: refused, named, before any run.
+  for (const auto& [id, name] : std::vector<std::pair<std::string, std::string>>{
+           {"montecarlo of an off-diagonal inertia", inertia},
+           {"montecarlo of a module's off-diagonal inertia", "bodies.module1.inertia[0][2]"}}) {
+    const std::string path = w().montecarlo([&](Json& j) { j["parameters"] = {{name, off_diagonal}}; });
+    cases.push_back({id, study("montecarlo", path), Want::kError, {path, "'parameters'", name, "cannot vary alone"}});
+  }
+  const std::string sens_inertia = w().sensitivity([&](Json& j) {
+    j.erase("model");
+    j["scenario"] = w().quick();
+    j["parameters"] = {{"c_q", uniform_c_q}, {inertia, off_diagonal}};
+    j["qoi"] = {"B_l_z_min"};
+  });
+  cases.push_back({"sobol of an off-diagonal inertia", study("sensitivity", sens_inertia), Want::kError,
+                   {sens_inertia, inertia, "cannot vary alone"}});
+  // In the quick 0.05 s drop the rover has not landed: t_min is the end time in
+  // every run, while the lowest B_l z follows the drop height.
+  for (const std::string method : {"sobol", "morris"}) {
+    const std::string path = w().sensitivity([&](Json& j) {
+      j.erase("model");
+      j["method"] = method;
+      if (method == "morris") j["design"] = {{"trajectories", 4}, {"levels", 4}, {"seed", 1}};
+      j["scenario"] = w().quick();
+      j["parameters"] = {{"c_q", uniform_c_q},
+                         {"scenario.initial_q.z", {{"distribution", "uniform"}, {"min", 0.28}, {"max", 0.29}}}};
+      j["qoi"] = {"t_min", "B_l_z_min"};
+    });
+    cases.push_back({method + " with a constant QoI", study("sensitivity", path), Want::kRuns,
+                     {"t_min: indices undefined", "constant"}});
+  }
+  // Every run failed: the results are kept, the status is 2.
+  const Json in_the_ground{{"distribution", "uniform"}, {"min", -0.6}, {"max", -0.5}};
+  const std::string all_fail =
+      w().montecarlo([&](Json& j) { j["parameters"] = {{"scenario.initial_q.z", in_the_ground}}; });
+  cases.push_back({"montecarlo where every run fails", study("montecarlo", all_fail), Want::kAllFailed,
+                   {"every run failed"}});
+  const std::string all_fail_sobol = w().sensitivity([&](Json& j) {
+    j.erase("model");
+    j["scenario"] = w().quick();
+    j["parameters"] = {{"c_q", uniform_c_q}, {"scenario.initial_q.z", in_the_ground}};
+    j["qoi"] = {"t_min"};
+  });
+  cases.push_back({"sobol where every run fails", study("sensitivity", all_fail_sobol), Want::kError,
+                   {"max_failed_fraction"}});
   run_table(w().dir(), cases);
 }
 

@@ -1,7 +1,9 @@
 // End-to-end tests of the study subcommands (montecarlo, surface; calibrate
 // has tests/drivers/cmd_calibrate_test.cpp)
 // through the built `rover`, with and without mpirun.
+#include <algorithm>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 
 #include <gtest/gtest.h>
@@ -148,7 +150,8 @@ TEST(CmdStudies, InterruptSavesTheCheckpointAndTellsHowToResume) {
         &log);
     EXPECT_EQ(status, 130) << log;
     EXPECT_NE(log.find("interrupted"), std::string::npos) << log;
-    EXPECT_NE(log.find("montecarlo --study " + study + " --out " + out + " --resume"), std::string::npos) << log;
+    EXPECT_NE(log.find("rover montecarlo --study " + study + " --checkpoint-every 1 --no-plot --out " + out + " --resume"),
+              std::string::npos) << log;
     EXPECT_FALSE(std::ifstream(out).good()) << "no result file after an interrupt";
     EXPECT_TRUE(std::ifstream(out + ".checkpoint").good());
   }
@@ -179,7 +182,8 @@ TEST(CmdStudies, InterruptOfMpirunSavesTheCheckpointAndResumesToTheSameResult) {
   ASSERT_FALSE(std::ifstream(out).good()) << "the study finished before the interrupt: " << log;
   EXPECT_NE(status, 0) << log;  // mpirun's own status (1 with Open MPI 4.1), not the ranks'
   EXPECT_NE(log.find("interrupt"), std::string::npos) << log;
-  EXPECT_NE(log.find("montecarlo --study " + study + " --out " + out + " --resume"), std::string::npos) << log;
+  EXPECT_NE(log.find("rover montecarlo --study " + study + " --checkpoint-every 20 --no-plot --out " + out + " --resume"),
+            std::string::npos) << log;
   ASSERT_TRUE(std::ifstream(out + ".checkpoint").good()) << log;
   ASSERT_EQ(run_command(mpiexec() + " -np 2 " + rover_binary() + " montecarlo --study " + study +
                             " --no-plot --resume --out " + out, &log), 0) << log;
@@ -204,6 +208,34 @@ TEST(CmdStudies, AnOutputPathThatCannotBeWrittenIsRefusedBeforeAnyRun) {
   }
 }
 
+TEST(CmdStudies, OneSummaryFigureByDefaultAndEveryFigureOnRequest) {
+  if (std::system("command -v gnuplot > /dev/null 2>&1") != 0) GTEST_SKIP() << "gnuplot is not installed";
+  const std::string dir = rover::testing::temp_dir();
+  const std::string study = mc_study(dir, 1.0, 6);
+  const auto pngs = [&](const std::string& stem) {
+    std::vector<std::string> names;
+    for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+      const std::string name = entry.path().filename().string();
+      if (name.starts_with(stem + "_") && name.ends_with(".png")) names.push_back(name);
+    }
+    std::sort(names.begin(), names.end());
+    return names;
+  };
+  std::string log;
+  for (const char* plots : {"summary", "all", "none"}) {
+    const std::string stem = std::string("p_") + plots;
+    const std::string flag = std::string(plots) == "summary" ? "" : std::string(" --plots ") + plots;
+    ASSERT_EQ(run_command(rover_binary() + " montecarlo --study " + study + flag + " --out " + dir + "/" + stem + ".h5",
+                          &log), 0) << log;
+  }
+  EXPECT_EQ(pngs("p_summary"), std::vector<std::string>{"p_summary_summary.png"});
+  const std::vector<std::string> all = pngs("p_all");
+  EXPECT_NE(std::find(all.begin(), all.end(), "p_all_summary.png"), all.end());
+  EXPECT_NE(std::find(all.begin(), all.end(), "p_all_band_B_l_z.png"), all.end());
+  EXPECT_NE(std::find(all.begin(), all.end(), "p_all_hist_deflection.png"), all.end());
+  EXPECT_TRUE(pngs("p_none").empty());
+}
+
 TEST(CmdStudies, EveryRunFailingIsAnErrorButTheResultsAreKept) {
   // Every drop starts 0.5 m below the ground: every sample is rejected.
   const std::string dir = rover::testing::temp_dir();
@@ -212,7 +244,7 @@ TEST(CmdStudies, EveryRunFailingIsAnErrorButTheResultsAreKept) {
       "parameters": {"scenario.initial_q.z": {"distribution": "uniform", "min": -0.6, "max": -0.5}},
       "design": {"type": "monte_carlo", "samples": 3}, "qoi": ["t_min"]})");
   std::string log;
-  EXPECT_EQ(run_command(rover_binary() + " montecarlo --study " + path + " --no-plot --out " + dir + "/f.h5", &log), 1) << log;
+  EXPECT_EQ(run_command(rover_binary() + " montecarlo --study " + path + " --no-plot --out " + dir + "/f.h5", &log), 2) << log;
   EXPECT_NE(log.find("every run failed"), std::string::npos) << log;
   const io::Hdf5Reader h5(dir + "/f.h5");
   EXPECT_EQ(h5.read_ints("/samples/status"), (std::vector<int>{10, 10, 10}));

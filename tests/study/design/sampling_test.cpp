@@ -1,4 +1,5 @@
 // Preload sampling and grids (study/design/sampling.cpp).
+#include "study/design/design.hpp"
 #include "study/design/sampling.hpp"
 
 #include <cmath>

@@ -16,7 +16,6 @@
 #include "io/json_reader.hpp"
 #include "study/studies/calibration_mcmc.hpp"
 #include "study/estimators/ensemble_sampler.hpp"
-#include "study/studies/surface.hpp"
 #include "test_support.hpp"
 
 namespace rover::study {
@@ -284,14 +283,6 @@ TEST(Calibration, StudyFileChecksNameTheField) {
   const std::string other = write_file(dir, "other.csv", "t,z\n0,0.25\n0.1,0.24\n0.2,0.23\n");
   EXPECT_NE(load_calibration_study(study, {.data_path = other}).fingerprint, s.fingerprint);
   EXPECT_EQ(load_calibration_study(study).fingerprint, s.fingerprint);
-}
-
-TEST(Surface, LinearRegressionOfAnExactLine) {
-  const auto r = linear_regression({1e2, 1e3, 1e4, 1e5}, {0.5 + 2e-5 * 1e2, 0.5 + 2e-5 * 1e3,
-                                                         0.5 + 2e-5 * 1e4, 0.5 + 2e-5 * 1e5});
-  EXPECT_NEAR(r[0], 0.5, 1e-12);
-  EXPECT_NEAR(r[1], 2e-5, 1e-17);
-  EXPECT_NEAR(r[2], 1.0, 1e-12);
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 #include "io/hdf5_file.hpp"
 #include "study/estimators/test_models.hpp"
 #include "study/studies/sensitivity.hpp"
+#include "study/studies/constant_qoi_model.hpp"
 #include "test_support.hpp"
 
 namespace rover::study {
@@ -97,26 +98,6 @@ TEST(PceSensitivity, ALowQ2WarnsNamingTheQoiAndALargerN) {
                         w.find("larger N") != std::string::npos);
   EXPECT_TRUE(warned);
 }
-
-// y = x1 + 2 x2^2 varies, c is constant, n is NaN in some successful runs.
-class ConstantQoiModel final : public StudyModel {
- public:
-  RunRecord run(const double* x) const override {
-    RunRecord r;
-    r.qoi = {x[0] + 2.0 * x[1] * x[1], 3.0, x[0] > 0.8 ? std::nan("") : x[0]};
-    return r;
-  }
-  const std::vector<std::string>& input_names() const override { return inputs_; }
-  const std::vector<std::string>& qoi_names() const override { return qois_; }
-  const std::vector<std::string>& qoi_units() const override { return units_; }
-  const std::vector<std::string>& channel_names() const override { return none_; }
-  const std::vector<double>& time_s() const override { return no_times_; }
-  std::string describe() const override { return "constant-qoi test model"; }
-
- private:
-  std::vector<std::string> inputs_{"x1", "x2"}, qois_{"y", "c", "n"}, units_{"1", "1", "1"}, none_;
-  std::vector<double> no_times_;
-};
 
 TEST(PceSensitivity, ConstantAndNanQoisAreUndefinedWhileTheOthersAreWritten) {
   StudySpec spec;

@@ -2,11 +2,14 @@
 // indices) on analytic models with known indices, in-process.
 #include "study/studies/sensitivity.hpp"
 
+#include <algorithm>
 #include <fstream>
+#include <memory>
 
 #include <gtest/gtest.h>
 
 #include "study/estimators/test_models.hpp"
+#include "study/studies/constant_qoi_model.hpp"
 #include "test_support.hpp"
 
 namespace rover::study {
@@ -50,6 +53,35 @@ TEST(Sensitivity, MorrisRanksTheGFunctionByItsCoefficients) {
   EXPECT_EQ(rank[1], 1);  // a = 1
   EXPECT_EQ(rank[2], 2);  // a = 4.5
   EXPECT_EQ(rank[3], 3);  // a = 9
+}
+
+TEST(Sensitivity, AConstantQoiHasUndefinedIndicesAndTheOthersAreKept) {
+  for (const std::string method : {"sobol", "morris"}) {
+    const std::string design = method == "sobol" ? R"({"type": "sobol", "samples": 256, "seed": 3})"
+                                                 : R"({"trajectories": 20, "levels": 4, "seed": 2})";
+    SensitivityStudy s = load(R"({"type": "sensitivity", "method": ")" + method +
+                              R"(", "name": "i", "model": "ishigami", "design": )" + design + R"(, "bootstrap": 200})");
+    s.spec.model = std::make_shared<ConstantQoiModel>(3);
+    const SensitivityResult r = run_in_process(s);
+    const auto c = std::find_if(r.undefined.begin(), r.undefined.end(),
+                                [](const UndefinedIndices& u) { return u.qoi == "c"; });
+    ASSERT_NE(c, r.undefined.end()) << method;
+    EXPECT_NE(c->reason.find("constant"), std::string::npos) << c->reason;
+    EXPECT_TRUE(std::none_of(r.undefined.begin(), r.undefined.end(),
+                             [](const UndefinedIndices& u) { return u.qoi == "y"; }));
+    EXPECT_TRUE(std::any_of(r.warnings.begin(), r.warnings.end(),
+                            [](const std::string& w) { return w.starts_with("c: indices undefined"); }));
+    if (method == "sobol") {
+      ASSERT_EQ(r.sobol.size(), 3u);
+      EXPECT_EQ(r.sobol[1].S1.size(), 0);
+      EXPECT_GT(r.sobol[0].ST[1], r.sobol[0].ST[0]);  // on (-pi, pi), 2 x2^2 varies ten times more than x1
+      EXPECT_NEAR(r.sobol[0].ST[2], 0.0, 1e-12);      // x3 does not enter y
+    } else {
+      ASSERT_EQ(r.morris.size(), 3u);
+      EXPECT_EQ(r.morris[1].mu_star.size(), 0);
+      EXPECT_EQ(r.morris[0].ranking[0], 1);
+    }
+  }
 }
 
 TEST(Sensitivity, BadStudiesNameTheField) {

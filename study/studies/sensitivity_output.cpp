@@ -1,0 +1,155 @@
+// The sensitivity study's result file and console report (sensitivity.hpp;
+// docs/results_format.md, "sensitivity").
+#include <algorithm>
+#include <iomanip>
+#include <numeric>
+#include <ostream>
+
+#include "study/studies/report_format.hpp"
+#include "study/studies/sensitivity.hpp"
+#include "study/studies/study_output.hpp"
+
+namespace rover::study {
+namespace {
+
+constexpr int kLabelWidth = 28;
+
+// The group of a QoI without indices: attributes defined = 0 and
+// undefined_reason.
+void write_undefined(io::Hdf5Writer& h5, const std::string& group, const std::string& reason) {
+  h5.create_group(group);
+  h5.attribute(group, "defined", 0LL);
+  h5.attribute(group, "undefined_reason", reason);
+}
+
+const std::string* undefined_reason(const SensitivityResult& result, const std::string& qoi) {
+  for (const UndefinedIndices& u : result.undefined)
+    if (u.qoi == qoi) return &u.reason;
+  return nullptr;
+}
+
+void write_sobol(io::Hdf5Writer& h5, const std::string& qoi, const SobolIndices& s, const SobolOptions& options) {
+  const std::string g = "/indices/" + qoi + "/";
+  h5.write(g + "S1", to_vector(s.S1));
+  h5.write(g + "ST", to_vector(s.ST));
+  h5.write(g + "S1_lower", to_vector(s.S1_lower));
+  h5.write(g + "S1_upper", to_vector(s.S1_upper));
+  h5.write(g + "ST_lower", to_vector(s.ST_lower));
+  h5.write(g + "ST_upper", to_vector(s.ST_upper));
+  h5.write(g + "mean", std::vector<double>{s.mean});
+  h5.write(g + "variance", std::vector<double>{s.variance});
+  if (s.S2.size()) {
+    h5.write(g + "S2", s.S2);
+    h5.write(g + "S2_lower", s.S2_lower);
+    h5.write(g + "S2_upper", s.S2_upper);
+  }
+  h5.attribute(g + "S1", "groups_used", static_cast<long long>(s.groups_used));
+  h5.attribute(g + "S1", "groups_total", static_cast<long long>(s.groups_total));
+  h5.attribute(g + "S1", "confidence", options.confidence);
+  h5.attribute(g + "S1", "bootstrap_resamples", static_cast<long long>(options.bootstrap_resamples));
+}
+
+void write_sobol_t(io::Hdf5Writer& h5, const std::string& channel, const SobolIndicesAlongTime& s) {
+  h5.write("/indices_t/" + channel + "/S1", s.S1);
+  h5.write("/indices_t/" + channel + "/ST", s.ST);
+  h5.write("/indices_t/" + channel + "/variance", to_vector(s.variance));
+  h5.write("/aggregated/" + channel + "/S1", to_vector(s.aggregated_S1));
+  h5.write("/aggregated/" + channel + "/ST", to_vector(s.aggregated_ST));
+}
+
+void write_morris(io::Hdf5Writer& h5, const std::string& qoi, const MorrisResult& m) {
+  const std::string g = "/morris/" + qoi + "/";
+  h5.write(g + "mu", to_vector(m.mu));
+  h5.write(g + "mu_star", to_vector(m.mu_star));
+  h5.write(g + "sigma", to_vector(m.sigma));
+  h5.write(g + "mu_star_lower", to_vector(m.mu_star_lower));
+  h5.write(g + "mu_star_upper", to_vector(m.mu_star_upper));
+  h5.write(g + "ranking", m.ranking);
+  h5.attribute(g + "mu", "trajectories_used", static_cast<long long>(m.trajectories_used));
+}
+
+void print_sobol(std::ostream& out, const std::string& qoi, const SobolIndices& s,
+                 const std::vector<std::string>& labels, double confidence) {
+  std::vector<Eigen::Index> order(static_cast<std::size_t>(s.ST.size()));
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) { return s.ST[a] > s.ST[b]; });
+  out << qoi << " (mean " << s.mean << ", variance " << s.variance << ", " << s.groups_used << " of "
+      << s.groups_total << " groups; " << static_cast<int>(100 * confidence) << " % intervals), by total index:\n";
+  for (Eigen::Index i : order)
+    out << "  " << std::left << std::setw(kLabelWidth) << labels[static_cast<std::size_t>(i)] << std::right << " S1 "
+        << std::setw(6) << fixed_text(s.S1[i]) << " [" << fixed_text(s.S1_lower[i]) << ", " << fixed_text(s.S1_upper[i]) << "]   ST "
+        << std::setw(6) << fixed_text(s.ST[i]) << " [" << fixed_text(s.ST_lower[i]) << ", " << fixed_text(s.ST_upper[i]) << "]\n";
+}
+
+void print_morris(std::ostream& out, const std::string& qoi, const MorrisResult& m,
+                  const std::vector<std::string>& labels) {
+  out << qoi << " (Morris, " << m.trajectories_used << " trajectories), by mu*:\n";
+  for (int i : m.ranking)
+    out << "  " << std::left << std::setw(kLabelWidth) << labels[static_cast<std::size_t>(i)] << std::right << " mu* "
+        << std::setw(10) << m.mu_star[i] << " [" << m.mu_star_lower[i] << ", " << m.mu_star_upper[i] << "]  mu "
+        << std::setw(10) << m.mu[i] << "  sigma " << m.sigma[i] << "\n";
+}
+
+void print_aggregated(std::ostream& out, const std::string& channel, const SobolIndicesAlongTime& s,
+                      const std::vector<std::string>& labels) {
+  out << channel << " along time, variance-weighted: ";
+  for (Eigen::Index i = 0; i < s.aggregated_ST.size(); ++i)
+    out << labels[static_cast<std::size_t>(i)] << " S1 " << fixed_text(s.aggregated_S1[i]) << " ST "
+        << fixed_text(s.aggregated_ST[i]) << (i + 1 < s.aggregated_ST.size() ? "; " : "\n");
+}
+
+}  // namespace
+
+void write_sensitivity(const SensitivityResult& result, io::Hdf5Writer& h5) {
+  const SensitivityStudy& study = result.study;
+  const StudyModel& model = *study.spec.model;
+  write_study_inputs(h5, study.spec, result.inputs);
+  h5.attribute("/", "method", sensitivity_method_name(study.method));
+  h5.attribute("/", "runs", static_cast<long long>(result.inputs.rows()));
+  h5.attribute("/", "failed_runs", static_cast<long long>(result.failed_runs));
+  h5.attribute("/", "runs_wall_time_s", result.runs_wall_time_s);
+  h5.attribute("/", "analysis_wall_time_s", result.analysis_wall_time_s);
+  for (std::size_t q = 0; q < result.qoi.size(); ++q) h5.write("/qoi/" + model.qoi_names()[q], result.qoi[q]);
+  h5.write("/samples/status", result.status);
+  h5.write("/samples/message", result.messages);
+  for (std::size_t q = 0; q < result.sobol.size(); ++q) {
+    const std::string& name = model.qoi_names()[q];
+    if (const std::string* why = undefined_reason(result, name)) write_undefined(h5, "/indices/" + name, *why);
+    else write_sobol(h5, name, result.sobol[q], study.sobol);
+  }
+  if (!result.sobol_t.empty()) h5.write("/t", model.time_s());
+  for (std::size_t c = 0; c < result.sobol_t.size(); ++c)
+    write_sobol_t(h5, model.channel_names()[c], result.sobol_t[c]);
+  for (std::size_t q = 0; q < result.morris.size(); ++q) {
+    const std::string& name = model.qoi_names()[q];
+    if (const std::string* why = undefined_reason(result, name)) write_undefined(h5, "/morris/" + name, *why);
+    else write_morris(h5, name, result.morris[q]);
+  }
+  if (!result.undefined.empty()) {
+    std::string names;
+    for (const UndefinedIndices& u : result.undefined) names += (names.empty() ? "" : ", ") + u.qoi;
+    h5.attribute("/", "undefined_indices", names);
+  }
+  if (study.method == SensitivityMethod::kPce) write_pce_sensitivity(h5, study.spec, study.pce, result.pce);
+}
+
+void report_sensitivity(const SensitivityResult& result, std::ostream& out) {
+  const SensitivityStudy& study = result.study;
+  const StudyModel& model = *study.spec.model;
+  const std::vector<std::string> labels = input_labels(study.spec);
+  out << "  runs " << fixed_text(result.runs_wall_time_s, 1) << " s, analysis "
+      << fixed_text(result.analysis_wall_time_s, 2) << " s\n";
+  if (!result.failure_report.empty()) out << "  " << result.failure_report << "\n";
+  for (std::size_t q = 0; q < result.sobol.size(); ++q)
+    if (!undefined_reason(result, model.qoi_names()[q]))
+      print_sobol(out, model.qoi_names()[q], result.sobol[q], labels, study.sobol.confidence);
+  if (study.method == SensitivityMethod::kPce) print_pce_sensitivity(out, study.spec, study.pce, result.pce);
+  for (std::size_t q = 0; q < result.morris.size(); ++q)
+    if (!undefined_reason(result, model.qoi_names()[q]))
+      print_morris(out, model.qoi_names()[q], result.morris[q], labels);
+  for (std::size_t c = 0; c < result.sobol_t.size(); ++c)
+    print_aggregated(out, model.channel_names()[c], result.sobol_t[c], labels);
+  for (const std::string& w : result.warnings) out << "sensitivity: warning: " << w << "\n";
+}
+
+}  // namespace rover::study

@@ -1,0 +1,58 @@
+// See study_driver.hpp.
+#include "study/studies/study_driver.hpp"
+
+#include "study/runtime/run_record.hpp"
+#include "study/studies/study_output.hpp"
+
+namespace rover::study {
+
+RunCounts count_runs(const std::vector<int>& status, const std::vector<std::string>& messages) {
+  RunCounts counts;
+  counts.runs = static_cast<long long>(status.size());
+  for (std::size_t i = 0; i < status.size(); ++i) {
+    if (status[i] == run_status::kOk) continue;
+    if (counts.failed++ == 0) counts.first_failure = messages[i];
+  }
+  return counts;
+}
+
+}  // namespace rover::study
+
+namespace rover::study::driver_detail {
+
+StudyRunOptions prepare(const std::string& command, const std::string& name, const std::string& fingerprint,
+                        const MemoryEstimate& memory, const std::string& banner, bool csv_allowed,
+                        StudyRunOptions options) {
+  options.results_path = checked_results_path(name, options.results_path, csv_allowed);
+  if (memory.bytes > 0.0) require_memory(memory.what, memory.bytes);
+  options.label = command;
+  options.fingerprint = fingerprint;
+  if (world_rank() == 0 && !banner.empty()) std::cerr << command << ": " << banner << "\n";
+  return options;
+}
+
+bool is_csv_path(const std::string& path) { return path.ends_with(".csv"); }
+
+void commit(const std::string& command, const std::string& results_path, io::Hdf5Writer* h5,
+            const RunCounts& counts) {
+  if (h5 != nullptr) h5->commit();
+  remove_checkpoint(results_path);
+  std::cerr << command << ": " << counts.runs << " runs (" << counts.failed << " failed), wrote " << results_path
+            << "\n";
+}
+
+int exit_status(const std::string& command, const std::string& results_path, const RunCounts& counts,
+                int status_when_some_failed) {
+  if (counts.failed == 0) return 0;
+  if (counts.failed < counts.runs) return status_when_some_failed;
+  std::cerr << "rover " << command << ": error: every run failed (first: " << counts.first_failure
+            << "); the results are in " << results_path << "\n";
+  return kEveryRunFailedStatus;
+}
+
+int interrupted(const std::string& command, const StudyInterrupted& e) {
+  std::cerr << "rover " << command << ": " << e.what() << std::endl;
+  return StudyInterrupted::kExitCode;
+}
+
+}  // namespace rover::study::driver_detail

@@ -1,0 +1,143 @@
+// The one driver every study runs through (docs/studies.md): a study says what
+// it computes, writes, reports and plots; the driver owns everything around
+// that, the same for every study:
+//   * the results path (results/<name>.h5 by default), checked before any run;
+//   * the memory estimate, refused up front beyond the limit;
+//   * the checkpoint beside the result file, its fingerprint and --resume;
+//   * SIGINT and SIGTERM: stop handing out runs, save the checkpoint, print the
+//     resume command, exit status 130;
+//   * the provenance attributes, the commit of the result file, the removal
+//     of the checkpoint;
+//   * the exit status: 0 done, kEveryRunFailedStatus when every run failed
+//     (the results are kept), kSomeRunsFailedStatus when some failed for a
+//     study that says so (evaluate).
+//
+// A study is a StudyProgram<Result>: its run is collective over the MPI ranks
+// and returns a typed result that is meaningful on rank 0; write, report and
+// plot take that result and are called on rank 0 only, in that order, after
+// the run. The run prints nothing itself: progress goes through the task
+// farm's progress lines.
+#pragma once
+
+#include <functional>
+#include <iostream>
+#include <memory>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "io/hdf5_file.hpp"
+#include "study/runtime/study_runner.hpp"
+
+namespace rover::study {
+
+// How many runs a study did and how many of them failed.
+struct RunCounts {
+  long long runs = 0;
+  long long failed = 0;
+  std::string first_failure;  // the message of the first failed run
+};
+
+// The counts of runs of these statuses (run_status::kOk: done), with the
+// message of the first that failed.
+RunCounts count_runs(const std::vector<int>& status, const std::vector<std::string>& messages);
+
+// The bytes a study holds on rank 0 (`what` says what they are).
+struct MemoryEstimate {
+  std::string what;
+  double bytes = 0.0;
+};
+
+// What a study's run gets from the driver.
+struct StudyRuntime {
+  StudyRunOptions options;       // for stream_study_tasks(): path, fingerprint, resume, progress, checkpoint
+  io::Hdf5Writer* h5 = nullptr;  // rank 0: the open result file, for rows streamed in during the run
+};
+
+template <class Result>
+struct StudyProgram {
+  std::string command;      // "montecarlo": labels progress lines and messages
+  std::string name;         // the study's name: results/<name>.h5 unless --out is given
+  std::string fingerprint;  // every input and result-changing option (the checkpoint's key)
+  std::string banner;       // what is about to run; rank 0 prints it first
+  MemoryEstimate memory;
+  // Required. Collective: every rank calls it.
+  std::function<Result(const StudyRuntime&)> run;
+  // Rank 0 only, in this order.
+  std::function<void(io::Hdf5Writer&)> provenance;            // root attributes
+  std::function<void(const Result&, io::Hdf5Writer&)> write;  // the datasets
+  // When set, a results path ending in .csv gets this instead of an HDF5 file.
+  std::function<void(const Result&, const std::string& path)> write_csv;
+  std::function<RunCounts(const Result&)> counts;
+  std::function<void(const Result&, std::ostream&)> report;
+  std::function<void(const Result&, const std::string& results_path, PlotSelection)> plot;
+  // The exit status when some runs, but not all, failed.
+  int status_when_some_failed = 0;
+};
+
+// The exit status of a study whose every run failed (its results are kept),
+// and of one whose some runs failed where the study counts that as an error.
+inline constexpr int kEveryRunFailedStatus = 2;
+inline constexpr int kSomeRunsFailedStatus = 2;
+
+namespace driver_detail {
+
+// Checks the results path and the memory estimate, completes `options`
+// (results path, label, fingerprint) and prints the banner on rank 0.
+StudyRunOptions prepare(const std::string& command, const std::string& name, const std::string& fingerprint,
+                        const MemoryEstimate& memory, const std::string& banner, bool csv_allowed,
+                        StudyRunOptions options);
+
+bool is_csv_path(const std::string& path);
+
+// Commits the result file (if `h5` is not null: a CSV is already in place),
+// removes the checkpoint and prints the one-line summary.
+void commit(const std::string& command, const std::string& results_path, io::Hdf5Writer* h5,
+            const RunCounts& counts);
+
+// The exit status for `counts`; says so when every run failed.
+int exit_status(const std::string& command, const std::string& results_path, const RunCounts& counts,
+                int status_when_some_failed);
+
+// Prints the interrupt message; returns StudyInterrupted::kExitCode.
+int interrupted(const std::string& command, const StudyInterrupted& e);
+
+}  // namespace driver_detail
+
+// Collective: runs `study` with `options` (the user's flags) on every rank and
+// returns the process exit status (meaningful on rank 0; 0 elsewhere).
+// Throws std::invalid_argument before any run for an unusable results path
+// or too large a memory estimate, and passes on the study's own errors.
+template <class Result>
+int drive_study(const StudyProgram<Result>& study, const StudyRunOptions& options) {
+  StudyRuntime runtime;
+  runtime.options = driver_detail::prepare(study.command, study.name, study.fingerprint, study.memory,
+                                           study.banner, static_cast<bool>(study.write_csv), options);
+  const std::string& out = runtime.options.results_path;
+  const bool csv = driver_detail::is_csv_path(out);
+  std::unique_ptr<io::Hdf5Writer> h5;
+  if (world_rank() == 0 && !csv) h5 = std::make_unique<io::Hdf5Writer>(out);
+  runtime.h5 = h5.get();
+  const InterruptGuard interrupts;
+  try {
+    const Result result = study.run(runtime);
+    if (world_rank() != 0) return 0;
+    if (csv) {
+      study.write_csv(result, out);
+    } else {
+      if (study.provenance) study.provenance(*h5);
+      study.write(result, *h5);
+    }
+    const RunCounts counts = study.counts(result);
+    driver_detail::commit(study.command, out, h5.get(), counts);
+    if (study.report) study.report(result, std::cerr);
+    const bool every_run_failed = counts.runs > 0 && counts.failed == counts.runs;
+    if (study.plot && options.plots != PlotSelection::kNone && !every_run_failed)
+      study.plot(result, out, options.plots);
+    return driver_detail::exit_status(study.command, out, counts, study.status_when_some_failed);
+  } catch (const StudyInterrupted& e) {
+    return driver_detail::interrupted(study.command, e);
+  }
+}
+
+}  // namespace rover::study
