@@ -28,6 +28,7 @@ std::vector<std::string> split_list(const std::string& text) {
 struct EvaluateOptions {
   std::string qoi = "B_l_z_min,deflection", channels;
   study::EvaluateRequest request;
+  bool restart = false;
 };
 
 int run_evaluate_command(EvaluateOptions& o) {
@@ -52,9 +53,7 @@ int run_evaluate_command(EvaluateOptions& o) {
   if (o.request.qoi_names.empty() && o.request.channel_names.empty())
     checks.add("--qoi '" + o.qoi + "' names no quantity of interest (and no --channels are given): nothing to compute");
   check_integrator_flag(checks, o.request.integrator);
-  checks.output_file("--out", o.request.out_path);
-  checks.distinct_files("--out", o.request.out_path, "--design", o.request.design_path);
-  checks.distinct_files("--out", o.request.out_path, "--scenario", o.request.scenario_path);
+  check_evaluate_output(checks, o.request, o.restart);
   checks.throw_if_any();
   if (o.request.progress_interval_s < 1)
     throw std::invalid_argument("--progress-interval must be at least 1 s, got " +
@@ -102,6 +101,7 @@ const RegisterCommand registration{
                      "Replace the scenario's integrator by this method at its default tolerances: " +
                          integrator_choices_text());
       app.add_flag("--resume", o->request.resume, "Continue from <out>.checkpoint: only the missing rows run");
+      app.add_flag("--restart", o->restart, "Discard <out>.checkpoint of an interrupted evaluation and start afresh");
       app.add_option("--progress-interval", o->request.progress_interval_s, "Seconds between progress lines")
           ->capture_default_str();
       return [o] { return run_evaluate_command(*o); };

@@ -66,6 +66,7 @@ class MonteCarloAnalysis {
 struct StudyRunControl {
   std::string results_path;   // empty: results/<name>.h5
   bool resume = false;
+  bool restart = false;  // discard a leftover checkpoint (the drivers refuse one without --resume or --restart)
   bool plot = true;
   int progress_interval_s = 5;
   std::string resume_command;
