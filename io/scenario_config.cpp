@@ -102,20 +102,22 @@ DriveCommand natural_command(const JsonReader& s, const DriveKinematics& k, Driv
 }
 
 // A segment's speeds, rates and geometry within the scales of core/model_scale.hpp.
+// Reads the values without marking their keys as used: a key the mode does not
+// take is still reported by finish().
 void check_drive_scale(const JsonReader& s, bool natural) {
+  const Json& object = s.raw_object();
+  auto check = [&](const char* key, const Json& value, double bound, const char* unit, const std::string& why) {
+    if (!value.is_number()) return;  // the parsers report a wrong type
+    if (const std::string p = beyond_scale(value.get<double>(), bound, unit, why); !p.empty()) s.fail(key, p);
+  };
   auto within = [&](const char* key, double bound, const char* unit, const std::string& why) {
-    if (!s.has(key) || !s.raw(key).is_number()) return;  // the parsers report a wrong type
-    if (const std::string p = beyond_scale(s.number(key), bound, unit, why); !p.empty()) s.fail(key, p);
+    if (object.contains(key)) check(key, object.at(key), bound, unit, why);
   };
   if (natural) {
     within("speed", kMaxDriveSpeed_mps, "m/s", kDriveScaleReason);
     within("radius", kMaxCoordinate_m, "m", kPositionScaleReason + " (leave 'radius' out to drive straight)");
-    if (s.has("icr") && s.raw("icr").is_array())
-      for (const Json& c : s.raw("icr"))
-        if (c.is_number())
-          if (const std::string p = beyond_scale(c.get<double>(), kMaxCoordinate_m, "m", kPositionScaleReason);
-              !p.empty())
-            s.fail("icr", p);
+    if (object.contains("icr") && object.at("icr").is_array())
+      for (const Json& c : object.at("icr")) check("icr", c, kMaxCoordinate_m, "m", kPositionScaleReason);
   } else {
     within("forward", kMaxDriveSpeed_mps, "m/s", kDriveScaleReason);
     within("lateral", kMaxDriveSpeed_mps, "m/s", kDriveScaleReason);
@@ -162,7 +164,7 @@ DriveCommandSegment parse_drive_segment(const Json& json, const std::string& fil
   }
   if (const std::string p = beyond_scale(segment.command.yaw_rate_radps, kMaxYawRate_radps, "rad/s", kDriveScaleReason);
       natural && !p.empty())
-    s.fail(s.has("radius") ? "radius" : "icr", "gives a yaw rate of " + p);
+    s.fail(s.raw_object().contains("radius") ? "radius" : "icr", "gives a yaw rate of " + p);
   s.finish();
   return segment;
 }
