@@ -55,7 +55,7 @@ constexpr const char* kNeedsFile =
 
 // A path that streams: text goes through it, a seekable format is refused.
 OutputTarget stream_target(OutputFormat format, const std::string& what) {
-  if (format == OutputFormat::kSeekable) return refused("is " + what + ", not a regular file; " + kNeedsFile);
+  if (format == OutputFormat::kSeekable) return refused("is not a regular file but " + what + "; " + kNeedsFile);
   return {OutputMode::kStream, ""};
 }
 

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 
 #include "io/hdf5_file.hpp"
@@ -211,10 +212,11 @@ std::string run_montecarlo(const MonteCarloStudy& study, const StudyRunControl& 
   if (!root) return out;
 
   const MonteCarloResult result = analysis.finish();
-  if (result.failed == result.samples)  // status 1: an earlier result at `out` stays as it was
-    throw std::runtime_error("every run failed (first: " + (result.messages.empty() ? "" : result.messages[0]) +
-                             "); nothing was written, " + out + " is unchanged; the runs are kept in " +
-                             io::ResultCheckpoint::path_for(out));
+  const bool every_run_failed = result.failed == result.samples;
+  const std::string first_failure = result.messages.empty() ? "" : result.messages[0];
+  if (every_run_failed && std::filesystem::exists(out))  // status 1 never replaces an earlier result
+    throw std::runtime_error("every run failed (first: " + first_failure + "); nothing was written, " + out +
+                             " is unchanged; the runs are kept in " + io::ResultCheckpoint::path_for(out));
   write_study_provenance(*h5, spec, spec.fingerprint);
   write_study_inputs(*h5, spec, x);
   h5->write("/t", model.time_s());
@@ -276,6 +278,8 @@ std::string run_montecarlo(const MonteCarloStudy& study, const StudyRunControl& 
     if (!s.note.empty() && s.note != last_note) std::cerr << "    " << s.note << "\n";
     last_note = s.note;
   }
+  if (every_run_failed)
+    throw std::runtime_error("every run failed (first: " + first_failure + "); the results are in " + out);
   if (control.plot) {
     for (std::size_t c = 0; c < result.bands.size(); ++c) {
       const std::string& name = model.channel_names()[c];
