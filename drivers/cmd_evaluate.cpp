@@ -51,8 +51,7 @@ study::StudyProgram<study::EvaluateResult> load(EvaluateOptions& o) {
   if (o.request.qoi_names.empty() && o.request.channel_names.empty())
     checks.add("--qoi '" + o.qoi + "' names no quantity of interest (and no --channels are given): nothing to compute");
   check_integrator_flag(checks, o.request.integrator);
-  checks.distinct_files("--out", o.request.out_path, "--design", o.request.design_path);
-  checks.distinct_files("--out", o.request.out_path, "--scenario", o.request.scenario_path);
+  check_evaluate_output(checks, o.request, o.run.resume, o.run.restart);
   checks.throw_if_any();
   return study::evaluate_program(study::load_evaluate(o.request));
 }
@@ -89,6 +88,7 @@ const RegisterCommand registration{
                      "Replace the scenario's integrator by this method at its default tolerances: " +
                          integrator_choices_text());
       app.add_flag("--resume", o->run.resume, "Continue from <out>.checkpoint: only the missing rows run");
+      app.add_flag("--restart", o->run.restart, "Discard <out>.checkpoint of an interrupted evaluation and start afresh");
       add_plots_flags(app, o->run);
       add_progress_flags(app, o->run);
       return [o, &app] { return run_study_command(app, o->run, "", [&] { return load(*o); }); };

@@ -71,7 +71,7 @@ int run_friction(const FrictionOptions& o) {
   if (o.v_static_mps) checks.positive("--v-s", *o.v_static_mps);
   if (o.mu_kinetic) checks.non_negative("--mu-k", *o.mu_kinetic);
   if (o.v_kinetic_mps) checks.positive("--v-k", *o.v_kinetic_mps);
-  checks.output_file("--png", o.png);
+  checks.output_file("--png", o.png, /*regular_only=*/true);
   checks.distinct_files("--png", o.png, "--config", o.config);
   checks.throw_if_any();
 

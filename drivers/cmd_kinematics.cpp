@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <initializer_list>
 #include <iostream>
 #include <limits>
 #include <memory>
@@ -14,9 +15,11 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/drive_kinematics.hpp"
+#include "core/model_scale.hpp"
 #include "drivers/command_registry.hpp"
 #include "drivers/options.hpp"
 #include "io/json_reader.hpp"
@@ -144,6 +147,21 @@ void print_wheel_table(std::ostream& out, DriveMode mode, const std::string& con
   out << s.str();
 }
 
+// Speeds, rates and distances within the rover's scale (core/model_scale.hpp).
+void check_scale(const KinematicsOptions& o, FlagChecks& checks) {
+  auto within = [&](const CLI::Option* option, double value, double bound, const char* unit, const std::string& why) {
+    if (!given(option) || !std::isfinite(value)) return;
+    if (const std::string problem = beyond_scale(value, bound, unit, why); !problem.empty())
+      checks.add(option->get_name() + " " + problem);
+  };
+  using Given = std::initializer_list<std::pair<const CLI::Option*, double>>;
+  for (const auto& [option, value] : Given{{o.speed, o.speed_mps}, {o.vx, o.vx_mps}, {o.vy, o.vy_mps}})
+    within(option, value, kMaxDriveSpeed_mps, "m/s", kDriveScaleReason);
+  within(o.yaw_rate, o.yaw_rate_radps, kMaxYawRate_radps, "rad/s", kDriveScaleReason);
+  for (const auto& [option, value] : Given{{o.radius, o.radius_m}, {o.icr_x, o.icr_x_m}, {o.icr_y, o.icr_y_m}})
+    within(option, value, kMaxCoordinate_m, "m", kPositionScaleReason);
+}
+
 int run_kinematics(const KinematicsOptions& o) {
   FlagChecks checks;
   const std::vector<std::pair<const CLI::Option*, double>> numbers = {
@@ -152,6 +170,7 @@ int run_kinematics(const KinematicsOptions& o) {
       {o.vx, o.vx_mps},       {o.vy, o.vy_mps}};
   for (const auto& [option, value] : numbers)
     if (given(option)) checks.finite(option->get_name(), value);
+  check_scale(o, checks);
   checks.throw_if_any();
   const std::optional<DriveMode> mode = drive_mode_from_keyword(o.mode);
   if (!mode) throw std::invalid_argument("unknown mode '" + o.mode + "'");

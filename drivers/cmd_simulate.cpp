@@ -45,23 +45,25 @@ void warn_if_chassis_below_ground(const Trajectory& tr, const Terrain& terrain) 
                "landing, a stiffer contact k_g or a smaller drop height)\n";
 }
 
-int run_simulate(const SimulateOptions& o) {
+// Checks every flag before the scenario is loaded; returns the files the
+// command reads (the scenario and the files it names), which no output may replace.
+io::InputFiles check_flags(const SimulateOptions& o) {
   FlagChecks checks;
   check_overrides(o.overrides, checks);
-  if (!o.integrator.empty()) {
-    try {
-      integrator_from_name(o.integrator);
-    } catch (const std::invalid_argument& e) {
-      checks.add(std::string("--integrator: ") + e.what());
-    }
-  }
+  check_integrator_flag(checks, o.integrator);
   checks.output_file("--out", o.out, /*regular_only=*/true);
   checks.output_file("--csv", o.csv);
-  checks.distinct_files("--out", o.out, "--scenario", o.scenario);
-  checks.distinct_files("--csv", o.csv, "--scenario", o.scenario);
+  io::InputFiles inputs;
+  inputs.add_config(o.scenario, "--scenario");
+  checks.not_an_input("--out", o.out, inputs, /*beside=*/!o.no_plot);
+  checks.not_an_input("--csv", o.csv, inputs);
   checks.distinct_files("--csv", o.csv, "--out", o.out);
   checks.throw_if_any();
+  return inputs;
+}
 
+int run_simulate(const SimulateOptions& o) {
+  const io::InputFiles inputs_read = check_flags(o);
   io::ScenarioSetup setup = io::load_scenario(o.scenario);
   // A different method comes with its own default tolerances (see default_integrator_settings).
   if (!o.integrator.empty()) setup.scenario.integrator = default_integrator_settings(integrator_from_name(o.integrator));
@@ -71,6 +73,7 @@ int run_simulate(const SimulateOptions& o) {
   if (o.out.empty()) {
     FlagChecks default_out;
     default_out.output_file("--out (default)", out, /*regular_only=*/true);
+    default_out.not_an_input("--out (default)", out, inputs_read, /*beside=*/!o.no_plot);
     default_out.throw_if_any();
   }
   const FrictionParameters& friction = setup.model.parameters.friction;

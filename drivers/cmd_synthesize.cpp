@@ -40,6 +40,15 @@ struct SynthesizeOptions {
   CLI::Option* scenario_option = nullptr;
 };
 
+// The data clock runs t_d = t_sim + offset from 0 to the end of the run: the
+// number of points k / rate within the simulated span and the data's.
+std::size_t data_point_count(double duration_s, double offset_s, double rate_hz) {
+  const double end = duration_s + offset_s;
+  std::size_t n = 0;
+  for (double td = 0.0; !(td > end - 1e-12 || td > duration_s); td = static_cast<double>(n) / rate_hz) ++n;
+  return n;
+}
+
 int run_synthesize(const SynthesizeOptions& o) {
   FlagChecks checks;
   checks.output_file("--out", o.out);
@@ -53,18 +62,14 @@ int run_synthesize(const SynthesizeOptions& o) {
   } catch (const std::invalid_argument& e) {
     checks.add(std::string("--channel: ") + e.what());
   }
-  if (!o.integrator.empty()) {
-    try {
-      (void)integrator_from_name(o.integrator);
-    } catch (const std::invalid_argument& e) {
-      checks.add(std::string("--integrator: ") + e.what());
-    }
-  }
+  check_integrator_flag(checks, o.integrator);
   checks.throw_if_any();
   const study::CalibrationChannel& channel = study::calibration_channel(o.channel);
 
   const std::string scenario_path = path_option(o.scenario_option, o.scenario, kDefaultScenario);
-  checks.distinct_files("--out", o.out, "--scenario", scenario_path);
+  io::InputFiles inputs;
+  inputs.add_config(scenario_path, "--scenario");
+  checks.not_an_input("--out", o.out, inputs);
   checks.throw_if_any();
   io::ScenarioSetup setup = io::load_scenario(scenario_path);
   // A different method comes with its own default tolerances, as in `rover simulate`.
@@ -76,6 +81,13 @@ int run_synthesize(const SynthesizeOptions& o) {
     throw CommandLineError({"--rate " + number_text(o.rate_hz) + " over the " +
                             number_text(setup.scenario.duration_s) + " s of " + scenario_path +
                             ": " + problem + "; reduce --rate"});
+  if (const std::size_t points = data_point_count(setup.scenario.duration_s, o.offset_s, o.rate_hz);
+      points < io::kMeasuredCurveMinRows)
+    throw CommandLineError({"--rate " + number_text(o.rate_hz) + " Hz and --offset " + number_text(o.offset_s) +
+                            " s over the " + number_text(setup.scenario.duration_s) + " s of " + scenario_path +
+                            " give " + std::to_string(points) + " data point(s); a measured curve needs at least " +
+                            std::to_string(io::kMeasuredCurveMinRows) +
+                            " (rover compare and calibrate refuse fewer): raise --rate"});
   const ModelInputs in = apply_overrides(o.overrides, setup.inputs);
   const Trajectory tr = simulate(setup.model, setup.scenario, in);
   if (!tr.ok()) throw std::runtime_error("the simulation failed: " + tr.message);
@@ -85,10 +97,8 @@ int run_synthesize(const SynthesizeOptions& o) {
   // Data clock: t_d = t_sim + offset, from 0 to the end of the run; before the
   // release the rover hangs at its initial height.
   std::vector<double> t, z;
-  const double end = setup.scenario.duration_s + o.offset_s;
-  for (int k = 0;; ++k) {
-    const double td = k / o.rate_hz;
-    if (td > end - 1e-12 || td > setup.scenario.duration_s) break;
+  for (std::size_t k = 0; k < data_point_count(setup.scenario.duration_s, o.offset_s, o.rate_hz); ++k) {
+    const double td = static_cast<double>(k) / o.rate_hz;
     t.push_back(td);
     z.push_back(interpolate(tr.t, clean, td - o.offset_s) + (o.noise_m > 0 ? noise(engine) : 0.0));
   }

@@ -29,8 +29,8 @@ struct ObstacleOptions {
 int run_obstacle(const ObstacleOptions& o) {
   // Each flag by name (core/obstacle checks the same ranges by field name).
   FlagChecks checks;
-  checks.output_file("--out", o.out);
-  checks.output_file("--png", o.png);
+  checks.output_file("--out", o.out, /*regular_only=*/true);
+  checks.output_file("--png", o.png, /*regular_only=*/true);
   checks.distinct_files("--png", o.png, "--out", o.out);
   checks.positive("--spacing", o.spacing_m);
   checks.non_negative("--margin", o.margin_m);

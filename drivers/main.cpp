@@ -1,8 +1,7 @@
 // The `rover` command-line program: one subcommand per task (see --help).
 //
-// A mistyped subcommand gets the nearest known name by the optimal string
-// alignment distance (Levenshtein distance with adjacent transpositions,
-// Damerau 1964): "rover simulat" -> did you mean 'simulate'? Whatever a
+// A mistyped subcommand gets the nearest known name, and a refused command
+// line a message in rover's words (command_line_errors.hpp). Whatever a
 // subcommand printed on stdout is flushed and checked before the exit status
 // is returned, so a full disk or a closed pipe is an error, not a success.
 // Exit status: 0 done, 1 refused (a bad file, or a bad command line, also one
@@ -21,13 +20,13 @@
 #include <exception>
 #include <iostream>
 #include <map>
-#include <string_view>
 #include <vector>
 
 #ifdef __GLIBC__
 #include <malloc.h>
 #endif
 
+#include "drivers/command_line_errors.hpp"
 #include "drivers/command_registry.hpp"
 #include "drivers/options.hpp"
 #include "study/runtime/study_runner.hpp"
@@ -46,41 +45,18 @@ void keep_freed_memory() {
 #endif
 }
 
-// Optimal string alignment distance: insertions, deletions, substitutions and
-// transpositions of adjacent characters, each costing 1.
-std::size_t edit_distance(std::string_view a, std::string_view b) {
-  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
-  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
-  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t substitution = a[i - 1] == b[j - 1] ? 0 : 1;
-      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + substitution});
-      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
-        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
-    }
-  }
-  return d[a.size()][b.size()];
-}
-
 // "unknown subcommand 'simulat'; did you mean 'simulate'?" (or the list of
 // subcommands when none is near).
 std::string unknown_subcommand_message(const std::string& typed,
                                        const std::vector<CommandEntry>& registry) {
-  std::string nearest, names;
-  std::size_t best = std::string::npos;
-  for (const CommandEntry& entry : registry) {
-    names += (names.empty() ? "" : ", ") + entry.name;
-    const std::size_t distance = edit_distance(typed, entry.name);
-    if (distance < best) {
-      best = distance;
-      nearest = entry.name;
-    }
-  }
-  std::string message = "rover: unknown subcommand '" + typed + "'";
-  // Near: at most 2 edits, or a third of the name for long names.
-  if (best <= std::max<std::size_t>(2, nearest.size() / 3)) return message + "; did you mean '" + nearest + "'?";
-  return message + " (subcommands: " + names + ")";
+  std::vector<std::string> names;
+  for (const CommandEntry& entry : registry) names.push_back(entry.name);
+  const std::string message = "rover: unknown subcommand '" + typed + "'";
+  if (const std::string near = nearest_name(typed, names); !near.empty())
+    return message + "; did you mean '" + near + "'?";
+  std::string list;
+  for (const std::string& name : names) list += (list.empty() ? "" : ", ") + name;
+  return message + " (subcommands: " + list + ")";
 }
 
 // An option given an empty value (`--f ""`, typically an unset shell
@@ -130,10 +106,22 @@ int main(int argc, char** argv) {
   }
   try {
     app.parse(argc, argv);
+  } catch (const CLI::Success& e) {
+    return app.exit(e);  // --help, --version
   } catch (const CLI::ParseError& e) {
-    // --help and --version exit 0; every refused command line exits 1, as a
-    // refused config file does (CLI11's own codes, 101-115, are not documented).
-    return app.exit(e) == 0 ? 0 : 1;
+    // Every refused command line exits 1, as a refused config file does
+    // (CLI11's own codes, 101-115, are not documented), in rover's words.
+    std::string command;  // the subcommands typed: "simulate", "terrain obstacle"
+    const CLI::App* level = &app;
+    for (int i = 1; i < argc && level != nullptr; ++i) {
+      const CLI::App* next = nullptr;
+      for (const CLI::App* sub : level->get_subcommands([](const CLI::App*) { return true; }))
+        if (sub->get_name() == argv[i]) next = sub;
+      if (next != nullptr) command += (command.empty() ? "" : " ") + next->get_name();
+      level = next;
+    }
+    for (const std::string& line : command_line_error_lines(e, app, command)) std::cerr << line << "\n";
+    return 1;
   }
   for (auto& [sub, run] : runners) {
     if (!sub->parsed()) continue;

@@ -6,7 +6,8 @@
 //     refuses it); every bad flag is reported, not just the first;
 //   * seeds are read as JSON seeds are (io::exact_unsigned_integer): -1 or
 //     2^64 + 5 are errors, never 2^64 - 1 or 4;
-//   * an output path that is a directory is refused;
+//   * an output path must be new or a writable regular file (a stream for
+//     text), and no file the command reads (io/input_files.hpp);
 //   * a default config path ("configs/rover.json") that does not exist from
 //     the working directory is looked up in the repository the program
 //     belongs to (build/drivers/rover -> ../../configs/rover.json);
@@ -31,7 +32,9 @@
 #include "core/number_text.hpp"
 #include "core/scenario.hpp"
 #include "core/simulate.hpp"
+#include "io/input_files.hpp"
 #include "io/json_reader.hpp"
+#include "io/output_target.hpp"
 
 namespace rover::cli {
 
@@ -67,24 +70,33 @@ class FlagChecks {
     if (!(std::isfinite(value) && value >= 0.0))
       add(flag + " must be a finite number >= 0, got " + number_text(value));
   }
-  // An output file: not a directory, in a directory that exists or can be
-  // made (it is made now, as the write would); with `regular_only`, also not
-  // a device or a pipe (HDF5 needs a file it can seek in and rename into place).
+  // An output file: nothing, or a writable regular file, at `path` (for a
+  // text output also a device, a pipe or standard output; never a link, a
+  // read-only file or a directory: io/output_target.hpp), in a directory that
+  // exists or can be made (it is made now, as the write would). With
+  // `regular_only`, a device or a pipe is refused too (HDF5 must seek).
   void output_file(const std::string& flag, const std::string& path, bool regular_only = false) {
     if (path.empty()) return;
-    std::error_code error;
-    const std::filesystem::file_status status = std::filesystem::status(path, error);
-    if (std::filesystem::is_directory(status)) {
-      add(flag + " '" + path + "' is a directory; give a file name");
-    } else if (regular_only && std::filesystem::exists(status) &&
-               !std::filesystem::is_regular_file(status)) {
-      add(flag + " '" + path + "' is not a regular file (a device or a pipe); give a file name");
-    } else if (const std::filesystem::path dir = std::filesystem::path(path).parent_path(); !dir.empty()) {
+    const io::OutputTarget target =
+        io::inspect_output(path, regular_only ? io::OutputFormat::kSeekable : io::OutputFormat::kText);
+    if (!target.refusal.empty()) {
+      add(flag + " '" + path + "' " + target.refusal);
+    } else if (const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+               target.mode == io::OutputMode::kReplace && !dir.empty()) {
+      std::error_code error;
       std::filesystem::create_directories(dir, error);
       if (error || !std::filesystem::is_directory(dir))
         add(flag + " '" + path + "': cannot create the directory '" + dir.string() + "'" +
             (error ? " (" + error.message() + ")" : std::string(" (a file of that name exists)")));
     }
+  }
+
+  // An output that would replace one of `inputs`, the files the command reads
+  // (io/input_files.hpp); with `beside`, also through the plots and the
+  // checkpoint written next to it.
+  void not_an_input(const std::string& flag, const std::string& output, const io::InputFiles& inputs,
+                    bool beside = false) {
+    for (std::string& problem : io::outputs_over_inputs(flag, output, inputs, beside)) add(std::move(problem));
   }
 
   // An output that would replace an input: the same file, however spelt
@@ -151,6 +163,16 @@ inline std::string integrator_choices_text() {
          number_text(dopri5.absolute_tolerance) + "), rk4 (step " + number_text(rk4.fixed_step_s) +
          " s), rosenbrock (stiff, rtol " + number_text(rosenbrock.relative_tolerance) + ", atol " +
          number_text(rosenbrock.absolute_tolerance) + ")";
+}
+
+// An --integrator flag names a method.
+inline void check_integrator_flag(FlagChecks& checks, const std::string& name) {
+  if (name.empty()) return;
+  try {
+    integrator_from_name(name);
+  } catch (const std::invalid_argument& e) {
+    checks.add(std::string("--integrator: ") + e.what());
+  }
 }
 
 // The 8 preloads of --M0, or the problems with them added to `checks`.

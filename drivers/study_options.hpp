@@ -4,7 +4,10 @@
 // with a function that loads its study into a StudyProgram.
 #pragma once
 
+#include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <iterator>
 #include <map>
 #include <memory>
 #include <string>
@@ -12,8 +15,11 @@
 #include <CLI/CLI.hpp>
 
 #include "drivers/options.hpp"
+#include "io/checkpoint.hpp"
+#include "io/input_files.hpp"
 #include "study/runtime/mpi_session.hpp"
 #include "study/runtime/study_runner.hpp"
+#include "study/studies/evaluate.hpp"
 #include "study/studies/study_config.hpp"
 #include "study/studies/study_driver.hpp"
 
@@ -36,6 +42,8 @@ inline void add_output_flags(CLI::App& app, study::StudyRunOptions& o) {
   app.add_flag("--resume", o.resume,
                "Continue an interrupted study from its checkpoint (<out>.checkpoint): only the "
                "missing runs are computed");
+  app.add_flag("--restart", o.restart,
+               "Discard the checkpoint of an interrupted study (<out>.checkpoint) and start afresh");
 }
 
 // --plots (and --no-plot, the same as --plots none).
@@ -68,21 +76,62 @@ inline void add_study_control(CLI::App& app, study::StudyRunControl& c) {
   add_progress_flags(app, c);
 }
 
-// The checks of a study's --out (a file, in a directory that can be made, not
-// the study file itself), before the study is loaded.
-inline void check_study_output(FlagChecks& checks, const study::StudyRunOptions& o, const std::string& study_path) {
-  checks.output_file("--out", o.results_path, /*regular_only=*/true);
-  checks.distinct_files("--out", o.results_path, "--study", study_path);
+// A leftover checkpoint: the finished runs of an interrupted study are kept
+// unless the command says what to do with them.
+inline void check_leftover_checkpoint(FlagChecks& checks, const std::string& results_path, bool resume,
+                                      bool restart) {
+  if (resume && restart)
+    checks.add("--resume and --restart exclude each other: --resume continues <out>.checkpoint, --restart "
+               "discards it");
+  if (resume || restart || results_path.empty()) return;
+  const std::string checkpoint = io::ResultCheckpoint::path_for(results_path);
+  std::error_code error;
+  if (std::filesystem::exists(std::filesystem::symlink_status(checkpoint, error)))
+    checks.add(checkpoint + " holds the finished runs of an interrupted study; continue it with --resume, or "
+               "discard them and start afresh with --restart");
 }
 
-// An --integrator flag names a method.
-inline void check_integrator_flag(FlagChecks& checks, const std::string& name) {
-  if (name.empty()) return;
+// Where a study writes: --out, or results/<name>.h5 with the "name" of the
+// study file (empty when the file has none: its loader will say so).
+inline std::string study_results_path(const study::StudyRunOptions& c, const std::string& study_path) {
+  if (!c.results_path.empty()) return c.results_path;
+  std::ifstream in(study_path, std::ios::binary);
+  std::string text;
   try {
-    integrator_from_name(name);
-  } catch (const std::invalid_argument& e) {
-    checks.add(std::string("--integrator: ") + e.what());
+    text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  } catch (const std::exception&) {
+    return "";
   }
+  const io::Json json = io::Json::parse(text, nullptr, /*allow_exceptions=*/false, /*ignore_comments=*/true);
+  if (!json.is_object() || !json.contains("name") || !json["name"].is_string()) return "";
+  const std::string name = json["name"].get<std::string>();
+  return name.empty() ? "" : "results/" + name + ".h5";
+}
+
+// The checks of where a study writes, before the study is loaded: --out is a
+// file in a directory that can be made; neither it nor the plots and the
+// checkpoint beside it replace the study file or any file named inside it
+// (io/input_files.hpp); a leftover checkpoint needs --resume or --restart.
+inline void check_study_output(FlagChecks& checks, const study::StudyRunOptions& c, const std::string& study_path) {
+  checks.output_file("--out", c.results_path, /*regular_only=*/true);
+  const std::string out = study_results_path(c, study_path);
+  io::InputFiles inputs;
+  inputs.add_config(study_path, "--study");
+  checks.not_an_input(c.results_path.empty() ? "--out (default)" : "--out", out, inputs, /*beside=*/true);
+  check_leftover_checkpoint(checks, out, c.resume, c.restart);
+}
+
+// The checks of `rover evaluate`'s --out: a CSV or HDF5 file (written by
+// rename: no device), neither the design, the scenario nor a file the scenario
+// names, and no leftover checkpoint without --resume or --restart.
+inline void check_evaluate_output(FlagChecks& checks, const study::EvaluateRequest& request, bool resume,
+                                  bool restart) {
+  checks.output_file("--out", request.out_path, /*regular_only=*/true);
+  io::InputFiles inputs;
+  inputs.add(request.design_path, "--design");
+  inputs.add_config(request.scenario_path, "--scenario");
+  checks.not_an_input("--out", request.out_path, inputs, /*beside=*/true);
+  check_leftover_checkpoint(checks, request.out_path, resume, restart);
 }
 
 // The command that continues this one: `rover <subcommand>`, every flag the

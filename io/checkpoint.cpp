@@ -19,6 +19,8 @@
 
 #include <boost/crc.hpp>
 
+#include "io/output_target.hpp"
+
 namespace rover::io {
 namespace {
 
@@ -243,6 +245,7 @@ void ResultCheckpoint::add(const TaskRecord& record) {
 }
 
 void ResultCheckpoint::create_file() {
+  require_output(path_, OutputFormat::kSeekable);  // never renamed over a link or a read-only file
   const std::string partial = path_ + ".partial";
   const std::string header = encode_header(fingerprint_);
   {

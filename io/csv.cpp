@@ -16,6 +16,7 @@
 #include <system_error>
 
 #include "io/json_reader.hpp"
+#include "io/output_target.hpp"
 
 namespace rover::io {
 namespace {
@@ -176,15 +177,12 @@ void write_csv(const std::string& path, const std::vector<std::string>& header,
                                   header[0] + "' has " + std::to_string(rows));
 
   namespace fs = std::filesystem;
-  std::error_code status_error;
-  const fs::file_status status = fs::status(path, status_error);
-  if (fs::is_directory(status))
-    throw std::runtime_error(path + ": is a directory; give a file name to write the CSV to");
   const auto system_reason = [] { return errno != 0 ? std::string(" (") + std::strerror(errno) + ")" : ""; };
-  if (fs::exists(status) && !fs::is_regular_file(status)) {
-    // A device or a pipe: no temporary file next to it, and no rename over it.
+  if (require_output(path, OutputFormat::kText) == OutputMode::kStream) {
+    // A device, a pipe or an open descriptor: no temporary file next to it,
+    // and no rename over it; appended to, as a shell's `>>` would.
     errno = 0;
-    std::ofstream out(path, std::ios::out);
+    std::ofstream out(path, std::ios::app);
     if (!out) throw std::runtime_error(path + ": cannot open for writing" + system_reason());
     if (!write_table(out, header, columns, rows, comment))
       throw std::runtime_error(path + ": cannot write" + system_reason());

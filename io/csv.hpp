@@ -61,8 +61,9 @@ MeasuredCurve curve_from_table(const CsvTable& table, const std::string& value_c
                                double max_abs_value);
 
 // Writes columns (all of one length) under `header`, atomically (temp file +
-// rename) to a regular file; a destination that exists and is not a regular
-// file (a device such as /dev/stdout, a pipe) is written in place. Every write
+// rename) to a regular file; a device, a pipe or an open descriptor such as
+// /dev/stdout is appended to in place, and a link or a read-only file is
+// refused (io/output_target.hpp). Every write
 // and the close are checked: a full disk throws std::runtime_error naming the
 // file, and leaves no partial file. Values are written in the shortest form that reads back exactly
 // (non-finite values as nan/inf, which read_csv refuses). A nonempty `comment`

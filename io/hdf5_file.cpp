@@ -13,6 +13,8 @@
 #include <type_traits>
 #include <utility>
 
+#include "io/output_target.hpp"
+
 namespace rover::io {
 namespace {
 
@@ -307,6 +309,7 @@ std::vector<std::string> read_string_data(hid_t type, std::size_t count, const s
 // ------------------------------------------------------------------ Hdf5Writer
 
 Hdf5Writer::Hdf5Writer(const std::string& path) : path_(path), partial_path_(path + ".partial") {
+  require_output(path_, OutputFormat::kSeekable);
   prepare_hdf5_library();
   const Handle fcpl = checked_handle(H5Pcreate(H5P_FILE_CREATE), H5Pclose, path_, "file",
                                      "cannot create property list");

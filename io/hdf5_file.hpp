@@ -1,8 +1,10 @@
 // HDF5 result files: an RAII writer that never leaves a file that looks
 // complete after a failure, and a reader for resume, comparison and tests.
 //
-// Hdf5Writer writes to "<path>.partial" and renames it to <path> only in
-// commit(); destroying a writer without commit() removes the partial file.
+// Hdf5Writer refuses a path that is no writable regular file (a link, a
+// device, a read-only file: io/output_target.hpp), writes to "<path>.partial"
+// and renames it to <path> only in commit(); destroying a writer without
+// commit() removes the partial file.
 // Datasets are stored the way h5py and numpy expect them: 2-D data row-major
 // (rows x cols), strings as variable-length UTF-8. Object modification times
 // are not recorded, so the same content gives byte-identical files. Large

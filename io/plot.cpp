@@ -22,6 +22,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "io/output_target.hpp"
+
 namespace rover::io {
 namespace {
 
@@ -272,6 +274,8 @@ class TempFile {
 // it, and moves the output onto png_path only when gnuplot succeeded.
 void render(const std::string& png_path,
             const std::function<std::string(const std::string&)>& script_for) {
+  if (const OutputTarget target = inspect_output(png_path, OutputFormat::kSeekable); !target.refusal.empty())
+    throw PlotError("plot: " + png_path + ": " + target.refusal);
   TempFile partial(png_path + ".partial-", "plot file");
   const TempFile script((fs::temp_directory_path() / "rover-plot-").string(), "gnuplot script");
   {

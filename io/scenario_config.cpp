@@ -2,6 +2,7 @@
 #include "io/scenario_config.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -13,6 +14,7 @@
 
 #include "core/contact.hpp"
 #include "core/kinematic_tree.hpp"
+#include "core/model_scale.hpp"
 #include "core/number_text.hpp"
 #include "io/model_config.hpp"
 #include "io/rover_config.hpp"
@@ -36,6 +38,19 @@ Coordinates parse_named_coordinates(const JsonReader& parent, const std::string&
   for (const auto& [name, value] : r.raw_object().items()) c[coordinate_index(r, name)] = r.number(name);
   r.finish();
   return c;
+}
+
+// The initial position of G within the scale a double resolves (core/model_scale.hpp).
+void check_initial_position(const JsonReader& r, const Coordinates& q) {
+  constexpr std::array<std::pair<const char*, int>, 3> kPosition = {
+      {{"x", coord::x}, {"y", coord::y}, {"z", coord::z}}};
+  for (const auto& [name, index] : kPosition) {
+    const std::string problem = beyond_scale(q[index], kMaxCoordinate_m, "m", kPositionScaleReason);
+    if (problem.empty()) continue;
+    if (index == coord::z && r.has("initial_ground_clearance"))
+      r.fail("initial_ground_clearance", "puts G at z = " + problem);
+    r.fail("initial_q", std::string(name) + " = " + problem);
+  }
 }
 
 // Lowest wheel-bottom height below the chassis origin at the given pose.
@@ -86,6 +101,30 @@ DriveCommand natural_command(const JsonReader& s, const DriveKinematics& k, Driv
   s.fail("speed", "the rotation mode is commanded by 'yaw_rate' [rad/s] alone");
 }
 
+// A segment's speeds, rates and geometry within the scales of core/model_scale.hpp.
+// Reads the values without marking their keys as used: a key the mode does not
+// take is still reported by finish().
+void check_drive_scale(const JsonReader& s, bool natural) {
+  const Json& object = s.raw_object();
+  auto check = [&](const char* key, const Json& value, double bound, const char* unit, const std::string& why) {
+    if (!value.is_number()) return;  // the parsers report a wrong type
+    if (const std::string p = beyond_scale(value.get<double>(), bound, unit, why); !p.empty()) s.fail(key, p);
+  };
+  auto within = [&](const char* key, double bound, const char* unit, const std::string& why) {
+    if (object.contains(key)) check(key, object.at(key), bound, unit, why);
+  };
+  if (natural) {
+    within("speed", kMaxDriveSpeed_mps, "m/s", kDriveScaleReason);
+    within("radius", kMaxCoordinate_m, "m", kPositionScaleReason + " (leave 'radius' out to drive straight)");
+    if (object.contains("icr") && object.at("icr").is_array())
+      for (const Json& c : object.at("icr")) check("icr", c, kMaxCoordinate_m, "m", kPositionScaleReason);
+  } else {
+    within("forward", kMaxDriveSpeed_mps, "m/s", kDriveScaleReason);
+    within("lateral", kMaxDriveSpeed_mps, "m/s", kDriveScaleReason);
+    within("yaw_rate", kMaxYawRate_radps, "rad/s", kDriveScaleReason);
+  }
+}
+
 // One element of "segments"; `where` is its field path ("drive.segments[1]").
 DriveCommandSegment parse_drive_segment(const Json& json, const std::string& file,
                                         const std::string& where, const DriveKinematics& k,
@@ -109,6 +148,7 @@ DriveCommandSegment parse_drive_segment(const Json& json, const std::string& fil
   for (const char* key : {"radius", "icr", "crab_angle"}) {
     if (!natural && s.has(key)) s.fail(key, "needs 'speed' [m/s] in the same segment");
   }
+  check_drive_scale(s, natural);
   try {
     if (natural) {
       segment.command = body_velocity(natural_command(s, k, segment.mode).motion);
@@ -122,6 +162,9 @@ DriveCommandSegment parse_drive_segment(const Json& json, const std::string& fil
   } catch (const std::invalid_argument& e) {
     throw ConfigError(file + ": field '" + where + "': " + e.what());
   }
+  if (const std::string p = beyond_scale(segment.command.yaw_rate_radps, kMaxYawRate_radps, "rad/s", kDriveScaleReason);
+      natural && !p.empty())
+    s.fail(s.raw_object().contains("radius") ? "radius" : "icr", "gives a yaw rate of " + p);
   s.finish();
   return segment;
 }
@@ -342,6 +385,7 @@ ScenarioSetup build_scenario(const ScenarioSources& sources) {
   }
   if (r.has("initial_ground_clearance"))
     s.initial_q[coord::z] = r.number("initial_ground_clearance") - lowest_wheel_bottom(setup.model, s.initial_q);
+  check_initial_position(r, s.initial_q);
   if (r.has("wheel_speed_ref")) s.wheel_speed_ref_radps = r.fixed_numbers<kNumLegs>("wheel_speed_ref");
   if (r.has("steer_ref")) {
     s.steer_ref_rad = r.fixed_numbers<kNumLegs>("steer_ref");

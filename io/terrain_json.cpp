@@ -11,8 +11,10 @@
 
 #include <unistd.h>
 
+#include "core/model_scale.hpp"
 #include "core/terrain_interpolation.hpp"
 #include "io/json_reader.hpp"
+#include "io/output_target.hpp"
 
 namespace rover::io {
 namespace {
@@ -47,7 +49,19 @@ GridGeometry read_geometry(const JsonReader& r) {
   const auto spacing = r.fixed_numbers<2>("spacing");
   if (!(spacing[0] > 0.0) || !(spacing[1] > 0.0))
     r.fail("spacing", "both spacings must be positive");
+  for (std::size_t k = 0; k < 2; ++k) {
+    if (const std::string p = beyond_scale(origin[k], kMaxCoordinate_m, "m", kPositionScaleReason); !p.empty())
+      r.fail("origin", std::string(k == 0 ? "x " : "y ") + p);
+    if (!(spacing[k] >= kMinTerrainSpacing_m))
+      r.fail("spacing", std::string(k == 0 ? "x " : "y ") + number_text(spacing[k]) + " m is below " +
+                            number_text(kMinTerrainSpacing_m) + " m (the wheel radius is centimetres: metres expected)");
+  }
   const auto counts = read_counts(r);
+  for (std::size_t k = 0; k < 2; ++k) {
+    const double far_edge = origin[k] + spacing[k] * (counts[k] - 1);
+    if (const std::string p = beyond_scale(far_edge, kMaxCoordinate_m, "m", kPositionScaleReason); !p.empty())
+      r.fail("spacing", std::string("the grid's far ") + (k == 0 ? "x" : "y") + " edge, origin + spacing x (count - 1) = " + p);
+  }
   return {origin[0], origin[1], spacing[0], spacing[1], counts[0], counts[1]};
 }
 
@@ -95,6 +109,10 @@ std::vector<Eigen::Vector3d> read_points(const JsonReader& r) {
         r.fail("points", "point " + std::to_string(i) + " is " + value_text(p) +
                              ", expected three finite numbers");
       point[static_cast<Eigen::Index>(k)] = p[k].get<double>();
+      if (const std::string problem = beyond_scale(point[static_cast<Eigen::Index>(k)], kMaxCoordinate_m, "m",
+                                                   kPositionScaleReason);
+          !problem.empty())
+        r.fail("points", "point " + std::to_string(i) + ": " + problem);
     }
     points.push_back(point);
   }
@@ -118,7 +136,10 @@ Terrain load_terrain(const std::string& path) {
   Terrain terrain;
   try {
     if (type == "flat") {
-      terrain = Terrain::flat(r.number_or("height", 0.0));
+      const double height = r.number_or("height", 0.0);
+      if (const std::string p = beyond_scale(height, kMaxCoordinate_m, "m", kPositionScaleReason); !p.empty())
+        r.fail("height", p);
+      terrain = Terrain::flat(height);
     } else if (type == "grid") {
       const GridGeometry geometry = read_geometry(r);
       terrain = Terrain::from_grid(grid_with_heights(geometry, read_heights(r, geometry)));
@@ -185,6 +206,7 @@ void save_terrain_grid(const HeightGrid& grid, const std::string& path, const Js
   }
   out += "  ]\n}\n";
 
+  require_output(path, OutputFormat::kSeekable);
   const std::string temp = path + ".tmp." + std::to_string(::getpid());
   {
     std::ofstream file(temp, std::ios::binary | std::ios::trunc);

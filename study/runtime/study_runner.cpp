@@ -83,8 +83,9 @@ void stream_study_tasks(int task_count, const std::function<TaskResult(int)>& co
       std::cerr << options.label << ": resuming, " << done.size() << " of " << task_count
                 << " runs already done (" << checkpoint->path() << ")\n";
     } else if (std::filesystem::exists(checkpoint->path())) {
+      // The drivers refuse a leftover checkpoint unless --restart discards it.
       std::cerr << options.label << ": starting afresh; the old checkpoint " << checkpoint->path()
-                << " is replaced (use --resume to continue it)\n";
+                << " is deleted\n";
       checkpoint->remove();
     }
     todo = io::missing_indices(task_count, done);

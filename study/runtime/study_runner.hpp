@@ -28,6 +28,7 @@ struct StudyRunOptions {
   std::string results_path;   // the study's HDF5 file; the checkpoint lives beside it
   std::string fingerprint;    // identifies the configuration (config_fingerprint of its text)
   bool resume = false;        // reuse the checkpoint's finished runs
+  bool restart = false;       // discard a leftover checkpoint (the drivers refuse one without --resume or --restart)
   std::string label = "study";
   int progress_interval_s = 5;
   std::string resume_command;  // the command line that resumes the study (for messages)

@@ -1,6 +1,10 @@
 // See study_driver.hpp.
 #include "study/studies/study_driver.hpp"
 
+#include <filesystem>
+
+#include "io/checkpoint.hpp"
+
 #include "study/runtime/run_record.hpp"
 #include "study/studies/study_output.hpp"
 
@@ -39,6 +43,17 @@ void commit(const std::string& command, const std::string& results_path, io::Hdf
   remove_checkpoint(results_path);
   std::cerr << command << ": " << counts.runs << " runs (" << counts.failed << " failed), wrote " << results_path
             << "\n";
+}
+
+std::optional<int> keep_earlier_result(const std::string& command, const std::string& results_path,
+                                       const RunCounts& counts) {
+  std::error_code error;
+  if (counts.runs == 0 || counts.failed < counts.runs || !std::filesystem::exists(results_path, error))
+    return std::nullopt;
+  std::cerr << "rover " << command << ": error: every run failed (first: " << counts.first_failure
+            << "); nothing was written, " << results_path << " is unchanged; the runs are kept in "
+            << io::ResultCheckpoint::path_for(results_path) << "\n";
+  return kEveryRunFailedStatus;
 }
 
 int exit_status(const std::string& command, const std::string& results_path, const RunCounts& counts,

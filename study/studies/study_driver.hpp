@@ -22,6 +22,7 @@
 #include <functional>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -95,6 +96,12 @@ bool is_csv_path(const std::string& path);
 void commit(const std::string& command, const std::string& results_path, io::Hdf5Writer* h5,
             const RunCounts& counts);
 
+// Rank 0, when every run failed and a file is already at results_path: the
+// earlier result is left as it was (the runs stay in the checkpoint); says
+// so and returns kEveryRunFailedStatus. std::nullopt otherwise.
+std::optional<int> keep_earlier_result(const std::string& command, const std::string& results_path,
+                                       const RunCounts& counts);
+
 // The exit status for `counts`; says so when every run failed.
 int exit_status(const std::string& command, const std::string& results_path, const RunCounts& counts,
                 int status_when_some_failed);
@@ -122,13 +129,14 @@ int drive_study(const StudyProgram<Result>& study, const StudyRunOptions& option
   try {
     const Result result = study.run(runtime);
     if (world_rank() != 0) return 0;
+    const RunCounts counts = study.counts(result);
+    if (const auto status = driver_detail::keep_earlier_result(study.command, out, counts)) return *status;
     if (csv) {
       study.write_csv(result, out);
     } else {
       if (study.provenance) study.provenance(*h5);
       study.write(result, *h5);
     }
-    const RunCounts counts = study.counts(result);
     driver_detail::commit(study.command, out, h5.get(), counts);
     if (study.report) study.report(result, std::cerr);
     const bool every_run_failed = counts.runs > 0 && counts.failed == counts.runs;

@@ -154,8 +154,10 @@ TrainingRuns run_design_runs(const SurrogateStudy& study, const StudyRunControl&
     runs.status.push_back(record.status);
     runs.messages.push_back(record.message);
   };
-  const StudyRunOptions options{results_path, spec.fingerprint, control.resume, "surrogate",
-                                control.progress_interval_s, control.resume_command, control.checkpoint};
+  StudyRunOptions options = control;
+  options.results_path = results_path;
+  options.fingerprint = spec.fingerprint;
+  options.label = "surrogate";
   stream_study_tasks(static_cast<int>(runs.x.rows()), compute, consume, options);
   if (world_rank() != 0) return TrainingRuns{};
   return runs;

@@ -19,6 +19,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <string>
 #include <thread>
 #include <vector>
@@ -50,6 +51,10 @@ struct Case {
   std::string args;  // after `rover`
   Want want;
   std::vector<std::string> mentions;  // substrings the output must hold
+  // After the run: empty if the files are as they must be, else what is wrong
+  // (an input or an earlier result changed, a link replaced).
+  std::function<std::string()> aftermath = {};
+  std::string environment = {};  // VAR=value ... before `rover`
 };
 
 struct Outcome {
@@ -60,7 +65,10 @@ struct Outcome {
 // Messages that only a crash or an unhandled library error prints.
 const std::vector<std::string> kForbidden = {
     "terminate called", "Segmentation", "core dumped", "Aborted", "[json.exception", "basic_string",
-    "std::", "stod", "stoi", "vector::", "bad_alloc", "Assertion", "HDF5-DIAG"};
+    "std::", "stod", "stoi", "vector::", "bad_alloc", "Assertion", "HDF5-DIAG",
+    // CLI11's and Open MPI's own words
+    "The following argument", "Could not convert", "not in range", "Run with --help", "Expected exactly",
+    "Expected at least", "required TEXT", "MPI_Init", "ompi_mpi_init", "PMIx", "*** An error occurred"};
 
 // A short horizontal drop: 0.05 s at 200 Hz with the stiff integrator.
 Json quick_scenario_json() {
@@ -203,13 +211,48 @@ std::string with_bom(const std::string& text) {
   return out;
 }
 
+std::string file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// An aftermath: `path` still holds what it holds now, with the same permissions.
+std::function<std::string()> unchanged(const std::string& path) {
+  const std::string before = file_bytes(path);
+  const fs::perms mode = fs::status(path).permissions();
+  return [=] {
+    if (file_bytes(path) != before) return path + " was changed";
+    if (fs::status(path).permissions() != mode) return path + " changed its permissions";
+    return std::string();
+  };
+}
+
+// An aftermath: `link` is still a symbolic link to `target`.
+std::function<std::string()> still_a_link(const std::string& link, const std::string& target) {
+  return [=] {
+    std::error_code error;
+    if (!fs::is_symlink(fs::symlink_status(link, error))) return link + " is no longer a symbolic link";
+    if (fs::read_symlink(link, error) != fs::path(target)) return link + " points elsewhere";
+    return std::string();
+  };
+}
+
+// Runs every aftermath in `checks`; the first problem, or empty.
+std::function<std::string()> all_of(std::vector<std::function<std::string()>> checks) {
+  return [=] {
+    for (const auto& check : checks)
+      if (std::string problem = check(); !problem.empty()) return problem;
+    return std::string();
+  };
+}
+
 Outcome run_one(const std::string& dir, const Case& c) {
   Outcome o;
   // A hang is the timeout's status 124 (137 once killed), never 0, 1 or 2.
   // Each run is a single process: Open MPI's singleton need not start its
   // support daemon (half of a study command's start-up time).
-  o.status = run_command("cd " + dir + " && OMPI_MCA_ess_singleton_isolated=1 timeout -k 2 30 " + rover_binary() +
-                             " " + c.args,
+  o.status = run_command("cd " + dir + " && OMPI_MCA_ess_singleton_isolated=1 " + c.environment +
+                             " timeout -k 2 30 " + rover_binary() + " " + c.args,
                          &o.output);
   return o;
 }
@@ -236,6 +279,10 @@ void run_table(const std::string& dir, const std::vector<Case>& cases) {
       case Want::kAllFailed: EXPECT_EQ(o.status, 2); break;
     }
     for (const std::string& m : c.mentions) EXPECT_NE(o.output.find(m), std::string::npos) << "missing '" << m << "'";
+    if (c.aftermath) {
+      const std::string problem = c.aftermath();
+      EXPECT_TRUE(problem.empty()) << problem;
+    }
   }
 }
 
@@ -248,7 +295,10 @@ class Audit : public ::testing::Test {
     return "simulate --no-plot --scenario " + scenario + " --out " + w().out();
   }
   std::string study(const std::string& command, const std::string& path) {
-    return command + " --no-plot --study " + path + " --out " + w().out();
+    return study_args(command, path, w().out());
+  }
+  static std::string study_args(const std::string& command, const std::string& path, const std::string& out) {
+    return command + " --no-plot --study " + path + " --out " + out;
   }
 
  private:
@@ -532,7 +582,8 @@ TEST_F(Audit, DriveBlock) {
              Want::kError, {"'drive.segments[0].forward'"});
   drive_case("misspelt key", {{"segments", {{{"mode", "car"}, {"spd", 0.1}}}}}, Want::kError,
              {"'drive.segments[0]", "spd"});
-  drive_case("speed of 1e300 m/s", {{"segments", {{{"mode", "car"}, {"speed", 1e300}}}}}, Want::kRunsOrFails, {});
+  drive_case("speed of 1e300 m/s", {{"segments", {{{"mode", "car"}, {"speed", 1e300}}}}}, Want::kError,
+             {"'drive.segments[0].speed'", "1e+300"});
   drive_case("a standstill", {{"segments", {{{"mode", "car"}, {"speed", 0.0}}}}}, Want::kRuns, {});
   // A drive with the references it replaces, or with a travel distance.
   const std::string with_steer = w().scenario([&](Json& j) {
@@ -875,7 +926,7 @@ TEST_F(Audit, EvaluateDesign) {
   fs::create_symlink(design_copy, design_link);
   cases.push_back({"output over the design by a link", "evaluate --scenario " + w().quick() + " --design " +
                                                            design_copy + " --qoi t_min --out " + design_link,
-                   Want::kError, {"--out", design_link, "same file as --design"}});
+                   Want::kError, {"--out", design_link, "symbolic link"}});
   const std::string scenario_copy = w().copy_of(w().quick());
   cases.push_back({"output over the scenario", "evaluate --scenario " + scenario_copy + " --design " + good +
                                                    " --qoi t_min --out " + scenario_copy,
@@ -1056,6 +1107,355 @@ TEST_F(Audit, Flags) {
             "calibrate --no-plot --study " + calibration + " --out /proc/rover_audit/c.h5", {"/proc/rover_audit/c.h5"});
   cases.push_back({"montecarlo --resume without a checkpoint",
                    "montecarlo --no-plot --study " + mc + " --resume --out " + w().out(), Want::kRuns, {}});
+  run_table(w().dir(), cases);
+}
+
+// ---- issue 33 class 1: files named inside a config are inputs too ------------
+
+TEST_F(Audit, InputsNamedInConfigs) {
+  std::vector<Case> cases;
+  const std::string dir = w().dir();
+  // A refused output leaves the input it would have replaced as it was.
+  auto refused = [&](const std::string& id, const std::string& args, const std::string& input,
+                     std::vector<std::string> mentions) {
+    cases.push_back({id, args, Want::kError, std::move(mentions), unchanged(input)});
+  };
+  const std::string rover = w().copy_of(source_path("configs/rover.json"));
+  const std::string scenario = w().scenario_with_rover(rover);
+  refused("simulate --out over the scenario's rover", "simulate --no-plot --scenario " + scenario + " --out " + rover,
+          rover, {"--out", rover, "'rover' in " + scenario});
+  refused("simulate --csv over the scenario's rover",
+          "simulate --no-plot --scenario " + scenario + " --out " + w().out() + " --csv " + rover, rover,
+          {"--csv", "'rover' in " + scenario});
+  fs::create_directories(dir + "/sub");
+  refused("simulate --out over the rover, spelt with ./ and ..",
+          "simulate --no-plot --scenario " + scenario + " --out " + dir + "/./sub/../" + fs::path(rover).filename().string(),
+          rover, {"--out", "'rover' in"});
+  const std::string hard_link = dir + "/rover_hard_link.json";
+  fs::create_hard_link(rover, hard_link);
+  refused("simulate --out on a hard link of the rover", "simulate --no-plot --scenario " + scenario + " --out " + hard_link,
+          rover, {"--out", hard_link, "'rover' in"});
+  const std::string terrain = w().json_file("terrain", Json{{"type", "flat"}, {"height", 0.0}});
+  const std::string on_terrain = w().scenario_with_terrain(terrain);
+  refused("simulate --csv over the scenario's terrain",
+          "simulate --no-plot --scenario " + on_terrain + " --out " + w().out() + " --csv " + terrain, terrain,
+          {"--csv", terrain, "'terrain' in " + on_terrain});
+  // The plot <out stem>.png would be renamed onto a rover file of that name.
+  const std::string rover_png = dir + "/drop.png";
+  fs::copy_file(source_path("configs/rover.json"), rover_png);
+  const std::string png_scenario = w().scenario_with_rover(rover_png);
+  refused("simulate's plot over the scenario's rover", "simulate --scenario " + png_scenario + " --out " + dir + "/drop.h5",
+          rover_png, {"--out", "plot", "'rover' in " + png_scenario});
+  refused("synthesize over the scenario's terrain",
+          "synthesize --scenario " + on_terrain + " --out " + terrain, terrain, {"--out", "'terrain' in"});
+  const std::string rover_csv = dir + "/rover_as.csv";
+  fs::copy_file(rover, rover_csv);
+  const std::string csv_scenario = w().scenario_with_rover(rover_csv);
+  refused("evaluate --out over the scenario's rover file",
+          "evaluate --scenario " + csv_scenario + " --design " + w().text_file("design", "c_q\n0.1\n", "csv") +
+              " --qoi t_min --out " + rover_csv,
+          rover_csv, {"--out", "'rover' in " + csv_scenario});
+  // Studies: the scenario, what the scenario names, reference curves, data.
+  const std::string mc_scenario = w().copy_of(w().quick());
+  const std::string mc = w().montecarlo([&](Json& j) { j["scenario"] = mc_scenario; });
+  refused("montecarlo --out over the study's scenario", "montecarlo --no-plot --study " + mc + " --out " + mc_scenario,
+          mc_scenario, {"--out", "'scenario' in " + mc});
+  const std::string deep_rover = w().copy_of(source_path("configs/rover.json"));
+  const std::string deep = w().montecarlo([&](Json& j) { j["scenario"] = w().scenario_with_rover(deep_rover); });
+  refused("montecarlo --out over the rover its scenario names",
+          "montecarlo --no-plot --study " + deep + " --out " + deep_rover, deep_rover, {"--out", "'rover' in"});
+  const std::string curve = w().text_file("reference", measured_text("\n"), "h5");
+  const std::string with_reference = w().montecarlo([&](Json& j) {
+    j["qoi"] = {{{"name", "rms_vs"}, {"reference", curve}, {"time_offset", 0.05}}};
+  });
+  refused("montecarlo --out over a reference curve", "montecarlo --no-plot --study " + with_reference + " --out " + curve,
+          curve, {"--out", "'qoi[0].reference' in " + with_reference});
+  const std::string surface_reference = w().text_file("surface_reference", measured_text("\n"), "h5");
+  const std::string surface = w().surface([&](Json& j) { j["reference"] = {{"file", surface_reference}}; });
+  refused("surface --out over its reference file", "surface --no-plot --study " + surface + " --out " + surface_reference,
+          surface_reference, {"--out", "'reference.file' in " + surface});
+  const std::string data = w().text_file("data", measured_text("\n"), "h5");
+  const std::string calibration = w().calibration([&](Json& j) { j["data"] = data; });
+  refused("calibrate --out over the study's data", "calibrate --no-plot --study " + calibration + " --out " + data, data,
+          {"--out", "'data' in " + calibration});
+  const std::string sens = w().sensitivity([](Json&) {});
+  const std::string sens_png = dir + "/sens_result_indices.png";
+  fs::copy_file(sens, sens_png);
+  const std::string sens_named_png = w().sensitivity([&](Json& j) { j["description"] = sens_png; });
+  refused("sensitivity's plots over a file the study names",
+          "sensitivity --study " + sens_named_png + " --out " + dir + "/sens_result.h5", sens_png,
+          {"--out", "plot", "'description' in"});
+  // The checkpoint <out>.checkpoint would be made over the scenario.
+  const std::string checkpoint_named = dir + "/cp.h5.checkpoint";
+  fs::copy_file(w().quick(), checkpoint_named);
+  const std::string cp_study = w().montecarlo([&](Json& j) { j["scenario"] = checkpoint_named; });
+  refused("montecarlo's checkpoint over the study's scenario",
+          "montecarlo --no-plot --restart --study " + cp_study + " --out " + dir + "/cp.h5", checkpoint_named,
+          {"--out", "checkpoint", "'scenario' in " + cp_study});
+  // The default --out, results/<name>.h5, is checked as well.
+  fs::create_directories(dir + "/results");
+  const std::string default_target = dir + "/results/named.h5";
+  fs::copy_file(w().quick(), default_target);
+  const std::string named = w().montecarlo([&](Json& j) {
+    j["name"] = "named";
+    j["scenario"] = default_target;
+  });
+  refused("montecarlo's default --out over its scenario", "montecarlo --no-plot --study " + named, default_target,
+          {"--out (default)", "'scenario' in"});
+  run_table(dir, cases);
+}
+
+// ---- issue 33 class 2: what stands at an output path --------------------------
+
+TEST_F(Audit, OutputPaths) {
+  std::vector<Case> cases;
+  const std::string dir = w().dir();
+  const std::string q = w().quick();
+  const std::string sim = "simulate --no-plot --scenario " + q;
+  auto earlier_result = [&](const std::string& name, fs::perms mode) {
+    const std::string path = dir + "/" + name;
+    write_file(path, "an earlier result\n");
+    fs::permissions(path, mode);
+    return path;
+  };
+  const fs::perms read_only = fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read;
+  const std::string ro_h5 = earlier_result("ro.h5", read_only);
+  cases.push_back({"simulate --out read-only", sim + " --out " + ro_h5, Want::kError,
+                   {"--out", ro_h5, "read-only", "0444"}, unchanged(ro_h5)});
+  const std::string ro_csv = earlier_result("ro.csv", read_only);
+  cases.push_back({"simulate --csv read-only", sim + " --out " + w().out() + " --csv " + ro_csv, Want::kError,
+                   {"--csv", ro_csv, "read-only"}, unchanged(ro_csv)});
+  const std::string ro_png = earlier_result("ro.png", read_only);
+  cases.push_back({"terrain --png read-only", "terrain obstacle --out " + w().out("json") + " --png " + ro_png,
+                   Want::kError, {"--png", ro_png, "read-only"}, unchanged(ro_png)});
+  const std::string ro_terrain = earlier_result("ro_terrain.json", read_only);
+  cases.push_back({"terrain --out read-only", "terrain obstacle --out " + ro_terrain, Want::kError,
+                   {"--out", ro_terrain, "read-only"}, unchanged(ro_terrain)});
+  const std::string ro_mc = earlier_result("ro_mc.h5", read_only);
+  cases.push_back({"montecarlo --out read-only", study_args("montecarlo", w().montecarlo([](Json&) {}), ro_mc),
+                   Want::kError, {"--out", ro_mc, "read-only"}, unchanged(ro_mc)});
+  const std::string ro_synth = earlier_result("ro_synth.csv", read_only);
+  cases.push_back({"synthesize --out read-only", "synthesize --scenario " + q + " --out " + ro_synth, Want::kError,
+                   {"--out", ro_synth, "read-only"}, unchanged(ro_synth)});
+  // Symbolic links are refused, never replaced by a file; what they point at stays.
+  const std::string target = earlier_result("target.h5", fs::perms::owner_read | fs::perms::owner_write);
+  const std::string link = dir + "/link.h5";
+  fs::create_symlink(target, link);
+  cases.push_back({"simulate --out a link", sim + " --out " + link, Want::kError,
+                   {"--out", link, "symbolic link", target}, all_of({still_a_link(link, target), unchanged(target)})});
+  const std::string dangling = dir + "/dangling.csv";
+  fs::create_symlink(dir + "/nowhere.csv", dangling);
+  cases.push_back({"simulate --csv a dangling link", sim + " --out " + w().out() + " --csv " + dangling, Want::kError,
+                   {"--csv", dangling, "symbolic link"}, still_a_link(dangling, dir + "/nowhere.csv")});
+  const std::string png_link = dir + "/png_link.png";
+  fs::create_symlink(target, png_link);
+  cases.push_back({"friction --png a link", "friction --png " + png_link, Want::kError, {"--png", "symbolic link"},
+                   still_a_link(png_link, target)});
+  // Standard output and devices: CSV goes through; HDF5 and PNG are refused.
+  const std::string captured = dir + "/captured.txt";
+  cases.push_back({"simulate --csv /dev/stdout into a file", sim + " --out " + w().out() + " --csv /dev/stdout >> " + captured,
+                   Want::kRuns, {}, [=] {
+                     if (!fs::is_symlink(fs::symlink_status("/dev/stdout"))) return std::string("/dev/stdout was replaced");
+                     const std::string text = file_bytes(captured);
+                     return text.find("\nt,") != std::string::npos || text.rfind("t,", 0) == 0
+                                ? std::string()
+                                : "the CSV did not reach standard output: " + text.substr(0, 200);
+                   }});
+  cases.push_back({"simulate --csv /dev/null", sim + " --out " + w().out() + " --csv /dev/null", Want::kRuns, {},
+                   [] { return fs::is_character_file("/dev/null") ? "" : "/dev/null was replaced"; }});
+  cases.push_back({"synthesize --out /dev/null", "synthesize --scenario " + q + " --out /dev/null", Want::kRuns, {}});
+  cases.push_back({"simulate --out /dev/stdout", sim + " --out /dev/stdout", Want::kError,
+                   {"--out", "/dev/stdout", "not a regular file"}});
+  cases.push_back({"evaluate --out /dev/stdout", "evaluate --scenario " + q + " --design " +
+                                                     w().text_file("design", "c_q\n0.1\n", "csv") +
+                                                     " --qoi t_min --out /dev/stdout",
+                   Want::kError, {"--out", "/dev/stdout", "not a regular file"}});
+  cases.push_back({"terrain --png /dev/null", "terrain obstacle --out " + w().out("json") + " --png /dev/null",
+                   Want::kError, {"--png", "/dev/null", "a device"}});
+  cases.push_back({"montecarlo --out /dev/null", study_args("montecarlo", w().montecarlo([](Json&) {}), "/dev/null"),
+                   Want::kError, {"--out", "/dev/null"}});
+  run_table(dir, cases);
+}
+
+// A pipe receives the CSV.
+TEST_F(Audit, CsvIntoAPipe) {
+  std::string output;
+  const int status = run_command("cd " + w().dir() + " && " + rover_binary() + " simulate --no-plot --scenario " +
+                                     w().quick() + " --out " + w().out() + " --csv /dev/stdout 2>/dev/null | head -3",
+                                 &output);
+  EXPECT_EQ(status, 0);
+  EXPECT_EQ(output.rfind("t,", 0), 0u) << output;
+}
+
+// ---- issue 33 class 2: leftover checkpoints and failed studies ------------------
+
+TEST_F(Audit, LeftoverCheckpoints) {
+  std::vector<Case> cases;
+  const std::string dir = w().dir();
+  // The checkpoint of an interrupted study: its content does not matter here
+  // (a checkpoint of another configuration is refused by --resume).
+  auto interrupted = [&](const std::string& name) {
+    const std::string out = dir + "/" + name;
+    write_file(out + ".checkpoint", "finished runs\n");
+    return out;
+  };
+  const std::string mc = w().montecarlo([](Json&) {});
+  for (const auto& [command, study_file] : std::vector<std::pair<std::string, std::string>>{
+           {"montecarlo", mc},
+           {"sensitivity", w().sensitivity([](Json&) {})},
+           {"surface", w().surface([](Json&) {})},
+           {"calibrate", w().calibration([](Json&) {})}}) {
+    const std::string out = interrupted(command + "_left.h5");
+    cases.push_back({command + " beside a leftover checkpoint", study_args(command, study_file, out), Want::kError,
+                     {out + ".checkpoint", "--resume", "--restart"}, unchanged(out + ".checkpoint")});
+  }
+  const std::string eval_out = interrupted("evaluate_left.csv");
+  cases.push_back({"evaluate beside a leftover checkpoint",
+                   "evaluate --scenario " + w().quick() + " --design " + w().text_file("design", "c_q\n0.1\n", "csv") +
+                       " --qoi t_min --out " + eval_out,
+                   Want::kError, {eval_out + ".checkpoint", "--resume", "--restart"}, unchanged(eval_out + ".checkpoint")});
+  const std::string restarted = interrupted("restarted.h5");
+  cases.push_back({"montecarlo --restart", study_args("montecarlo", mc, restarted) + " --restart", Want::kRuns, {}, [=] {
+                     if (fs::exists(restarted + ".checkpoint")) return restarted + ".checkpoint is still there";
+                     return fs::exists(restarted) ? std::string() : restarted + " was not written";
+                   }});
+  const std::string both = interrupted("both.h5");
+  cases.push_back({"montecarlo --resume --restart", study_args("montecarlo", mc, both) + " --resume --restart",
+                   Want::kError, {"--resume", "--restart"}, unchanged(both + ".checkpoint")});
+  // A study whose every run failed (status 2) leaves an earlier result as it was.
+  const std::string earlier = dir + "/earlier.h5";
+  write_file(earlier, "an earlier result\n");
+  const std::string failing = w().montecarlo([&](Json& j) {
+    j["scenario"] = w().scenario([](Json& s) { s["wall_time_budget"] = 1e-9; });
+  });
+  cases.push_back({"montecarlo whose every run fails", study_args("montecarlo", failing, earlier), Want::kAllFailed,
+                   {"every run failed", earlier + " is unchanged"}, unchanged(earlier)});
+  run_table(dir, cases);
+}
+
+// ---- issue 33 class 7: finite numbers beyond the model's scale ----------------
+
+TEST_F(Audit, MeaninglessScale) {
+  std::vector<Case> cases;
+  auto scenario_case = [&](const std::string& id, const std::function<void(Json&)>& edit,
+                           std::vector<std::string> mentions) {
+    const std::string path = w().scenario(edit);
+    mentions.insert(mentions.begin(), path);
+    cases.push_back({id, simulate(path), Want::kError, mentions});
+  };
+  scenario_case("a drop from z = 1e308 m", [](Json& j) { j["initial_q"]["z"] = 1e308; },
+                {"'initial_q'", "z = 1e+308 m", "+-1000000 m"});
+  scenario_case("x of 1e7 m", [](Json& j) { j["initial_q"]["x"] = 1e7; }, {"'initial_q'", "x = 10000000 m"});
+  scenario_case("a clearance of 1e300 m",
+                [](Json& j) {
+                  j.erase("initial_q");
+                  j["initial_ground_clearance"] = 1e300;
+                },
+                {"'initial_ground_clearance'", "1e+300", "+-1000000 m"});
+  auto terrain_case = [&](const std::string& id, const Json& terrain, std::vector<std::string> mentions) {
+    const std::string path = w().json_file("terrain", terrain);
+    mentions.insert(mentions.begin(), path);
+    cases.push_back({id, simulate(w().scenario_with_terrain(path)), Want::kError, mentions});
+  };
+  const Json heights2x2 = {{0.0, 0.0}, {0.0, 0.0}};
+  auto grid = [&](const Json& origin, const Json& spacing, const Json& counts) {
+    return Json{{"type", "grid"}, {"origin", origin}, {"spacing", spacing}, {"counts", counts}, {"heights", heights2x2}};
+  };
+  terrain_case("grid origin at 1e300 m", grid({1e300, 0.0}, {1.0, 1.0}, {2, 2}), {"'origin'", "1e+300"});
+  terrain_case("grid spacing of 1 nm", grid({-1.0, -1.0}, {1e-9, 1.0}, {2, 2}), {"'spacing'", "1e-09"});
+  terrain_case("grid reaching 1e7 m", grid({-1.0, -1.0}, {1e7, 1.0}, {2, 2}), {"'spacing'", "far x edge"});
+  terrain_case("flat ground at 1e300 m", Json{{"type", "flat"}, {"height", 1e300}}, {"'height'", "1e+300"});
+  terrain_case("control point at 1e300 m",
+               Json{{"type", "control_points"},
+                    {"points", {{0, 0, 0}, {1, 0, 0}, {0, 1e300, 0}}},
+                    {"grid", {{"origin", {-1.0, -1.0}}, {"spacing", {0.5, 0.5}}, {"counts", {5, 5}}}}},
+               {"'points'", "point 2", "1e+300"});
+  auto drive_case = [&](const std::string& id, const Json& segment, std::vector<std::string> mentions) {
+    const std::string path = w().drive_scenario({{"segments", {segment}}});
+    mentions.insert(mentions.begin(), path);
+    cases.push_back({id, simulate(path), Want::kError, mentions});
+  };
+  drive_case("car at 50 m/s", {{"mode", "car"}, {"speed", 50.0}}, {"'drive.segments[0].speed'", "50 m/s", "+-10 m/s"});
+  drive_case("turn radius 1e300 m", {{"mode", "ackermann"}, {"speed", 0.3}, {"radius", 1e300}},
+             {"'drive.segments[0].radius'", "1e+300", "drive straight"});
+  drive_case("turn radius 1 mm", {{"mode", "car"}, {"speed", 0.3}, {"radius", 1e-3}}, {"'drive.segments[0]"});
+  drive_case("ICR 1e9 m away", {{"mode", "general-ackermann"}, {"speed", 0.3}, {"icr", {0.0, 1e9}}},
+             {"'drive.segments[0].icr'", "1000000000 m"});
+  drive_case("rotation at 100 rad/s", {{"mode", "rotation"}, {"yaw_rate", 100.0}},
+             {"'drive.segments[0].yaw_rate'", "100 rad/s", "+-10 rad/s"});
+  drive_case("lateral body speed 1e20 m/s", {{"mode", "lateral"}, {"lateral", 1e20}},
+             {"'drive.segments[0].lateral'", "1e+20"});
+  cases.push_back({"kinematics at 20 m/s", "kinematics --mode car --v 20", Want::kError, {"--v 20 m/s", "+-10 m/s"}});
+  cases.push_back({"kinematics turn radius 1e300 m", "kinematics --mode car --v 0.3 --radius 1e300", Want::kError,
+                   {"--radius 1e+300 m", "+-1000000 m"}});
+  cases.push_back({"kinematics rotation at 100 rad/s", "kinematics --mode rotation --yaw-rate 100", Want::kError,
+                   {"--yaw-rate 100 rad/s"}});
+  // Outputs that their readers would refuse: a measured curve of fewer than 3 points.
+  cases.push_back({"synthesize 1 point", "synthesize --scenario " + w().quick() + " --rate 10 --out " + w().out("csv"),
+                   Want::kError, {"--rate 10 Hz", "1 data point", "at least 3"}});
+  cases.push_back({"synthesize with the release after the end",
+                   "synthesize --scenario " + w().quick() + " --offset -1 --out " + w().out("csv"), Want::kError,
+                   {"--offset -1", "0 data point", "at least 3"}});
+  run_table(w().dir(), cases);
+}
+
+// ---- issue 33 class 8: messages in rover's words --------------------------------
+
+TEST_F(Audit, CommandLineMessages) {
+  std::vector<Case> cases;
+  const std::string q = w().quick();
+  // Every subcommand, with the flags it requires.
+  const std::vector<std::pair<std::string, std::string>> commands = {
+      {"simulate", "simulate --no-plot --scenario " + q + " --out " + w().out()},
+      {"evaluate", "evaluate --scenario " + q + " --design " + w().text_file("design", "c_q\n0.1\n", "csv") +
+                       " --qoi t_min --out " + w().out("csv")},
+      {"montecarlo", study("montecarlo", w().montecarlo([](Json&) {}))},
+      {"sensitivity", study("sensitivity", w().sensitivity([](Json&) {}))},
+      {"surface", study("surface", w().surface([](Json&) {}))},
+      {"calibrate", study("calibrate", w().calibration([](Json&) {}))},
+      {"synthesize", "synthesize --scenario " + q + " --out " + w().out("csv")},
+      {"compare", "compare " + source_path("configs/data/drop_horizontal_synthetic.csv") + " " +
+                      source_path("configs/data/drop_horizontal_synthetic.csv")},
+      {"friction", "friction"},
+      {"kinematics", "kinematics --mode car --v 0.3"},
+      {"terrain obstacle", "terrain obstacle --out " + w().out("json")},
+  };
+  for (const auto& [name, args] : commands) {
+    cases.push_back({name + " with an unknown flag", args + " --bogus-flag 3", Want::kError,
+                     {"error: unknown option '--bogus-flag'", "--help"}});
+    cases.push_back({name + " with an extra argument", args + " stray", Want::kError,
+                     {"error: unexpected argument 'stray'"}});
+  }
+  cases.push_back({"a misspelt flag", "simulate --scenaro " + q, Want::kError,
+                   {"unknown option '--scenaro'", "did you mean '--scenario'?"}});
+  cases.push_back({"a flag without its value", "simulate --scenario", Want::kError,
+                   {"rover simulate: error: --scenario needs a value"}});
+  cases.push_back({"a required flag missing", "simulate", Want::kError, {"rover simulate: error: --scenario is required"}});
+  cases.push_back({"a word for an integer", study("montecarlo", w().montecarlo([](Json&) {})) + " --samples many",
+                   Want::kError, {"--samples", "many", "from 1 to"}});
+  cases.push_back({"a word for a number", "simulate --no-plot --scenario " + q + " --f stiff", Want::kError,
+                   {"--f", "'stiff'", "a number"}});
+  cases.push_back({"a value for a flag", "simulate --no-plot=maybe --scenario " + q, Want::kError, {"--no-plot"}});
+  cases.push_back({"a missing file", "simulate --scenario " + w().dir() + "/none.json", Want::kError,
+                   {"--scenario '" + w().dir() + "/none.json': no such file"}});
+  cases.push_back({"a directory for a file", "simulate --scenario " + w().dir(), Want::kError,
+                   {"--scenario '" + w().dir() + "' is a directory"}});
+  cases.push_back({"a progress interval out of range",
+                   study("montecarlo", w().montecarlo([](Json&) {})) + " --progress-interval 0", Want::kError,
+                   {"--progress-interval must be from 1 to 86400, got 0"}});
+  cases.push_back({"an unknown kinematics mode", "kinematics --mode tank --v 0.3", Want::kError, {"--mode", "'tank'"}});
+  cases.push_back({"no subcommand", "", Want::kError, {"rover: error: a subcommand is required"}});
+  // The environment variable rover sets for Open MPI itself.
+  for (const auto& [name, args] : std::vector<std::pair<std::string, std::string>>(commands.begin() + 1, commands.begin() + 6)) {
+    cases.push_back({name + " with an unreadable eager limit", args, Want::kError,
+                     {"OMPI_MCA_btl_vader_eager_limit='abc'", "32768"}, {}, "OMPI_MCA_btl_vader_eager_limit=abc"});
+  }
+  cases.push_back({"an eager limit of 0 bytes", commands[2].second, Want::kError,
+                   {"OMPI_MCA_btl_vader_eager_limit='0'", "from 1024 to 1g"}, {}, "OMPI_MCA_btl_vader_eager_limit=0"});
+  cases.push_back({"an eager limit of 2g", commands[2].second, Want::kError, {"OMPI_MCA_btl_vader_eager_limit='2g'"},
+                   {}, "OMPI_MCA_btl_vader_eager_limit=2g"});
+  cases.push_back({"montecarlo with an eager limit of 64k", commands[2].second, Want::kRuns, {}, {},
+                   "OMPI_MCA_btl_vader_eager_limit=64k"});
   run_table(w().dir(), cases);
 }
 

@@ -1,0 +1,255 @@
+// See command_line_errors.hpp.
+#include "drivers/command_line_errors.hpp"
+
+#include <algorithm>
+#include <iterator>
+#include <sstream>
+
+namespace rover::cli {
+namespace {
+
+// Optimal string alignment distance: insertions, deletions, substitutions and
+// transpositions of adjacent characters, each costing 1.
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t substitution = a[i - 1] == b[j - 1] ? 0 : 1;
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + substitution});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  }
+  return d[a.size()][b.size()];
+}
+
+bool starts_with(const std::string& text, const std::string& prefix) { return text.rfind(prefix, 0) == 0; }
+
+// `text` after `prefix`, if it starts so.
+bool after(const std::string& text, const std::string& prefix, std::string* rest) {
+  if (!starts_with(text, prefix)) return false;
+  *rest = text.substr(prefix.size());
+  return true;
+}
+
+// Splits "NAME: message" at the first ": ".
+std::pair<std::string, std::string> name_and_message(const std::string& text) {
+  const std::size_t colon = text.find(": ");
+  if (colon == std::string::npos) return {"", text};
+  return {text.substr(0, colon), text.substr(colon + 2)};
+}
+
+std::vector<const CLI::App*> subcommands(const CLI::App* app) {
+  return app->get_subcommands([](const CLI::App*) { return true; });
+}
+
+// The option `name` of `app` or of one of its subcommands (`rover terrain obstacle`).
+const CLI::Option* find_option(const CLI::App* app, const std::string& name) {
+  if (app == nullptr || name.empty()) return nullptr;
+  for (const CLI::Option* option : app->get_options())
+    if (option->check_name(name) || option->get_name() == name) return option;
+  for (const CLI::App* sub : subcommands(app))
+    if (const CLI::Option* option = find_option(sub, name)) return option;
+  return nullptr;
+}
+
+bool is_number_option(const CLI::Option* option) {
+  const std::string type = option == nullptr ? "" : option->get_type_name();
+  return type.find("INT") != std::string::npos || type.find("FLOAT") != std::string::npos;
+}
+
+// What an option accepts: "a whole number (Override the number of samples N)",
+// "Scenario file (configs/scenarios/*.json)".
+std::string accepted(const CLI::Option* option) {
+  if (option == nullptr) return "a value";
+  const std::string type = option->get_type_name();
+  const std::string description = option->get_description();
+  if (!is_number_option(option)) return description;
+  const char* kind = type.find("UINT") != std::string::npos  ? "a whole number >= 0"
+                     : type.find("INT") != std::string::npos ? "a whole number"
+                                                             : "a number";
+  return std::string(kind) + " (" + description + ")";
+}
+
+// "--out", or "argument A" for a positional argument.
+std::string where(const std::string& name) { return starts_with(name, "-") ? name : "argument " + name; }
+
+std::vector<std::string> option_names(const CLI::App* app) {
+  std::vector<std::string> names;
+  if (app == nullptr) return names;
+  for (const CLI::Option* option : app->get_options())
+    for (const std::string& name : option->get_lnames()) names.push_back("--" + name);
+  for (const CLI::App* sub : subcommands(app))
+    for (std::string& name : option_names(sub)) names.push_back(std::move(name));
+  return names;
+}
+
+// "it takes 2 arguments, A B, and options" or "every value follows its option".
+std::string positional_rule(const CLI::App* sub) {
+  std::string names;
+  int count = 0;
+  for (const CLI::Option* option : sub->get_options())
+    if (option->get_lnames().empty() && option->get_snames().empty() && !option->get_name().empty()) {
+      names += " " + option->get_name();
+      ++count;
+    }
+  if (count == 0) return "every value follows its option, as in --out FILE";
+  return "it takes " + std::to_string(count) + " argument" + (count == 1 ? "" : "s") + "," + names + ", and options";
+}
+
+// Arguments CLI11 found no place for.
+std::string extras_text(const std::string& list, const CLI::App* sub) {
+  std::istringstream words(list);
+  std::string text;
+  bool after_unknown_option = false;  // the next word is taken as its value
+  for (std::string word; words >> word;) {
+    if (after_unknown_option && !starts_with(word, "-")) {
+      after_unknown_option = false;
+      continue;
+    }
+    after_unknown_option = starts_with(word, "-") && word.find('=') == std::string::npos;
+    if (!text.empty()) text += "; ";
+    if (starts_with(word, "-")) {
+      const std::string flag = word.substr(0, word.find('='));
+      text += "unknown option '" + flag + "'";
+      if (const std::string near = nearest_name(flag, option_names(sub)); !near.empty())
+        text += "; did you mean '" + near + "'?";
+    } else {
+      text += "unexpected argument '" + word + "' (" + positional_rule(sub) + ")";
+    }
+  }
+  return text;
+}
+
+// "--study 'x.json': no such file", "--progress-interval must be from 1 to 86400, got 0", ...
+std::string validation_text(const std::string& what) {
+  const auto [name, message] = name_and_message(what);
+  std::string rest;
+  if (after(message, "File does not exist: ", &rest)) return where(name) + " '" + rest + "': no such file";
+  if (after(message, "File is actually a directory: ", &rest))
+    return where(name) + " '" + rest + "' is a directory; give a file";
+  if (after(message, "Value ", &rest)) {
+    const std::size_t range = rest.find(" not in range ");
+    if (range != std::string::npos)
+      return name + " must be from " + rest.substr(range + 14) + ", got " + rest.substr(0, range);
+  }
+  const std::size_t not_in = message.find(" not in {");
+  if (not_in != std::string::npos)
+    return name + ": '" + message.substr(0, not_in) + "' is not one of " + message.substr(not_in + 8);
+  return name + ": " + message;
+}
+
+std::string conversion_text(const std::string& what, const CLI::App* sub) {
+  std::string rest, name, value;
+  if (after(what, "Could not convert: ", &rest)) {
+    const std::size_t equals = rest.find(" = ");
+    name = rest.substr(0, equals);
+    value = equals == std::string::npos ? "" : rest.substr(equals + 3);
+  } else if (after(what, "The value ", &rest) && rest.find(" is not an allowed value for ") != std::string::npos) {
+    const std::size_t for_name = rest.find(" is not an allowed value for ");
+    name = rest.substr(for_name + 29);
+    value = rest.substr(0, for_name);
+  } else {
+    name = name_and_message(what).first;
+  }
+  const CLI::Option* option = find_option(sub, name);
+  if (option != nullptr && option->get_expected_max() == 0)
+    return name + " is a flag: give it without a value" + (value.empty() ? "" : ", not '" + value + "'");
+  if (name.empty()) return what;
+  return where(name) + ": '" + value + "' is not " + accepted(option);
+}
+
+// "Expected exactly 1 arguments to --out, got 0", "--out: 1 required TEXT missing".
+std::string mismatch_text(const std::string& what, const CLI::App* sub) {
+  std::string rest, name;
+  if (after(what, "Expected exactly ", &rest) || after(what, "Expected at least ", &rest)) {
+    const std::size_t to = rest.find(" arguments to ");
+    const std::size_t comma = rest.rfind(", got ");
+    if (to != std::string::npos && comma != std::string::npos) name = rest.substr(to + 14, comma - to - 14);
+  } else {
+    name = name_and_message(what).first;
+  }
+  if (name.empty()) return what;
+  return where(name) + " needs a value: " + accepted(find_option(sub, name));
+}
+
+std::string required_text(const std::string& what, const CLI::App* sub) {
+  if (starts_with(what, "A subcommand is required") || starts_with(what, "Requires at least")) {
+    std::string names;
+    for (const CLI::App* command : subcommands(sub)) names += (names.empty() ? "" : ", ") + command->get_name();
+    return "a subcommand is required (" + names + ")";
+  }
+  const std::string suffix = " is required";
+  if (what.size() > suffix.size() && what.compare(what.size() - suffix.size(), suffix.size(), suffix) == 0) {
+    const std::string name = what.substr(0, what.size() - suffix.size());
+    return where(name) + " is required: " + accepted(find_option(sub, name));
+  }
+  return what;
+}
+
+}  // namespace
+
+std::string nearest_name(std::string_view typed, const std::vector<std::string>& known) {
+  std::string nearest;
+  std::size_t best = std::string::npos;
+  for (const std::string& name : known) {
+    const std::size_t distance = edit_distance(typed, name);
+    if (distance < best) {
+      best = distance;
+      nearest = name;
+    }
+  }
+  if (nearest.empty() || best > std::max<std::size_t>(2, nearest.size() / 3)) return "";
+  return nearest;
+}
+
+std::vector<std::string> command_line_error_lines(const CLI::ParseError& error, const CLI::App& app,
+                                                  const std::string& command) {
+  const CLI::App* sub = &app;  // the innermost subcommand `command` names ("terrain obstacle")
+  std::istringstream names(command);
+  for (std::string name; names >> name;)
+    for (const CLI::App* candidate : subcommands(sub))
+      if (candidate->get_name() == name) {
+        sub = candidate;
+        break;
+      }
+  const std::string what = error.what();
+  std::string text;
+  // An unknown option is the first thing to fix (CLI11 may report a required
+  // option first: `--scenaro x` leaves --scenario unset).
+  std::string unparsed;
+  for (const std::string& arg : sub->remaining()) unparsed += (unparsed.empty() ? "" : " ") + arg;
+  if (dynamic_cast<const CLI::ExtrasError*>(&error)) {
+    // CLI11 lists them last first.
+    std::istringstream words(what.substr(what.find(": ") + 2));
+    std::vector<std::string> extras{std::istream_iterator<std::string>(words), std::istream_iterator<std::string>()};
+    std::string in_order;
+    for (auto it = extras.rbegin(); it != extras.rend(); ++it) in_order += (in_order.empty() ? "" : " ") + *it;
+    text = extras_text(in_order, sub);
+  } else if (!unparsed.empty() && starts_with(unparsed, "-")) {
+    text = extras_text(unparsed, sub);
+  } else if (dynamic_cast<const CLI::ValidationError*>(&error)) {
+    text = validation_text(what);
+  } else if (dynamic_cast<const CLI::ConversionError*>(&error)) {
+    text = conversion_text(what, sub);
+  } else if (dynamic_cast<const CLI::ArgumentMismatch*>(&error)) {
+    text = mismatch_text(what, sub);
+  } else if (dynamic_cast<const CLI::RequiredError*>(&error)) {
+    text = required_text(what, sub);
+  } else if (dynamic_cast<const CLI::ExcludesError*>(&error)) {
+    const std::size_t word = what.find(" excludes ");
+    text = word == std::string::npos ? what
+                                     : what.substr(0, word) + " cannot be given together with " + what.substr(word + 10);
+  } else if (dynamic_cast<const CLI::RequiresError*>(&error)) {
+    const std::size_t word = what.find(" requires ");
+    text = word == std::string::npos ? what : what.substr(0, word) + " needs " + what.substr(word + 10) + " as well";
+  } else {
+    text = what;
+  }
+  const std::string program = command.empty() ? "rover" : "rover " + command;
+  return {program + ": error: " + text, "Run '" + program + " --help' for the options."};
+}
+
+}  // namespace rover::cli

@@ -1,0 +1,58 @@
+// The files a command reads, so that no output can replace one of them.
+//
+// A command's inputs are the files its flags name and, transitively, every
+// file named inside a config: a scenario's rover and terrain, a study's
+// scenario, reference curves and measured data. add_config() finds the latter
+// by one rule rather than by each format's keys: every string in a JSON
+// config that names an existing regular file (relative to the config's
+// directory, as io::resolve_relative reads it) is an input, and a JSON input
+// is searched the same way. A config that does not parse is skipped; its
+// loader reports it.
+//
+// Two ways an output replaces an input:
+//   * it is the same file, under any spelling or link (std::filesystem::
+//     equivalent: same device and inode);
+//   * it is written by rename onto the directory entry the input resolves
+//     to: a plot <stem>*.png, <out>.checkpoint or <out>.partial beside --out
+//     where an input (or the file an input's link points to) lives.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace rover::io {
+
+class InputFiles {
+ public:
+  struct File {
+    std::string path;      // as named (resolved against its config's directory)
+    std::string named_by;  // "--scenario", or "'rover' in configs/scenarios/drop.json"
+  };
+
+  void add(const std::string& path, const std::string& named_by);
+  // `path` and every file named inside it, recursively (see above).
+  void add_config(const std::string& path, const std::string& named_by);
+
+  const std::vector<File>& files() const { return files_; }
+
+  // The input that writing `output` would destroy (same file under any name), or nullptr.
+  const File* same_file_as(const std::string& output) const;
+  // The input whose file lies in `directory` under a name starting with
+  // `prefix` and ending with `suffix` (the files written beside an output), or nullptr.
+  const File* named_like(const std::string& directory, const std::string& prefix, const std::string& suffix) const;
+
+ private:
+  void add_named_in(const std::string& config, int depth);
+  std::vector<File> files_;
+};
+
+// "--out 'x' is the same file as --scenario 'x'; writing it would destroy it"
+// (or "... as the file 'r.json' named by 'rover' in s.json ..."), or the same
+// for the files written beside it (plots, checkpoint): one
+// problem per output that would replace an input; empty if none does. `flag`
+// names the output ("--out"); `beside` says whether plots and a checkpoint are
+// written next to it.
+std::vector<std::string> outputs_over_inputs(const std::string& flag, const std::string& output,
+                                             const InputFiles& inputs, bool beside);
+
+}  // namespace rover::io

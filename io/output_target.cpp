@@ -1,0 +1,97 @@
+// See output_target.hpp.
+#include "io/output_target.hpp"
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+#include <system_error>
+
+namespace rover::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Linux follows at most 40 links in a path.
+constexpr int kMaxLinkHops = 40;
+
+// /dev/stdout, /dev/fd/N, /proc/self/fd/N and the like: a name of an open
+// descriptor, whose "link" is no file to replace.
+bool names_descriptor(const fs::path& absolute) {
+  const std::string s = absolute.lexically_normal().string();
+  if (s == "/dev/stdin" || s == "/dev/stdout" || s == "/dev/stderr") return true;
+  if (s.rfind("/dev/fd/", 0) == 0) return true;
+  return s.rfind("/proc/", 0) == 0 && s.find("/fd/") != std::string::npos;
+}
+
+// Whether following the links from `path` passes a descriptor's name.
+bool reaches_descriptor(const std::string& path) {
+  std::error_code error;
+  fs::path p = fs::absolute(path, error);
+  if (error) return false;
+  for (int hop = 0; hop < kMaxLinkHops; ++hop) {
+    if (names_descriptor(p)) return true;
+    if (!fs::is_symlink(fs::symlink_status(p, error))) return false;
+    const fs::path target = fs::read_symlink(p, error);
+    if (error) return false;
+    p = target.is_absolute() ? target : p.parent_path() / target;
+  }
+  return false;
+}
+
+std::string octal_mode(mode_t mode) {
+  char text[8];
+  std::snprintf(text, sizeof text, "%04o", static_cast<unsigned>(mode & 07777));
+  return text;
+}
+
+OutputTarget refused(std::string why) { return {OutputMode::kReplace, std::move(why)}; }
+
+constexpr const char* kNeedsFile =
+    "this output is written to a temporary file and renamed into place, which needs a regular "
+    "file: give a file name";
+
+// A path that streams: text goes through it, a seekable format is refused.
+OutputTarget stream_target(OutputFormat format, const std::string& what) {
+  if (format == OutputFormat::kSeekable) return refused("is not a regular file but " + what + "; " + kNeedsFile);
+  return {OutputMode::kStream, ""};
+}
+
+}  // namespace
+
+OutputTarget inspect_output(const std::string& path, OutputFormat format) {
+  if (path.empty()) return refused("is an empty path");
+  std::error_code error;
+  const fs::file_status own = fs::symlink_status(path, error);
+  if (reaches_descriptor(path)) {
+    if (!fs::exists(fs::status(path, error))) return refused("names a descriptor that is not open");
+    return stream_target(format, "an open descriptor (such as standard output)");
+  }
+  if (fs::is_symlink(own)) {
+    const fs::path target = fs::weakly_canonical(path, error);
+    return refused("is a symbolic link (to '" + (error ? std::string("?") : target.string()) +
+                   "'); writing by rename would replace the link by a file: give the target's path or "
+                   "another name");
+  }
+  if (!fs::exists(own)) return {};
+  if (fs::is_directory(own)) return refused("is a directory; give a file name");
+  if (fs::is_character_file(own) || fs::is_block_file(own)) return stream_target(format, "a device");
+  if (fs::is_fifo(own)) return stream_target(format, "a pipe");
+  if (!fs::is_regular_file(own)) return stream_target(format, "a socket or another special file");
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0 && ((st.st_mode & 0222) == 0 || ::access(path.c_str(), W_OK) != 0))
+    return refused("is read-only (mode " + octal_mode(st.st_mode) +
+                   "); an existing result that is not writable is never replaced: make it writable "
+                   "(chmod u+w) or give another name");
+  return {};
+}
+
+OutputMode require_output(const std::string& path, OutputFormat format) {
+  const OutputTarget target = inspect_output(path, format);
+  if (!target.refusal.empty()) throw std::runtime_error(path + ": " + target.refusal);
+  return target.mode;
+}
+
+}  // namespace rover::io

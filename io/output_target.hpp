@@ -1,0 +1,44 @@
+// What may stand at an output path, and how it is written.
+//
+// Result files are written to a temporary file beside the destination and
+// renamed onto it, so that a failure never leaves half a file. A rename
+// replaces whatever directory entry is at the path, so before any work the
+// path is inspected (lstat, following no link):
+//   * nothing, or a writable regular file: written by rename;
+//   * a device, a pipe, a socket, a terminal, or an open descriptor
+//     (/dev/stdout, /dev/fd/N, /proc/self/fd/N, or a link to one): text
+//     output (CSV) is written through it in place (appended, so a shell's
+//     `>>` keeps what is there); a file format that must seek (HDF5, PNG,
+//     a terrain file) is refused;
+//   * a symbolic link to anything else: refused (a rename would replace the
+//     link by a regular file; the message names the link's target);
+//   * a read-only regular file (no write permission bit, or not writable by
+//     this user): refused, also for root;
+//   * a directory: refused.
+#pragma once
+
+#include <string>
+
+namespace rover::io {
+
+enum class OutputFormat {
+  kSeekable,  // HDF5, PNG, JSON terrain: needs a regular file
+  kText,      // CSV: may also stream to a device, a pipe or a terminal
+};
+
+enum class OutputMode {
+  kReplace,  // temporary file + rename
+  kStream,   // opened in place and appended to
+};
+
+struct OutputTarget {
+  OutputMode mode = OutputMode::kReplace;
+  std::string refusal;  // empty if the path may be written; else why not, e.g. "is read-only (mode 0444); ..."
+};
+
+OutputTarget inspect_output(const std::string& path, OutputFormat format);
+
+// inspect_output's mode; throws std::runtime_error "<path>: <refusal>" when refused.
+OutputMode require_output(const std::string& path, OutputFormat format);
+
+}  // namespace rover::io
