@@ -8,6 +8,7 @@
 
 #include "drivers/command_registry.hpp"
 #include "drivers/study_options.hpp"
+#include "io/input_files.hpp"
 #include "core/number_text.hpp"
 #include "study/studies/calibration.hpp"
 #include "study/studies/next_experiment.hpp"
@@ -38,8 +39,10 @@ int run_calibrate_command(CalibrateOptions o) {
   if (v.steps && *v.steps < 1) checks.add("--steps must be at least 1, got " + std::to_string(*v.steps));
   if (v.discard && *v.discard < 0) checks.add("--discard must not be negative, got " + std::to_string(*v.discard));
   check_study_output(checks, o.control, o.study_path);
-  checks.distinct_files("--out", o.control.results_path, "--data", v.data_path);
-  checks.distinct_files("--out", o.control.results_path, "--next-experiment", o.next_experiment);
+  io::InputFiles inputs;  // --data and --next-experiment (and what it names); the study's are checked above
+  inputs.add(v.data_path, "--data");
+  inputs.add_config(o.next_experiment, "--next-experiment");
+  checks.not_an_input("--out", study_results_path(o.control, o.study_path), inputs, /*beside=*/true);
   checks.throw_if_any();
   std::stringstream ss(o.fit);
   for (std::string name; std::getline(ss, name, ',');)
