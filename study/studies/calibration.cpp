@@ -34,10 +34,34 @@
 namespace rover::study {
 namespace {
 
+// A fitted value this close to a bound (relative to the bounds' width) is on it.
+constexpr double kOnBoundRelative = 1e-6;
+
+// The fitted parameters and time offsets that ended on a bound, in words;
+// empty when none did. A Gauss-Newton interval there is of a constrained
+// optimum: the bound, not the data, holds the value.
+std::string on_a_bound(const CheckedFit& c) {
+  std::string text;
+  auto check = [&](const std::string& name, double value, double lower, double upper, const std::string& field) {
+    const double tolerance = kOnBoundRelative * (upper - lower);
+    if (value - lower > tolerance && upper - value > tolerance) return;
+    text += (text.empty() ? "" : "; ") + name + " = " + format_number(value, 6) + " is on its bound (widen " + field + ")";
+  };
+  for (std::size_t k = 0; k < c.study.fit.size(); ++k) {
+    const FitParameter& f = c.study.fit[k];
+    check(f.name, c.fit.values[k], f.lower, f.upper, "bounds." + f.name);
+  }
+  for (std::size_t k = 0; k < c.fit.offsets.size() && !c.study.offset_fitted(); ++k)
+    check(c.fit.offsets.size() == 1 ? "time_offset" : "time_offset[" + std::to_string(k) + "]", c.fit.offsets[k],
+          c.study.offset_min_s, c.study.offset_max_s, "bounds.time_offset");
+  return text;
+}
+
 // Why the intervals of a checked fit cannot be trusted (rank 0); empty when they can.
 std::string not_valid_because(const CheckedFit& c) {
   if (!c.fit.converged) return "the fit did not converge: " + c.fit.message;
   if (!c.gn.ok) return c.gn.message;
+  if (const std::string bound = on_a_bound(c); !bound.empty()) return bound;
   if (c.shift.ok && c.shift.largest_se > c.study.integration_check.max_shift_se)
     return "the integration error moves a parameter by " + format_number(c.shift.largest_se, 3) +
            " standard errors even with " + describe_integrator(c.study.integrator);

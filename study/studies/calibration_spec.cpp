@@ -63,6 +63,29 @@ void build_dataset_models(CalibrationStudy& s) {
                                                       s.integrator);
 }
 
+// Every fitted parameter's bounds must be values the model accepts (a
+// damping may not be negative, a mass not zero): each bound is set up with
+// the others at their initial values, before any run, so that no fit or
+// posterior proposal can reach an invalid model.
+void check_bounds_are_valid_values(const io::JsonReader& r, const CalibrationStudy& s) {
+  const std::vector<std::size_t> simulated = s.simulated();
+  std::vector<double> initial;
+  for (std::size_t k : simulated) initial.push_back(s.fit[k].initial);
+  for (std::size_t c = 0; c < simulated.size(); ++c) {
+    const FitParameter& f = s.fit[simulated[c]];
+    for (const double bound : {f.lower, f.upper}) {
+      std::vector<double> x = initial;
+      x[c] = bound;
+      try {
+        (void)s.datasets.front().model->setup_at(x.data());
+      } catch (const std::exception& e) {
+        r.fail("bounds", f.name + ": the bound " + format_number(bound, 6) + " is not a valid value (" + e.what() +
+                             "); give bounds inside the parameter's valid range");
+      }
+    }
+  }
+}
+
 // The names of "fit" (or of --fit, whose errors name the flag).
 std::vector<std::string> fit_names(const io::JsonReader& r, const CalibrationOverrides& o) {
   std::vector<std::string> names;
@@ -424,6 +447,7 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
   read_fit_parameters(r, o, space, s);
   bounds_of_unfitted_parameters(r, space, s);
   build_dataset_models(s);
+  check_bounds_are_valid_values(r, s);
   for (const CalibrationDataset& d : s.datasets) check_data_fits_the_run(s, d);
   read_priors(r, s);
   read_mcmc_settings(r, s);

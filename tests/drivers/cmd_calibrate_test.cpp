@@ -369,6 +369,33 @@ TEST(CmdCalibrate, BadInputIsRefusedNamingTheFieldOrFile) {
   EXPECT_NE(run_command(rover_binary() + " calibrate --study " + study + " --no-plot --out " + dir + "/bad.h5", &log), 0);
   EXPECT_NE(log.find(study), std::string::npos) << log;
   EXPECT_NE(log.find("'bounds.c_q'"), std::string::npos) << log;
+
+  // A bound the model does not accept (negative damping) is refused before any run.
+  const std::string negative = write_file(dir + "/negative.json", R"({"type": "calibration", "name": "c",
+      "scenario": ")" + source_path("configs/scenarios/drop_horizontal.json") + R"(", "data": ")" +
+      source_path("configs/data/drop_horizontal_synthetic.csv") + R"(", "fit": ["c_q"],
+      "bounds": {"c_q": [-0.1, 1.0]}, "initial": {"c_q": 0.5}})");
+  EXPECT_EQ(run_command(rover_binary() + " calibrate --study " + negative + " --no-plot --out " + dir + "/neg.h5", &log),
+            1);
+  EXPECT_NE(log.find("c_q: the bound -0.1 is not a valid value"), std::string::npos) << log;
+  EXPECT_NE(log.find("must not be negative"), std::string::npos) << log;
+  EXPECT_EQ(log.find("Jacobian"), std::string::npos) << "refused only after runs:\n" << log;
+}
+
+// The shipped curve's release is at 0.05 s on the data clock; offset bounds
+// that exclude it leave the fitted offset on its bound, and the intervals
+// are flagged (exit 2) with the bound to widen.
+TEST(CmdCalibrate, AnOffsetOnItsBoundIsFlagged) {
+  const std::string dir = rover::testing::temp_dir();
+  const std::string study = write_file(dir + "/offset.json", R"({"type": "calibration", "name": "c",
+      "scenario": ")" + source_path("configs/scenarios/drop_horizontal.json") + R"(", "data": ")" +
+      source_path("configs/data/drop_horizontal_synthetic.csv") + R"(", "fit": ["c_q"],
+      "bounds": {"c_q": [0.02, 1.0], "time_offset": [0.06, 0.2]}, "initial": {"c_q": 0.2}})");
+  std::string log;
+  EXPECT_EQ(run_command(rover_binary() + " calibrate --study " + study + " --no-plot --out " + dir + "/o.h5", &log), 2)
+      << log;
+  EXPECT_NE(log.find("time_offset = 0.06 is on its bound (widen bounds.time_offset)"), std::string::npos) << log;
+  EXPECT_EQ(io::Hdf5Reader(dir + "/o.h5").attribute_integer("/best", "intervals_valid"), 0) << log;
 }
 
 }  // namespace
