@@ -108,8 +108,7 @@ CalibrationOutcome run_fit(const CalibrationStudy& s, const StudyRunControl& con
 CalibrationFitResult run_calibration_fit(const CalibrationStudy& s, const StudyRunControl& control,
                                          const std::string& results_path) {
   CalibrationFitResult r;
-  std::vector<double> start;
-  for (const FitParameter& f : s.fit) start.push_back(f.initial);
+  std::vector<double> start = s.initial_values();
   if (s.algorithm != kLeastSquaresAlgorithm) {
     start = nlopt_search(s, control, results_path, r.history);
     start.resize(s.fit.size());
@@ -130,9 +129,7 @@ CalibrationFitResult run_calibration_fit(const CalibrationStudy& s, const StudyR
 CalibrationEstimate estimate_calibration(const CalibrationStudy& s, const StudyRunControl& control) {
   const InterruptGuard guard;
   FitHistory history;
-  std::vector<double> start;
-  for (const FitParameter& f : s.fit) start.push_back(f.initial);
-  const CheckedFit checked = checked_fit(s, start, control, history);
+  const CheckedFit checked = checked_fit(s, s.initial_values(), control, history);
   CalibrationEstimate e{checked.study, checked.fit.values, checked.fit.offsets, false, "", {}, {}, {}, 0.0};
   std::vector<double> valid{0.0};
   if (!checked.fit.converged) {
@@ -168,9 +165,7 @@ CalibrationOutcome run_posterior(const CalibrationStudy& s, const StudyRunContro
   // The posterior starts at the converged fit, on the integrator its check
   // proved sufficient.
   FitHistory history;
-  std::vector<double> start;
-  for (const FitParameter& f : s.fit) start.push_back(f.initial);
-  const CheckedFit checked = checked_fit(s, start, control, history);
+  const CheckedFit checked = checked_fit(s, s.initial_values(), control, history);
   const McmcStart mcmc_start = posterior_start(checked);
   if (world_rank() == 0)
     std::cerr << "calibrate: the posterior starts "

@@ -177,6 +177,8 @@ struct CalibrationStudy {
   bool offset_fitted() const;
   // Indices into `fit` of the parameters a simulation needs (all but time_offset).
   std::vector<std::size_t> simulated() const;
+  // The initial values of `fit`, in its order.
+  std::vector<double> initial_values() const;
   // Fitted values (order of `fit`) -> the simulated ones (order of simulated()).
   std::vector<double> simulated_values(const std::vector<double>& values) const;
   // The same study with every simulation on `integrator`.

@@ -69,8 +69,7 @@ void build_dataset_models(CalibrationStudy& s) {
 // posterior proposal can reach an invalid model.
 void check_bounds_are_valid_values(const io::JsonReader& r, const CalibrationStudy& s) {
   const std::vector<std::size_t> simulated = s.simulated();
-  std::vector<double> initial;
-  for (std::size_t k : simulated) initial.push_back(s.fit[k].initial);
+  const std::vector<double> initial = s.simulated_values(s.initial_values());
   for (std::size_t c = 0; c < simulated.size(); ++c) {
     const FitParameter& f = s.fit[simulated[c]];
     for (const double bound : {f.lower, f.upper}) {
@@ -219,6 +218,12 @@ std::vector<std::size_t> CalibrationStudy::simulated() const {
   for (std::size_t k = 0; k < fit.size(); ++k)
     if (fit[k].name != kTimeOffset) out.push_back(k);
   return out;
+}
+
+std::vector<double> CalibrationStudy::initial_values() const {
+  std::vector<double> values;
+  for (const FitParameter& f : fit) values.push_back(f.initial);
+  return values;
 }
 
 std::vector<double> CalibrationStudy::simulated_values(const std::vector<double>& values) const {
