@@ -9,72 +9,62 @@
 #include "drivers/command_registry.hpp"
 #include "drivers/study_options.hpp"
 #include "io/input_files.hpp"
-#include "core/number_text.hpp"
 #include "study/studies/calibration.hpp"
+#include "study/studies/calibration_program.hpp"
 #include "study/studies/next_experiment.hpp"
-#include "study/runtime/mpi_session.hpp"
 
 namespace rover::cli {
 namespace {
+
+constexpr int kMaxStarts = 100000;
+constexpr int kMaxEvaluations = 100000000;
+constexpr int kMaxWalkers = 100000;
+constexpr long kMaxSteps = 100000000;
 
 struct CalibrateOptions {
   std::string study_path = "configs/studies/calibration.json";
   std::string fit;
   std::string next_experiment;  // candidates file
   study::CalibrationOverrides overrides;
-  study::StudyRunControl control;
+  study::StudyRunOptions run;
 };
 
-int run_calibrate_command(CalibrateOptions o) {
-  study::MpiSession mpi(nullptr, nullptr);
+// --data and --next-experiment (and the files it names) are inputs too: --out
+// never replaces them. The study file's own are checked by run_study_command.
+void check_flag_inputs(const CalibrateOptions& o) {
   FlagChecks checks;
   const study::CalibrationOverrides& v = o.overrides;
-  if (v.starts && *v.starts < 1) checks.add("--starts must be at least 1, got " + std::to_string(*v.starts));
-  if (v.max_iterations && *v.max_iterations < 1)
-    checks.add("--max-iterations must be at least 1, got " + std::to_string(*v.max_iterations));
-  if (v.max_evaluations && *v.max_evaluations < 1)
-    checks.add("--max-evaluations must be at least 1, got " + std::to_string(*v.max_evaluations));
-  if (v.walkers && (*v.walkers < 2 || *v.walkers % 2 != 0))
+  if (v.walkers && *v.walkers % 2 != 0)
     checks.add("--walkers must be an even number of at least 2, got " + std::to_string(*v.walkers));
-  if (v.steps && *v.steps < 1) checks.add("--steps must be at least 1, got " + std::to_string(*v.steps));
-  if (v.discard && *v.discard < 0) checks.add("--discard must not be negative, got " + std::to_string(*v.discard));
-  check_study_output(checks, o.control, o.study_path);
-  io::InputFiles inputs;  // --data and --next-experiment (and what it names); the study's are checked above
+  io::InputFiles inputs;
   inputs.add(v.data_path, "--data");
   inputs.add_config(o.next_experiment, "--next-experiment");
-  checks.not_an_input("--out", study_results_path(o.control, o.study_path), inputs, /*beside=*/true);
+  checks.not_an_input("--out", study_results_path(o.run, o.study_path), inputs, /*beside=*/true);
   checks.throw_if_any();
-  std::stringstream ss(o.fit);
-  for (std::string name; std::getline(ss, name, ',');)
-    if (!name.empty()) o.overrides.fit.push_back(name);
-  const study::CalibrationStudy s = study::load_calibration_study(o.study_path, o.overrides);
-  o.control.resume_command = "the same command with --resume";
-  if (mpi.rank() == 0) {
-    if (!s.common.accuracy_choice.empty())
-      std::cerr << "calibrate: \"accuracy\" chose " << s.common.accuracy_choice << "\n";
-    if (s.method == study::CalibrationMethod::mcmc) {
-      std::cerr << "calibrate: sampling the posterior of";
-      for (const auto& p : s.fit) std::cerr << " " << p.name << " ~ " << p.prior.describe();
-      std::cerr << (s.mcmc.sample_noise ? " and the noise sd" : "") << " given " << s.data_path << " ("
-                << s.datasets.size() << " curve(s)): "
-                << (s.mcmc.sampler == study::McmcSampler::independence ? "independence sampler, " : "ensemble sampler, ")
-                << s.mcmc.walkers << " chains, at most " << s.mcmc.steps
-                << " steps" << (s.mcmc.target_ess > 0 ? ", until every effective sample size reaches " +
-                                                             number_text(s.mcmc.target_ess) + " and R-hat < " +
-                                                             number_text(s.mcmc.max_rhat) : std::string())
-                << ", on " << mpi.size() << " rank(s)\n";
-    } else {
-      std::cerr << "calibrate: fitting";
-      for (const auto& p : s.fit) std::cerr << " " << p.name << " in [" << p.lower << ", " << p.upper << "]";
-      std::cerr << " to " << s.data_path << " (" << s.datasets.size() << " curve(s)) with " << s.algorithm
-                << ", " << s.starts << " start(s) on " << mpi.size() << " rank(s)\n";
-    }
+}
+
+study::CalibrationStudy load_study(const CalibrateOptions& o) {
+  check_flag_inputs(o);
+  study::CalibrationOverrides overrides = o.overrides;
+  std::stringstream names(o.fit);
+  for (std::string name; std::getline(names, name, ',');)
+    if (!name.empty()) overrides.fit.push_back(name);
+  return study::load_calibration_study(o.study_path, overrides);
+}
+
+int run_calibrate_command(const CLI::App& app, CalibrateOptions o) {
+  if (!o.next_experiment.empty() && o.run.results_path.empty()) {
+    // The ranking's default file: results/<study name>_next_experiment.h5.
+    const std::string fit_path = study_results_path(o.run, o.study_path);
+    if (fit_path.ends_with(".h5")) o.run.results_path = fit_path.substr(0, fit_path.size() - 3) + "_next_experiment.h5";
   }
-  return run_interruptible("calibrate", [&] {
-    const study::CalibrationOutcome outcome = o.next_experiment.empty()
-                                                  ? study::run_calibration(s, o.control)
-                                                  : study::run_next_experiment(s, o.next_experiment, o.control);
-    return outcome.trusted ? 0 : 2;
+  return run_study_session(app, o.run, o.study_path, [&](const study::StudyRunOptions& options) {
+    study::CalibrationStudy s = load_study(o);
+    if (!o.next_experiment.empty())
+      return study::drive_study(study::next_experiment_program(std::move(s), o.next_experiment), options);
+    if (s.method == study::CalibrationMethod::mcmc)
+      return study::drive_study(study::calibration_posterior_program(std::move(s)), options);
+    return study::drive_study(study::calibration_fit_program(std::move(s)), options);
   });
 }
 
@@ -113,26 +103,32 @@ const RegisterCommand registration{
       app.add_option("--algorithm", o->overrides.algorithm,
                      "levenberg_marquardt (default), or a derivative-free NLopt algorithm for a first search "
                      "that the least-squares iterations polish: LN_BOBYQA, GN_DIRECT_L, GN_CRS2_LM, ...");
-      app.add_option("--starts", o->overrides.starts, "Number of independent starts (fanned out over ranks)");
+      app.add_option("--starts", o->overrides.starts, "Number of independent starts (fanned out over ranks)")
+          ->check(CLI::Range(1, kMaxStarts));
       app.add_option("--max-evaluations", o->overrides.max_evaluations,
-                     "Simulations per start of an NLopt first search (--algorithm)");
+                     "Simulations per start of an NLopt first search (--algorithm)")
+          ->check(CLI::Range(1, kMaxEvaluations));
       app.add_option("--max-iterations", o->overrides.max_iterations,
-                     "Least-squares iterations (Jacobians) at most; default 10 + 5 per fitted parameter");
+                     "Least-squares iterations (Jacobians) at most; default 10 + 5 per fitted parameter")
+          ->check(CLI::Range(1, kMaxEvaluations));
       app.add_flag("--profile", o->overrides.profile,
                    "After the fit: profile-likelihood intervals of every fitted parameter (the others "
                    "re-optimised along a grid), a PNG each; says when a parameter is not identifiable");
       app.add_option("--method", o->overrides.method, "optimize (default) or mcmc")
           ->check(CLI::IsMember({"optimize", "mcmc"}));
-      app.add_option("--walkers", o->overrides.walkers, "mcmc: ensemble walkers (even, >= 2 x sampled parameters)");
-      app.add_option("--steps", o->overrides.steps, "mcmc: ensemble steps");
-      app.add_option("--discard", o->overrides.discard, "mcmc: burn-in steps left out of the summaries");
+      app.add_option("--walkers", o->overrides.walkers,
+                     "mcmc: chains of the independence sampler, or ensemble walkers (even, >= 2 x sampled parameters)")
+          ->check(CLI::Range(2, kMaxWalkers));
+      app.add_option("--steps", o->overrides.steps, "mcmc: steps at most")->check(CLI::Range(1L, kMaxSteps));
+      app.add_option("--discard", o->overrides.discard, "mcmc: burn-in steps left out of the summaries")
+          ->check(CLI::Range(0L, kMaxSteps));
       app.add_option("--next-experiment", o->next_experiment,
                      "Rank the candidate experiments of this JSON file by the 95 % interval each parameter is "
                      "expected to have once their curve is added (after fitting the study's data); writes the "
                      "table (default results/<name>_next_experiment.h5)")
           ->check(CLI::ExistingFile);
-      add_study_control(app, o->control);
-      return [o] { return run_calibrate_command(*o); };
+      add_study_flags(app, o->run);
+      return [o, &app] { return run_calibrate_command(app, *o); };
     }};
 
 }  // namespace

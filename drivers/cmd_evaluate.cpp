@@ -89,6 +89,7 @@ const RegisterCommand registration{
                          integrator_choices_text());
       app.add_flag("--resume", o->run.resume, "Continue from <out>.checkpoint: only the missing rows run");
       app.add_flag("--restart", o->run.restart, "Discard <out>.checkpoint of an interrupted evaluation and start afresh");
+      add_dry_run_flag(app, o->run);
       add_plots_flags(app, o->run);
       add_progress_flags(app, o->run);
       return [o, &app] { return run_study_command(app, o->run, "", [&] { return load(*o); }); };

@@ -46,6 +46,13 @@ inline void add_output_flags(CLI::App& app, study::StudyRunOptions& o) {
                "Discard the checkpoint of an interrupted study (<out>.checkpoint) and start afresh");
 }
 
+// --dry-run: everything is read and checked, nothing runs.
+inline void add_dry_run_flag(CLI::App& app, study::StudyRunOptions& o) {
+  app.add_flag("--dry-run", o.dry_run,
+               "Read and check the study, every file it names and --out, print what would run, and stop: "
+               "nothing is run or written");
+}
+
 // --plots (and --no-plot, the same as --plots none).
 inline void add_plots_flags(CLI::App& app, study::StudyRunOptions& o) {
   static const std::map<std::string, study::PlotSelection> kPlots{{"none", study::PlotSelection::kNone},
@@ -64,6 +71,7 @@ inline void add_plots_flags(CLI::App& app, study::StudyRunOptions& o) {
 // --progress-interval, --checkpoint-every.
 inline void add_study_flags(CLI::App& app, study::StudyRunOptions& o) {
   add_output_flags(app, o);
+  add_dry_run_flag(app, o);
   add_plots_flags(app, o);
   add_progress_flags(app, o);
 }
@@ -140,19 +148,26 @@ inline void check_evaluate_output(FlagChecks& checks, const study::EvaluateReque
 std::string resume_command(const CLI::App& subcommand);
 
 // Runs a study subcommand: the MPI session, the checks of --out against the
-// study file, then `load` (which reads the study file, applies the flags and
-// returns the study's StudyProgram), then the study driver. Returns the exit
-// status.
-template <class Load>
-int run_study_command(const CLI::App& subcommand, study::StudyRunOptions options, const std::string& study_path,
-                      Load&& load) {
+// study file, then `run` with the options completed by the resume command
+// (run loads the study and calls study::drive_study). Returns the exit status.
+template <class Run>
+int run_study_session(const CLI::App& subcommand, study::StudyRunOptions options, const std::string& study_path,
+                      Run&& run) {
   study::MpiSession mpi(nullptr, nullptr);
   FlagChecks checks;
   check_study_output(checks, options, study_path);
   checks.throw_if_any();
-  const auto program = load();
   options.resume_command = resume_command(subcommand);
-  return study::drive_study(program, options);
+  return run(options);
+}
+
+// run_study_session for a subcommand whose `load` reads the study file,
+// applies the flags and returns the study's StudyProgram.
+template <class Load>
+int run_study_command(const CLI::App& subcommand, const study::StudyRunOptions& options,
+                      const std::string& study_path, Load&& load) {
+  return run_study_session(subcommand, options, study_path,
+                           [&](const study::StudyRunOptions& completed) { return study::drive_study(load(), completed); });
 }
 
 // used by calibration until it moves to the study driver, which handles the

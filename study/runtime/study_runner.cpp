@@ -43,6 +43,7 @@ namespace {
 std::atomic<bool> g_interrupted{false};
 using Handler = void (*)(int);
 Handler g_previous_int = SIG_DFL, g_previous_term = SIG_DFL;
+int g_guard_depth = 0;  // guards alive; only the outermost installs and restores the handlers
 
 extern "C" void on_interrupt(int signal_number) {
   g_interrupted.store(true);
@@ -53,12 +54,14 @@ extern "C" void on_interrupt(int signal_number) {
 }  // namespace
 
 InterruptGuard::InterruptGuard() {
+  if (g_guard_depth++ > 0) return;
   g_interrupted.store(false);
   g_previous_int = std::signal(SIGINT, on_interrupt);
   g_previous_term = std::signal(SIGTERM, on_interrupt);
 }
 
 InterruptGuard::~InterruptGuard() {
+  if (--g_guard_depth > 0) return;
   std::signal(SIGINT, g_previous_int == SIG_ERR ? SIG_DFL : g_previous_int);
   std::signal(SIGTERM, g_previous_term == SIG_ERR ? SIG_DFL : g_previous_term);
 }

@@ -34,6 +34,7 @@ struct StudyRunOptions {
   std::string resume_command;  // the command line that resumes the study (for messages)
   io::CheckpointPolicy checkpoint;  // how often finished runs are flushed to the checkpoint
   PlotSelection plots = PlotSelection::kSummary;
+  bool dry_run = false;  // read and check every input and output, print what would run, run nothing
 };
 
 // Collective: every rank calls it. stream_study_tasks() (below) collecting
@@ -57,7 +58,8 @@ class StudyInterrupted : public std::runtime_error {
 
 // While alive, SIGINT and SIGTERM set a flag that makes the running study stop
 // handing out work instead of killing the process (the finished runs are kept).
-// A second signal kills as usual.
+// A second signal kills as usual. Guards nest: an inner one (a study run
+// inside the study driver's) keeps the outer one's flag and handlers.
 class InterruptGuard {
  public:
   InterruptGuard();

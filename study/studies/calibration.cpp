@@ -86,26 +86,9 @@ void fitted_curves(const CalibrationStudy& s, CalibrationFitResult& r) {
   r.best_rms_m = std::sqrt(rss / static_cast<double>(points));
 }
 
-CalibrationOutcome run_fit(const CalibrationStudy& s, const StudyRunControl& control) {
-  const InterruptGuard guard;  // Ctrl-C and SIGTERM end the fit at its next Jacobian, with exit status 130
-  const std::string out = results_path(s.common, control.results_path);
-  const CalibrationFitResult fit = run_calibration_fit(s, control, out);
-  const CalibrationOutcome outcome{out, fit.trusted, fit.not_valid_because};
-  if (world_rank() != 0) return outcome;
-  io::Hdf5Writer h5(out);
-  write_calibration_fit(fit, s, h5);
-  write_study_provenance(h5, s.common);
-  h5.commit();
-  remove_checkpoint(out);
-  report_calibration_fit(fit, s, std::cerr);
-  std::cerr << "calibrate: wrote " << out << "\n";
-  if (control.plot) plot_calibration_fit(fit, s, out.substr(0, out.size() - 3));
-  return outcome;
-}
-
 }  // namespace
 
-CalibrationFitResult run_calibration_fit(const CalibrationStudy& s, const StudyRunControl& control,
+CalibrationFitResult run_calibration_fit(const CalibrationStudy& s, const StudyRunOptions& control,
                                          const std::string& results_path) {
   CalibrationFitResult r;
   std::vector<double> start = s.initial_values();
@@ -126,8 +109,7 @@ CalibrationFitResult run_calibration_fit(const CalibrationStudy& s, const StudyR
   return r;
 }
 
-CalibrationEstimate estimate_calibration(const CalibrationStudy& s, const StudyRunControl& control) {
-  const InterruptGuard guard;
+CalibrationEstimate estimate_calibration(const CalibrationStudy& s, const StudyRunOptions& control) {
   FitHistory history;
   const CheckedFit checked = checked_fit(s, s.initial_values(), control, history);
   CalibrationEstimate e{checked.study, checked.fit.values, checked.fit.offsets, false, "", {}, {}, {}, 0.0};
@@ -149,51 +131,10 @@ CalibrationEstimate estimate_calibration(const CalibrationStudy& s, const StudyR
   return e;
 }
 
-namespace {
-
-// Where the posterior starts: the converged fit and its covariance, on every
-// rank; nothing when the fit has no finite intervals.
-McmcStart posterior_start(const CheckedFit& checked) {
-  if (!fit_has_intervals(checked)) return {};
-  ProbeInput fit = probe_input_on_every_rank(checked);
-  if (!fit.covariance.allFinite()) return {};
-  return {std::move(fit.values), std::move(fit.covariance)};
-}
-
-CalibrationOutcome run_posterior(const CalibrationStudy& s, const StudyRunControl& control) {
-  const InterruptGuard guard;
-  // The posterior starts at the converged fit, on the integrator its check
-  // proved sufficient.
-  FitHistory history;
-  const CheckedFit checked = checked_fit(s, s.initial_values(), control, history);
-  const McmcStart mcmc_start = posterior_start(checked);
-  if (world_rank() == 0)
-    std::cerr << "calibrate: the posterior starts "
-              << (mcmc_start.values.empty() ? "at the initial values (the fit has no intervals)" : "at the converged fit")
-              << ", on " << describe_integrator(checked.study.integrator) << "\n";
-  const CalibrationPosterior posterior = run_calibration_mcmc(checked.study, control, mcmc_start);
-  const std::string out = results_path(s.common, control.results_path);
-  const CalibrationOutcome outcome{out, posterior.mixed, posterior.not_mixed_because};
-  if (world_rank() != 0) return outcome;  // (also after an interrupt, which rank 0 reports)
-  io::Hdf5Writer h5(out);
-  write_calibration_posterior(posterior, checked.study, h5);
-  write_study_provenance(h5, s.common);
-  h5.commit();
-  report_calibration_posterior(posterior, checked.study, std::cerr);
-  std::cerr << "calibrate: wrote " << out << "\n";
-  if (control.plot) plot_calibration_posterior(posterior, checked.study, out.substr(0, out.size() - 3));
-  return outcome;
-}
-
-}  // namespace
-
 std::string describe_integrator(const IntegratorSettings& i) {
   return std::string(integrator_name(i.method)) + " at rtol " + format_number(i.relative_tolerance, 3) + ", atol " +
          format_number(i.absolute_tolerance, 3);
 }
 
-CalibrationOutcome run_calibration(const CalibrationStudy& s, const StudyRunControl& control) {
-  return s.method == CalibrationMethod::optimize ? run_fit(s, control) : run_posterior(s, control);
-}
 
 }  // namespace rover::study

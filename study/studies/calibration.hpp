@@ -17,7 +17,8 @@
 // exits with status 2.
 //
 // Posterior (method "mcmc", study/studies/calibration_mcmc.hpp): priors per
-// parameter, a Gaussian likelihood, the affine-invariant ensemble sampler.
+// parameter, a Gaussian likelihood; an independence sampler whose proposal is
+// built on the converged fit (default), or the affine-invariant ensemble.
 //
 // Parameters: any number of the rover and scenario files by dotted name or
 // alias (study/model/parameter_space.hpp: "c_q", "f", "contact.k_g",
@@ -53,9 +54,9 @@
 #include "core/scenario.hpp"
 #include "study/estimators/distributions.hpp"
 #include "study/model/study_model.hpp"
-#include "study/studies/montecarlo.hpp"
+#include "study/runtime/study_runner.hpp"
 #include "study/model/qoi.hpp"
-#include "study/studies/study_config.hpp"
+#include "study/studies/study_spec.hpp"
 
 namespace rover::study {
 
@@ -147,7 +148,8 @@ struct IntegrationCheck {
 };
 
 struct CalibrationStudy {
-  StudyCommon common;
+  StudyIdentity identity;       // path, type, name, description of the study file
+  std::string accuracy_choice;  // the setting "accuracy" chose, in words (empty without "accuracy")
   // The integrator of every simulation of the calibration: the study's
   // "integrator", else the stiff one at its default tolerances.
   IntegratorSettings integrator;
@@ -170,8 +172,9 @@ struct CalibrationStudy {
   bool profile = false;     // profile-likelihood intervals after the fit
   int profile_points = 13;  // grid points per profiled parameter (>= 3)
   McmcSettings mcmc;
-  // Covers the study's files (common.fingerprint), the data file's text and
-  // every option that changes a result (command-line overrides included).
+  // Covers the study file, every curve's data, scenario, rover and terrain
+  // files, and every option that changes a result (command-line overrides
+  // included).
   std::string fingerprint;
 
   bool offset_fitted() const;
@@ -251,22 +254,7 @@ CalibrationResiduals calibration_residuals(const CalibrationStudy& study, const 
 // (bench/calibration_coverage.py); 1e-2 keeps them stable.
 inline constexpr double kJacobianRelativeStep = 1e-2;
 
-// What a calibration hands back: where it wrote, and whether its intervals
-// can be trusted: false when the fit did not converge, its intervals could
-// not be computed, or the integration error moves a parameter by more than
-// the check allows (`why` says which, in words). The program exits with
-// status 2 then.
-struct CalibrationOutcome {
-  std::string results_path;
-  bool trusted = true;
-  std::string why;
-};
-
 // "rosenbrock at rtol 1e-08, atol 2e-07", as results and messages name an integrator.
 std::string describe_integrator(const IntegratorSettings& integrator);
-
-// Collective over MPI ranks: the fit (method optimize) or the posterior
-// (method mcmc). Rank 0 writes the HDF5 file and the PNGs.
-CalibrationOutcome run_calibration(const CalibrationStudy& study, const StudyRunControl& control);
 
 }  // namespace rover::study

@@ -91,7 +91,7 @@ bool fit_has_intervals(const CheckedFit& c) {
   return ok[0] != 0.0;
 }
 
-CheckedFit checked_fit(const CalibrationStudy& study, std::vector<double> start, const StudyRunControl& control,
+CheckedFit checked_fit(const CalibrationStudy& study, std::vector<double> start, const StudyRunOptions& control,
                        FitHistory& history) {
   CheckedFit c{study, {}, {}, {}, {}, {}};
   for (int tightenings = 0, restarts = 0;;) {

@@ -34,7 +34,7 @@ struct GaussNewtonResult {
   Eigen::MatrixXd weighted_jacobian;
 };
 GaussNewtonResult gauss_newton_at_optimum(const CalibrationStudy& study, std::vector<double> best,
-                                          const StudyRunControl& control);
+                                          const StudyRunOptions& control);
 
 // The evaluations of a fit, as /history stores them (one row each: the p
 // parameters, K offsets, pooled rms, objective, status), with the start each
@@ -67,7 +67,7 @@ FitObjective fit_objective(const CalibrationStudy& study, const std::vector<doub
 
 // The first search of an NLopt algorithm: one task per start (fanned out and
 // checkpointed); returns the best point (values, then offsets) on rank 0.
-std::vector<double> nlopt_search(const CalibrationStudy& study, const StudyRunControl& control, const std::string& out,
+std::vector<double> nlopt_search(const CalibrationStudy& study, const StudyRunOptions& control, const std::string& out,
                                  FitHistory& history);
 // Appends the least-squares evaluations to the history (start index -1).
 void append_history(const LeastSquaresCalibration& fit, FitHistory& history);
@@ -87,7 +87,7 @@ struct CheckedFit {
 // Refits from a better point the profile probe found, at most.
 inline constexpr int kMaxProbeRestarts = 5;
 
-CheckedFit checked_fit(const CalibrationStudy& study, std::vector<double> start, const StudyRunControl& control,
+CheckedFit checked_fit(const CalibrationStudy& study, std::vector<double> start, const StudyRunOptions& control,
                        FitHistory& history);
 // Whether the fit and its intervals exist on rank 0, for every rank.
 bool fit_has_intervals(const CheckedFit& checked);
@@ -110,7 +110,7 @@ struct ParameterProfile {
   bool complete = false;
 };
 std::vector<ParameterProfile> profile_parameters(const CalibrationStudy& study, const GaussNewtonResult& gn,
-                                                 std::vector<double> best, const StudyRunControl& control);
+                                                 std::vector<double> best, const StudyRunOptions& control);
 
 // The result of a fit (method optimize): the checked fit, every evaluation,
 // the profiles, the fitted curves and whether its intervals can be trusted.
@@ -126,7 +126,7 @@ struct CalibrationFitResult {
 
 // Collective. The result is complete on rank 0; the other ranks hold
 // `trusted` only. `results_path` is where a first search checkpoints.
-CalibrationFitResult run_calibration_fit(const CalibrationStudy& study, const StudyRunControl& control,
+CalibrationFitResult run_calibration_fit(const CalibrationStudy& study, const StudyRunOptions& control,
                                          const std::string& results_path);
 // Rank 0: the result file's datasets and attributes (not the provenance).
 void write_calibration_fit(const CalibrationFitResult& fit, const CalibrationStudy& study, io::Hdf5Writer& h5);

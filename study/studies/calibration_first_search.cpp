@@ -82,7 +82,7 @@ std::vector<double> best_of_starts(const CalibrationStudy& s, const std::vector<
 
 }  // namespace
 
-std::vector<double> nlopt_search(const CalibrationStudy& s, const StudyRunControl& control, const std::string& out,
+std::vector<double> nlopt_search(const CalibrationStudy& s, const StudyRunOptions& control, const std::string& out,
                                  FitHistory& fit_history) {
   const std::size_t p = s.fit.size();
 

@@ -89,6 +89,6 @@ struct CalibrationEstimate {
   std::vector<double> weights;        // per curve
   double noise_sd = 0;                // of the weighted residuals
 };
-CalibrationEstimate estimate_calibration(const CalibrationStudy& study, const StudyRunControl& control);
+CalibrationEstimate estimate_calibration(const CalibrationStudy& study, const StudyRunOptions& control);
 
 }  // namespace rover::study

@@ -41,7 +41,7 @@ io::LinePlot profile_plot(const ParameterProfile& prof, const std::string& study
 io::LinePlot curve_plot(const CalibrationFitResult& r, const CalibrationStudy& s, std::size_t k) {
   const GaussNewtonResult& gn = r.checked.gn;
   io::LinePlot plot;
-  plot.title = s.common.name + ": data and fitted " + s.datasets[k].channel + " (RMS " +
+  plot.title = s.identity.name + ": data and fitted " + s.datasets[k].channel + " (RMS " +
                format_number(kMillimetresPerMetre * (gn.ok ? gn.noise_rms[k] : r.best_rms_m)) + " mm)";
   plot.x_label = "t (data clock) [s]";
   plot.y_label = s.datasets[k].channel + " [mm]";
@@ -56,7 +56,7 @@ io::LinePlot curve_plot(const CalibrationFitResult& r, const CalibrationStudy& s
 void plot_calibration_fit(const CalibrationFitResult& r, const CalibrationStudy& s, const std::string& stem) {
   for (const ParameterProfile& prof : r.profiles)
     if (!prof.values.empty())
-      io::write_png_or_warn(profile_plot(prof, s.common.name), stem + "_profile_" + prof.name + ".png", "calibrate",
+      io::write_png_or_warn(profile_plot(prof, s.identity.name), stem + "_profile_" + prof.name + ".png", "calibrate",
                             std::cerr);
   for (std::size_t k = 0; k < s.datasets.size(); ++k)
     io::write_png_or_warn(curve_plot(r, s, k), stem + (k == 0 ? "" : "_" + std::to_string(k)) + ".png", "calibrate",

@@ -22,7 +22,7 @@ namespace rover::study {
 // the fitted parameters (natural units) and the profiled offsets. Collective
 // (the Jacobian's runs); the result is rank 0's.
 GaussNewtonResult gauss_newton_at_optimum(const CalibrationStudy& s, std::vector<double> best,
-                                          const StudyRunControl& control) {
+                                          const StudyRunOptions& control) {
   broadcast_from_rank0(best);
   const std::size_t p = s.fit.size(), K = s.datasets.size();
   const std::vector<double> values(best.begin(), best.begin() + static_cast<std::ptrdiff_t>(p));

@@ -335,7 +335,7 @@ void after_step(const McmcSettings& m, const Sampler& sampler, long discard, int
   std::cerr << "calibrate: step " << step << " (at most " << m.steps << "): " << run.progress << "\n";
 }
 
-ChainRun run_chain(const CalibrationStudy& s, const StudyRunControl& control, const PosteriorSpace& space,
+ChainRun run_chain(const CalibrationStudy& s, const StudyRunOptions& control, const PosteriorSpace& space,
                    const Sampler& sampler, long discard, const std::string& out) {
   const bool root = world_rank() == 0;
   const McmcSettings& m = s.mcmc;
@@ -420,7 +420,7 @@ struct PredictiveRuns {
   std::vector<std::vector<double>> noise_sd;  // per draw that ran, per curve
 };
 PredictiveRuns run_predictive(const CalibrationStudy& s, const std::vector<std::vector<double>>& draws,
-                              const StudyRunControl& control) {
+                              const StudyRunOptions& control) {
   const std::size_t fitted = s.fit.size(), curves = s.datasets.size();
   std::vector<int> tasks(draws.size());
   for (std::size_t d = 0; d < draws.size(); ++d) tasks[d] = static_cast<int>(d);
@@ -512,10 +512,9 @@ double calibration_log_density(const std::vector<Distribution>& priors, const Di
   return log_density;
 }
 
-CalibrationPosterior run_calibration_mcmc(const CalibrationStudy& s, const StudyRunControl& control,
+CalibrationPosterior run_calibration_mcmc(const CalibrationStudy& s, const StudyRunOptions& control,
                                           const McmcStart& start) {
-  const InterruptGuard guard;
-  const std::string out = results_path(s.common, control.results_path);
+  const std::string& out = control.results_path;
   const PosteriorSpace space = posterior_space(s);
   CalibrationPosterior posterior;
   posterior.names = space.names;
@@ -550,7 +549,6 @@ CalibrationPosterior run_calibration_mcmc(const CalibrationStudy& s, const Study
   if (world_rank() != 0) return posterior;
   posterior.predictive_draws = static_cast<int>(runs.model.size());
   posterior.predictive = predictive_bands(s, runs, s.mcmc.seed);
-  remove_checkpoint(out);
   return posterior;
 }
 

@@ -111,7 +111,7 @@ struct McmcStart {
 // Collective over MPI ranks. The result is complete on rank 0; the other
 // ranks hold `mixed` only. Throws StudyInterrupted after a signal, the
 // checkpoint saved.
-CalibrationPosterior run_calibration_mcmc(const CalibrationStudy& study, const StudyRunControl& control,
+CalibrationPosterior run_calibration_mcmc(const CalibrationStudy& study, const StudyRunOptions& control,
                                           const McmcStart& start);
 
 // Rank 0: the result file's datasets and attributes (not the provenance).

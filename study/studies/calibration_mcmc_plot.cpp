@@ -30,6 +30,59 @@ CornerParameter corner_parameter(const std::string& name) {
   return {name};  // M0_scale, a factor
 }
 
+constexpr int kCornerMaxTicks = 5;
+
+// One parameter's marginal: the histogram of its kept samples (shown units),
+// its mean (solid) and 95 % interval (dashed); `range` receives the
+// histogram's edges.
+io::LinePlot marginal_panel(const CornerParameter& parameter, const Eigen::MatrixXd& tail, double mean, double q025,
+                            double q975, io::AxisRange& range) {
+  double lo = tail.minCoeff(), hi = tail.maxCoeff();
+  if (!(hi > lo)) {  // one value (a stuck chain): a bin around it
+    const double half = std::max(1e-12, 1e-3 * std::abs(lo));
+    lo -= half;
+    hi += half;
+  }
+  range = {lo, hi};
+  const int bins = std::clamp(static_cast<int>(std::lround(std::sqrt(static_cast<double>(tail.size())))), 5, 40);
+  // The top edge nudged up so that the largest sample falls in the last bin, not the overflow.
+  auto histogram = boost::histogram::make_histogram(
+      boost::histogram::axis::regular<double>(static_cast<unsigned>(bins), lo, std::nextafter(hi, hi + 1.0)));
+  for (Eigen::Index j = 0; j < tail.size(); ++j) histogram(tail.data()[j]);
+  io::Band filled{.color = "#4060a0", .opacity = 0.3};
+  io::Series outline{.color = "#4060a0", .line_width = 1.2};
+  double highest = 0.0;
+  for (int b = 0; b < bins; ++b) {
+    const auto bin = histogram.axis().bin(b);
+    const double count = histogram.at(b);
+    highest = std::max(highest, count);
+    for (const double edge : {bin.lower(), bin.upper()}) {
+      filled.x.push_back(edge);
+      filled.lower.push_back(0.0);
+      filled.upper.push_back(count);
+      outline.x.push_back(edge);
+      outline.y.push_back(count);
+    }
+  }
+  const double top = 1.1 * std::max(highest, 1.0);
+  const double gap = std::numeric_limits<double>::quiet_NaN();
+  io::LinePlot panel{.title = "mean " + format_number(mean) + ", 95 % [" + format_number(q025) + ", " +
+                              format_number(q975) + "]",
+                     .x_label = parameter.label,
+                     .y_label = "samples per bin",
+                     .x_range = range,
+                     .y_range = io::AxisRange{0.0, top},
+                     .max_ticks = kCornerMaxTicks};
+  panel.bands.push_back(std::move(filled));
+  panel.series.push_back(std::move(outline));
+  panel.series.push_back({.x = {mean, mean}, .y = {0.0, top}, .color = "dark-red"});
+  panel.series.push_back({.x = {q025, q025, gap, q975, q975},
+                          .y = {0.0, top, gap, 0.0, top},
+                          .style = io::SeriesStyle::dashed,
+                          .color = "dark-red"});
+  return panel;
+}
+
 // The corner plot (Foreman-Mackey 2016) of the samples after `discard`
 // burn-in steps, p x p panels for p parameters (samples[k]: steps x chains):
 // on the diagonal the marginal histogram of parameter k over all kept samples
@@ -43,63 +96,17 @@ io::PanelGrid corner_plot(const std::string& title, const std::vector<CornerPara
                           const std::vector<Eigen::MatrixXd>& samples, long discard, const std::vector<double>& mean,
                           const std::vector<double>& q025, const std::vector<double>& q975) {
   constexpr long kMaxScatterPoints = 2000;
-  constexpr int kMaxTicks = 5;
   const int p = static_cast<int>(parameters.size());
   const long steps = samples.front().rows(), chains = samples.front().cols(), kept = steps - discard;
   std::vector<io::AxisRange> range(static_cast<std::size_t>(p));  // the histogram's edges, shown units
   io::PanelGrid grid{.title = title, .rows = p, .cols = p};
   grid.panels.resize(static_cast<std::size_t>(p * p));
   grid.width_px = grid.height_px = std::clamp(350 * p, 700, 3500);
-  for (int k = 0; k < p; ++k) {
-    const auto i = static_cast<std::size_t>(k);
+  for (std::size_t i = 0; i < parameters.size(); ++i) {
     const double scale = parameters[i].scale;
-    const Eigen::MatrixXd tail = scale * samples[i].bottomRows(kept);
-    double lo = tail.minCoeff(), hi = tail.maxCoeff();
-    if (!(hi > lo)) {  // one value (a stuck chain): a bin around it
-      const double half = std::max(1e-12, 1e-3 * std::abs(lo));
-      lo -= half;
-      hi += half;
-    }
-    range[i] = {lo, hi};
-    const int bins = std::clamp(static_cast<int>(std::lround(std::sqrt(static_cast<double>(tail.size())))), 5, 40);
-    // The top edge nudged up so that the largest sample falls in the last bin, not the overflow.
-    auto histogram = boost::histogram::make_histogram(
-        boost::histogram::axis::regular<double>(static_cast<unsigned>(bins), lo, std::nextafter(hi, hi + 1.0)));
-    for (Eigen::Index j = 0; j < tail.size(); ++j) histogram(tail.data()[j]);
-
-    io::Band filled{.color = "#4060a0", .opacity = 0.3};
-    io::Series outline{.color = "#4060a0", .line_width = 1.2};
-    double highest = 0.0;
-    for (int b = 0; b < bins; ++b) {
-      const auto bin = histogram.axis().bin(b);
-      const double count = histogram.at(b);
-      highest = std::max(highest, count);
-      for (const double edge : {bin.lower(), bin.upper()}) {
-        filled.x.push_back(edge);
-        filled.lower.push_back(0.0);
-        filled.upper.push_back(count);
-        outline.x.push_back(edge);
-        outline.y.push_back(count);
-      }
-    }
-    const double top = 1.1 * std::max(highest, 1.0);
-    const double m = scale * mean[i], lower = scale * q025[i], upper = scale * q975[i];
-    const double gap = std::numeric_limits<double>::quiet_NaN();
-    io::LinePlot diagonal{.title = "mean " + format_number(m) + ", 95 % [" + format_number(lower) + ", " +
-                                   format_number(upper) + "]",
-                          .x_label = parameters[i].label,
-                          .y_label = "samples per bin",
-                          .x_range = range[i],
-                          .y_range = io::AxisRange{0.0, top},
-                          .max_ticks = kMaxTicks};
-    diagonal.bands.push_back(std::move(filled));
-    diagonal.series.push_back(std::move(outline));
-    diagonal.series.push_back({.x = {m, m}, .y = {0.0, top}, .color = "dark-red"});
-    diagonal.series.push_back({.x = {lower, lower, gap, upper, upper},
-                               .y = {0.0, top, gap, 0.0, top},
-                               .style = io::SeriesStyle::dashed,
-                               .color = "dark-red"});
-    grid.panels[i * static_cast<std::size_t>(p) + i] = std::move(diagonal);
+    grid.panels[i * static_cast<std::size_t>(p) + i] =
+        marginal_panel(parameters[i], scale * samples[i].bottomRows(kept), scale * mean[i], scale * q025[i],
+                       scale * q975[i], range[i]);
   }
   // The scatter samples: evenly spread over the kept (step, chain) pairs, step-major.
   const long total = kept * chains, shown = std::min(total, kMaxScatterPoints);
@@ -115,7 +122,7 @@ io::PanelGrid corner_plot(const std::string& title, const std::vector<CornerPara
                            .y_label = parameters[row].label,
                            .x_range = range[column],
                            .y_range = range[row],
-                           .max_ticks = kMaxTicks};
+                           .max_ticks = kCornerMaxTicks};
       scatter.series.push_back(
           {.x = thinned[column], .y = thinned[row], .style = io::SeriesStyle::points, .color = "#a0204080"});
       grid.panels[row * static_cast<std::size_t>(p) + column] = std::move(scatter);
@@ -148,7 +155,7 @@ io::LinePlot predictive_plot(const CalibrationPosterior& posterior, const Calibr
   const PredictiveBand& band = posterior.predictive[c];
   const CalibrationDataset& data = s.datasets[c];
   io::LinePlot plot;
-  plot.title = s.common.name + ": posterior predictive 99.73 % band of " + data.channel + " (" +
+  plot.title = s.identity.name + ": posterior predictive 99.73 % band of " + data.channel + " (" +
                std::to_string(posterior.predictive_draws) + " draws, curve " + std::to_string(c) + ")";
   plot.x_label = "t (data clock) [s]";
   plot.y_label = data.channel + " [mm]";
@@ -166,12 +173,12 @@ io::LinePlot predictive_plot(const CalibrationPosterior& posterior, const Calibr
 void plot_calibration_posterior(const CalibrationPosterior& posterior, const CalibrationStudy& s,
                                 const std::string& stem) {
   for (std::size_t k = 0; k < posterior.names.size(); ++k)
-    io::write_png_or_warn(trace_plot(posterior, s.common.name, k), stem + "_trace_" + posterior.names[k] + ".png",
+    io::write_png_or_warn(trace_plot(posterior, s.identity.name, k), stem + "_trace_" + posterior.names[k] + ".png",
                           "calibrate", std::cerr);
   std::vector<CornerParameter> shown;
   for (const std::string& name : posterior.names) shown.push_back(corner_parameter(name));
   const long kept = posterior.steps - posterior.discard;
-  io::write_png_or_warn(corner_plot(s.common.name + ": posterior, " + std::to_string(kept) + " steps x " +
+  io::write_png_or_warn(corner_plot(s.identity.name + ": posterior, " + std::to_string(kept) + " steps x " +
                                         std::to_string(posterior.chains) + " chains after " +
                                         std::to_string(posterior.discard) + " burn-in steps",
                                     shown, posterior.samples, posterior.discard, posterior.summary.mean,

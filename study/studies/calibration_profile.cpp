@@ -83,7 +83,7 @@ std::vector<ParameterProfile> assemble_profiles(const CalibrationStudy& s, const
 }  // namespace
 
 std::vector<ParameterProfile> profile_parameters(const CalibrationStudy& s, const GaussNewtonResult& gn,
-                                                 std::vector<double> best, const StudyRunControl& control) {
+                                                 std::vector<double> best, const StudyRunOptions& control) {
   const std::size_t p = s.fit.size(), K = s.datasets.size();
   const std::size_t G = static_cast<std::size_t>(s.profile_points);
   // Rank 0 lays out the grids and the noise sds; every rank gets them.

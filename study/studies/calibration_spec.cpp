@@ -118,9 +118,9 @@ std::string canonical_fit_name(const io::JsonReader& r, const CalibrationOverrid
 void read_fit_parameters(const io::JsonReader& r, const CalibrationOverrides& o, const ParameterSpace& space,
                          CalibrationStudy& s) {
   const io::JsonReader bounds = r.child("bounds");
-  const io::JsonReader initial = r.child("initial");
-  const io::Json no_scales = io::Json::object();
-  const io::JsonReader log_scale = r.has("log_scale") ? r.child("log_scale") : io::JsonReader(no_scales, s.common.path);
+  const io::Json none = io::Json::object();
+  const io::JsonReader initial = r.has("initial") ? r.child("initial") : io::JsonReader(none, s.identity.path);
+  const io::JsonReader log_scale = r.has("log_scale") ? r.child("log_scale") : io::JsonReader(none, s.identity.path);
   for (const std::string& name : fit_names(r, o)) {
     FitParameter p;
     p.name = name;
@@ -179,7 +179,8 @@ void check_data_fits_the_run(const CalibrationStudy& s, const CalibrationDataset
 // parameter; the offset range is always used.
 void bounds_of_unfitted_parameters(const io::JsonReader& r, const ParameterSpace& space, CalibrationStudy& s) {
   const io::JsonReader bounds = r.child("bounds");
-  const io::JsonReader initial = r.child("initial");
+  const io::Json none = io::Json::object();
+  const io::JsonReader initial = r.has("initial") ? r.child("initial") : io::JsonReader(none, r.file());
   auto check_name = [&](const io::JsonReader& where, const std::string& name) {
     if (name == kTimeOffset) return;
     try {
@@ -424,12 +425,26 @@ void read_fit_options(const io::JsonReader& r, const CalibrationOverrides& o, Ca
   if (s.profile_points < 3) r.fail("profile_points", "must be at least 3");
 }
 
+// The integrator of every run: the study's "integrator" (over the study
+// scenario's settings) or "accuracy", else the stiff one at its defaults.
+IntegratorSettings calibration_integrator(const io::JsonReader& r, CalibrationStudy& s) {
+  IntegratorSettings scenario_settings;
+  try {
+    scenario_settings = io::load_scenario(io::resolve_relative(r.file(), r.string("scenario"))).scenario.integrator;
+  } catch (const io::ConfigError& e) {
+    r.fail("scenario", e.what());
+  }
+  const std::optional<IntegratorSettings> chosen = study_integrator(r, scenario_settings, &s.accuracy_choice);
+  return chosen ? *chosen : default_integrator_settings(IntegratorMethod::kRosenbrockW);
+}
+
 // Everything that changes a result: the files, the data and the options in force.
 std::string calibration_fingerprint(const CalibrationStudy& s) {
   std::ostringstream key;
-  key << s.common.fingerprint << '\n';
+  key << file_text(s.identity.path) << '\n';
   for (const auto& d : s.datasets)
-    key << read_text(d.path) << '\n' << read_text(d.scenario_path) << '\n' << d.channel << '\n';
+    key << file_text(d.path) << '\n' << file_text(d.scenario_path) << '\n' << file_text(d.sources.rover_path) << '\n'
+        << file_text(d.sources.terrain_path) << '\n' << d.channel << '\n';
   key << (s.method == CalibrationMethod::mcmc ? "mcmc" : "optimize") << '\n' << s.algorithm << ' ' << s.max_iterations << ' ' << describe_integrator(s.integrator)
       << ' ' << s.max_evaluations << ' ' << s.starts << ' ' << s.mcmc.walkers << ' ' << s.mcmc.steps << ' ' << mcmc_discard(s.mcmc, s.mcmc.sampler) << ' ' << static_cast<int>(s.mcmc.sampler) << ' ' << s.mcmc.target_ess << ' ' << s.mcmc.max_rhat << ' ' << s.profile << ' ' << s.profile_points;
   for (const auto& p : s.fit) key << ' ' << p.name;
@@ -442,9 +457,8 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
   const io::Json json = io::read_json_file(path);
   const io::JsonReader r(json, path);
   CalibrationStudy s;
-  s.common = parse_study_common(r, "calibration");
-  s.integrator = r.has("integrator") || r.has("accuracy") ? s.common.setup.scenario.integrator
-                                     : default_integrator_settings(IntegratorMethod::kRosenbrockW);
+  s.identity = parse_study_identity(r, {"calibration"});
+  s.integrator = calibration_integrator(r, s);
   s.integration_check.reference = reference_integrator();
   read_datasets(r, path, o, s);
   s.method = read_method(r, o);

@@ -15,6 +15,8 @@
 #include "study/runtime/calibration_mpi.hpp"
 #include "study/runtime/study_runner.hpp"
 #include "study/studies/calibration_fit.hpp"
+#include "study/studies/calibration_program.hpp"
+#include "study/studies/study_output.hpp"
 
 namespace rover::study {
 namespace {
@@ -111,7 +113,7 @@ std::vector<NextExperimentCandidate> load_next_experiment_candidates(const std::
 
 NextExperimentRanking rank_next_experiments(const CalibrationStudy& study,
                                             const std::vector<NextExperimentCandidate>& candidates,
-                                            const StudyRunControl& control) {
+                                            const StudyRunOptions& control) {
   const CalibrationEstimate estimate = estimate_calibration(study, control);
   NextExperimentRanking out;
   if (!estimate.valid) {
@@ -167,29 +169,35 @@ NextExperimentRanking rank_next_experiments(const CalibrationStudy& study,
   return out;
 }
 
-CalibrationOutcome run_next_experiment(const CalibrationStudy& study, const std::string& candidates_path,
-                                       const StudyRunControl& control) {
+StudyProgram<NextExperimentRanking> next_experiment_program(CalibrationStudy study, const std::string& candidates_path) {
   const std::vector<NextExperimentCandidate> candidates = load_next_experiment_candidates(candidates_path, study);
-  const NextExperimentRanking ranking = rank_next_experiments(study, candidates, control);
-  const std::string out = control.results_path.empty()
-                              ? "results/" + study.common.name + "_next_experiment.h5"
-                              : control.results_path;
-  std::vector<double> ok{ranking.ok ? 1.0 : 0.0};
-  broadcast_from_rank0(ok);
-  CalibrationOutcome outcome{out, ok[0] != 0.0, ranking.message};
-  if (world_rank() != 0) return outcome;
-  report_next_experiment(ranking, std::cerr);
-  if (!ranking.ok) return outcome;
-  io::Hdf5Writer h5(out);
-  write_next_experiment(ranking, h5);
-  write_study_provenance(h5, study.common);
-  h5.attribute("/", "candidates_file", candidates_path);
-  h5.commit();
-  std::cerr << "calibrate: wrote " << out << "\n";
-  return outcome;
+  StudyProgram<NextExperimentRanking> p;
+  p.command = "calibrate";
+  p.name = study.identity.name + "_next_experiment";
+  p.fingerprint = extend_fingerprint(study.fingerprint, file_text(candidates_path));
+  p.banner = "ranking " + std::to_string(candidates.size()) + " candidate experiments of " + candidates_path +
+             " after fitting " + study.data_path + " on " + std::to_string(world_size()) + " rank(s)";
+  p.run = [study, candidates](const StudyRuntime& runtime) {
+    return rank_next_experiments(study, candidates, runtime.options);
+  };
+  p.provenance = [study, candidates_path](io::Hdf5Writer& h5) {
+    write_calibration_provenance(h5, study);
+    h5.attribute("/", "candidates_file", candidates_path);
+  };
+  p.write = write_next_experiment;
+  p.counts = [](const NextExperimentRanking&) { return RunCounts{}; };
+  p.report = report_next_experiment;
+  p.verdict = [](const NextExperimentRanking& r) { return r.ok ? 0 : kUntrustedStatus; };
+  return p;
 }
 
 void write_next_experiment(const NextExperimentRanking& ranking, io::Hdf5Writer& h5) {
+  h5.create_group("/next_experiment");
+  h5.attribute("/next_experiment", "ranked", static_cast<long long>(ranking.ok ? 1 : 0));
+  if (!ranking.ok) {
+    h5.attribute("/next_experiment", "not_ranked_because", ranking.message);
+    return;
+  }
   h5.write("/next_experiment/candidates", ranking.candidates);
   h5.write("/next_experiment/parameters", ranking.parameters);
   h5.write("/next_experiment/estimate", ranking.estimate);

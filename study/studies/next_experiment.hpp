@@ -35,6 +35,7 @@
 
 #include "io/hdf5_file.hpp"
 #include "study/studies/calibration.hpp"
+#include "study/studies/study_driver.hpp"
 
 namespace rover::study {
 
@@ -63,15 +64,17 @@ struct NextExperimentRanking {
 // ranking is rank 0's.
 NextExperimentRanking rank_next_experiments(const CalibrationStudy& study,
                                             const std::vector<NextExperimentCandidate>& candidates,
-                                            const StudyRunControl& control);
+                                            const StudyRunOptions& control);
 
-// Collective: loads the candidates, ranks them, and on rank 0 reports the
-// table and writes it to the results path (default
-// results/<study name>_next_experiment.h5). Not trusted (exit status 2)
-// when there is no ranking.
-CalibrationOutcome run_next_experiment(const CalibrationStudy& study, const std::string& candidates_path,
-                                       const StudyRunControl& control);
+// The ranking as a program of the study driver: the candidates are loaded
+// (and refused) before any run; it writes the table to results/<study
+// name>_next_experiment.h5 by default, and asks for kUntrustedStatus when
+// there is no ranking (the fit has no intervals, or a candidate cannot be
+// simulated at the estimate).
+StudyProgram<NextExperimentRanking> next_experiment_program(CalibrationStudy study, const std::string& candidates_path);
 
+// Rank 0: /next_experiment (attributes ranked and, without a ranking,
+// not_ranked_because).
 void write_next_experiment(const NextExperimentRanking& ranking, io::Hdf5Writer& h5);
 void report_next_experiment(const NextExperimentRanking& ranking, std::ostream& out);
 

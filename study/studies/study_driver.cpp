@@ -41,8 +41,9 @@ void commit(const std::string& command, const std::string& results_path, io::Hdf
             const RunCounts& counts) {
   if (h5 != nullptr) h5->commit();
   remove_checkpoint(results_path);
-  std::cerr << command << ": " << counts.runs << " runs (" << counts.failed << " failed), wrote " << results_path
-            << "\n";
+  std::cerr << command << ": ";
+  if (counts.runs > 0) std::cerr << counts.runs << " runs (" << counts.failed << " failed), ";
+  std::cerr << "wrote " << results_path << "\n";
 }
 
 std::optional<int> keep_earlier_result(const std::string& command, const std::string& results_path,
@@ -63,6 +64,11 @@ int exit_status(const std::string& command, const std::string& results_path, con
   std::cerr << "rover " << command << ": error: every run failed (first: " << counts.first_failure
             << "); the results are in " << results_path << "\n";
   return kEveryRunFailedStatus;
+}
+
+void report_dry_run(const std::string& command, const std::string& results_path) {
+  std::cerr << command << ": dry run: the inputs are read and checked, " << results_path
+            << " can be written; nothing was run or written\n";
 }
 
 int interrupted(const std::string& command, const StudyInterrupted& e) {

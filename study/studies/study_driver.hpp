@@ -10,7 +10,10 @@
 //     of the checkpoint;
 //   * the exit status: 0 done, kEveryRunFailedStatus when every run failed
 //     (the results are kept), kSomeRunsFailedStatus when some failed for a
-//     study that says so (evaluate).
+//     study that says so (evaluate), or the status the result itself asks
+//     for (calibration: intervals that cannot be trusted);
+//   * --dry-run: everything above is checked and the banner printed, then
+//     nothing runs and nothing is written.
 //
 // A study is a StudyProgram<Result>: its run is collective over the MPI ranks
 // and returns a typed result that is meaningful on rank 0; write, report and
@@ -19,6 +22,7 @@
 // farm's progress lines.
 #pragma once
 
+#include <algorithm>
 #include <functional>
 #include <iostream>
 #include <memory>
@@ -74,6 +78,9 @@ struct StudyProgram {
   std::function<void(const Result&, const std::string& results_path, PlotSelection)> plot;
   // The exit status when some runs, but not all, failed.
   int status_when_some_failed = 0;
+  // The exit status the result asks for whatever its runs did (0: none); the
+  // larger of it and the runs' status is returned.
+  std::function<int(const Result&)> verdict;
 };
 
 // The exit status of a study whose every run failed (its results are kept),
@@ -109,6 +116,9 @@ int exit_status(const std::string& command, const std::string& results_path, con
 // Prints the interrupt message; returns StudyInterrupted::kExitCode.
 int interrupted(const std::string& command, const StudyInterrupted& e);
 
+// Rank 0: says that a dry run checked everything and ran nothing.
+void report_dry_run(const std::string& command, const std::string& results_path);
+
 }  // namespace driver_detail
 
 // Collective: runs `study` with `options` (the user's flags) on every rank and
@@ -121,6 +131,10 @@ int drive_study(const StudyProgram<Result>& study, const StudyRunOptions& option
   runtime.options = driver_detail::prepare(study.command, study.name, study.fingerprint, study.memory,
                                            study.banner, static_cast<bool>(study.write_csv), options);
   const std::string& out = runtime.options.results_path;
+  if (options.dry_run) {
+    if (world_rank() == 0) driver_detail::report_dry_run(study.command, out);
+    return 0;
+  }
   const bool csv = driver_detail::is_csv_path(out);
   std::unique_ptr<io::Hdf5Writer> h5;
   if (world_rank() == 0 && !csv) h5 = std::make_unique<io::Hdf5Writer>(out);
@@ -142,7 +156,8 @@ int drive_study(const StudyProgram<Result>& study, const StudyRunOptions& option
     const bool every_run_failed = counts.runs > 0 && counts.failed == counts.runs;
     if (study.plot && options.plots != PlotSelection::kNone && !every_run_failed)
       study.plot(result, out, options.plots);
-    return driver_detail::exit_status(study.command, out, counts, study.status_when_some_failed);
+    const int status = driver_detail::exit_status(study.command, out, counts, study.status_when_some_failed);
+    return study.verdict ? std::max(status, study.verdict(result)) : status;
   } catch (const StudyInterrupted& e) {
     return driver_detail::interrupted(study.command, e);
   }

@@ -1,6 +1,6 @@
 // See study_spec.hpp.
 #include "study/studies/study_spec.hpp"
-#include "study/studies/study_config.hpp"
+#include "core/accuracy_choice.hpp"
 
 #include <cmath>
 #include <fstream>
@@ -316,17 +316,43 @@ std::string extend_fingerprint(const std::string& fingerprint, const std::string
   return io::config_fingerprint(fingerprint + "\n" + text);
 }
 
+std::optional<IntegratorSettings> study_integrator(const io::JsonReader& r, const IntegratorSettings& base,
+                                                   std::string* choice) {
+  if (r.has("integrator") && r.has("accuracy"))
+    r.fail("accuracy", "give either \"accuracy\" or \"integrator\", not both");
+  if (r.has("integrator")) return io::parse_integrator_settings(r.child("integrator"), base);
+  if (!r.has("accuracy")) return std::nullopt;
+  try {
+    const IntegratorChoice chosen = integrator_for_accuracy(r.number("accuracy"));
+    if (choice != nullptr) *choice = chosen.description;
+    return chosen.settings;
+  } catch (const std::invalid_argument& e) {
+    r.fail("accuracy", e.what());
+  }
+  return std::nullopt;
+}
+
+StudyIdentity parse_study_identity(const io::JsonReader& r, const std::vector<std::string>& types) {
+  StudyIdentity id;
+  id.path = r.file();
+  id.type = r.string("type");
+  if (std::find(types.begin(), types.end(), id.type) == types.end())
+    r.fail("type", "this command runs studies of type " + joined(types));
+  id.name = r.string("name");
+  if (id.name.empty() || id.name.find_first_of("/\\") != std::string::npos || id.name == "." || id.name == "..")
+    r.fail("name", "must be a plain file name (results go to results/<name>.h5)");
+  id.description = r.string_or("description", "");
+  return id;
+}
+
 StudySpec parse_study_spec(const io::JsonReader& r, const std::vector<std::string>& types,
                            DesignKey design_key) {
   StudySpec s;
-  s.path = r.file();
-  s.type = r.string("type");
-  if (std::find(types.begin(), types.end(), s.type) == types.end())
-    r.fail("type", "this command runs studies of type " + joined(types));
-  s.name = r.string("name");
-  if (s.name.empty() || s.name.find_first_of("/\\") != std::string::npos || s.name == "." || s.name == "..")
-    r.fail("name", "must be a plain file name (results go to results/<name>.h5)");
-  s.description = r.string_or("description", "");
+  const StudyIdentity identity = parse_study_identity(r, types);
+  s.path = identity.path;
+  s.type = identity.type;
+  s.name = identity.name;
+  s.description = identity.description;
   std::string fingerprint_text = file_text(s.path);
   if (r.has("scenario") == r.has("model"))
     r.fail("scenario", "give exactly one of \"scenario\" (the rover) and \"model\" (an analytic test model)");

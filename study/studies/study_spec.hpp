@@ -9,9 +9,11 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "core/scenario.hpp"
 #include "io/json_reader.hpp"
 #include "study/design/design.hpp"
 #include "study/estimators/distributions.hpp"
@@ -32,6 +34,23 @@ struct DesignSpec {
   std::uint64_t seed = 1;
   std::vector<int> grid_levels;  // per input (1 for fixed ones), grid only
 };
+
+// The study's integrator: its "integrator" block applied to `base`, or the
+// setting integrator_for_accuracy (core/accuracy_choice.hpp) chooses for its
+// "accuracy" [m], in (1e-12, 1e-2); std::nullopt when it gives neither. Both
+// at once, or an accuracy outside the range, is a ConfigError naming the
+// field. `choice` (if not null) receives the chosen setting's description.
+std::optional<IntegratorSettings> study_integrator(const io::JsonReader& reader, const IntegratorSettings& base,
+                                                   std::string* choice = nullptr);
+
+// What names a study file: its path, "type", "name" and "description".
+struct StudyIdentity {
+  std::string path, type, name, description;
+};
+
+// Reads "type" (one of `types`), "name" (a plain file name: results go to
+// results/<name>.h5) and "description"; errors name the file and the field.
+StudyIdentity parse_study_identity(const io::JsonReader& r, const std::vector<std::string>& types);
 
 struct StudySpec {
   std::string path, type, name, description;

@@ -1102,7 +1102,7 @@ TEST_F(Audit, Flags) {
   flag_case("calibrate --data a header only",
             study("calibrate", calibration) + " --data " + w().text_file("hdr", "t,z\n", "csv"), {"hdr"});
   flag_case("calibrate --max-evaluations -5", study("calibrate", calibration) + " --max-evaluations -5",
-            {"--max-evaluations must be at least 1, got -5"});
+            {"--max-evaluations must be from 1 to 100000000, got -5"});
   flag_case("calibrate --out under /proc",
             "calibrate --no-plot --study " + calibration + " --out /proc/rover_audit/c.h5", {"/proc/rover_audit/c.h5"});
   cases.push_back({"montecarlo --resume without a checkpoint",

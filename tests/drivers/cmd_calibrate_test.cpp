@@ -346,8 +346,8 @@ TEST(CmdCalibrate, BadInputIsRefusedNamingTheFieldOrFile) {
     std::string options, expected;
   };
   const std::vector<Case> cases{
-      {"--starts 0", "--starts must be at least 1, got 0"},
-      {"--max-evaluations -1", "--max-evaluations must be at least 1, got -1"},
+      {"--starts 0", "--starts must be from 1 to 100000, got 0"},
+      {"--max-evaluations -1", "--max-evaluations must be from 1 to 100000000, got -1"},
       {"--algorithm LD_MMA", "'algorithm'"},
       {"--data " + backwards, backwards},
       {"--data " + two_rows, two_rows},

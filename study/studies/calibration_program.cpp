@@ -1,0 +1,128 @@
+// See calibration_program.hpp.
+#include "study/studies/calibration_program.hpp"
+
+#include <sstream>
+#include <string>
+
+#include "study/runtime/mpi_session.hpp"
+#include "study/studies/report_number.hpp"
+#include "study/studies/study_output.hpp"
+
+namespace rover::study {
+namespace {
+
+// Where the posterior starts: the converged fit and its covariance, on every
+// rank; nothing when the fit has no finite intervals.
+McmcStart posterior_start(const CheckedFit& checked) {
+  if (!fit_has_intervals(checked)) return {};
+  ProbeInput fit = probe_input_on_every_rank(checked);
+  if (!fit.covariance.allFinite()) return {};
+  return {std::move(fit.values), std::move(fit.covariance)};
+}
+
+// The banner of a fit: what is fitted to what, how, on how many ranks.
+std::string fit_banner(const CalibrationStudy& s) {
+  std::ostringstream text;
+  text << "fitting";
+  for (const FitParameter& p : s.fit) text << " " << p.name << " in [" << p.lower << ", " << p.upper << "]";
+  text << " to " << s.data_path << " (" << s.datasets.size() << " curve(s)) with " << s.algorithm << ", "
+       << s.starts << " start(s) on " << world_size() << " rank(s)";
+  return text.str();
+}
+
+// The banner of a posterior run: the priors, the sampler and its target.
+std::string posterior_banner(const CalibrationStudy& s) {
+  std::ostringstream text;
+  text << "sampling the posterior of";
+  for (const FitParameter& p : s.fit) text << " " << p.name << " ~ " << p.prior.describe();
+  text << (s.mcmc.sample_noise ? " and the noise sd" : "") << " given " << s.data_path << " ("
+       << s.datasets.size() << " curve(s)): "
+       << (s.mcmc.sampler == McmcSampler::independence ? "independence sampler, " : "ensemble sampler, ")
+       << s.mcmc.walkers << " chains, at most " << s.mcmc.steps << " steps";
+  if (s.mcmc.target_ess > 0)
+    text << ", until every effective sample size reaches " << format_number(s.mcmc.target_ess, 6)
+         << " and R-hat < " << format_number(s.mcmc.max_rhat, 6);
+  text << ", on " << world_size() << " rank(s)";
+  return text.str();
+}
+
+// What every calibration program shares: the command, the name, the
+// fingerprint, the banner (with the integrator "accuracy" chose) and the
+// provenance attributes.
+template <class Result>
+StudyProgram<Result> calibration_program(const CalibrationStudy& s, const std::string& banner) {
+  StudyProgram<Result> p;
+  p.command = "calibrate";
+  p.name = s.identity.name;
+  p.fingerprint = s.fingerprint;
+  p.banner = s.accuracy_choice.empty() ? banner : banner + "; \"accuracy\" chose " + s.accuracy_choice;
+  p.provenance = [s](io::Hdf5Writer& h5) { write_calibration_provenance(h5, s); };
+  return p;
+}
+
+// The fit's evaluations as run counts: a failed simulation is a failed run.
+RunCounts fit_run_counts(const CalibrationFitResult& r) {
+  RunCounts counts;
+  const HistoryLayout row(r.checked.study);
+  for (std::size_t at = 0; at + row.width() <= r.history.rows.size(); at += row.width()) {
+    ++counts.runs;
+    if (r.history.rows[at + row.status()] == 0.0) continue;
+    const std::size_t k = at / row.width();
+    if (counts.failed++ == 0 && k < r.history.messages.size()) counts.first_failure = r.history.messages[k];
+  }
+  return counts;
+}
+
+}  // namespace
+
+CalibrationPosteriorResult run_calibration_posterior(const CalibrationStudy& s, const StudyRunOptions& control) {
+  FitHistory history;
+  const CheckedFit checked = checked_fit(s, s.initial_values(), control, history);
+  const McmcStart start = posterior_start(checked);
+  CalibrationPosteriorResult r{checked.study, start.values.empty(), {}};
+  r.posterior = run_calibration_mcmc(checked.study, control, start);
+  return r;
+}
+
+void report_calibration_posterior_run(const CalibrationPosteriorResult& r, std::ostream& out) {
+  out << "calibrate: the posterior started "
+      << (r.started_at_initial_values ? "at the initial values (the fit has no intervals)" : "at the converged fit")
+      << ", on " << describe_integrator(r.study.integrator) << "\n";
+  report_calibration_posterior(r.posterior, r.study, out);
+}
+
+void write_calibration_provenance(io::Hdf5Writer& h5, const CalibrationStudy& s) {
+  write_base_provenance(h5, s.identity.type, s.identity.name, s.identity.path, &s.integrator, s.fingerprint);
+}
+
+StudyProgram<CalibrationFitResult> calibration_fit_program(CalibrationStudy study) {
+  auto p = calibration_program<CalibrationFitResult>(study, fit_banner(study));
+  p.run = [study](const StudyRuntime& runtime) {
+    return run_calibration_fit(study, runtime.options, runtime.options.results_path);
+  };
+  p.write = [study](const CalibrationFitResult& r, io::Hdf5Writer& h5) { write_calibration_fit(r, study, h5); };
+  p.counts = fit_run_counts;
+  p.report = [study](const CalibrationFitResult& r, std::ostream& out) { report_calibration_fit(r, study, out); };
+  p.plot = [study](const CalibrationFitResult& r, const std::string& path, PlotSelection) {
+    plot_calibration_fit(r, study, path.substr(0, path.size() - 3));
+  };
+  p.verdict = [](const CalibrationFitResult& r) { return r.trusted ? 0 : kUntrustedStatus; };
+  return p;
+}
+
+StudyProgram<CalibrationPosteriorResult> calibration_posterior_program(CalibrationStudy study) {
+  auto p = calibration_program<CalibrationPosteriorResult>(study, posterior_banner(study));
+  p.run = [study](const StudyRuntime& runtime) { return run_calibration_posterior(study, runtime.options); };
+  p.write = [](const CalibrationPosteriorResult& r, io::Hdf5Writer& h5) {
+    write_calibration_posterior(r.posterior, r.study, h5);
+  };
+  p.counts = [](const CalibrationPosteriorResult&) { return RunCounts{}; };
+  p.report = report_calibration_posterior_run;
+  p.plot = [](const CalibrationPosteriorResult& r, const std::string& path, PlotSelection) {
+    plot_calibration_posterior(r.posterior, r.study, path.substr(0, path.size() - 3));
+  };
+  p.verdict = [](const CalibrationPosteriorResult& r) { return r.posterior.mixed ? 0 : kUntrustedStatus; };
+  return p;
+}
+
+}  // namespace rover::study
