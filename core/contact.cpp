@@ -83,6 +83,42 @@ double snap_to_grid_line(const Terrain& terrain, const RimFrame& rim, double ang
   return best_angle;
 }
 
+// Brent's method finds the deepest point only to about sqrt(eps) of the
+// angle (the depth is flat at its maximum), and where it stops changes in
+// steps as the wheel moves: the contact point, and with it the moment of the
+// contact force, would jitter by ~1e-9 m from one right-hand side to the
+// next, a noise of ~1e-4 m/s^2 in du/dt that holds an explicit integrator at
+// tight tolerance to steps of 1e-8 s. The depth's slope along the rim,
+//   d'(a) = grad h(P(a)) . dP_xy/da - dP_z/da,
+// is smooth inside a terrain cell, and its root is found to round-off by a
+// few secant steps from Brent's point. The refined angle is kept only if it
+// stays within kRefineReach_rad and is at least as deep (near a grid line
+// where the slope jumps, snap_to_grid_line() decides).
+constexpr double kRefineReach_rad = 1e-4, kRefineDelta_rad = 1e-7;
+constexpr int kRefineIterations = 4;
+
+double depth_slope_along_rim(const Terrain& terrain, const RimFrame& rim, double angle) {
+  const Vec3 p = rim.point(angle);
+  const Vec3 dp = rim.radius * (-std::sin(angle) * rim.down + std::cos(angle) * rim.along);
+  const Eigen::Vector2d g = terrain.gradient(p.x(), p.y());
+  return g.x() * dp.x() + g.y() * dp.y() - dp.z();
+}
+
+double refine_deepest_angle(const Terrain& terrain, const RimFrame& rim, double angle) {
+  double a0 = angle, a1 = angle + kRefineDelta_rad;
+  double s0 = depth_slope_along_rim(terrain, rim, a0), s1 = depth_slope_along_rim(terrain, rim, a1);
+  for (int it = 0; it < kRefineIterations && s1 != s0; ++it) {
+    const double a2 = a1 - s1 * (a1 - a0) / (s1 - s0);
+    if (!(std::abs(a2 - angle) <= kRefineReach_rad)) return angle;
+    a0 = a1;
+    s0 = s1;
+    a1 = a2;
+    s1 = depth_slope_along_rim(terrain, rim, a1);
+    if (a1 == a0 || s1 == 0.0) break;
+  }
+  return vertical_depth(terrain, rim.point(a1)) >= vertical_depth(terrain, rim.point(angle)) - 1e-15 ? a1 : angle;
+}
+
 // The regions of the rim below the terrain. On a flat plane the lowest rim
 // point is the deepest, exactly. On a height grid only the rim arc below the
 // highest terrain point nearby can touch, z(angle) = c_z + R cos(angle) down_z
@@ -163,7 +199,7 @@ WheelContacts find_wheel_contacts(const Terrain& terrain, const Vec3& wheel_cent
     const auto [angle, neg_depth] = boost::math::tools::brent_find_minima(
         [&](double a) { return -depth_at(a); }, lo, hi, std::numeric_limits<double>::digits / 2);
     double best_angle = -neg_depth < sample_depth ? sample_angle : angle;  // keep the better sample
-    best_angle = snap_to_grid_line(terrain, rim, best_angle);
+    best_angle = snap_to_grid_line(terrain, rim, refine_deepest_angle(terrain, rim, best_angle));
     c.point_m = rim.point(best_angle);
     c.depth_m = vertical_depth(terrain, c.point_m);
     c.normal = terrain.normal(c.point_m.x(), c.point_m.y());
