@@ -41,48 +41,6 @@ double vertical_depth(const Terrain& terrain, const Vec3& p) {
   return terrain.height(p.x(), p.y()) - p.z();
 }
 
-// On a height grid the depth along the rim has kinks where the rim crosses a
-// grid line, and at a convex edge its maximum sits on such a kink. Brent's
-// method stops within ~1e-9 m of it, on either side, which would make the
-// normal chatter between the one-sided slopes and their mean. If the optimum is
-// within kSnapDistance_m of a grid line, the exact crossing of the rim with the
-// line is taken instead when it is at least as deep.
-constexpr double kSnapDistance_m = 1e-6;
-
-// Rim angle near `angle` where the rim coordinate `axis` (0 = x, 1 = y) equals
-// `line` (Newton's method); returns `angle` if it does not converge.
-double rim_angle_on_line(const RimFrame& rim, int axis, double line, double angle) {
-  double a = angle;
-  for (int it = 0; it < 8; ++it) {
-    const double f = rim.centre[axis] + rim.radius * (std::cos(a) * rim.down[axis] + std::sin(a) * rim.along[axis]) - line;
-    const double df = rim.radius * (-std::sin(a) * rim.down[axis] + std::cos(a) * rim.along[axis]);
-    if (std::abs(df) < 1e-12) return angle;
-    a -= f / df;
-    if (std::abs(f) < 1e-15) break;
-  }
-  return std::abs(a - angle) < 1e-3 ? a : angle;
-}
-
-double snap_to_grid_line(const Terrain& terrain, const RimFrame& rim, double angle) {
-  const HeightGrid& g = *terrain.grid();
-  double best_angle = angle;
-  double best_depth = vertical_depth(terrain, rim.point(angle));
-  for (int axis = 0; axis < 2; ++axis) {
-    const double origin = axis == 0 ? g.origin_x_m : g.origin_y_m;
-    const double spacing = axis == 0 ? g.spacing_x_m : g.spacing_y_m;
-    const Vec3 p = rim.point(best_angle);
-    const double line = origin + std::round((p[axis] - origin) / spacing) * spacing;
-    if (std::abs(p[axis] - line) > kSnapDistance_m) continue;
-    const double a = rim_angle_on_line(rim, axis, line, best_angle);
-    const double d = vertical_depth(terrain, rim.point(a));
-    if (d >= best_depth - 1e-15) {
-      best_angle = a;
-      best_depth = d;
-    }
-  }
-  return best_angle;
-}
-
 // Brent's method finds the deepest point only to about sqrt(eps) of the
 // angle (the depth is flat at its maximum), and where it stops changes in
 // steps as the wheel moves: the contact point, and with it the moment of the
@@ -117,6 +75,65 @@ double refine_deepest_angle(const Terrain& terrain, const RimFrame& rim, double 
     if (a1 == a0 || s1 == 0.0) break;
   }
   return vertical_depth(terrain, rim.point(a1)) >= vertical_depth(terrain, rim.point(angle)) - 1e-15 ? a1 : angle;
+}
+
+// On a height grid the depth along the rim has kinks where the rim crosses a
+// grid line, and at a convex edge its maximum sits on such a kink. Brent's
+// method stops within ~1e-9 m of it, on either side, which would make the
+// normal chatter between the one-sided slopes and their mean. If the optimum is
+// within kSnapDistance_m of a grid line, the exact crossing of the rim with the
+// line is taken instead when the depth rises towards it from both sides: its
+// slope along the rim, taken kOffLine_m off the line on either side (beyond
+// the terrain's grid-line tolerance, so on each side's own slope), is >= 0
+// before it and <= 0 after it. Comparing the depths instead would decide at
+// round-off where the wheel's tangent point on a face nears the edge (both
+// depths agree to 1e-15 m there): the contact would flip between the face's
+// normal and the edge's from one right-hand side to the next, a jump that no
+// step, however short, could step across. A line where the slope does not
+// jump (one-sided slopes along the rim within kKinkSlopeStep_m [m/rad]; a
+// kink of the obstacle's ramp makes them differ by ~1e-3 or more) is left to
+// the refined optimum.
+constexpr double kSnapDistance_m = 1e-6, kOffLine_m = 1e-8, kKinkSlopeStep_m = 1e-6;
+
+// Rim angle near `angle` where the rim coordinate `axis` (0 = x, 1 = y) equals
+// `line` (Newton's method); returns `angle` if it does not converge.
+double rim_angle_on_line(const RimFrame& rim, int axis, double line, double angle) {
+  double a = angle;
+  for (int it = 0; it < 8; ++it) {
+    const double f = rim.centre[axis] + rim.radius * (std::cos(a) * rim.down[axis] + std::sin(a) * rim.along[axis]) - line;
+    const double df = rim.radius * (-std::sin(a) * rim.down[axis] + std::cos(a) * rim.along[axis]);
+    if (std::abs(df) < 1e-12) return angle;
+    a -= f / df;
+    if (std::abs(f) < 1e-15) break;
+  }
+  return std::abs(a - angle) < 1e-3 ? a : angle;
+}
+
+double snap_to_grid_line(const Terrain& terrain, const RimFrame& rim, double angle) {
+  const HeightGrid& g = *terrain.grid();
+  double best_angle = angle;
+  double best_depth = vertical_depth(terrain, rim.point(angle));
+  for (int axis = 0; axis < 2; ++axis) {
+    const double origin = axis == 0 ? g.origin_x_m : g.origin_y_m;
+    const double spacing = axis == 0 ? g.spacing_x_m : g.spacing_y_m;
+    const Vec3 p = rim.point(best_angle);
+    const double line = origin + std::round((p[axis] - origin) / spacing) * spacing;
+    if (std::abs(p[axis] - line) > kSnapDistance_m) continue;
+    const double a = rim_angle_on_line(rim, axis, line, best_angle);
+    const double d = vertical_depth(terrain, rim.point(a));
+    const double across = std::abs(rim.radius * (-std::sin(a) * rim.down[axis] + std::cos(a) * rim.along[axis]));
+    bool rises_to_line = d >= best_depth - 1e-15;  // the rim runs along the line: by depth
+    if (across * kSnapDistance_m > kOffLine_m) {
+      const double before = depth_slope_along_rim(terrain, rim, a - kOffLine_m / across);
+      const double after = depth_slope_along_rim(terrain, rim, a + kOffLine_m / across);
+      rises_to_line = before >= 0.0 && after <= 0.0 && before - after > kKinkSlopeStep_m;
+    }
+    if (rises_to_line) {
+      best_angle = a;
+      best_depth = d;
+    }
+  }
+  return best_angle;
 }
 
 // The regions of the rim below the terrain. On a flat plane the lowest rim
