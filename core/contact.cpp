@@ -46,17 +46,14 @@ double vertical_depth(const Terrain& terrain, const Vec3& p) {
 // steps as the wheel moves: the contact point, and with it the moment of the
 // contact force, would jitter by ~1e-9 m from one right-hand side to the
 // next, a noise of ~1e-4 m/s^2 in du/dt that holds an explicit integrator at
-// tight tolerance to steps of 1e-8 s. On a plane of gradient g the depth
-// along the rim is
-//   d(a) = const + R (A cos a + B sin a),  A = g . down_xy - down_z,
-//                                          B = g . along_xy - along_z,
-// deepest at a = atan2(B, A); with g taken at Brent's point this is exact
-// to round-off in a planar terrain cell (and, repeated, converges in a
-// bilinear one). The refined angle is kept only if it stays within
-// kRefineReach_rad and is at least as deep (near a grid line where the slope
-// jumps, snap_to_grid_line() decides).
-constexpr double kRefineReach_rad = 1e-4;
-constexpr int kRefineIterations = 3;
+// tight tolerance to steps of 1e-8 s. The depth's slope along the rim,
+//   d'(a) = grad h(P(a)) . dP_xy/da - dP_z/da,
+// is smooth inside a terrain cell, and its root is found to round-off by a
+// few secant steps from Brent's point. The refined angle is kept only if it
+// stays within kRefineReach_rad and is at least as deep (near a grid line
+// where the slope jumps, snap_to_grid_line() decides).
+constexpr double kRefineReach_rad = 1e-4, kRefineDelta_rad = 1e-7;
+constexpr int kRefineIterations = 4;
 
 double depth_slope_along_rim(const Terrain& terrain, const RimFrame& rim, double angle) {
   const Vec3 p = rim.point(angle);
@@ -65,46 +62,19 @@ double depth_slope_along_rim(const Terrain& terrain, const RimFrame& rim, double
   return g.x() * dp.x() + g.y() * dp.y() - dp.z();
 }
 
-// The deepest angle on the plane through the terrain's gradient at `angle`,
-// taken within half a turn of `angle`.
-double deepest_angle_on_tangent_plane(const Terrain& terrain, const RimFrame& rim, double angle) {
-  const Vec3 p = rim.point(angle);
-  const Eigen::Vector2d g = terrain.gradient(p.x(), p.y());
-  const double a = g.x() * rim.down.x() + g.y() * rim.down.y() - rim.down.z();
-  const double b = g.x() * rim.along.x() + g.y() * rim.along.y() - rim.along.z();
-  return angle + std::remainder(std::atan2(b, a) - angle, 2.0 * std::numbers::pi);
-}
-
 double refine_deepest_angle(const Terrain& terrain, const RimFrame& rim, double angle) {
-  double a = angle;
-  for (int it = 0; it < kRefineIterations; ++it) {
-    const double next = deepest_angle_on_tangent_plane(terrain, rim, a);
-    if (!(std::abs(next - angle) <= kRefineReach_rad)) return angle;
-    const bool converged = std::abs(next - a) <= 1e-15;
-    a = next;
-    if (converged) break;
+  double a0 = angle, a1 = angle + kRefineDelta_rad;
+  double s0 = depth_slope_along_rim(terrain, rim, a0), s1 = depth_slope_along_rim(terrain, rim, a1);
+  for (int it = 0; it < kRefineIterations && s1 != s0; ++it) {
+    const double a2 = a1 - s1 * (a1 - a0) / (s1 - s0);
+    if (!(std::abs(a2 - angle) <= kRefineReach_rad)) return angle;
+    a0 = a1;
+    s0 = s1;
+    a1 = a2;
+    s1 = depth_slope_along_rim(terrain, rim, a1);
+    if (a1 == a0 || s1 == 0.0) break;
   }
-  return vertical_depth(terrain, rim.point(a)) >= vertical_depth(terrain, rim.point(angle)) - 1e-15 ? a : angle;
-}
-
-// The deepest angle of a region whose optimum lies on one terrain face: the
-// tangent-plane optimum iterated from the deepest sample until it repeats
-// itself (exact in a planar cell after one step, confirmed by the second),
-// inside (lo, hi) and at least as deep as the sample; NaN otherwise (an
-// edge, where the faces' optima lie on each other's sides, or a curved
-// cell), for Brent's method to decide.
-double deepest_angle_on_face(const Terrain& terrain, const RimFrame& rim, double sample_angle, double sample_depth,
-                             double lo, double hi) {
-  constexpr int kFaceIterations = 3;
-  double a = sample_angle;
-  for (int it = 0; it < kFaceIterations; ++it) {
-    const double next = deepest_angle_on_tangent_plane(terrain, rim, a);
-    if (!(next > lo && next < hi)) break;
-    if (std::abs(next - a) <= 1e-15)
-      return vertical_depth(terrain, rim.point(next)) >= sample_depth ? next : std::nan("");
-    a = next;
-  }
-  return std::nan("");
+  return vertical_depth(terrain, rim.point(a1)) >= vertical_depth(terrain, rim.point(angle)) - 1e-15 ? a1 : angle;
 }
 
 // On a height grid the depth along the rim has kinks where the rim crosses a
@@ -242,17 +212,11 @@ WheelContacts find_wheel_contacts(const Terrain& terrain, const Vec3& wheel_cent
       c.penetration_m = sample_depth;
       return;
     }
-    // The deepest point between the neighbouring samples: on the tangent
-    // plane of the deepest sample if that converges inside them, else by
-    // Brent's method, refined.
-    double best_angle = deepest_angle_on_face(terrain, rim, sample_angle, sample_depth, lo, hi);
-    if (std::isnan(best_angle)) {
-      const auto [angle, neg_depth] = boost::math::tools::brent_find_minima(
-          [&](double a) { return -depth_at(a); }, lo, hi, std::numeric_limits<double>::digits / 2);
-      best_angle = -neg_depth < sample_depth ? sample_angle : angle;  // keep the better sample
-      best_angle = refine_deepest_angle(terrain, rim, best_angle);
-    }
-    best_angle = snap_to_grid_line(terrain, rim, best_angle);
+    // Refine the deepest point between the neighbouring samples (Brent).
+    const auto [angle, neg_depth] = boost::math::tools::brent_find_minima(
+        [&](double a) { return -depth_at(a); }, lo, hi, std::numeric_limits<double>::digits / 2);
+    double best_angle = -neg_depth < sample_depth ? sample_angle : angle;  // keep the better sample
+    best_angle = snap_to_grid_line(terrain, rim, refine_deepest_angle(terrain, rim, best_angle));
     c.point_m = rim.point(best_angle);
     c.depth_m = vertical_depth(terrain, c.point_m);
     c.normal = terrain.normal(c.point_m.x(), c.point_m.y());
