@@ -27,7 +27,7 @@ extra=()
 # method rtol atol, cheapest first within each method.
 settings=(
   "rosenbrock 1e-4 2e-3" "rosenbrock 1e-5 2e-4" "rosenbrock 1e-5 1e-5" "rosenbrock 1e-5 1e-6"
-  "rosenbrock 1e-5 1e-8" "rosenbrock 1e-6 1e-8"
+  "rosenbrock 1e-5 1e-7" "rosenbrock 1e-5 1e-8" "rosenbrock 1e-6 1e-8"
   "rodas4 1e-4 2e-3" "rodas4 1e-5 2e-4" "rodas4 1e-5 1e-5" "rodas4 1e-5 1e-6" "rodas4 1e-6 1e-7"
   "rodas4 1e-7 1e-8"
   "dopri5 1e-6 1e-9" "dopri5 1e-7 1e-10" "dopri5 1e-8 1e-11" "dopri5 1e-9 1e-12"

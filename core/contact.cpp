@@ -41,13 +41,59 @@ double vertical_depth(const Terrain& terrain, const Vec3& p) {
   return terrain.height(p.x(), p.y()) - p.z();
 }
 
+// Brent's method finds the deepest point only to about sqrt(eps) of the
+// angle (the depth is flat at its maximum), and where it stops changes in
+// steps as the wheel moves: the contact point, and with it the moment of the
+// contact force, would jitter by ~1e-9 m from one right-hand side to the
+// next, a noise of ~1e-4 m/s^2 in du/dt that holds an explicit integrator at
+// tight tolerance to steps of 1e-8 s. The depth's slope along the rim,
+//   d'(a) = grad h(P(a)) . dP_xy/da - dP_z/da,
+// is smooth inside a terrain cell, and its root is found to round-off by a
+// few secant steps from Brent's point. The refined angle is kept only if it
+// stays within kRefineReach_rad and is at least as deep (near a grid line
+// where the slope jumps, snap_to_grid_line() decides).
+constexpr double kRefineReach_rad = 1e-4, kRefineDelta_rad = 1e-7;
+constexpr int kRefineIterations = 4;
+
+double depth_slope_along_rim(const Terrain& terrain, const RimFrame& rim, double angle) {
+  const Vec3 p = rim.point(angle);
+  const Vec3 dp = rim.radius * (-std::sin(angle) * rim.down + std::cos(angle) * rim.along);
+  const Eigen::Vector2d g = terrain.gradient(p.x(), p.y());
+  return g.x() * dp.x() + g.y() * dp.y() - dp.z();
+}
+
+double refine_deepest_angle(const Terrain& terrain, const RimFrame& rim, double angle) {
+  double a0 = angle, a1 = angle + kRefineDelta_rad;
+  double s0 = depth_slope_along_rim(terrain, rim, a0), s1 = depth_slope_along_rim(terrain, rim, a1);
+  for (int it = 0; it < kRefineIterations && s1 != s0; ++it) {
+    const double a2 = a1 - s1 * (a1 - a0) / (s1 - s0);
+    if (!(std::abs(a2 - angle) <= kRefineReach_rad)) return angle;
+    a0 = a1;
+    s0 = s1;
+    a1 = a2;
+    s1 = depth_slope_along_rim(terrain, rim, a1);
+    if (a1 == a0 || s1 == 0.0) break;
+  }
+  return vertical_depth(terrain, rim.point(a1)) >= vertical_depth(terrain, rim.point(angle)) - 1e-15 ? a1 : angle;
+}
+
 // On a height grid the depth along the rim has kinks where the rim crosses a
 // grid line, and at a convex edge its maximum sits on such a kink. Brent's
 // method stops within ~1e-9 m of it, on either side, which would make the
 // normal chatter between the one-sided slopes and their mean. If the optimum is
 // within kSnapDistance_m of a grid line, the exact crossing of the rim with the
-// line is taken instead when it is at least as deep.
-constexpr double kSnapDistance_m = 1e-6;
+// line is taken instead when the depth rises towards it from both sides: its
+// slope along the rim, taken kOffLine_m off the line on either side (beyond
+// the terrain's grid-line tolerance, so on each side's own slope), is >= 0
+// before it and <= 0 after it. Comparing the depths instead would decide at
+// round-off where the wheel's tangent point on a face nears the edge (both
+// depths agree to 1e-15 m there): the contact would flip between the face's
+// normal and the edge's from one right-hand side to the next, a jump that no
+// step, however short, could step across. A line where the slope does not
+// jump (one-sided slopes along the rim within kKinkSlopeStep_m [m/rad]; a
+// kink of the obstacle's ramp makes them differ by ~1e-3 or more) is left to
+// the refined optimum.
+constexpr double kSnapDistance_m = 1e-6, kOffLine_m = 1e-8, kKinkSlopeStep_m = 1e-6;
 
 // Rim angle near `angle` where the rim coordinate `axis` (0 = x, 1 = y) equals
 // `line` (Newton's method); returns `angle` if it does not converge.
@@ -75,7 +121,14 @@ double snap_to_grid_line(const Terrain& terrain, const RimFrame& rim, double ang
     if (std::abs(p[axis] - line) > kSnapDistance_m) continue;
     const double a = rim_angle_on_line(rim, axis, line, best_angle);
     const double d = vertical_depth(terrain, rim.point(a));
-    if (d >= best_depth - 1e-15) {
+    const double across = std::abs(rim.radius * (-std::sin(a) * rim.down[axis] + std::cos(a) * rim.along[axis]));
+    bool rises_to_line = d >= best_depth - 1e-15;  // the rim runs along the line: by depth
+    if (across * kSnapDistance_m > kOffLine_m) {
+      const double before = depth_slope_along_rim(terrain, rim, a - kOffLine_m / across);
+      const double after = depth_slope_along_rim(terrain, rim, a + kOffLine_m / across);
+      rises_to_line = before >= 0.0 && after <= 0.0 && before - after > kKinkSlopeStep_m;
+    }
+    if (rises_to_line) {
       best_angle = a;
       best_depth = d;
     }
@@ -163,7 +216,7 @@ WheelContacts find_wheel_contacts(const Terrain& terrain, const Vec3& wheel_cent
     const auto [angle, neg_depth] = boost::math::tools::brent_find_minima(
         [&](double a) { return -depth_at(a); }, lo, hi, std::numeric_limits<double>::digits / 2);
     double best_angle = -neg_depth < sample_depth ? sample_angle : angle;  // keep the better sample
-    best_angle = snap_to_grid_line(terrain, rim, best_angle);
+    best_angle = snap_to_grid_line(terrain, rim, refine_deepest_angle(terrain, rim, best_angle));
     c.point_m = rim.point(best_angle);
     c.depth_m = vertical_depth(terrain, c.point_m);
     c.normal = terrain.normal(c.point_m.x(), c.point_m.y());

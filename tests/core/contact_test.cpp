@@ -2,7 +2,9 @@
 // of the deepest rim point against analytic results on flat and planar
 // terrain, several contact regions at the foot of a ramp (and their count
 // without locating them), the slope normal,
-// the mean-slope normal at a convex edge on a grid line, and the forces: never
+// the mean-slope normal at a convex edge on a grid line (taken once the
+// tangent point reaches it), a contact point that moves smoothly with the
+// wheel, and the forces: never
 // pulling (and the same without the friction), friction against the slip, and
 // generalized forces consistent with the virtual power of the contact forces
 // and with finite differences.
@@ -11,6 +13,7 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -148,9 +151,9 @@ TEST(Contact, TiltedPlaneGridMatchesThePlane) {
     EXPECT_NEAR(cp.depth_m, depth, 1e-9) << "trial " << trial;
     EXPECT_NEAR(cp.penetration_m, depth * n.z(), 1e-9) << "trial " << trial;
     EXPECT_LT((cp.normal - n).norm(), 1e-12) << "trial " << trial;
-    // The maximiser of a smooth function is only determined to ~sqrt(eps) of
-    // the rim angle; its depth (above) is exact.
-    EXPECT_LT((cp.point_m - deepest).norm(), 1e-8) << "trial " << trial;
+    // Brent's maximiser, to ~sqrt(eps) of the rim angle, refined on the
+    // depth's slope along the rim to round-off.
+    EXPECT_LT((cp.point_m - deepest).norm(), 1e-12) << "trial " << trial;
     expect_on_rim(cp, centre, spin, kRadius);
   }
 }
@@ -175,6 +178,26 @@ TEST(Contact, RampNormalFollowsTheSlope) {
     EXPECT_LT((c.point_m - support_point(centre, spin, kRadius, n)).norm(), 1e-7);
     expect_on_rim(c, centre, spin, kRadius);
   }
+}
+
+TEST(Contact, ContactPointOnTheRampMovesSmoothlyWithTheWheel) {
+  // The wheel slides up the ramp by 1e-7 m at a time: its deepest point moves
+  // along a straight line, so its second differences are round-off, not the
+  // ~1e-9 m by which Brent's method alone would scatter it (a noise in the
+  // contact force's moment that holds an explicit integrator to tiny steps).
+  const Terrain& terrain = obstacle_terrain();
+  const Vec3 spin = rot(Vec3::UnitZ(), 0.2) * Vec3::UnitY();
+  const Vec3 n(-std::sin(kRamp), 0.0, std::cos(kRamp)), along(std::cos(kRamp), 0.0, std::sin(kRamp));
+  const double reach = kRadius * (n - n.dot(spin) * spin).norm(), penetration = 0.002, x_c = 1.5;
+  const Vec3 start(x_c, -0.2215, (reach - penetration) / std::cos(kRamp) + (x_c - 1.36) * std::tan(kRamp));
+  std::vector<Vec3> points;
+  for (int k = 0; k < 12; ++k) {
+    const WheelContacts w = find_wheel_contacts(terrain, start + (1e-7 * k) * along, spin, kRadius);
+    ASSERT_EQ(w.count, 1) << "k " << k;
+    points.push_back(w.points[0].point_m);
+  }
+  for (std::size_t k = 1; k + 1 < points.size(); ++k)
+    EXPECT_LT((points[k + 1] - 2.0 * points[k] + points[k - 1]).norm(), 1e-13) << "k " << k;
 }
 
 TEST(Contact, WheelAtTheFootOfTheRampHasTwoRegions) {
@@ -274,6 +297,47 @@ ForcesAt forces_at(const Coordinates& q, const Coordinates& u, Terrain terrain =
   return f;
 }
 constexpr double kBottomBelowG = 0.2285;  // docs/model.md §3
+
+TEST(Contact, TangentPointReachingAConvexEdgeSwitchesToTheEdgeOnce) {
+  // The ridge of the test above; a steered, tilted wheel slides up its +0.3
+  // face until its tangent point on the face passes the edge. The contact
+  // turns from the face's normal to the edge's mean normal once, where the
+  // tangent point reaches the edge, not back and forth at round-off while the
+  // two depths agree to 1e-15 m (a jump that would stall any integrator):
+  // swept in steps of 1e-12 m across the switch.
+  const double x0 = 0.5, top = 0.05, up = 0.3, down = -0.1, penetration = 0.002;
+  const Terrain ridge = Terrain::from_grid(testing::sampled_grid(0.0, -0.5, 0.01, 0.05, 101, 21, [&](double x, double) {
+    return x <= x0 ? top + up * (x - x0) : top + down * (x - x0);
+  }));
+  const Vec3 spin = spin_axis(0.0, 0.05, 0.1, 0.3);
+  const Vec3 face_normal = Vec3(-up, 0.0, 1.0).normalized();
+  const Vec3 offset = support_point(Vec3::Zero(), spin, kRadius, face_normal);  // tangent point - centre
+  auto normal_at = [&](double tangent_x) {
+    const Vec3 tangent(tangent_x, 0.013, top + up * (tangent_x - x0) - penetration);
+    const WheelContacts w = find_wheel_contacts(ridge, tangent - offset, spin, kRadius);
+    EXPECT_EQ(w.count, 1) << "tangent point at x " << tangent_x;
+    return w.points[0].normal;
+  };
+  auto switches = [&](double from, double step, int n, double* last_switch) {
+    int count = 0;
+    Vec3 previous = normal_at(from);
+    for (int k = 1; k <= n; ++k) {
+      const Vec3 normal = normal_at(from + step * k);
+      if ((normal - previous).norm() > 1e-6) {
+        ++count;
+        *last_switch = from + step * k;
+      }
+      previous = normal;
+    }
+    return count;
+  };
+  EXPECT_LT((normal_at(x0 - 1e-7) - face_normal).norm(), 1e-12);
+  double at = 0.0;
+  ASSERT_EQ(switches(x0 - 1e-7, 1e-9, 200, &at), 1);
+  EXPECT_NEAR(at, x0, 3e-8);
+  EXPECT_EQ(switches(at - 2e-10, 1e-12, 400, &at), 1);
+  EXPECT_LT((normal_at(x0 + 1e-7) - Vec3(-0.5 * (up + down), 0.0, 1.0).normalized()).norm(), 1e-12);
+}
 
 TEST(Contact, NormalForceNeverPulls) {
   Coordinates q = Coordinates::Zero(), u = Coordinates::Zero();
