@@ -48,8 +48,14 @@ GaussianProcessSettings parse_gp_options(const io::JsonReader& r, std::uint64_t 
   gp.starts = g.integer_or("starts", gp.starts);
   if (gp.starts < 1 || gp.starts > kMaxGaussianProcessStarts)
     g.fail("starts", "must be from 1 to " + std::to_string(kMaxGaussianProcessStarts));
-  gp.nugget = g.number_or("nugget", gp.nugget);
-  if (!(gp.nugget >= 0.0 && gp.nugget <= kMaxGaussianProcessNugget)) g.fail("nugget", "must lie in [0, 0.1]");
+  if (g.has("nugget") && g.raw("nugget").is_string()) {
+    const std::string nugget = g.string("nugget");
+    if (nugget != "estimate") g.fail("nugget", "expected a number in [0, 0.1] or \"estimate\", got \"" + nugget + "\"");
+    gp.estimate_nugget = true;
+  } else {
+    gp.nugget = g.number_or("nugget", gp.nugget);
+    if (!(gp.nugget >= 0.0 && gp.nugget <= kMaxGaussianProcessNugget)) g.fail("nugget", "must lie in [0, 0.1]");
+  }
   gp.q2_threshold = g.number_or("q2_threshold", gp.q2_threshold);
   if (!(gp.q2_threshold > 0.0 && gp.q2_threshold <= 1.0)) g.fail("q2_threshold", "must lie in (0, 1]");
   g.finish();

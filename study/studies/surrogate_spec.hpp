@@ -13,7 +13,8 @@
 //   "held_out": {"fraction": 0.2} (the last runs, design or file, in (0, 0.5])
 //               or {"file": "results/other.h5"}     optional held-out validation,
 //   "pce": {"max_degree": 12, "q_norm": 0.75, "bootstrap": 200, "q2_threshold": 0.95},
-//   "gp":  {"trend": "constant" | "linear", "starts": 4, "nugget": 1e-8, "q2_threshold": 0.95},
+//   "gp":  {"trend": "constant" | "linear", "starts": 4, "nugget": 1e-8 | "estimate",
+//           "q2_threshold": 0.95},
 //   "confidence": 0.95                               (of the bootstrap intervals).
 //
 // Every listed parameter must vary (no "fixed" distribution): it is an input

@@ -4,10 +4,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iostream>
+#include <memory>
 
 #include "io/json_reader.hpp"
 #include "study/runtime/study_runner.hpp"
 #include "study/studies/study_output.hpp"
+#include "study/studies/surrogate_report.hpp"
 
 namespace rover::study {
 namespace {
@@ -144,14 +147,14 @@ SurrogateStudyResult fit_surrogate_study(const SurrogateStudy& study, const Trai
   return r;
 }
 
-std::optional<SurrogateStudyResult> run_surrogate_study(const SurrogateStudy& study, const StudyRunControl& control) {
-  const std::string out = checked_results_path(study.spec.name, control.results_path);
+SurrogateStudyResult run_surrogate_study(const SurrogateStudy& study, const StudyRuntime& runtime) {
+  const std::string& out = runtime.options.results_path;
   const bool root = world_rank() == 0;
   const auto start = Clock::now();
   TrainingRuns runs;
-  if (study.training_file.empty()) runs = run_design_runs(study, control, out);
+  if (study.training_file.empty()) runs = run_design_runs(study, runtime.options);
   else if (root) runs = read_result_runs(study.training_file, study, "training");
-  if (!root) return std::nullopt;
+  if (!root) return {};
   const double runs_s = seconds_since(start);
   TrainingRuns held_out;
   if (!study.held_out_file.empty()) {
@@ -165,6 +168,35 @@ std::optional<SurrogateStudyResult> run_surrogate_study(const SurrogateStudy& st
   result.results_path = out;
   result.runs_wall_time_s = runs_s;
   return result;
+}
+
+StudyProgram<SurrogateStudyResult> surrogate_program(SurrogateStudy study) {
+  StudyProgram<SurrogateStudyResult> p;
+  p.command = "surrogate";
+  p.name = study.spec.name;
+  p.fingerprint = study.spec.fingerprint;
+  p.banner = std::string(surrogate_kind_name(study.kind)) + " of " + std::to_string(study.qoi_names().size()) +
+             " QoI(s) over " + std::to_string(study.spec.inputs.size()) + " inputs, trained on " +
+             (study.training_file.empty()
+                  ? std::to_string(study.spec.design.samples) + " runs of " + study.spec.model->describe() + " (" +
+                        design_type_name(study.spec.design.type) + ") on " + std::to_string(world_size()) +
+                        " rank(s)"
+                  : study.training_file);
+  const auto s = std::make_shared<const SurrogateStudy>(std::move(study));
+  p.run = [s](const StudyRuntime& runtime) { return run_surrogate_study(*s, runtime); };
+  p.write = [s](const SurrogateStudyResult& r, io::Hdf5Writer& h5) { write_surrogate_study(h5, *s, r); };
+  p.counts = [](const SurrogateStudyResult& r) {
+    std::vector<int> status = r.training.status;
+    status.insert(status.end(), r.held_out.status.begin(), r.held_out.status.end());
+    std::vector<std::string> messages = r.training.messages;
+    messages.insert(messages.end(), r.held_out.messages.begin(), r.held_out.messages.end());
+    return count_runs(status, messages);
+  };
+  p.report = [s](const SurrogateStudyResult& r, std::ostream& out) { report_surrogate_study(out, *s, r); };
+  p.plot = [s](const SurrogateStudyResult& r, const std::string&, PlotSelection) {
+    plot_surrogate_study(*s, r, std::cerr);
+  };
+  return p;
 }
 
 }  // namespace rover::study

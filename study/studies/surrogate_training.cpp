@@ -136,8 +136,7 @@ TrainingRuns read_result_runs(const std::string& path, const SurrogateStudy& stu
   return runs;
 }
 
-TrainingRuns run_design_runs(const SurrogateStudy& study, const StudyRunControl& control,
-                             const std::string& results_path) {
+TrainingRuns run_design_runs(const SurrogateStudy& study, const StudyRunOptions& options) {
   const StudySpec& spec = study.spec;
   const StudyModel& model = *spec.model;
   const RecordLayout layout = model.layout();
@@ -154,10 +153,6 @@ TrainingRuns run_design_runs(const SurrogateStudy& study, const StudyRunControl&
     runs.status.push_back(record.status);
     runs.messages.push_back(record.message);
   };
-  StudyRunOptions options = control;
-  options.results_path = results_path;
-  options.fingerprint = spec.fingerprint;
-  options.label = "surrogate";
   stream_study_tasks(static_cast<int>(runs.x.rows()), compute, consume, options);
   if (world_rank() != 0) return TrainingRuns{};
   return runs;
