@@ -17,6 +17,10 @@ namespace {
 
 constexpr int kMaxSurfaceKrigingRuns = 5000;  // the process's n x n matrices
 constexpr int kMaxStarts = 100;
+// The likelihood with an estimated nugget has several optima: more starts.
+constexpr int kSurfaceKrigingStarts = 12;
+// A wall time on a shared machine can be as noisy as its trend is large.
+constexpr double kSurfaceKrigingMaxNugget = 1.0;
 // Two grids agree when every axis value does to this relative tolerance.
 constexpr double kGridTolerance = 1e-9;
 const char* const kQoiNames[2] = {"rms", "t_c"};
@@ -130,6 +134,8 @@ SurfaceKrigingSpec parse_surface_kriging(const io::JsonReader& r, const std::str
     }
   }
   s.gp.estimate_nugget = true;
+  s.gp.starts = kSurfaceKrigingStarts;
+  s.gp.max_nugget = kSurfaceKrigingMaxNugget;
   s.gp.seed = s.seed;
   if (r.has("gp")) {
     const io::JsonReader g = r.child("gp");

@@ -24,7 +24,7 @@
 // Study file keys (beside those of surface.hpp):
 //   "surrogate": "gp", "runs": 60 (>= 5), "seed": 7,
 //   "check": "grid" | {"file": "results/f_cq_surface.h5"}   (optional),
-//   "gp": {"trend": "constant" | "linear", "starts": 4}      (optional).
+//   "gp": {"trend": "constant" | "linear", "starts": 12}     (optional).
 #pragma once
 
 #include <cstdint>

@@ -18,6 +18,7 @@ namespace rover::study {
 namespace {
 
 constexpr double kMaxNugget = 0.1;
+constexpr double kMaxEstimatedNugget = 10.0;
 constexpr int kMaxStarts = 100;
 constexpr int kMinEvaluations = 10;
 // The objective returned where the correlation matrix is not positive definite.
@@ -30,6 +31,7 @@ constexpr double kLogLengthTolerance = 1e-5;
 // A sample variance at or below this fraction of the squared mean is zero.
 constexpr double kConstantOutputRelativeVariance = 1e-28;
 constexpr std::uint64_t kStartStream = 0x6A09E667F3BCC909ull;
+constexpr std::uint64_t kNuggetStartStream = 0xBB67AE8584CAA73Bull;
 
 std::string number(double v) {
   std::ostringstream s;
@@ -43,8 +45,9 @@ void check_settings(const GaussianProcessSettings& s) {
   };
   if (!(s.nugget >= 0.0 && s.nugget <= kMaxNugget))
     fail("nugget " + number(s.nugget) + " is outside [0, " + number(kMaxNugget) + "]");
-  if (s.estimate_nugget && !(s.min_nugget > 0.0 && s.min_nugget < kMaxNugget))
-    fail("min_nugget " + number(s.min_nugget) + " is outside (0, " + number(kMaxNugget) + ")");
+  if (s.estimate_nugget && !(s.min_nugget > 0.0 && s.max_nugget > s.min_nugget && s.max_nugget <= kMaxEstimatedNugget))
+    fail("nugget bounds [" + number(s.min_nugget) + ", " + number(s.max_nugget) + "] must satisfy 0 < min < max <= " +
+         number(kMaxEstimatedNugget));
   if (s.starts < 1 || s.starts > kMaxStarts)
     fail("starts " + std::to_string(s.starts) + " is outside [1, " + std::to_string(kMaxStarts) + "]");
   if (s.max_evaluations < kMinEvaluations)
@@ -193,7 +196,7 @@ ThetaBounds theta_bounds(int dims, const GaussianProcessSettings& s) {
                 std::vector<double>(static_cast<std::size_t>(dims), std::log(s.max_length_scale))};
   if (s.estimate_nugget) {
     b.lower.push_back(std::log(s.min_nugget));
-    b.upper.push_back(std::log(kMaxNugget));
+    b.upper.push_back(std::log(s.max_nugget));
   }
   return b;
 }
@@ -201,16 +204,21 @@ ThetaBounds theta_bounds(int dims, const GaussianProcessSettings& s) {
 std::vector<double> start_point(int start, int dims, const GaussianProcessSettings& s) {
   const double lo = std::log(s.min_length_scale), hi = std::log(s.max_length_scale);
   std::vector<double> theta(static_cast<std::size_t>(dims));
-  if (s.estimate_nugget)
-    theta.push_back(std::log(std::clamp(s.nugget, s.min_nugget, kMaxNugget)));
+  // A number in [0, 1) from (seed, stream, index).
+  const auto unit = [&](std::uint64_t stream, int index) {
+    const std::uint64_t h = splitmix64(s.seed ^ splitmix64(stream + static_cast<std::uint64_t>(index)));
+    return static_cast<double>(h >> 11) / 9007199254740992.0;
+  };
   for (int i = 0; i < dims; ++i) {
-    double t = std::log(kFirstStartLengthScale);
-    if (start > 0) {
-      const std::uint64_t h = splitmix64(s.seed ^ splitmix64(kStartStream + static_cast<std::uint64_t>(start * dims + i)));
-      const double unit = static_cast<double>(h >> 11) / 9007199254740992.0;
-      t = lo + unit * (hi - lo);
-    }
+    const double t = start > 0 ? lo + unit(kStartStream, start * dims + i) * (hi - lo) : std::log(kFirstStartLengthScale);
     theta[static_cast<std::size_t>(i)] = std::clamp(t, lo, hi);
+  }
+  // The nugget: the given one first, then anywhere in its range (the
+  // likelihood often has a noise-free and a noisy optimum).
+  if (s.estimate_nugget) {
+    const double nlo = std::log(s.min_nugget), nhi = std::log(s.max_nugget);
+    theta.push_back(start > 0 ? nlo + unit(kNuggetStartStream, start) * (nhi - nlo)
+                              : std::log(std::clamp(s.nugget, s.min_nugget, s.max_nugget)));
   }
   return theta;
 }

@@ -45,9 +45,10 @@ struct GaussianProcessSettings {
   KrigingTrend trend = KrigingTrend::kConstant;
   GaussianProcessOptimizer optimizer = GaussianProcessOptimizer::kBobyqa;
   double nugget = 1e-8;            // tau, relative to sigma^2: [0, 0.1]; the start when estimated
-  // Estimate tau by maximum likelihood in [min_nugget, 0.1] with the length-scales.
+  // Estimate tau by maximum likelihood in [min_nugget, max_nugget] with the length-scales.
   bool estimate_nugget = false;
   double min_nugget = 1e-10;       // > 0
+  double max_nugget = 0.1;         // > min_nugget, <= 10: an output noisier than its trend has nothing to krige
   int starts = 4;                  // optimiser starts: 1 .. 100
   int max_evaluations = 500;       // likelihood evaluations per start: >= 10
   // Bounds of the length-scales on the inputs scaled to [0, 1]: 0 < min < max.
