@@ -26,9 +26,15 @@ void check_inputs(const io::JsonReader& r, const StudySpec& spec) {
   for (const UncertainInput& in : spec.inputs)
     if (in.distribution.kind == DistributionKind::kFixed)
       r.fail("parameters", "'" + in.label + "' is fixed: every input of a surrogate varies");
-  if (r.has("channels"))
-    r.fail("channels", "a surrogate study fits QoIs; curves along time come from `rover sensitivity` "
-                       "with \"method\": \"pce\"");
+}
+
+// Curves need a polynomial chaos and runs made now.
+void check_channels(const io::JsonReader& r, const SurrogateStudy& s) {
+  if (!r.has("channels")) return;
+  if (s.kind != SurrogateKind::kPolynomialChaos)
+    r.fail("channels", "curves along time get a polynomial chaos surrogate: use \"surrogate\": \"pce\"");
+  if (!s.training_file.empty())
+    r.fail("channels", "curves along time are fitted on a design's runs, not on \"training\" files");
 }
 
 std::string existing_file(const io::JsonReader& r, const std::string& study_path) {
@@ -141,6 +147,7 @@ SurrogateStudy load_surrogate_study(const std::string& path) {
     t.finish();
   }
   parse_held_out(r, s);
+  check_channels(r, s);
   if (!from_file) check_design_runs(r, s);
   r.finish();
   s.spec.fingerprint = extend_fingerprint(

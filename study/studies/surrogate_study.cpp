@@ -113,8 +113,28 @@ SurrogateSet surrogate_set(const SurrogateStudy& study, const TrainingRuns& trai
   return set;
 }
 
+// The curves of the successful training runs, per channel.
+std::vector<PceChannelResult> fit_channels(const SurrogateStudy& study, const TrainingRuns& training) {
+  std::vector<PceChannelResult> out;
+  const std::vector<Eigen::Index> rows = ok_rows(training);
+  DesignMatrix x(static_cast<Eigen::Index>(rows.size()), training.x.cols());
+  for (std::size_t k = 0; k < rows.size(); ++k) x.row(static_cast<Eigen::Index>(k)) = training.x.row(rows[k]);
+  const std::vector<std::string>& names = study.spec.model->channel_names();
+  for (std::size_t c = 0; c < training.curves.size(); ++c) {
+    const Eigen::MatrixXd& all = training.curves[c];
+    Eigen::MatrixXd y(static_cast<Eigen::Index>(rows.size()), all.cols());
+    for (std::size_t k = 0; k < rows.size(); ++k) y.row(static_cast<Eigen::Index>(k)) = all.row(rows[k]);
+    out.push_back(pce_channel_indices(names[c], x, y, study.distributions(), study.pce));
+  }
+  return out;
+}
+
 std::vector<std::string> study_warnings(const SurrogateStudy& study, const SurrogateStudyResult& r) {
   std::vector<std::string> w;
+  for (const PceChannelResult& c : r.channels) {
+    if (!c.defined) w.push_back(c.name + ": indices along time undefined: " + c.undefined_reason);
+    else if (!c.curves.warning.empty()) w.push_back(c.curves.warning);
+  }
   for (const TrainingRuns* runs : {&r.training, &r.held_out})
     if (runs->failed_runs() > 0)
       w.push_back(std::to_string(runs->failed_runs()) + " of " + std::to_string(runs->runs()) +
@@ -141,6 +161,7 @@ SurrogateStudyResult fit_surrogate_study(const SurrogateStudy& study, const Trai
   r.held_out = held_out;
   const auto start = Clock::now();
   for (Eigen::Index q = 0; q < training.y.cols(); ++q) r.qoi.push_back(fit_qoi(study, training, held_out, q));
+  if (study.kind == SurrogateKind::kPolynomialChaos) r.channels = fit_channels(study, training);
   r.fit_wall_time_s = seconds_since(start);
   r.set = surrogate_set(study, training, r.qoi);
   r.warnings = study_warnings(study, r);

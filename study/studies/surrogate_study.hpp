@@ -24,6 +24,7 @@
 #include "study/studies/surrogate_file.hpp"
 #include "study/studies/surrogate_spec.hpp"
 #include "study/studies/surrogate_training.hpp"
+#include "study/studies/pce_sensitivity.hpp"
 #include "study/surrogate/pce_sobol.hpp"
 
 namespace rover::study {
@@ -49,6 +50,10 @@ struct SurrogateStudyResult {
   TrainingRuns training;          // every training run, failed ones included
   TrainingRuns held_out;          // no runs when there is no held-out validation
   std::vector<SurrogateQoiResult> qoi;  // in the study's QoI order
+  // Per channel of the study (polynomial chaos only): the curve's PCE on one
+  // shared basis with mean(t), sd(t), S1_i(t), ST_i(t) and the
+  // variance-weighted indices (pce_sensitivity.hpp), on the training runs.
+  std::vector<PceChannelResult> channels;
   SurrogateSet set;               // the fitted models and their inputs, as saved
   double runs_wall_time_s = 0.0, fit_wall_time_s = 0.0;
   std::vector<std::string> warnings;  // failed runs, low Q^2, undefined indices

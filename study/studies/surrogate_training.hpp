@@ -24,6 +24,9 @@ struct TrainingRuns {
   Eigen::MatrixXd y;              // runs x QoIs, in the study's QoI order; NaN where a run failed
   std::vector<int> status;        // per run, run_status (0 ok)
   std::vector<std::string> messages;
+  // Per channel of the study: runs x time samples, NaN where a run failed
+  // (a design's runs only).
+  std::vector<Eigen::MatrixXd> curves;
 
   int runs() const { return static_cast<int>(x.rows()); }
   int failed_runs() const;
