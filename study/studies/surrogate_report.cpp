@@ -2,6 +2,7 @@
 #include "study/studies/surrogate_report.hpp"
 
 #include <algorithm>
+#include <filesystem>
 #include <cmath>
 #include <iomanip>
 #include <numeric>
@@ -167,18 +168,27 @@ void plot_indices(const std::string& png, const SurrogateStudy& study, const Sur
                   std::ostream& log) {
   io::BarPlot plot;
   plot.title = "Total Sobol' indices from the PCE, " + std::to_string(std::lround(100 * study.pce.confidence)) +
-               " % bootstrap intervals";
+               " % bootstrap intervals" +
+               (study.compare_file.empty() ? std::string()
+                                            : ", beside those of " +
+                                                  std::filesystem::path(study.compare_file).filename().string());
   plot.y_label = "ST";
   plot.y_range = io::AxisRange{0.0, 1.05};
   plot.categories = input_labels(study.spec);
-  for (const SurrogateQoiResult& q : r.qoi) {
+  for (std::size_t k = 0; k < r.qoi.size(); ++k) {
+    const SurrogateQoiResult& q = r.qoi[k];
     if (!q.indices_defined) continue;
-    io::BarGroup g{q.name, to_vector(q.indices.ST), to_vector(q.indices.ST), to_vector(q.indices.ST)};
+    const bool compared = k < r.compared.size() && r.compared[k].ST.size() > 0;
+    io::BarGroup g{q.name + (compared ? " (PCE)" : ""), to_vector(q.indices.ST), to_vector(q.indices.ST),
+                   to_vector(q.indices.ST)};
     if (q.has_intervals) {
       g.lower = to_vector(q.intervals.ST_lower);
       g.upper = to_vector(q.intervals.ST_upper);
     }
     plot.groups.push_back(std::move(g));
+    if (compared)
+      plot.groups.push_back({q.name + " (pick-freeze)", to_vector(r.compared[k].ST), to_vector(r.compared[k].ST_lower),
+                             to_vector(r.compared[k].ST_upper)});
   }
   if (!plot.groups.empty()) io::write_png_or_warn(plot, png, "surrogate", log);
 }

@@ -148,6 +148,12 @@ SurrogateStudy load_surrogate_study(const std::string& path) {
   }
   parse_held_out(r, s);
   check_channels(r, s);
+  if (r.has("compare")) {
+    const io::JsonReader c = r.child("compare");
+    if (s.kind != SurrogateKind::kPolynomialChaos) r.fail("compare", "compares the indices of a polynomial chaos");
+    s.compare_file = existing_file(c, path);
+    c.finish();
+  }
   if (!from_file) check_design_runs(r, s);
   r.finish();
   s.spec.fingerprint = extend_fingerprint(

@@ -7,6 +7,7 @@
 #include <iostream>
 #include <memory>
 
+#include "io/hdf5_file.hpp"
 #include "io/json_reader.hpp"
 #include "study/runtime/study_runner.hpp"
 #include "study/studies/study_output.hpp"
@@ -151,6 +152,40 @@ std::vector<std::string> study_warnings(const SurrogateStudy& study, const Surro
   return w;
 }
 
+// The total indices of the "compare" file, matched by input name; a QoI or
+// input it lacks is left empty and said in a warning.
+void read_compared(const SurrogateStudy& study, SurrogateStudyResult& r) {
+  if (study.compare_file.empty()) return;
+  const io::Hdf5Reader h5(study.compare_file);
+  const std::vector<std::string> names =
+      h5.exists("/inputs/names") ? h5.read_strings("/inputs/names") : std::vector<std::string>{};
+  for (const std::string& q : study.qoi_names()) {
+    SurrogateStudyResult::ComparedIndices c;
+    const std::string g = "/indices/" + q + "/";
+    std::vector<std::size_t> columns;
+    for (const UncertainInput& in : study.spec.inputs) {
+      const auto it = std::find(names.begin(), names.end(), in.name);
+      if (it != names.end()) columns.push_back(static_cast<std::size_t>(it - names.begin()));
+    }
+    if (!h5.exists(g + "ST") || columns.size() != study.spec.inputs.size()) {
+      r.warnings.push_back("compare: " + study.compare_file + " has no total indices of '" + q +
+                           "' over the study's inputs");
+      r.compared.push_back(c);
+      continue;
+    }
+    const auto pick = [&](const std::string& name) {
+      const std::vector<double> all = h5.exists(g + name) ? h5.read_doubles(g + name) : h5.read_doubles(g + "ST");
+      Eigen::VectorXd v(static_cast<Eigen::Index>(columns.size()));
+      for (std::size_t j = 0; j < columns.size(); ++j) v(static_cast<Eigen::Index>(j)) = all.at(columns[j]);
+      return v;
+    };
+    c.ST = pick("ST");
+    c.ST_lower = pick("ST_lower");
+    c.ST_upper = pick("ST_upper");
+    r.compared.push_back(c);
+  }
+}
+
 }  // namespace
 
 SurrogateStudyResult fit_surrogate_study(const SurrogateStudy& study, const TrainingRuns& training,
@@ -186,6 +221,7 @@ SurrogateStudyResult run_surrogate_study(const SurrogateStudy& study, const Stud
     runs = runs.slice(0, runs.runs() - count);
   }
   SurrogateStudyResult result = fit_surrogate_study(study, runs, held_out);
+  read_compared(study, result);
   result.results_path = out;
   result.runs_wall_time_s = runs_s;
   return result;

@@ -54,6 +54,12 @@ struct SurrogateStudyResult {
   // shared basis with mean(t), sd(t), S1_i(t), ST_i(t) and the
   // variance-weighted indices (pce_sensitivity.hpp), on the training runs.
   std::vector<PceChannelResult> channels;
+  // From the "compare" file, per QoI of the study: its total indices in the
+  // study's input order with their interval (empty where the file has none).
+  struct ComparedIndices {
+    Eigen::VectorXd ST, ST_lower, ST_upper;
+  };
+  std::vector<ComparedIndices> compared;
   SurrogateSet set;               // the fitted models and their inputs, as saved
   double runs_wall_time_s = 0.0, fit_wall_time_s = 0.0;
   std::vector<std::string> warnings;  // failed runs, low Q^2, undefined indices
