@@ -236,6 +236,14 @@ SurfaceStudy load_surface_study(const std::string& path) {
   s.f = parse_axis(r, "f", &f_log);
   s.c_q = parse_axis(r, "c_q", &c_q_log);
   s.kriging = parse_surface_kriging(r, path, s.f.front(), s.f.back(), f_log, s.c_q.front(), s.c_q.back(), c_q_log);
+  if (!s.kriging.check_file.empty()) {  // refused before any run, not after
+    Eigen::MatrixXd rms, t_c;
+    try {
+      read_surface_check(s.kriging.check_file, s.f, s.c_q, rms, t_c);
+    } catch (const std::exception& e) {
+      r.fail("check", e.what());
+    }
+  }
   if (static_cast<double>(s.f.size()) * static_cast<double>(s.c_q.size()) > kMaxGridPoints)
     r.fail("f", "the grid would have more than 1e6 points");
   if (r.has("sweep")) {
