@@ -33,10 +33,13 @@ const RegisterCommand registration{
           "time t_c of the run; plus a sweep over f with the regression t_c = a + b f. Writes\n"
           "/f /c_q /rms /t_c /sweep/{f,t_c,regression} and the figure <out>_summary.png; --plots all\n"
           "adds <out>_rms.png, <out>_tc.png, <out>_sweep.png. The integrator that produced t_c is\n"
-          "recorded.\n\n"
+          "recorded. With \"surrogate\": \"gp\" the grid is kriged from \"runs\" Latin hypercube runs\n"
+          "(/gp/<qoi>/{mean,sd,lower,upper}); \"check\": \"grid\" also runs the grid and reports the\n"
+          "error and the share of points within 3 predictive sd.\n\n"
           "Examples:\n"
           "  rover surface --study configs/studies/f_cq_surface.json\n"
           "  rover surface --study configs/studies/f_cq_surface.json --integrator rk4 --out results/rk4.h5\n"
+          "  rover surface --study configs/studies/surface_gp.json\n"
           "  mpirun -np 8 rover surface --study configs/studies/f_cq_surface.json\n\n") + kMpiFooter);
       app.add_option("--study", o->study_path, "Study file (configs/studies/*.json, type surface)")
           ->required()->check(CLI::ExistingFile);

@@ -8,10 +8,8 @@
 #include "drivers/command_registry.hpp"
 #include "drivers/study_options.hpp"
 #include "io/csv.hpp"
-#include "study/runtime/mpi_session.hpp"
-#include "study/runtime/study_runner.hpp"
 #include "study/studies/surrogate_prediction.hpp"
-#include "study/studies/surrogate_report.hpp"
+#include "study/studies/surrogate_study.hpp"
 
 namespace rover::cli {
 namespace {
@@ -21,46 +19,17 @@ constexpr long long kMaxSamples = 10'000'000;
 struct SurrogateOptions {
   std::string study_path, predict_path, design_path, csv_path;
   std::optional<long long> samples;
-  study::StudyRunControl control;
+  study::StudyRunOptions run;
 };
 
-std::string resume_command(const SurrogateOptions& o) {
-  return "rover surrogate --study " + o.study_path +
-         (o.samples ? " --samples " + std::to_string(*o.samples) : std::string()) +
-         (o.control.results_path.empty() ? "" : " --out " + o.control.results_path) + " --resume";
-}
-
-int train(SurrogateOptions& o) {
-  study::MpiSession mpi(nullptr, nullptr);
+study::StudyProgram<study::SurrogateStudyResult> load(const SurrogateOptions& o) {
   FlagChecks checks;
-  check_study_output(checks, o.control, o.study_path);
   if (o.samples && (*o.samples < 1 || *o.samples > kMaxSamples))
     checks.add("--samples must be from 1 to 1e7, got " + std::to_string(*o.samples));
   checks.throw_if_any();
   study::SurrogateStudy s = study::load_surrogate_study(o.study_path);
   if (o.samples) study::set_surrogate_runs(s, static_cast<int>(*o.samples));
-  o.control.resume_command = resume_command(o);
-  if (mpi.rank() == 0)
-    std::cerr << "surrogate: " << study::surrogate_kind_name(s.kind) << " of " << s.qoi_names().size()
-              << " QoI(s) over " << s.spec.inputs.size() << " inputs, trained on "
-              << (s.training_file.empty() ? std::to_string(s.spec.design.samples) + " runs of " + s.spec.model->describe() +
-                                                " (" + study::design_type_name(s.spec.design.type) + ") on " +
-                                                std::to_string(mpi.size()) + " rank(s)"
-                                          : s.training_file)
-              << "\n";
-  const study::InterruptGuard interrupts;
-  return run_interruptible("surrogate", [&] {
-    const std::optional<study::SurrogateStudyResult> result = study::run_surrogate_study(s, o.control);
-    if (!result) return 0;
-    io::Hdf5Writer h5(result->results_path);
-    study::write_surrogate_study(h5, s, *result);
-    h5.commit();
-    if (s.training_file.empty()) study::remove_checkpoint(result->results_path);
-    study::report_surrogate_study(std::cerr, s, *result);
-    std::cerr << "surrogate: wrote " << result->results_path << "\n";
-    if (o.control.plot) study::plot_surrogate_study(s, *result, std::cerr);
-    return 0;
-  });
+  return study::surrogate_program(std::move(s));
 }
 
 int predict(const SurrogateOptions& o) {
@@ -83,13 +52,13 @@ int predict(const SurrogateOptions& o) {
   return 0;
 }
 
-int run_surrogate_command(SurrogateOptions& o) {
+int run_surrogate_command(const CLI::App& app, const SurrogateOptions& o) {
   if (o.predict_path.empty() == o.study_path.empty())
     throw CommandLineError({"give --study S.json (train) or --predict model.h5 (evaluate a saved surrogate)"});
   if (!o.predict_path.empty()) return predict(o);
   if (!o.design_path.empty() || !o.csv_path.empty())
     throw CommandLineError({"--design and --csv go with --predict"});
-  return train(o);
+  return run_study_command(app, o.run, o.study_path, [&] { return load(o); });
 }
 
 const RegisterCommand registration{
@@ -103,7 +72,8 @@ const RegisterCommand registration{
           "evaluate, sensitivity or surrogate (\"training\": {\"file\": ...}); failed runs are left out\n"
           "and counted. Reports the leave-one-out Q2 (and the held-out Q2 and RMSE with \"held_out\"),\n"
           "warns below q2_threshold with a larger N, and for a PCE the mean, variance and Sobol'\n"
-          "indices with bootstrap intervals. Writes the model under /surrogate of --out and PNGs\n"
+          "indices with bootstrap intervals; \"channels\" (PCE) get S_i(t), mean and sd along time.\n"
+          "Writes the model under /surrogate of --out and PNGs\n"
           "<out>_surrogate.png (surrogate against model) and <out>_surrogate_indices.png.\n"
           "--predict: the saved model at the rows of a design CSV (header of input names), mean and,\n"
           "for a GP, sd per QoI; a point outside the training support is refused.\n\n"
@@ -120,8 +90,8 @@ const RegisterCommand registration{
       app.add_option("--design", o->design_path, "With --predict: CSV of points, a header of input names")
           ->check(CLI::ExistingFile);
       app.add_option("--csv", o->csv_path, "With --predict: CSV of the predictions");
-      add_study_control(app, o->control);
-      return [o] { return run_surrogate_command(*o); };
+      add_study_flags(app, o->run);
+      return [o, &app] { return run_surrogate_command(app, *o); };
     }};
 
 }  // namespace

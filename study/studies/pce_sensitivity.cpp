@@ -50,8 +50,8 @@ std::string undefined_because_non_finite(const Eigen::MatrixXd& y) {
          " successful runs gave a non-finite value, so the indices are undefined";
 }
 
-PceChannelResult pce_channel_indices(const std::string& name, const DesignMatrix& x_ok, const Eigen::MatrixXd& y_ok,
-                                     const std::vector<Distribution>& inputs, const PceSensitivityOptions& options) {
+PceChannelResult channel_indices(const std::string& name, const DesignMatrix& x_ok, const Eigen::MatrixXd& y_ok,
+                                 const std::vector<Distribution>& inputs, const PceSensitivityOptions& options) {
   PceChannelResult c;
   c.name = name;
   c.undefined_reason = undefined_because_non_finite(y_ok);
@@ -203,6 +203,18 @@ void plot_channel(const std::string& png, const PceChannelResult& c, const std::
 }
 
 }  // namespace
+
+PceChannelResult pce_channel_indices(const std::string& name, const DesignMatrix& x_ok, const Eigen::MatrixXd& y_ok,
+                                     const std::vector<Distribution>& inputs, const PceSensitivityOptions& options) {
+  return channel_indices(name, x_ok, y_ok, inputs, options);
+}
+
+void write_pce_channel(io::Hdf5Writer& h5, const PceChannelResult& channel) { write_channel(h5, channel); }
+
+void plot_pce_channel(const std::string& png, const PceChannelResult& channel, const std::vector<double>& t,
+                      const std::vector<std::string>& labels) {
+  plot_channel(png, channel, t, labels);
+}
 
 PceSensitivityOptions parse_pce_options(const io::JsonReader& r, double confidence, std::uint64_t seed) {
   PceSensitivityOptions o;

@@ -95,6 +95,17 @@ struct PceSensitivityResult {
 PceQoiResult pce_qoi_indices(const std::string& name, const DesignMatrix& x_ok, const Eigen::VectorXd& y_ok,
                              const std::vector<Distribution>& inputs, const PceSensitivityOptions& options);
 
+// One channel's curve PCE and indices along time from the successful runs
+// (x_ok rows) and their curves (runs x time samples). Never throws: the
+// result says why the indices are undefined.
+PceChannelResult pce_channel_indices(const std::string& name, const DesignMatrix& x_ok, const Eigen::MatrixXd& y_ok,
+                                     const std::vector<Distribution>& inputs, const PceSensitivityOptions& options);
+// /indices_t/<channel>/..., /aggregated/<channel>/... and /pce_t/<channel>/... (layout above).
+void write_pce_channel(io::Hdf5Writer& h5, const PceChannelResult& channel);
+// S1(t) and ST(t) of the inputs that matter, one PNG; labels: one per input.
+void plot_pce_channel(const std::string& png, const PceChannelResult& channel, const std::vector<double>& t,
+                      const std::vector<std::string>& labels);
+
 // Every QoI and channel from the run records (in run order; failed runs are
 // left out). Prints nothing.
 PceSensitivityResult analyse_pce_sensitivity(const StudySpec& spec, const PceSensitivityOptions& options,

@@ -17,7 +17,7 @@ constexpr double kMaxGridPoints = 1e6;
 constexpr double kMaxReferenceHeightM = 1e3;
 const std::vector<std::string> kSurfaceInputs{"s_structure.f", "s_structure.c_q"};
 
-std::vector<double> parse_axis(const io::JsonReader& parent, const std::string& key) {
+std::vector<double> parse_axis(const io::JsonReader& parent, const std::string& key, bool* log_spacing = nullptr) {
   const io::JsonReader a = parent.child(key);
   const double min = a.positive("min"), max = a.positive("max");
   const int count = a.integer("count");
@@ -29,6 +29,7 @@ std::vector<double> parse_axis(const io::JsonReader& parent, const std::string& 
   if (spacing == "log") v = log_grid(min, max, count);
   else if (spacing == "linear") v = linear_grid(min, max, count);
   else a.fail("spacing", "must be 'linear' or 'log'");
+  if (log_spacing != nullptr) *log_spacing = spacing == "log";
   a.finish();
   return v;
 }
@@ -54,23 +55,33 @@ std::shared_ptr<ReferenceCurve> reference_curve(const SurfaceStudy& study) {
   return reference;
 }
 
-// The runs: the grid, f major, then the sweep.
+int grid_tasks(const SurfaceStudy& study) {
+  return study.runs_grid() ? static_cast<int>(study.f.size() * study.c_q.size()) : 0;
+}
+
+// The runs: the grid (when it is run), f major, then the sweep, then the
+// kriging design.
 DesignMatrix surface_design(const SurfaceStudy& study) {
   const auto nc = study.c_q.size();
-  const int grid_tasks = static_cast<int>(study.f.size() * nc);
-  const int tasks = grid_tasks + static_cast<int>(study.sweep_f.size());
-  DesignMatrix x(tasks, 2);
-  for (int i = 0; i < grid_tasks; ++i)
+  const int grid = grid_tasks(study);
+  const int sweep_end = grid + static_cast<int>(study.sweep_f.size());
+  const DesignMatrix kriging =
+      study.kriging.enabled ? surface_kriging_design(study.kriging) : DesignMatrix(0, 2);
+  DesignMatrix x(sweep_end + kriging.rows(), 2);
+  for (int i = 0; i < grid; ++i)
     x.row(i) << study.f[static_cast<std::size_t>(i) / nc], study.c_q[static_cast<std::size_t>(i) % nc];
-  for (int i = grid_tasks; i < tasks; ++i)
-    x.row(i) << study.sweep_f[static_cast<std::size_t>(i - grid_tasks)], study.sweep_c_q;
+  for (int i = grid; i < sweep_end; ++i)
+    x.row(i) << study.sweep_f[static_cast<std::size_t>(i - grid)], study.sweep_c_q;
+  x.bottomRows(kriging.rows()) = kriging;
   return x;
 }
 
 // Collects the runs' records, in any order, into the result.
 class SurfaceCollector {
  public:
-  SurfaceCollector(SurfaceResult& result, int nf, int nc) : r_(result), nc_(nc), grid_tasks_(nf * nc) {
+  SurfaceCollector(SurfaceResult& result, int nf, int nc, int grid_tasks, const DesignMatrix& kriging_x)
+      : r_(result), nc_(nc), grid_tasks_(grid_tasks),
+        kriging_first_(grid_tasks + static_cast<int>(result.study.sweep_f.size())) {
     const double nan = std::nan("");
     r_.rms = Eigen::MatrixXd::Constant(nf, nc, nan);
     r_.t_c = r_.rms;
@@ -79,11 +90,25 @@ class SurfaceCollector {
     r_.messages.assign(static_cast<std::size_t>(grid_tasks_), "");
     r_.sweep_t_c.assign(r_.study.sweep_f.size(), nan);
     r_.sweep_rhs_evaluations = r_.sweep_t_c;
+    SurfaceKriging& k = r_.kriging;
+    k.x = kriging_x;
+    k.rms = Eigen::VectorXd::Constant(kriging_x.rows(), nan);
+    k.t_c = k.rms;
+    k.status.assign(static_cast<std::size_t>(kriging_x.rows()), run_status::kError);
   }
 
   void add(int i, const RunRecord& record) {
     ++r_.runs;
     r_.failed += record.ok() ? 0 : 1;
+    if (i >= kriging_first_) {
+      SurfaceKriging& k = r_.kriging;
+      const Eigen::Index row = i - kriging_first_;
+      k.status[static_cast<std::size_t>(row)] = record.status;
+      if (!record.ok()) return;
+      k.rms(row) = record.qoi[0];
+      k.t_c(row) = record.wall_time_s;
+      return;
+    }
     if (i >= grid_tasks_) {
       if (!record.ok()) return;
       const auto k = static_cast<std::size_t>(i - grid_tasks_);
@@ -101,7 +126,7 @@ class SurfaceCollector {
 
  private:
   SurfaceResult& r_;
-  int nc_, grid_tasks_;
+  int nc_, grid_tasks_, kriging_first_;
 };
 
 LinearFit sweep_regression(const SurfaceResult& r) {
@@ -153,6 +178,18 @@ std::string parse_reference(const io::JsonReader& ref, const ModelInputs& nomina
   return s.reference_description;
 }
 
+// The kriged maps, checked against the grid's runs or a surface result file.
+void krige(const SurfaceStudy& study, SurfaceResult& result) {
+  fit_surface_kriging(study.kriging, study.f, study.c_q, result.kriging);
+  if (study.kriging.check_grid) {
+    check_surface_kriging(result.rms, result.t_c, "the grid's runs", result.kriging);
+  } else if (!study.kriging.check_file.empty()) {
+    Eigen::MatrixXd rms, t_c;
+    read_surface_check(study.kriging.check_file, study.f, study.c_q, rms, t_c);
+    check_surface_kriging(rms, t_c, study.kriging.check_file, result.kriging);
+  }
+}
+
 }  // namespace
 
 LinearFit linear_regression(const std::vector<double>& x, const std::vector<double>& y) {
@@ -195,8 +232,18 @@ SurfaceStudy load_surface_study(const std::string& path) {
   }
   if (r.has("integrator"))
     s.integrator = io::parse_integrator_settings(r.child("integrator"), nominal.scenario.integrator);
-  s.f = parse_axis(r, "f");
-  s.c_q = parse_axis(r, "c_q");
+  bool f_log = false, c_q_log = false;
+  s.f = parse_axis(r, "f", &f_log);
+  s.c_q = parse_axis(r, "c_q", &c_q_log);
+  s.kriging = parse_surface_kriging(r, path, s.f.front(), s.f.back(), f_log, s.c_q.front(), s.c_q.back(), c_q_log);
+  if (!s.kriging.check_file.empty()) {  // refused before any run, not after
+    Eigen::MatrixXd rms, t_c;
+    try {
+      read_surface_check(s.kriging.check_file, s.f, s.c_q, rms, t_c);
+    } catch (const std::exception& e) {
+      r.fail("check", e.what());
+    }
+  }
   if (static_cast<double>(s.f.size()) * static_cast<double>(s.c_q.size()) > kMaxGridPoints)
     r.fail("f", "the grid would have more than 1e6 points");
   if (r.has("sweep")) {
@@ -223,7 +270,10 @@ SurfaceResult run_surface(const SurfaceStudy& study, const StudyRuntime& runtime
   result.study = study;
   result.integrator = model.nominal().scenario.integrator;
   result.scenario_name = model.nominal().scenario.name;
-  SurfaceCollector collector(result, static_cast<int>(study.f.size()), static_cast<int>(study.c_q.size()));
+  const int grid = grid_tasks(study);
+  const int kriging_runs = study.kriging.enabled ? study.kriging.runs : 0;
+  SurfaceCollector collector(result, static_cast<int>(study.f.size()), static_cast<int>(study.c_q.size()), grid,
+                             x.bottomRows(kriging_runs));
   const RecordLayout layout = model.layout();
   auto compute = [&](int i) { return encode_record(i, model.run(x.row(i).data())); };
   auto consume = [&](TaskResult&& task) {
@@ -233,6 +283,7 @@ SurfaceResult run_surface(const SurfaceStudy& study, const StudyRuntime& runtime
   stream_study_tasks(static_cast<int>(x.rows()), compute, consume, runtime.options);
   if (world_rank() != 0) return {};
   result.regression = sweep_regression(result);
+  if (study.kriging.enabled) krige(study, result);
   return result;
 }
 
@@ -241,9 +292,12 @@ StudyProgram<SurfaceResult> surface_program(SurfaceStudy study) {
   p.command = "surface";
   p.name = study.name;
   p.fingerprint = study.fingerprint;
-  p.banner = std::to_string(study.f.size()) + " x " + std::to_string(study.c_q.size()) + " grid + " +
-             std::to_string(study.sweep_f.size()) + " sweep runs of " + study.sources.scenario_path + " on " +
-             std::to_string(world_size()) + " rank(s)";
+  p.banner = std::to_string(study.f.size()) + " x " + std::to_string(study.c_q.size()) + " grid" +
+             (study.kriging.enabled ? std::string(study.runs_grid() ? " (run and" : " (") + " kriged from " +
+                                          std::to_string(study.kriging.runs) + " Latin hypercube runs)"
+                                    : std::string()) +
+             " + " + std::to_string(study.sweep_f.size()) + " sweep runs of " + study.sources.scenario_path +
+             " on " + std::to_string(world_size()) + " rank(s)";
   p.run = [study](const StudyRuntime& runtime) { return run_surface(study, runtime); };
   p.write = write_surface;
   p.counts = [](const SurfaceResult& r) {
@@ -253,6 +307,8 @@ StudyProgram<SurfaceResult> surface_program(SurfaceStudy study) {
     return c;
   };
   p.plot = plot_surface;
+  if (study.kriging.enabled)
+    p.report = [](const SurfaceResult& r, std::ostream& out) { report_surface_kriging(r.kriging, out); };
   return p;
 }
 

@@ -11,6 +11,8 @@
 //    "c_q": {"min": 0.05, "max": 0.5, "count": 6, "spacing": "linear"},
 //    "sweep": {"f": {"min": 1e2, "max": 1e5, "count": 8, "spacing": "log"}, "c_q": 0.14},
 //    "integrator": {...optional...}}
+// With "surrogate": "gp" the surface is predicted by kriging from "runs"
+// runs of a Latin hypercube instead of run on the grid (surface_kriging.hpp).
 // A reference file is CSV "t,z" or an HDF5 trajectory; time_offset is
 // subtracted from its times (measured curves rarely start at the release).
 //
@@ -25,7 +27,9 @@
 // /status (nf x nc), /rhs_evaluations (nf x nc), /reference/t, /reference/z,
 // /sweep/f, /sweep/t_c, /sweep/rhs_evaluations, /sweep/regression
 // [intercept a (s), slope b (s), r^2]; attributes include the integrator that
-// produced t_c, and the number of MPI ranks (t_c is wall time per run).
+// produced t_c, and the number of MPI ranks (t_c is wall time per run). A
+// kriged surface writes the grid's datasets only when the grid is run, and
+// /gp and /surrogate (surface_kriging.hpp).
 #pragma once
 
 #include <string>
@@ -37,6 +41,7 @@
 #include "io/hdf5_file.hpp"
 #include "study/studies/study_driver.hpp"
 #include "study/studies/study_spec.hpp"
+#include "study/studies/surface_kriging.hpp"
 
 namespace rover::study {
 
@@ -53,6 +58,10 @@ struct SurfaceStudy {
   bool simulate_reference = false;
   double reference_f = 0.0, reference_c_q = 0.0;
   std::string reference_description;
+  SurfaceKrigingSpec kriging;        // enabled: the grid is predicted, not (only) run
+
+  // The grid is run: no kriging, or kriging checked against the grid.
+  bool runs_grid() const { return !kriging.enabled || kriging.check_grid; }
 };
 
 SurfaceStudy load_surface_study(const std::string& path);
@@ -73,6 +82,7 @@ struct SurfaceResult {
   std::vector<double> sweep_t_c, sweep_rhs_evaluations;  // [sweep point]
   LinearFit regression;              // of the sweep's successful runs
   int runs = 0, failed = 0;
+  SurfaceKriging kriging;            // when study.kriging.enabled
 };
 
 // Least squares y = a + b x (NaN for fewer than two points).

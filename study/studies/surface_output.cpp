@@ -9,11 +9,14 @@ void write_surface(const SurfaceResult& r, io::Hdf5Writer& h5) {
   const SurfaceStudy& study = r.study;
   h5.write("/f", study.f);
   h5.write("/c_q", study.c_q);
-  h5.write("/rms", r.rms);
-  h5.write("/t_c", r.t_c);
-  h5.write("/rhs_evaluations", r.rhs_evaluations);
-  h5.write("/status", std::vector<double>(r.status.begin(), r.status.end()), study.f.size(), study.c_q.size());
-  h5.write("/messages", r.messages);
+  if (study.runs_grid()) {
+    h5.write("/rms", r.rms);
+    h5.write("/t_c", r.t_c);
+    h5.write("/rhs_evaluations", r.rhs_evaluations);
+    h5.write("/status", std::vector<double>(r.status.begin(), r.status.end()), study.f.size(), study.c_q.size());
+    h5.write("/messages", r.messages);
+  }
+  if (study.kriging.enabled) write_surface_kriging(r.kriging, h5);
   h5.write("/reference/t", study.reference_t);
   h5.write("/reference/z", study.reference_z);
   if (!study.sweep_f.empty()) {

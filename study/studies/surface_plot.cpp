@@ -1,7 +1,9 @@
 // The surface study's figures (surface.hpp): the summary (the RMS error and
 // t_c over f, one line per c_q, and the sweep of t_c over f with its
 // regression), and with --plots all heat maps of the RMS error and of t_c
-// over (f, c_q) and the sweep on its own.
+// over (f, c_q) and the sweep on its own. A kriged surface (surface_kriging.hpp)
+// shows the predicted RMS error and t_c, and their predictive sd, in place of
+// the grid's runs.
 #include <iostream>
 
 #include "core/number_text.hpp"
@@ -59,7 +61,23 @@ io::LinePlot lines_over_f(const SurfaceResult& r, const Eigen::MatrixXd& z, doub
   return p;
 }
 
+// The kriged maps: mean and predictive sd of the RMS error and t_c.
+std::vector<io::LinePlot> kriging_panels(const SurfaceResult& r) {
+  std::vector<io::LinePlot> panels;
+  const DisplayUnit mm = display_unit("m");
+  for (const SurfaceKrigingMap& m : r.kriging.maps) {
+    if (!m.fitted) continue;
+    const bool rms = m.name == "rms";
+    const double scale = rms ? mm.factor : 1.0;
+    const std::string label = rms ? "RMS of B_l z [" + mm.name + "]" : "t_c [s]";
+    panels.push_back(lines_over_f(r, m.mean, scale, "kriged " + label));
+    panels.push_back(lines_over_f(r, m.sd, scale, "predictive sd of " + label));
+  }
+  return panels;
+}
+
 std::vector<io::LinePlot> summary_panels(const SurfaceResult& r) {
+  if (r.study.kriging.enabled) return kriging_panels(r);
   std::vector<io::LinePlot> panels;
   const DisplayUnit mm = display_unit("m");
   panels.push_back(lines_over_f(r, r.rms, mm.factor, "RMS of B_l z [" + mm.name + "]"));
@@ -78,7 +96,7 @@ void plot_surface(const SurfaceResult& r, const std::string& results_path, PlotS
                        summary_panels(r), png("_summary.png"), "surface");
   if (plots != PlotSelection::kAll) return;
   try {
-    if (r.rms.rows() > 1 && r.rms.cols() > 1) {
+    if (r.rms.rows() > 1 && r.rms.cols() > 1 && r.study.runs_grid()) {
       const DisplayUnit mm = display_unit("m");
       io::write_png(heat_map(r, r.rms, mm.factor, "RMS of B_l z [" + mm.name + "]"), png("_rms.png"));
       std::cerr << "surface: wrote " << png("_rms.png") << "\n";

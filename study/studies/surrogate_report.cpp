@@ -2,6 +2,7 @@
 #include "study/studies/surrogate_report.hpp"
 
 #include <algorithm>
+#include <filesystem>
 #include <cmath>
 #include <iomanip>
 #include <numeric>
@@ -167,20 +168,41 @@ void plot_indices(const std::string& png, const SurrogateStudy& study, const Sur
                   std::ostream& log) {
   io::BarPlot plot;
   plot.title = "Total Sobol' indices from the PCE, " + std::to_string(std::lround(100 * study.pce.confidence)) +
-               " % bootstrap intervals";
+               " % bootstrap intervals" +
+               (study.compare_file.empty() ? std::string()
+                                            : ", beside those of " +
+                                                  std::filesystem::path(study.compare_file).filename().string());
   plot.y_label = "ST";
   plot.y_range = io::AxisRange{0.0, 1.05};
   plot.categories = input_labels(study.spec);
-  for (const SurrogateQoiResult& q : r.qoi) {
+  for (std::size_t k = 0; k < r.qoi.size(); ++k) {
+    const SurrogateQoiResult& q = r.qoi[k];
     if (!q.indices_defined) continue;
-    io::BarGroup g{q.name, to_vector(q.indices.ST), to_vector(q.indices.ST), to_vector(q.indices.ST)};
+    const bool compared = k < r.compared.size() && r.compared[k].ST.size() > 0;
+    io::BarGroup g{q.name + (compared ? " (PCE)" : ""), to_vector(q.indices.ST), to_vector(q.indices.ST),
+                   to_vector(q.indices.ST)};
     if (q.has_intervals) {
       g.lower = to_vector(q.intervals.ST_lower);
       g.upper = to_vector(q.intervals.ST_upper);
     }
     plot.groups.push_back(std::move(g));
+    if (compared)
+      plot.groups.push_back({q.name + " (pick-freeze)", to_vector(r.compared[k].ST), to_vector(r.compared[k].ST_lower),
+                             to_vector(r.compared[k].ST_upper)});
   }
   if (!plot.groups.empty()) io::write_png_or_warn(plot, png, "surrogate", log);
+}
+
+// Per channel: the mean and the mean +- 3 sd along time from the PCE.
+void plot_band(const std::string& png, const PceChannelResult& c, const std::vector<double>& t, std::ostream& log) {
+  io::LinePlot plot;
+  plot.title = c.name + ": mean and mean +- 3 sd along time, from the PCE";
+  plot.x_label = "t [s]";
+  plot.y_label = c.name;
+  const Eigen::VectorXd lower = c.indices.mean - 3.0 * c.indices.sd, upper = c.indices.mean + 3.0 * c.indices.sd;
+  plot.bands.push_back({"mean +- 3 sd", t, to_vector(lower), to_vector(upper)});
+  plot.series.push_back({"mean", t, to_vector(c.indices.mean)});
+  io::write_png_or_warn(plot, png, "surrogate", log);
 }
 
 }  // namespace
@@ -208,6 +230,8 @@ void write_surrogate_study(io::Hdf5Writer& h5, const SurrogateStudy& study, cons
     if (study.kind == SurrogateKind::kPolynomialChaos) write_indices(h5, q, study.pce);
     write_validation(h5, q);
   }
+  if (!r.channels.empty()) h5.write("/t", study.spec.model->time_s());
+  for (const PceChannelResult& c : r.channels) write_pce_channel(h5, c);
 }
 
 void report_surrogate_study(std::ostream& out, const SurrogateStudy& study, const SurrogateStudyResult& r) {
@@ -218,6 +242,14 @@ void report_surrogate_study(std::ostream& out, const SurrogateStudy& study, cons
   out << "; runs " << fixed(r.runs_wall_time_s, 1) << " s, fit " << fixed(r.fit_wall_time_s, 2) << " s\n";
   const std::vector<std::string> labels = input_labels(study.spec);
   for (const SurrogateQoiResult& q : r.qoi) report_qoi(out, q, labels, study.pce.confidence);
+  for (const PceChannelResult& c : r.channels) {
+    if (!c.defined) continue;
+    out << c.name << " along time (PCE, " << c.curves.multi_indices.size() << " shared terms), variance-weighted:";
+    for (std::size_t i = 0; i < labels.size(); ++i)
+      out << " " << labels[i] << " S1 " << fixed(c.indices.aggregated_S1(static_cast<Eigen::Index>(i))) << " ST "
+          << fixed(c.indices.aggregated_ST(static_cast<Eigen::Index>(i))) << (i + 1 < labels.size() ? ";" : "");
+    out << "\n";
+  }
   for (const std::string& w : r.warnings) out << "surrogate: warning: " << w << "\n";
 }
 
@@ -225,6 +257,12 @@ void plot_surrogate_study(const SurrogateStudy& study, const SurrogateStudyResul
   plot_predicted(sibling_path(r.results_path, "_surrogate.png"), r, log);
   if (study.kind == SurrogateKind::kPolynomialChaos)
     plot_indices(sibling_path(r.results_path, "_surrogate_indices.png"), study, r, log);
+  const std::vector<double>& t = study.spec.model->time_s();
+  for (const PceChannelResult& c : r.channels) {
+    if (!c.defined) continue;
+    plot_pce_channel(sibling_path(r.results_path, "_surrogate_t_" + c.name + ".png"), c, t, input_labels(study.spec));
+    plot_band(sibling_path(r.results_path, "_surrogate_band_" + c.name + ".png"), c, t, log);
+  }
 }
 
 }  // namespace rover::study

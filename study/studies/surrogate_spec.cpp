@@ -26,9 +26,15 @@ void check_inputs(const io::JsonReader& r, const StudySpec& spec) {
   for (const UncertainInput& in : spec.inputs)
     if (in.distribution.kind == DistributionKind::kFixed)
       r.fail("parameters", "'" + in.label + "' is fixed: every input of a surrogate varies");
-  if (r.has("channels"))
-    r.fail("channels", "a surrogate study fits QoIs; curves along time come from `rover sensitivity` "
-                       "with \"method\": \"pce\"");
+}
+
+// Curves need a polynomial chaos and runs made now.
+void check_channels(const io::JsonReader& r, const SurrogateStudy& s) {
+  if (!r.has("channels")) return;
+  if (s.kind != SurrogateKind::kPolynomialChaos)
+    r.fail("channels", "curves along time get a polynomial chaos surrogate: use \"surrogate\": \"pce\"");
+  if (!s.training_file.empty())
+    r.fail("channels", "curves along time are fitted on a design's runs, not on \"training\" files");
 }
 
 std::string existing_file(const io::JsonReader& r, const std::string& study_path) {
@@ -48,8 +54,14 @@ GaussianProcessSettings parse_gp_options(const io::JsonReader& r, std::uint64_t 
   gp.starts = g.integer_or("starts", gp.starts);
   if (gp.starts < 1 || gp.starts > kMaxGaussianProcessStarts)
     g.fail("starts", "must be from 1 to " + std::to_string(kMaxGaussianProcessStarts));
-  gp.nugget = g.number_or("nugget", gp.nugget);
-  if (!(gp.nugget >= 0.0 && gp.nugget <= kMaxGaussianProcessNugget)) g.fail("nugget", "must lie in [0, 0.1]");
+  if (g.has("nugget") && g.raw("nugget").is_string()) {
+    const std::string nugget = g.string("nugget");
+    if (nugget != "estimate") g.fail("nugget", "expected a number in [0, 0.1] or \"estimate\", got \"" + nugget + "\"");
+    gp.estimate_nugget = true;
+  } else {
+    gp.nugget = g.number_or("nugget", gp.nugget);
+    if (!(gp.nugget >= 0.0 && gp.nugget <= kMaxGaussianProcessNugget)) g.fail("nugget", "must lie in [0, 0.1]");
+  }
   gp.q2_threshold = g.number_or("q2_threshold", gp.q2_threshold);
   if (!(gp.q2_threshold > 0.0 && gp.q2_threshold <= 1.0)) g.fail("q2_threshold", "must lie in (0, 1]");
   g.finish();
@@ -135,6 +147,13 @@ SurrogateStudy load_surrogate_study(const std::string& path) {
     t.finish();
   }
   parse_held_out(r, s);
+  check_channels(r, s);
+  if (r.has("compare")) {
+    const io::JsonReader c = r.child("compare");
+    if (s.kind != SurrogateKind::kPolynomialChaos) r.fail("compare", "compares the indices of a polynomial chaos");
+    s.compare_file = existing_file(c, path);
+    c.finish();
+  }
   if (!from_file) check_design_runs(r, s);
   r.finish();
   s.spec.fingerprint = extend_fingerprint(

@@ -13,8 +13,11 @@
 //   "held_out": {"fraction": 0.2} (the last runs, design or file, in (0, 0.5])
 //               or {"file": "results/other.h5"}     optional held-out validation,
 //   "pce": {"max_degree": 12, "q_norm": 0.75, "bootstrap": 200, "q2_threshold": 0.95},
-//   "gp":  {"trend": "constant" | "linear", "starts": 4, "nugget": 1e-8, "q2_threshold": 0.95},
-//   "confidence": 0.95                               (of the bootstrap intervals).
+//   "gp":  {"trend": "constant" | "linear", "starts": 4, "nugget": 1e-8 | "estimate",
+//           "q2_threshold": 0.95},
+//   "confidence": 0.95                               (of the bootstrap intervals),
+//   "compare": {"file": "results/sobol_drop.h5"}     optional: a sensitivity result
+//               whose total indices the PCE's are plotted beside.
 //
 // Every listed parameter must vary (no "fixed" distribution): it is an input
 // of the surrogate. Too few training runs for the requested basis or trend
@@ -41,6 +44,7 @@ struct SurrogateStudy {
   std::string training_file;    // empty: the design is run
   double held_out_fraction = 0.0;
   std::string held_out_file;    // empty: none, or the held-out fraction of the design
+  std::string compare_file;     // empty: none; a sensitivity result to plot beside
 
   double q2_threshold() const;
   std::vector<std::string> qoi_names() const;

@@ -4,10 +4,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iostream>
+#include <memory>
 
+#include "io/hdf5_file.hpp"
 #include "io/json_reader.hpp"
 #include "study/runtime/study_runner.hpp"
 #include "study/studies/study_output.hpp"
+#include "study/studies/surrogate_report.hpp"
 
 namespace rover::study {
 namespace {
@@ -110,8 +114,28 @@ SurrogateSet surrogate_set(const SurrogateStudy& study, const TrainingRuns& trai
   return set;
 }
 
+// The curves of the successful training runs, per channel.
+std::vector<PceChannelResult> fit_channels(const SurrogateStudy& study, const TrainingRuns& training) {
+  std::vector<PceChannelResult> out;
+  const std::vector<Eigen::Index> rows = ok_rows(training);
+  DesignMatrix x(static_cast<Eigen::Index>(rows.size()), training.x.cols());
+  for (std::size_t k = 0; k < rows.size(); ++k) x.row(static_cast<Eigen::Index>(k)) = training.x.row(rows[k]);
+  const std::vector<std::string>& names = study.spec.model->channel_names();
+  for (std::size_t c = 0; c < training.curves.size(); ++c) {
+    const Eigen::MatrixXd& all = training.curves[c];
+    Eigen::MatrixXd y(static_cast<Eigen::Index>(rows.size()), all.cols());
+    for (std::size_t k = 0; k < rows.size(); ++k) y.row(static_cast<Eigen::Index>(k)) = all.row(rows[k]);
+    out.push_back(pce_channel_indices(names[c], x, y, study.distributions(), study.pce));
+  }
+  return out;
+}
+
 std::vector<std::string> study_warnings(const SurrogateStudy& study, const SurrogateStudyResult& r) {
   std::vector<std::string> w;
+  for (const PceChannelResult& c : r.channels) {
+    if (!c.defined) w.push_back(c.name + ": indices along time undefined: " + c.undefined_reason);
+    else if (!c.curves.warning.empty()) w.push_back(c.curves.warning);
+  }
   for (const TrainingRuns* runs : {&r.training, &r.held_out})
     if (runs->failed_runs() > 0)
       w.push_back(std::to_string(runs->failed_runs()) + " of " + std::to_string(runs->runs()) +
@@ -128,6 +152,40 @@ std::vector<std::string> study_warnings(const SurrogateStudy& study, const Surro
   return w;
 }
 
+// The total indices of the "compare" file, matched by input name; a QoI or
+// input it lacks is left empty and said in a warning.
+void read_compared(const SurrogateStudy& study, SurrogateStudyResult& r) {
+  if (study.compare_file.empty()) return;
+  const io::Hdf5Reader h5(study.compare_file);
+  const std::vector<std::string> names =
+      h5.exists("/inputs/names") ? h5.read_strings("/inputs/names") : std::vector<std::string>{};
+  for (const std::string& q : study.qoi_names()) {
+    SurrogateStudyResult::ComparedIndices c;
+    const std::string g = "/indices/" + q + "/";
+    std::vector<std::size_t> columns;
+    for (const UncertainInput& in : study.spec.inputs) {
+      const auto it = std::find(names.begin(), names.end(), in.name);
+      if (it != names.end()) columns.push_back(static_cast<std::size_t>(it - names.begin()));
+    }
+    if (!h5.exists(g + "ST") || columns.size() != study.spec.inputs.size()) {
+      r.warnings.push_back("compare: " + study.compare_file + " has no total indices of '" + q +
+                           "' over the study's inputs");
+      r.compared.push_back(c);
+      continue;
+    }
+    const auto pick = [&](const std::string& name) {
+      const std::vector<double> all = h5.exists(g + name) ? h5.read_doubles(g + name) : h5.read_doubles(g + "ST");
+      Eigen::VectorXd v(static_cast<Eigen::Index>(columns.size()));
+      for (std::size_t j = 0; j < columns.size(); ++j) v(static_cast<Eigen::Index>(j)) = all.at(columns[j]);
+      return v;
+    };
+    c.ST = pick("ST");
+    c.ST_lower = pick("ST_lower");
+    c.ST_upper = pick("ST_upper");
+    r.compared.push_back(c);
+  }
+}
+
 }  // namespace
 
 SurrogateStudyResult fit_surrogate_study(const SurrogateStudy& study, const TrainingRuns& training,
@@ -138,20 +196,21 @@ SurrogateStudyResult fit_surrogate_study(const SurrogateStudy& study, const Trai
   r.held_out = held_out;
   const auto start = Clock::now();
   for (Eigen::Index q = 0; q < training.y.cols(); ++q) r.qoi.push_back(fit_qoi(study, training, held_out, q));
+  if (study.kind == SurrogateKind::kPolynomialChaos) r.channels = fit_channels(study, training);
   r.fit_wall_time_s = seconds_since(start);
   r.set = surrogate_set(study, training, r.qoi);
   r.warnings = study_warnings(study, r);
   return r;
 }
 
-std::optional<SurrogateStudyResult> run_surrogate_study(const SurrogateStudy& study, const StudyRunControl& control) {
-  const std::string out = checked_results_path(study.spec.name, control.results_path);
+SurrogateStudyResult run_surrogate_study(const SurrogateStudy& study, const StudyRuntime& runtime) {
+  const std::string& out = runtime.options.results_path;
   const bool root = world_rank() == 0;
   const auto start = Clock::now();
   TrainingRuns runs;
-  if (study.training_file.empty()) runs = run_design_runs(study, control, out);
+  if (study.training_file.empty()) runs = run_design_runs(study, runtime.options);
   else if (root) runs = read_result_runs(study.training_file, study, "training");
-  if (!root) return std::nullopt;
+  if (!root) return {};
   const double runs_s = seconds_since(start);
   TrainingRuns held_out;
   if (!study.held_out_file.empty()) {
@@ -162,9 +221,39 @@ std::optional<SurrogateStudyResult> run_surrogate_study(const SurrogateStudy& st
     runs = runs.slice(0, runs.runs() - count);
   }
   SurrogateStudyResult result = fit_surrogate_study(study, runs, held_out);
+  read_compared(study, result);
   result.results_path = out;
   result.runs_wall_time_s = runs_s;
   return result;
+}
+
+StudyProgram<SurrogateStudyResult> surrogate_program(SurrogateStudy study) {
+  StudyProgram<SurrogateStudyResult> p;
+  p.command = "surrogate";
+  p.name = study.spec.name;
+  p.fingerprint = study.spec.fingerprint;
+  p.banner = std::string(surrogate_kind_name(study.kind)) + " of " + std::to_string(study.qoi_names().size()) +
+             " QoI(s) over " + std::to_string(study.spec.inputs.size()) + " inputs, trained on " +
+             (study.training_file.empty()
+                  ? std::to_string(study.spec.design.samples) + " runs of " + study.spec.model->describe() + " (" +
+                        design_type_name(study.spec.design.type) + ") on " + std::to_string(world_size()) +
+                        " rank(s)"
+                  : study.training_file);
+  const auto s = std::make_shared<const SurrogateStudy>(std::move(study));
+  p.run = [s](const StudyRuntime& runtime) { return run_surrogate_study(*s, runtime); };
+  p.write = [s](const SurrogateStudyResult& r, io::Hdf5Writer& h5) { write_surrogate_study(h5, *s, r); };
+  p.counts = [](const SurrogateStudyResult& r) {
+    std::vector<int> status = r.training.status;
+    status.insert(status.end(), r.held_out.status.begin(), r.held_out.status.end());
+    std::vector<std::string> messages = r.training.messages;
+    messages.insert(messages.end(), r.held_out.messages.begin(), r.held_out.messages.end());
+    return count_runs(status, messages);
+  };
+  p.report = [s](const SurrogateStudyResult& r, std::ostream& out) { report_surrogate_study(out, *s, r); };
+  p.plot = [s](const SurrogateStudyResult& r, const std::string&, PlotSelection) {
+    plot_surrogate_study(*s, r, std::cerr);
+  };
+  return p;
 }
 
 }  // namespace rover::study

@@ -8,7 +8,8 @@
 // load_surrogate_study() (surrogate_spec.hpp) reads the study;
 // run_surrogate_study() makes or reads the runs and fits, printing nothing;
 // write_surrogate_study(), report_surrogate_study() and plot_surrogate_study()
-// (surrogate_report.hpp) put the result in HDF5, on a stream and in PNGs.
+// (surrogate_report.hpp) put the result in HDF5, on a stream and in PNGs;
+// surrogate_program() hands these to the study driver (study_driver.hpp).
 //
 // Failed runs are left out of the fit and counted. A QoI that is constant
 // over the runs or non-finite in a successful run gets no indices (and, for a
@@ -19,9 +20,11 @@
 #include <string>
 #include <vector>
 
+#include "study/studies/study_driver.hpp"
 #include "study/studies/surrogate_file.hpp"
 #include "study/studies/surrogate_spec.hpp"
 #include "study/studies/surrogate_training.hpp"
+#include "study/studies/pce_sensitivity.hpp"
 #include "study/surrogate/pce_sobol.hpp"
 
 namespace rover::study {
@@ -47,6 +50,16 @@ struct SurrogateStudyResult {
   TrainingRuns training;          // every training run, failed ones included
   TrainingRuns held_out;          // no runs when there is no held-out validation
   std::vector<SurrogateQoiResult> qoi;  // in the study's QoI order
+  // Per channel of the study (polynomial chaos only): the curve's PCE on one
+  // shared basis with mean(t), sd(t), S1_i(t), ST_i(t) and the
+  // variance-weighted indices (pce_sensitivity.hpp), on the training runs.
+  std::vector<PceChannelResult> channels;
+  // From the "compare" file, per QoI of the study: its total indices in the
+  // study's input order with their interval (empty where the file has none).
+  struct ComparedIndices {
+    Eigen::VectorXd ST, ST_lower, ST_upper;
+  };
+  std::vector<ComparedIndices> compared;
   SurrogateSet set;               // the fitted models and their inputs, as saved
   double runs_wall_time_s = 0.0, fit_wall_time_s = 0.0;
   std::vector<std::string> warnings;  // failed runs, low Q^2, undefined indices
@@ -59,9 +72,11 @@ SurrogateStudyResult fit_surrogate_study(const SurrogateStudy& study, const Trai
                                          const TrainingRuns& held_out);
 
 // Collective over MPI ranks: the design's runs over the task farm, or the
-// result files read on rank 0; then the fit on rank 0. The result on rank 0,
-// std::nullopt on the others. Throws std::invalid_argument (before any run)
-// for an unusable --out.
-std::optional<SurrogateStudyResult> run_surrogate_study(const SurrogateStudy& study, const StudyRunControl& control);
+// result files read on rank 0; then the fit on rank 0. The result is
+// meaningful on rank 0 only.
+SurrogateStudyResult run_surrogate_study(const SurrogateStudy& study, const StudyRuntime& runtime);
+
+// The study as the driver runs it.
+StudyProgram<SurrogateStudyResult> surrogate_program(SurrogateStudy study);
 
 }  // namespace rover::study

@@ -97,6 +97,7 @@ TrainingRuns TrainingRuns::slice(int first, int count) const {
   out.y = y.middleRows(first, count);
   out.status.assign(status.begin() + first, status.begin() + first + count);
   out.messages.assign(messages.begin() + first, messages.begin() + first + count);
+  for (const Eigen::MatrixXd& c : curves) out.curves.push_back(c.middleRows(first, count));
   return out;
 }
 
@@ -136,8 +137,7 @@ TrainingRuns read_result_runs(const std::string& path, const SurrogateStudy& stu
   return runs;
 }
 
-TrainingRuns run_design_runs(const SurrogateStudy& study, const StudyRunControl& control,
-                             const std::string& results_path) {
+TrainingRuns run_design_runs(const SurrogateStudy& study, const StudyRunOptions& options) {
   const StudySpec& spec = study.spec;
   const StudyModel& model = *spec.model;
   const RecordLayout layout = model.layout();
@@ -145,19 +145,21 @@ TrainingRuns run_design_runs(const SurrogateStudy& study, const StudyRunControl&
   runs.source = "design";
   runs.x = study_design(spec);
   runs.y.resize(runs.x.rows(), layout.qoi_count);
+  runs.curves.assign(static_cast<std::size_t>(layout.channel_count),
+                     Eigen::MatrixXd::Constant(runs.x.rows(), layout.time_samples, std::nan("")));
   auto compute = [&](int i) { return encode_record(i, model.run(runs.x.row(i).data())); };
   auto consume = [&](TaskResult&& task) {
     const Eigen::Index i = task.index;
     const RunRecord record = decode_record(layout, std::move(task));
     for (int q = 0; q < layout.qoi_count; ++q)
       runs.y(i, q) = record.ok() ? record.qoi[static_cast<std::size_t>(q)] : std::nan("");
+    for (int c = 0; c < layout.channel_count && record.ok(); ++c) {
+      const double* curve = record.curve(c, layout.time_samples);
+      for (int s = 0; s < layout.time_samples; ++s) runs.curves[static_cast<std::size_t>(c)](i, s) = curve[s];
+    }
     runs.status.push_back(record.status);
     runs.messages.push_back(record.message);
   };
-  StudyRunOptions options = control;
-  options.results_path = results_path;
-  options.fingerprint = spec.fingerprint;
-  options.label = "surrogate";
   stream_study_tasks(static_cast<int>(runs.x.rows()), compute, consume, options);
   if (world_rank() != 0) return TrainingRuns{};
   return runs;

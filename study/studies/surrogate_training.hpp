@@ -13,7 +13,7 @@
 #include <Eigen/Core>
 
 #include "study/studies/montecarlo.hpp"
-#include "study/studies/study_config.hpp"
+#include "study/runtime/study_runner.hpp"
 #include "study/studies/surrogate_spec.hpp"
 
 namespace rover::study {
@@ -24,6 +24,9 @@ struct TrainingRuns {
   Eigen::MatrixXd y;              // runs x QoIs, in the study's QoI order; NaN where a run failed
   std::vector<int> status;        // per run, run_status (0 ok)
   std::vector<std::string> messages;
+  // Per channel of the study: runs x time samples, NaN where a run failed
+  // (a design's runs only).
+  std::vector<Eigen::MatrixXd> curves;
 
   int runs() const { return static_cast<int>(x.rows()); }
   int failed_runs() const;
@@ -40,10 +43,9 @@ struct TrainingRuns {
 // or an input value outside its distribution's support (naming the run).
 TrainingRuns read_result_runs(const std::string& path, const SurrogateStudy& study, const std::string& role);
 
-// Collective over MPI ranks: runs the study's design (checkpointed beside
-// results_path, --resume as the other studies). The runs on rank 0; empty on
-// the other ranks.
-TrainingRuns run_design_runs(const SurrogateStudy& study, const StudyRunControl& control,
-                             const std::string& results_path);
+// Collective over MPI ranks: runs the study's design over the task farm with
+// the driver's options (checkpointed beside the result, --resume as the
+// other studies). The runs on rank 0; empty on the other ranks.
+TrainingRuns run_design_runs(const SurrogateStudy& study, const StudyRunOptions& options);
 
 }  // namespace rover::study

@@ -18,6 +18,7 @@ namespace rover::study {
 namespace {
 
 constexpr double kMaxNugget = 0.1;
+constexpr double kMaxEstimatedNugget = 10.0;
 constexpr int kMaxStarts = 100;
 constexpr int kMinEvaluations = 10;
 // The objective returned where the correlation matrix is not positive definite.
@@ -30,6 +31,7 @@ constexpr double kLogLengthTolerance = 1e-5;
 // A sample variance at or below this fraction of the squared mean is zero.
 constexpr double kConstantOutputRelativeVariance = 1e-28;
 constexpr std::uint64_t kStartStream = 0x6A09E667F3BCC909ull;
+constexpr std::uint64_t kNuggetStartStream = 0xBB67AE8584CAA73Bull;
 
 std::string number(double v) {
   std::ostringstream s;
@@ -43,6 +45,9 @@ void check_settings(const GaussianProcessSettings& s) {
   };
   if (!(s.nugget >= 0.0 && s.nugget <= kMaxNugget))
     fail("nugget " + number(s.nugget) + " is outside [0, " + number(kMaxNugget) + "]");
+  if (s.estimate_nugget && !(s.min_nugget > 0.0 && s.max_nugget > s.min_nugget && s.max_nugget <= kMaxEstimatedNugget))
+    fail("nugget bounds [" + number(s.min_nugget) + ", " + number(s.max_nugget) + "] must satisfy 0 < min < max <= " +
+         number(kMaxEstimatedNugget));
   if (s.starts < 1 || s.starts > kMaxStarts)
     fail("starts " + std::to_string(s.starts) + " is outside [1, " + std::to_string(kMaxStarts) + "]");
   if (s.max_evaluations < kMinEvaluations)
@@ -127,22 +132,28 @@ Profile profile(const DesignMatrix& u, const Eigen::VectorXd& y, const Eigen::Ma
   return p;
 }
 
+// theta: the log length-scales and, when estimate_nugget, log tau last.
 struct Problem {
   const DesignMatrix* u;
   const Eigen::VectorXd* y;
   const Eigen::MatrixXd* f;
-  double nugget;
+  double nugget;  // when it is not estimated
+  bool estimate_nugget;
 };
 
 // d f / d log l_k = tr((R^-1 - w w^T / sigma^2) dR/dlog l_k), w = R^-1 (y - F beta)
 // (beta and sigma^2 at their optimum, so their own derivatives drop out), with
-// dR_ij/dlog l_k = 5/3 (1 + sqrt5 r) exp(-sqrt5 r) (d_ijk / l_k)^2.
-Eigen::VectorXd objective_gradient(const Profile& p, const DesignMatrix& u,
-                                   const Eigen::VectorXd& length_scales) {
-  const Eigen::Index n = u.rows(), d = u.cols();
+// dR_ij/dlog l_k = 5/3 (1 + sqrt5 r) exp(-sqrt5 r) (d_ijk / l_k)^2, and
+// dR/dlog tau = tau I, so d f / d log tau = tau tr(R^-1 - w w^T / sigma^2).
+Eigen::MatrixXd gradient_kernel(const Profile& p, Eigen::Index n) {
   const Eigen::MatrixXd r_inv = p.llt.solve(Eigen::MatrixXd::Identity(n, n));
   const Eigen::VectorXd w = p.llt.matrixU().solve(p.residual);
-  const Eigen::MatrixXd a = r_inv - w * w.transpose() / p.sigma2;
+  return r_inv - w * w.transpose() / p.sigma2;
+}
+
+Eigen::VectorXd objective_gradient(const Eigen::MatrixXd& a, const DesignMatrix& u,
+                                   const Eigen::VectorXd& length_scales) {
+  const Eigen::Index n = u.rows(), d = u.cols();
   const double sqrt5 = std::sqrt(5.0);
   Eigen::VectorXd gradient = Eigen::VectorXd::Zero(d);
   const DesignMatrix scaled = u.array().rowwise() / length_scales.transpose().array();
@@ -158,41 +169,70 @@ Eigen::VectorXd objective_gradient(const Profile& p, const DesignMatrix& u,
 
 double objective(const std::vector<double>& theta, std::vector<double>& gradient, void* data) {
   const Problem& pr = *static_cast<const Problem*>(data);
-  Eigen::VectorXd ls(static_cast<Eigen::Index>(theta.size()));
-  for (std::size_t i = 0; i < theta.size(); ++i) ls(static_cast<Eigen::Index>(i)) = std::exp(theta[i]);
-  const Profile p = profile(*pr.u, *pr.y, *pr.f, ls, pr.nugget);
+  const Eigen::Index d = pr.u->cols();
+  Eigen::VectorXd ls(d);
+  for (Eigen::Index i = 0; i < d; ++i) ls(i) = std::exp(theta[static_cast<std::size_t>(i)]);
+  const double nugget = pr.estimate_nugget ? std::exp(theta.back()) : pr.nugget;
+  const Profile p = profile(*pr.u, *pr.y, *pr.f, ls, nugget);
   if (!gradient.empty()) {
-    const Eigen::VectorXd g = p.ok ? objective_gradient(p, *pr.u, ls)
-                                   : Eigen::VectorXd::Zero(static_cast<Eigen::Index>(theta.size()));
-    for (std::size_t i = 0; i < theta.size(); ++i) gradient[i] = g(static_cast<Eigen::Index>(i));
+    std::fill(gradient.begin(), gradient.end(), 0.0);
+    if (p.ok) {
+      const Eigen::MatrixXd a = gradient_kernel(p, pr.u->rows());
+      const Eigen::VectorXd g = objective_gradient(a, *pr.u, ls);
+      for (Eigen::Index i = 0; i < d; ++i) gradient[static_cast<std::size_t>(i)] = g(i);
+      if (pr.estimate_nugget) gradient.back() = nugget * a.trace();
+    }
   }
   return p.objective;
+}
+
+// The bounds of theta: log length-scales, then log tau when it is estimated.
+struct ThetaBounds {
+  std::vector<double> lower, upper;
+};
+
+ThetaBounds theta_bounds(int dims, const GaussianProcessSettings& s) {
+  ThetaBounds b{std::vector<double>(static_cast<std::size_t>(dims), std::log(s.min_length_scale)),
+                std::vector<double>(static_cast<std::size_t>(dims), std::log(s.max_length_scale))};
+  if (s.estimate_nugget) {
+    b.lower.push_back(std::log(s.min_nugget));
+    b.upper.push_back(std::log(s.max_nugget));
+  }
+  return b;
 }
 
 std::vector<double> start_point(int start, int dims, const GaussianProcessSettings& s) {
   const double lo = std::log(s.min_length_scale), hi = std::log(s.max_length_scale);
   std::vector<double> theta(static_cast<std::size_t>(dims));
+  // A number in [0, 1) from (seed, stream, index).
+  const auto unit = [&](std::uint64_t stream, int index) {
+    const std::uint64_t h = splitmix64(s.seed ^ splitmix64(stream + static_cast<std::uint64_t>(index)));
+    return static_cast<double>(h >> 11) / 9007199254740992.0;
+  };
   for (int i = 0; i < dims; ++i) {
-    double t = std::log(kFirstStartLengthScale);
-    if (start > 0) {
-      const std::uint64_t h = splitmix64(s.seed ^ splitmix64(kStartStream + static_cast<std::uint64_t>(start * dims + i)));
-      const double unit = static_cast<double>(h >> 11) / 9007199254740992.0;
-      t = lo + unit * (hi - lo);
-    }
+    const double t = start > 0 ? lo + unit(kStartStream, start * dims + i) * (hi - lo) : std::log(kFirstStartLengthScale);
     theta[static_cast<std::size_t>(i)] = std::clamp(t, lo, hi);
+  }
+  // The nugget: the given one first, then anywhere in its range (the
+  // likelihood often has a noise-free and a noisy optimum).
+  if (s.estimate_nugget) {
+    const double nlo = std::log(s.min_nugget), nhi = std::log(s.max_nugget);
+    theta.push_back(start > 0 ? nlo + unit(kNuggetStartStream, start) * (nhi - nlo)
+                              : std::log(std::clamp(s.nugget, s.min_nugget, s.max_nugget)));
   }
   return theta;
 }
 
-// The best log length-scales over the starts.
-Eigen::VectorXd maximise_likelihood(const Problem& pr, int dims, const GaussianProcessSettings& s) {
+// The best theta (log length-scales, then log tau when estimated) over the starts.
+std::vector<double> maximise_likelihood(const Problem& pr, int dims, const GaussianProcessSettings& s) {
   std::vector<double> best;
   double best_value = kFailedObjective;
+  const ThetaBounds bounds = theta_bounds(dims, s);
   for (int start = 0; start < s.starts; ++start) {
     nlopt::opt opt(s.optimizer == GaussianProcessOptimizer::kLbfgs ? nlopt::LD_LBFGS : nlopt::LN_BOBYQA,
-                   static_cast<unsigned>(dims));
-    opt.set_lower_bounds(std::vector<double>(static_cast<std::size_t>(dims), std::log(s.min_length_scale)));
-    opt.set_upper_bounds(std::vector<double>(static_cast<std::size_t>(dims), std::log(s.max_length_scale)));
+                   static_cast<unsigned>(bounds.lower.size()));
+    opt.set_lower_bounds(bounds.lower);
+    opt.set_upper_bounds(bounds.upper);
     opt.set_min_objective(objective, const_cast<Problem*>(&pr));
     opt.set_initial_step(kInitialLogStep);
     opt.set_xtol_abs(kLogLengthTolerance);
@@ -210,20 +250,21 @@ Eigen::VectorXd maximise_likelihood(const Problem& pr, int dims, const GaussianP
       best = theta;
     }
   }
-  Eigen::VectorXd ls(dims);
-  for (int i = 0; i < dims; ++i) ls(i) = std::exp(best[static_cast<std::size_t>(i)]);
-  return ls;
+  return best;
 }
 
 }  // namespace
 
 double gaussian_process_objective(const DesignMatrix& u, const Eigen::VectorXd& y, KrigingTrend trend,
                                   const Eigen::VectorXd& length_scales, double nugget,
-                                  Eigen::VectorXd* gradient) {
+                                  Eigen::VectorXd* gradient, double* nugget_gradient) {
   const Eigen::MatrixXd f = trend_matrix(u, trend);
   const Profile p = profile(u, y, f, length_scales, nugget);
+  if (gradient == nullptr && nugget_gradient == nullptr) return p.objective;
+  const Eigen::MatrixXd a = p.ok ? gradient_kernel(p, u.rows()) : Eigen::MatrixXd::Zero(u.rows(), u.rows());
   if (gradient != nullptr)
-    *gradient = p.ok ? objective_gradient(p, u, length_scales) : Eigen::VectorXd::Zero(u.cols());
+    *gradient = p.ok ? objective_gradient(a, u, length_scales) : Eigen::VectorXd::Zero(u.cols());
+  if (nugget_gradient != nullptr) *nugget_gradient = nugget * a.trace();
   return p.objective;
 }
 
@@ -234,7 +275,6 @@ GaussianProcess fit_gaussian_process(const DesignMatrix& x, const Eigen::VectorX
   GaussianProcess gp;
   gp.output_name = name;
   gp.trend = s.trend;
-  gp.nugget = s.nugget;
   gp.runs = static_cast<int>(y.size());
   gp.input_offset = x.colwise().minCoeff();
   gp.input_scale = x.colwise().maxCoeff() - gp.input_offset;
@@ -242,11 +282,17 @@ GaussianProcess fit_gaussian_process(const DesignMatrix& x, const Eigen::VectorX
     if (!(gp.input_scale(j) > 0.0)) gp.input_scale(j) = 1.0;  // an input held constant
   gp.scaled_inputs = (x.rowwise() - gp.input_offset).array().rowwise() / gp.input_scale.array();
   const Eigen::MatrixXd f = trend_matrix(gp.scaled_inputs, s.trend);
-  const Problem problem{&gp.scaled_inputs, &y, &f, s.nugget};
-  gp.length_scales = s.fixed_length_scales.size() > 0
-                         ? s.fixed_length_scales
-                         : maximise_likelihood(problem, static_cast<int>(x.cols()), s);
-  const Profile p = profile(gp.scaled_inputs, y, f, gp.length_scales, s.nugget);
+  const Problem problem{&gp.scaled_inputs, &y, &f, s.nugget, s.estimate_nugget};
+  gp.nugget = s.nugget;
+  if (s.fixed_length_scales.size() > 0) {
+    gp.length_scales = s.fixed_length_scales;
+  } else {
+    const std::vector<double> theta = maximise_likelihood(problem, static_cast<int>(x.cols()), s);
+    gp.length_scales.resize(x.cols());
+    for (Eigen::Index i = 0; i < x.cols(); ++i) gp.length_scales(i) = std::exp(theta[static_cast<std::size_t>(i)]);
+    if (s.estimate_nugget) gp.nugget = std::exp(theta.back());
+  }
+  const Profile p = profile(gp.scaled_inputs, y, f, gp.length_scales, gp.nugget);
   if (!p.ok)
     throw std::invalid_argument("Gaussian process: the correlation matrix of '" + name +
                                 "' is singular at every length-scale tried (repeated runs? "
@@ -289,6 +335,7 @@ GaussianProcessPrediction predict_gaussian_process(const GaussianProcess& gp, co
                                          trend_term.colwise().squaredNorm().array()))
                      .cwiseMax(0.0)
                      .transpose();
+  out.nugget_variance = gp.nugget * gp.process_variance;
   return out;
 }
 

@@ -3,7 +3,12 @@
 //   Y(x) = f(x)^T beta + Z(x),  Cov(Z(x), Z(x')) = sigma^2 (k(x, x') + tau delta_xx'),
 // with a constant (ordinary kriging) or linear (universal kriging) trend f,
 // the anisotropic Matern 5/2 correlation k (matern_kernel.hpp) on the inputs
-// scaled to [0, 1] by their training range, and a small relative nugget tau.
+// scaled to [0, 1] by their training range, and a relative nugget tau: fixed
+// and small (the process interpolates its runs), or estimated by maximum
+// likelihood with the length-scales when the output is noisy, like a wall
+// time, or rougher than the kernel at the scale of the runs (Rasmussen &
+// Williams 2006, sec. 2.2 and 5.4.1; Andrianakis & Challenor 2012). A fixed
+// tiny nugget on such an output makes the predictive sd too small.
 //
 // beta is the generalised least-squares estimate and sigma^2 is profiled out
 // in closed form, sigma^2 = (y - F beta)^T R^-1 (y - F beta) / n, so the
@@ -39,7 +44,11 @@ enum class GaussianProcessOptimizer { kBobyqa, kLbfgs };
 struct GaussianProcessSettings {
   KrigingTrend trend = KrigingTrend::kConstant;
   GaussianProcessOptimizer optimizer = GaussianProcessOptimizer::kBobyqa;
-  double nugget = 1e-8;            // tau, relative to sigma^2: [0, 0.1]
+  double nugget = 1e-8;            // tau, relative to sigma^2: [0, 0.1]; the start when estimated
+  // Estimate tau by maximum likelihood in [min_nugget, max_nugget] with the length-scales.
+  bool estimate_nugget = false;
+  double min_nugget = 1e-10;       // > 0
+  double max_nugget = 0.1;         // > min_nugget, <= 10: an output noisier than its trend has nothing to krige
   int starts = 4;                  // optimiser starts: 1 .. 100
   int max_evaluations = 500;       // likelihood evaluations per start: >= 10
   // Bounds of the length-scales on the inputs scaled to [0, 1]: 0 < min < max.
@@ -47,7 +56,8 @@ struct GaussianProcessSettings {
   double max_length_scale = 20.0;
   std::uint64_t seed = 1;          // the starts after the first depend on it
   // Non-empty: these length-scales (in the scaled units, one per input, > 0)
-  // are used as they are and the likelihood is not maximised.
+  // are used as they are and the likelihood is not maximised (the nugget is
+  // then the fixed one).
   Eigen::VectorXd fixed_length_scales;
   double q2_threshold = kDefaultQ2Threshold;
 };
@@ -73,8 +83,12 @@ struct GaussianProcess {
   SurrogateValidation validation;                // q2_loo from loo_mean
 };
 
+// variance: of the process's mean at each point (0 at a run when the nugget
+// is 0). An observation at the point adds the nugget's variance, tau sigma^2,
+// the same everywhere.
 struct GaussianProcessPrediction {
   Eigen::VectorXd mean, variance;  // one per point; variance >= 0
+  double nugget_variance = 0.0;    // tau sigma^2
 };
 
 // Throws std::invalid_argument naming the setting, its value and the accepted
@@ -88,11 +102,12 @@ GaussianProcess fit_gaussian_process(const DesignMatrix& x, const Eigen::VectorX
 // The minimised objective n log sigma^2 + log det R at these length-scales,
 // on inputs u already scaled (as GaussianProcess::scaled_inputs), and its
 // gradient with respect to the log length-scales if gradient is not null
-// (Rasmussen & Williams 2006, eq. 5.9, with sigma^2 and beta profiled out).
+// (Rasmussen & Williams 2006, eq. 5.9, with sigma^2 and beta profiled out);
+// with nugget_gradient not null, also its derivative with respect to log tau.
 // 1e300 (and a zero gradient) where R is not positive definite.
 double gaussian_process_objective(const DesignMatrix& u, const Eigen::VectorXd& y, KrigingTrend trend,
                                   const Eigen::VectorXd& length_scales, double nugget,
-                                  Eigen::VectorXd* gradient);
+                                  Eigen::VectorXd* gradient, double* nugget_gradient = nullptr);
 
 // Predictive mean and variance at the rows of x (physical units).
 GaussianProcessPrediction predict_gaussian_process(const GaussianProcess& gp,

@@ -224,6 +224,9 @@ TEST(SurrogateStudy, BadStudyFilesAreRefusedNamingTheField) {
            {head + R"("surrogate": "gp", "design": {"samples": 100}, "pce": {}})", "pce"},
            {head + R"("surrogate": "gp", "design": {"samples": 100}, "gp": {"trend": "quadratic"}})", "gp.trend"},
            {head + R"("surrogate": "gp", "design": {"samples": 100}, "gp": {"nugget": 1}})", "gp.nugget"},
+           {head + R"("surrogate": "gp", "design": {"samples": 100}, "gp": {"nugget": "fit"}})", "gp.nugget"},
+           {head + R"("surrogate": "gp", "design": {"samples": 100}, "compare": {"file": "none.h5"}})", "compare"},
+           {head + R"("design": {"samples": 100}, "compare": {"file": "none.h5"}})", "compare.file"},
            {head + R"("design": {"samples": 100}, "parameters": {"x1": {"distribution": "fixed", "value": 0}}})",
             "parameters"},
        }) {
