@@ -1,6 +1,7 @@
 #include "test_support.hpp"
 
 #include <fstream>
+#include <iterator>
 
 #include <array>
 #include <atomic>
@@ -137,6 +138,11 @@ std::string signal_once_checkpoint_grows(const std::string& command, const std::
          "if [ -s " + file + " ]; then size=$(stat -c %s " + file + "); "
          "[ -z \"$first\" ] && first=$size; [ \"$size\" -gt \"$first\" ] && break; fi; "
          "kill -0 $pid 2>/dev/null || break; sleep 0.01; done; kill -" + signal + " $pid 2>/dev/null; wait $pid)";
+}
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path);
+  return {std::istreambuf_iterator<char>(in), {}};
 }
 
 std::string write_file(const std::string& path, const std::string& text) {

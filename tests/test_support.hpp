@@ -10,6 +10,8 @@ std::string source_path(const std::string& relative);  // <source dir>/relative
 std::string rover_binary();                              // path of the built `rover`
 std::string mpiexec();                                   // "mpirun --oversubscribe" (root allowed)
 std::string temp_dir();  // a fresh directory for this test, removed if it passes
+// The text of a file ("" if it cannot be read).
+std::string read_file(const std::string& path);
 // Writes `text` to `path`; returns the path.
 std::string write_file(const std::string& path, const std::string& text);
 // A short drop scenario (0.25 s at 200 Hz, the horizontal drop's start) in

@@ -11,7 +11,6 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
-#include <fstream>
 #include <iterator>
 #include <map>
 #include <regex>
@@ -27,14 +26,10 @@
 namespace rover {
 namespace {
 
+using rover::testing::read_file;
 using rover::testing::rover_binary;
 using rover::testing::run_command;
 using rover::testing::source_path;
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
 
 // One example: the command after "rover" (subcommand and arguments, shell
 // syntax kept), or a study file to write, with its line in the document.
@@ -139,7 +134,7 @@ std::string result_of(const std::string& command, const std::string& dir) {
   if (const std::string out = flag_value(command, "--out"); !out.empty()) return out;
   const std::string study = flag_value(command, "--study");
   if (study.empty()) return "";
-  const io::Json json = io::Json::parse(read_text(dir + "/" + study), nullptr, false, true);
+  const io::Json json = io::Json::parse(read_file(dir + "/" + study), nullptr, false, true);
   return json.is_object() && json.contains("name") && json["name"].is_string()
              ? "results/" + json["name"].get<std::string>() + ".h5"
              : "";
@@ -155,7 +150,7 @@ bool read_later(const std::vector<Example>& examples, std::size_t index, const s
     if (result_of(later, dir) == result) return false;
     if (later.find(result) != std::string::npos) return true;
     const std::string study = flag_value(later, "--study");
-    if (!study.empty() && read_text(dir + "/" + study).find(result) != std::string::npos) return true;
+    if (!study.empty() && read_file(dir + "/" + study).find(result) != std::string::npos) return true;
   }
   return false;
 }
@@ -166,7 +161,7 @@ class DocumentationExamples : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(DocumentationExamples, RunAsWritten) {
   const std::string document = GetParam();
-  const std::string text = read_text(source_path(document));
+  const std::string text = read_file(source_path(document));
   const std::vector<Example> examples = examples_of(text);
   const std::string dir = rover::testing::temp_dir();
   std::filesystem::copy(source_path("configs"), dir + "/configs", std::filesystem::copy_options::recursive);
@@ -211,7 +206,7 @@ TEST(DocumentationExamples, EveryDocumentWithAnExampleIsRun) {
     const std::string document = "docs/" + entry.path().filename().string();
     const bool listed = std::find(kDocumentsWithExamples.begin(), kDocumentsWithExamples.end(), document) !=
                         kDocumentsWithExamples.end();
-    const std::vector<Example> examples = examples_of(read_text(entry.path().string()));
+    const std::vector<Example> examples = examples_of(read_file(entry.path().string()));
     const bool has_examples =
         std::any_of(examples.begin(), examples.end(), [](const Example& e) { return !e.command.empty(); });
     EXPECT_EQ(listed, has_examples) << document;

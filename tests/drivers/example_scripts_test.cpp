@@ -2,8 +2,6 @@
 // shown verbatim in docs/studies.md. A script whose Python module is not
 // installed is skipped with a message.
 #include <cstdio>
-#include <fstream>
-#include <iterator>
 #include <sstream>
 #include <string>
 
@@ -14,21 +12,17 @@
 namespace rover {
 namespace {
 
+using rover::testing::read_file;
 using rover::testing::rover_binary;
 using rover::testing::run_command;
 using rover::testing::source_path;
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
 
 // OpenTURNS draws a pick-freeze design over (c_q, f), `rover evaluate` runs
 // it, OpenTURNS estimates the indices of the peak compression: the damping
 // dominates it over these ranges, and every index is a share of a variance.
 TEST(ExampleScripts, OpenTurnsDrivesEvaluate) {
   const std::string script = source_path("docs/examples/evaluate_openturns.py");
-  EXPECT_NE(read_text(source_path("docs/studies.md")).find(read_text(script)), std::string::npos)
+  EXPECT_NE(read_file(source_path("docs/studies.md")).find(read_file(script)), std::string::npos)
       << "docs/studies.md must show " << script << " as it is";
   if (run_command("/usr/bin/python3 -c 'import openturns'") != 0)
     GTEST_SKIP() << "python3-openturns is not installed (apt-get install python3-openturns)";

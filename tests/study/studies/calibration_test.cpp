@@ -230,7 +230,7 @@ TEST(Calibration, StudyFileChecksNameTheField) {
   // "accuracy" in metres chooses the integrator; outside (1e-12, 1e-2) m, or
   // beside "integrator", it is refused naming the field.
   const CalibrationStudy accurate = load_calibration_study(write_file(dir, "a1.json", study_text(good, R"(, "accuracy": 1e-6)")));
-  EXPECT_FALSE(accurate.common.accuracy_choice.empty());
+  EXPECT_FALSE(accurate.accuracy_choice.empty());
   EXPECT_LE(accurate.integrator.relative_tolerance, 1e-5);
   expect_refused(write_file(dir, "a2.json", study_text(good, R"(, "accuracy": 0.1)")), "'accuracy'");
   expect_refused(write_file(dir, "a3.json", study_text(good, R"(, "accuracy": 1e-6, "integrator": {"method": "dopri5"})")),
