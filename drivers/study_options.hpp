@@ -20,7 +20,6 @@
 #include "study/runtime/mpi_session.hpp"
 #include "study/runtime/study_runner.hpp"
 #include "study/studies/evaluate.hpp"
-#include "study/studies/study_config.hpp"
 #include "study/studies/study_driver.hpp"
 
 namespace rover::cli {
@@ -67,21 +66,13 @@ inline void add_plots_flags(CLI::App& app, study::StudyRunOptions& o) {
   app.add_flag_callback("--no-plot", [&o] { o.plots = study::PlotSelection::kNone; }, "Same as --plots none");
 }
 
-// The flags of every study subcommand: --out, --resume, --plots, --no-plot,
-// --progress-interval, --checkpoint-every.
+// The flags of every study subcommand: --out, --resume, --restart, --dry-run,
+// --plots, --no-plot, --progress-interval, --checkpoint-every.
 inline void add_study_flags(CLI::App& app, study::StudyRunOptions& o) {
   add_output_flags(app, o);
   add_dry_run_flag(app, o);
   add_plots_flags(app, o);
   add_progress_flags(app, o);
-}
-
-// used by calibration until it moves to the study driver: the flags above
-// with calibration's on/off plot switch.
-inline void add_study_control(CLI::App& app, study::StudyRunControl& c) {
-  add_output_flags(app, c);
-  app.add_flag("!--no-plot", c.plot, "Do not write PNG plots");
-  add_progress_flags(app, c);
 }
 
 // A leftover checkpoint: the finished runs of an interrupted study are kept
@@ -168,21 +159,6 @@ int run_study_command(const CLI::App& subcommand, const study::StudyRunOptions& 
                       const std::string& study_path, Load&& load) {
   return run_study_session(subcommand, options, study_path,
                            [&](const study::StudyRunOptions& completed) { return study::drive_study(load(), completed); });
-}
-
-// used by calibration until it moves to the study driver, which handles the
-// interrupt itself. Runs a study inside the command's MPI session and reports
-// an interrupt there (exit status 130): after a Ctrl-C of mpirun,
-// MPI_Finalize does not return before Open MPI kills the rank, so a message
-// printed after the session ended would be lost.
-template <class Study>
-int run_interruptible(const std::string& command, Study&& run_study) {
-  try {
-    return run_study();
-  } catch (const study::StudyInterrupted& e) {
-    std::cerr << "rover " << command << ": " << e.what() << std::endl;
-    return study::StudyInterrupted::kExitCode;
-  }
 }
 
 inline constexpr const char* kMpiFooter =
