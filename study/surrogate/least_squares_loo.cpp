@@ -85,27 +85,49 @@ bool least_squares_coefficients(const Eigen::MatrixXd& psi, const Eigen::VectorX
   return true;
 }
 
+namespace {
+
+// What the leave-one-out error of a fit on Psi needs of it: the Cholesky
+// factor of Psi^T Psi, the leverages h_ii and the correction T(P, N) =
+// N / (N - P) (1 + tr((Psi^T Psi)^-1)). ok false for N <= P, a Gram matrix
+// that is not positive definite, or a leverage too close to 1.
+struct LooFactor {
+  bool ok = false;
+  Eigen::LLT<Eigen::MatrixXd> llt;
+  Eigen::VectorXd leverage;
+  double correction = 0.0;
+};
+
+LooFactor loo_factor(const Eigen::MatrixXd& psi) {
+  LooFactor f;
+  const Eigen::Index n = psi.rows(), p = psi.cols();
+  if (n <= p) return f;
+  const Eigen::MatrixXd gram = psi.transpose() * psi;
+  f.llt.compute(gram);
+  if (!cholesky_ok(f.llt, gram.diagonal().maxCoeff())) return f;
+  // W = L^-1 Psi^T: h_ii = |W_i|^2; L^-1 gives tr((Psi^T Psi)^-1) = |L^-1|_F^2.
+  const Eigen::MatrixXd w = f.llt.matrixL().solve(psi.transpose());
+  const Eigen::MatrixXd l_inv = f.llt.matrixL().solve(Eigen::MatrixXd::Identity(p, p));
+  f.leverage = w.colwise().squaredNorm().transpose();
+  if (f.leverage.maxCoeff() >= kMaxLeverage) return f;
+  f.correction = static_cast<double>(n) / static_cast<double>(n - p) * (1.0 + l_inv.squaredNorm());
+  f.ok = true;
+  return f;
+}
+
+}  // namespace
+
 LeastSquaresLoo least_squares_loo(const Eigen::MatrixXd& psi, const Eigen::VectorXd& y,
                                   double y_variance) {
   LeastSquaresLoo fit;
-  const Eigen::Index n = psi.rows(), p = psi.cols();
-  if (n <= p) return fit;
-  const Eigen::MatrixXd gram = psi.transpose() * psi;
-  const Eigen::LLT<Eigen::MatrixXd> llt(gram);
-  if (!cholesky_ok(llt, gram.diagonal().maxCoeff())) return fit;
-  fit.coefficients = llt.solve(psi.transpose() * y);
-  // W = L^-1 Psi^T: h_ii = |W_i|^2; L^-1 gives tr((Psi^T Psi)^-1) = |L^-1|_F^2.
-  const Eigen::MatrixXd w = llt.matrixL().solve(psi.transpose());
-  const Eigen::MatrixXd l_inv = llt.matrixL().solve(Eigen::MatrixXd::Identity(p, p));
-  const Eigen::VectorXd leverage = w.colwise().squaredNorm().transpose();
-  if (leverage.maxCoeff() >= kMaxLeverage) return fit;
+  const LooFactor factor = loo_factor(psi);
+  if (!factor.ok) return fit;
+  fit.coefficients = factor.llt.solve(psi.transpose() * y);
   const Eigen::VectorXd residual = y - psi * fit.coefficients;
-  const double loo =
-      (residual.array() / (1.0 - leverage.array())).square().sum() / static_cast<double>(n);
+  const double loo = (residual.array() / (1.0 - factor.leverage.array())).square().sum() /
+                     static_cast<double>(psi.rows());
   fit.relative_loo = loo / y_variance;
-  const double correction =
-      static_cast<double>(n) / static_cast<double>(n - p) * (1.0 + l_inv.squaredNorm());
-  fit.corrected_loo = correction * fit.relative_loo;
+  fit.corrected_loo = factor.correction * fit.relative_loo;
   fit.ok = std::isfinite(fit.corrected_loo);
   return fit;
 }
@@ -113,24 +135,15 @@ LeastSquaresLoo least_squares_loo(const Eigen::MatrixXd& psi, const Eigen::Vecto
 MultiOutputLeastSquaresLoo least_squares_loo(const Eigen::MatrixXd& psi, const Eigen::MatrixXd& y,
                                              const Eigen::VectorXd& y_variances) {
   MultiOutputLeastSquaresLoo fit;
-  const Eigen::Index n = psi.rows(), p = psi.cols();
-  if (n <= p) return fit;
-  const Eigen::MatrixXd gram = psi.transpose() * psi;
-  const Eigen::LLT<Eigen::MatrixXd> llt(gram);
-  if (!cholesky_ok(llt, gram.diagonal().maxCoeff())) return fit;
-  fit.coefficients = llt.solve(psi.transpose() * y);
-  const Eigen::MatrixXd w = llt.matrixL().solve(psi.transpose());
-  const Eigen::MatrixXd l_inv = llt.matrixL().solve(Eigen::MatrixXd::Identity(p, p));
-  const Eigen::VectorXd leverage = w.colwise().squaredNorm().transpose();
-  if (leverage.maxCoeff() >= kMaxLeverage) return fit;
-  const double correction =
-      static_cast<double>(n) / static_cast<double>(n - p) * (1.0 + l_inv.squaredNorm());
+  const LooFactor factor = loo_factor(psi);
+  if (!factor.ok) return fit;
+  fit.coefficients = factor.llt.solve(psi.transpose() * y);
   const Eigen::MatrixXd scaled =
-      (y - psi * fit.coefficients).array().colwise() / (1.0 - leverage.array());
-  const Eigen::VectorXd loo = scaled.colwise().squaredNorm().transpose() / static_cast<double>(n);
+      (y - psi * fit.coefficients).array().colwise() / (1.0 - factor.leverage.array());
+  const Eigen::VectorXd loo = scaled.colwise().squaredNorm().transpose() / static_cast<double>(psi.rows());
   fit.corrected_loo.resize(y.cols());
   for (Eigen::Index j = 0; j < y.cols(); ++j)
-    fit.corrected_loo(j) = y_variances(j) > 0.0 ? correction * loo(j) / y_variances(j) : 0.0;
+    fit.corrected_loo(j) = y_variances(j) > 0.0 ? factor.correction * loo(j) / y_variances(j) : 0.0;
   fit.ok = fit.corrected_loo.allFinite();
   return fit;
 }
