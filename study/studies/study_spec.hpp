@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "io/input_files.hpp"
 #include "io/json_reader.hpp"
 #include "study/design/design.hpp"
 #include "study/estimators/distributions.hpp"
@@ -36,6 +37,9 @@ struct DesignSpec {
 struct StudySpec {
   std::string path, type, name, description;
   std::string fingerprint;  // every file that changes a result, and the options
+  // The files the study file names: its scenario and what that names, the
+  // reference curves (not the study file itself: the command names it).
+  io::InputFiles files;
   std::shared_ptr<const StudyModel> model;
   std::shared_ptr<const RoverStudyModel> rover;  // null for an analytic model
   std::vector<UncertainInput> inputs;

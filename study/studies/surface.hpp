@@ -53,6 +53,8 @@ struct SurfaceStudy {
   bool simulate_reference = false;
   double reference_f = 0.0, reference_c_q = 0.0;
   std::string reference_description;
+  // The files the study file names: its scenario, what that names, the reference file.
+  io::InputFiles files;
 };
 
 SurfaceStudy load_surface_study(const std::string& path);
