@@ -47,9 +47,11 @@ void check_outputs(const std::string& flag, const std::string& out, const io::In
 StudyRunOptions prepare(const std::string& command, const std::string& name, const std::string& fingerprint,
                         const MemoryEstimate& memory, const std::string& banner, bool csv_allowed,
                         const io::InputFiles& inputs, StudyRunOptions options) {
-  const std::string flag = options.results_path.empty() ? "--out (default)" : "--out";
+  const bool given = !options.results_path.empty();
+  // An input the output would destroy comes first, before the path's form.
+  check_outputs(given ? "--out" : "--out (default)", given ? options.results_path : "results/" + name + ".h5", inputs,
+                options.plots);
   options.results_path = checked_results_path(name, options.results_path, csv_allowed);
-  check_outputs(flag, options.results_path, inputs, options.plots);
   if (memory.bytes > 0.0) require_memory(memory.what, memory.bytes);
   options.label = command;
   options.fingerprint = fingerprint;

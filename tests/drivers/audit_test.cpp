@@ -803,20 +803,25 @@ TEST_F(Audit, StudyLevelReliability) {
     cases.push_back({method + " with a constant QoI", study("sensitivity", path), Want::kRuns,
                      {"t_min: indices undefined", "constant"}});
   }
-  // Every run failed: the results are kept, the status is 2.
+  // A distribution reaching where the model refuses every run: refused, named, before any run.
   const Json in_the_ground{{"distribution", "uniform"}, {"min", -0.6}, {"max", -0.5}};
-  const std::string all_fail =
+  const std::string into_ground =
       w().montecarlo([&](Json& j) { j["parameters"] = {{"scenario.initial_q.z", in_the_ground}}; });
-  cases.push_back({"montecarlo where every run fails", study("montecarlo", all_fail), Want::kAllFailed,
-                   {"every run failed"}});
-  const std::string all_fail_sobol = w().sensitivity([&](Json& j) {
+  cases.push_back({"montecarlo of a drop height inside the ground", study("montecarlo", into_ground), Want::kError,
+                   {into_ground, "'scenario.initial_q.z'", "reaches -0.6", "below the ground"}});
+  const std::string into_ground_sobol = w().sensitivity([&](Json& j) {
     j.erase("model");
     j["scenario"] = w().quick();
     j["parameters"] = {{"c_q", uniform_c_q}, {"scenario.initial_q.z", in_the_ground}};
     j["qoi"] = {"t_min"};
   });
-  cases.push_back({"sobol where every run fails", study("sensitivity", all_fail_sobol), Want::kError,
-                   {"max_failed_fraction"}});
+  cases.push_back({"sobol of a drop height inside the ground", study("sensitivity", into_ground_sobol), Want::kError,
+                   {"'scenario.initial_q.z'", "reaches -0.6"}});
+  // Every run failed (each exceeds its wall-time budget): the results are kept, the status is 2.
+  const std::string all_fail = w().montecarlo(
+      [&](Json& j) { j["scenario"] = w().scenario([](Json& s) { s["wall_time_budget"] = 1e-9; }); });
+  cases.push_back({"montecarlo where every run fails", study("montecarlo", all_fail), Want::kAllFailed,
+                   {"every run failed"}});
   run_table(w().dir(), cases);
 }
 
@@ -1525,9 +1530,10 @@ TEST_F(Audit, PlotPathsRefusedUpFront) {
   cases.push_back({"simulate's plot path is a link", "simulate --scenario " + w().quick() + " --out " + dir + "/sim.h5",
                    Want::kError, {"--out", sim_link, "symbolic link", "--no-plot"},
                    all_of({still_a_link(sim_link, target), nothing_at(dir + "/sim.h5")})});
+  const std::string unplotted_link = link("unplotted.png");
   cases.push_back({"simulate --no-plot beside a plot link", "simulate --no-plot --scenario " + w().quick() + " --out " +
-                                                                dir + "/sim.h5",
-                   Want::kRuns, {}, still_a_link(sim_link, target)});
+                                                                dir + "/unplotted.h5",
+                   Want::kRuns, {}, still_a_link(unplotted_link, target)});
   const std::string mc_plot = write_file(dir + "/mc_summary.png", "an earlier figure\n");
   fs::permissions(mc_plot, fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read);
   cases.push_back({"montecarlo's summary figure is read-only",
@@ -1655,7 +1661,8 @@ TEST_F(Audit, RefusedAfterTheRuns) {
   const std::string failing = w().sensitivity([&](Json& j) {
     j.erase("model");
     j["scenario"] = w().scenario([](Json& s) { s["wall_time_budget"] = 1e-9; });
-    j["parameters"] = {{"c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.2}}}};
+    j["parameters"] = {{"c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.2}}},
+                       {"f", {{"distribution", "uniform"}, {"min", 1e3}, {"max", 1e4}}}};
     j["design"] = {{"type", "sobol"}, {"samples", 2}, {"seed", 1}};
     j["qoi"] = {"t_min"};
   });
