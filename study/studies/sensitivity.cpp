@@ -295,7 +295,7 @@ SensitivityResult analyse_sensitivity(const SensitivityStudy& study, const Desig
                           : study.method == SensitivityMethod::kMorris ? "trajectories"
                                                                        : "runs";
   if (failed_units > study.max_failed_fraction * units)
-    throw std::runtime_error(std::to_string(failed_units) + " of " + std::to_string(units) + " " + unit_name +
+    throw RunsRefused(std::to_string(failed_units) + " of " + std::to_string(units) + " " + unit_name +
                              (study.method == SensitivityMethod::kPce ? " failed" : " have a failed run") +
                              ", more than max_failed_fraction = " +
                              fixed_text(study.max_failed_fraction, 2) + "; the indices would not describe the model. " +

@@ -83,6 +83,14 @@ struct StudyProgram {
   int status_when_some_failed = 0;
 };
 
+// Thrown by a study whose runs finished but whose results it refuses (a
+// sensitivity analysis with more failed runs than max_failed_fraction): the
+// driver adds that nothing was written and where the runs are kept.
+class RunsRefused : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 // The exit status of a study whose every run failed (its results are kept),
 // and of one whose some runs failed where the study counts that as an error.
 inline constexpr int kEveryRunFailedStatus = 2;
@@ -159,7 +167,7 @@ int drive_study(const StudyProgram<Result>& study, const StudyRunOptions& option
     return driver_detail::exit_status(study.command, out, counts, study.status_when_some_failed);
   } catch (const StudyInterrupted& e) {
     return driver_detail::interrupted(study.command, e);
-  } catch (const std::runtime_error& e) {  // the analysis refused the runs' results
+  } catch (const RunsRefused& e) {
     throw std::runtime_error(driver_detail::with_kept_runs(e.what(), out));
   }
 }

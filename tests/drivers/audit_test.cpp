@@ -1558,6 +1558,31 @@ TEST_F(Audit, PlotPathsRefusedUpFront) {
   run_table(dir, cases);
 }
 
+// Class 2: the temporary files written beside an output (<out>.partial, the
+// checkpoint's) are made anew, never written through a link standing there.
+TEST_F(Audit, TemporaryFilesNeverWrittenThroughLinks) {
+  std::vector<Case> cases;
+  const std::string dir = w().dir();
+  auto precious = [&](const std::string& name) { return write_file(dir + "/" + name, "precious\n"); };
+  auto a_regular_file = [](const std::string& path) {
+    return [=] { return fs::is_regular_file(fs::symlink_status(path)) ? std::string() : path + " is not a regular file"; };
+  };
+  const std::string kept_h5 = precious("kept_h5.txt"), kept_csv = precious("kept_csv.txt"),
+                    kept_mc = precious("kept_mc.txt");
+  fs::create_symlink(kept_h5, dir + "/sim.h5.partial");
+  fs::create_symlink(kept_csv, dir + "/sim.csv.partial");
+  cases.push_back({"simulate beside links at <out>.partial",
+                   "simulate --no-plot --scenario " + w().quick() + " --out " + dir + "/sim.h5 --csv " + dir + "/sim.csv",
+                   Want::kRuns, {},
+                   all_of({unchanged(kept_h5), unchanged(kept_csv), a_regular_file(dir + "/sim.h5"),
+                           a_regular_file(dir + "/sim.csv")})});
+  fs::create_symlink(kept_mc, dir + "/mc.h5.checkpoint.partial");
+  cases.push_back({"montecarlo beside a link at its checkpoint's temporary file",
+                   study_args("montecarlo", w().montecarlo([](Json&) {}), dir + "/mc.h5"), Want::kRuns, {},
+                   all_of({unchanged(kept_mc), a_regular_file(dir + "/mc.h5")})});
+  run_table(dir, cases);
+}
+
 // Class 3: a reference curve the run cannot be compared with is refused
 // before any run: its span (times in milliseconds, an offset beyond it) and a
 // constant curve of heights.
