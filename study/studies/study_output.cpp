@@ -1,6 +1,8 @@
 // See study_output.hpp.
 #include "study/studies/study_output.hpp"
 
+#include <unistd.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
@@ -27,7 +29,8 @@ std::string checked_results_path(const std::string& name, const std::string& req
                                   "': " + error.message());
   }
   // Can a file be created there? (Found now, not after the study ran.)
-  const std::string probe = path + ".probe";
+  // One name per process: every rank checks the path at once.
+  const std::string probe = path + ".probe-" + std::to_string(::getpid());
   try {
     io::create_temporary(probe, path);  // never written through a link
   } catch (const std::runtime_error& e) {
