@@ -19,6 +19,9 @@ void check_curve(const std::vector<double>& t, const std::vector<double>& y, con
 }  // namespace
 
 double interpolate(const std::vector<double>& t, const std::vector<double>& y, double at) {
+  if (t.empty() || y.size() != t.size())
+    throw std::invalid_argument("a curve without samples (a run that failed before its first output) cannot be "
+                                "compared");
   if (at <= t.front()) return y.front();
   if (at >= t.back()) return y.back();
   const auto it = std::upper_bound(t.begin(), t.end(), at);

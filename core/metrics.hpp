@@ -12,7 +12,8 @@ namespace rover {
 double rms_difference(const std::vector<double>& t_a, const std::vector<double>& a,
                       const std::vector<double>& t_b, const std::vector<double>& b);
 
-// Linear interpolation of (t, y) at time `at` (clamped to the ends).
+// Linear interpolation of (t, y) at time `at` (clamped to the ends). Throws
+// std::invalid_argument for a curve without samples.
 double interpolate(const std::vector<double>& t, const std::vector<double>& y, double at);
 
 // eps_d = (z_r - z_min) / (z_r,ref - z_min,ref) - 1 with z_min = min over t of

@@ -43,6 +43,20 @@ void check_flag_inputs(const CalibrateOptions& o) {
   checks.throw_if_any();
 }
 
+// What the outputs must not replace: the study file, every curve's data,
+// scenario and the files that names, and --next-experiment with its files.
+io::InputFiles calibration_inputs(const CalibrateOptions& o, const study::CalibrationStudy& s) {
+  io::InputFiles inputs;
+  inputs.add(o.study_path, "--study");
+  for (const study::CalibrationDataset& d : s.datasets) {
+    inputs.add(d.path, "the data of " + o.study_path);
+    inputs.add(d.scenario_path, "a scenario of " + o.study_path);
+    inputs.add_all(d.sources.files);
+  }
+  if (!o.next_experiment.empty()) inputs.add_config(o.next_experiment, "--next-experiment");
+  return inputs;
+}
+
 study::CalibrationStudy load_study(const CalibrateOptions& o) {
   check_flag_inputs(o);
   study::CalibrationOverrides overrides = o.overrides;
@@ -60,11 +74,14 @@ int run_calibrate_command(const CLI::App& app, CalibrateOptions o) {
   }
   return run_study_session(app, o.run, o.study_path, [&](const study::StudyRunOptions& options) {
     study::CalibrationStudy s = load_study(o);
-    if (!o.next_experiment.empty())
-      return study::drive_study(study::next_experiment_program(std::move(s), o.next_experiment), options);
-    if (s.method == study::CalibrationMethod::mcmc)
-      return study::drive_study(study::calibration_posterior_program(std::move(s)), options);
-    return study::drive_study(study::calibration_fit_program(std::move(s)), options);
+    const io::InputFiles inputs = calibration_inputs(o, s);
+    auto drive = [&](auto program) {
+      program.inputs = inputs;
+      return study::drive_study(program, options);
+    };
+    if (!o.next_experiment.empty()) return drive(study::next_experiment_program(std::move(s), o.next_experiment));
+    if (s.method == study::CalibrationMethod::mcmc) return drive(study::calibration_posterior_program(std::move(s)));
+    return drive(study::calibration_fit_program(std::move(s)));
   });
 }
 

@@ -51,7 +51,6 @@ study::StudyProgram<study::EvaluateResult> load(EvaluateOptions& o) {
   if (o.request.qoi_names.empty() && o.request.channel_names.empty())
     checks.add("--qoi '" + o.qoi + "' names no quantity of interest (and no --channels are given): nothing to compute");
   check_integrator_flag(checks, o.request.integrator);
-  check_evaluate_output(checks, o.request, o.run.resume, o.run.restart);
   checks.throw_if_any();
   return study::evaluate_program(study::load_evaluate(o.request));
 }

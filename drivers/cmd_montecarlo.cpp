@@ -8,6 +8,7 @@
 namespace rover::cli {
 namespace {
 
+constexpr long long kMinSamples = 2;  // an sd and a band need 2
 constexpr long long kMaxSamples = 100'000'000;
 
 struct MonteCarloOptions {
@@ -53,8 +54,8 @@ const RegisterCommand registration{
           "  rover montecarlo --study configs/studies/preload_mc.json --resume\n\n") + kMpiFooter);
       app.add_option("--study", o->study_path, "Study file (configs/studies/*.json, type montecarlo)")
           ->required()->check(CLI::ExistingFile);
-      app.add_option("--samples", o->samples, "Override the number of samples N, from 1 to 1e8")
-          ->check(CLI::Range(1LL, kMaxSamples));
+      app.add_option("--samples", o->samples, "Override the number of samples N, from 2 (an sd needs 2) to 1e8")
+          ->check(CLI::Range(kMinSamples, kMaxSamples));
       app.add_option("--seed", o->seed, "Override the random seed, an integer from 0 to 2^64 - 1");
       add_study_flags(app, o->run);
       return [o, &app] { return run_study_command(app, o->run, o->study_path, [&] { return load(*o); }); };

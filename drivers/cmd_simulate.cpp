@@ -45,25 +45,34 @@ void warn_if_chassis_below_ground(const Trajectory& tr, const Terrain& terrain) 
                "landing, a stiffer contact k_g or a smaller drop height)\n";
 }
 
-// Checks every flag before the scenario is loaded; returns the files the
-// command reads (the scenario and the files it names), which no output may replace.
-io::InputFiles check_flags(const SimulateOptions& o) {
+// Checks every flag before the scenario is loaded.
+void check_flags(const SimulateOptions& o) {
   FlagChecks checks;
   check_overrides(o.overrides, checks);
   check_integrator_flag(checks, o.integrator);
   checks.output_file("--out", o.out, /*regular_only=*/true);
+  if (!o.no_plot) checks.plots_beside("--out", o.out);
   checks.output_file("--csv", o.csv);
-  io::InputFiles inputs;
-  inputs.add_config(o.scenario, "--scenario");
-  checks.not_an_input("--out", o.out, inputs, /*beside=*/!o.no_plot);
-  checks.not_an_input("--csv", o.csv, inputs);
   checks.distinct_files("--csv", o.csv, "--out", o.out);
   checks.throw_if_any();
-  return inputs;
+}
+
+// Checks, before the run, that no output replaces a file the command reads:
+// the scenario and the files it names.
+// `out_flag` names the HDF5 output: "--out", or "--out (default)".
+void check_outputs_over_inputs(const SimulateOptions& o, const io::ScenarioSetup& setup, const std::string& out_flag,
+                               const std::string& out) {
+  io::InputFiles inputs;
+  inputs.add(o.scenario, "--scenario");
+  inputs.add_all(setup.files);
+  FlagChecks checks;
+  checks.not_an_input(out_flag, out, inputs, /*beside=*/!o.no_plot);
+  checks.not_an_input("--csv", o.csv, inputs);
+  checks.throw_if_any();
 }
 
 int run_simulate(const SimulateOptions& o) {
-  const io::InputFiles inputs_read = check_flags(o);
+  check_flags(o);
   io::ScenarioSetup setup = io::load_scenario(o.scenario);
   // A different method comes with its own default tolerances (see default_integrator_settings).
   if (!o.integrator.empty()) setup.scenario.integrator = default_integrator_settings(integrator_from_name(o.integrator));
@@ -73,9 +82,10 @@ int run_simulate(const SimulateOptions& o) {
   if (o.out.empty()) {
     FlagChecks default_out;
     default_out.output_file("--out (default)", out, /*regular_only=*/true);
-    default_out.not_an_input("--out (default)", out, inputs_read, /*beside=*/!o.no_plot);
+    if (!o.no_plot) default_out.plots_beside("--out (default)", out);
     default_out.throw_if_any();
   }
+  check_outputs_over_inputs(o, setup, o.out.empty() ? "--out (default)" : "--out", out);
   const FrictionParameters& friction = setup.model.parameters.friction;
   if (const FrictionFitQuality fit = friction_fit_quality(friction.gammas, friction); !fit.acceptable)
     std::cerr << "simulate: warning: the friction gammas miss the fit quality bar (RMS " << fit.rms

@@ -67,11 +67,12 @@ int run_synthesize(const SynthesizeOptions& o) {
   const study::CalibrationChannel& channel = study::calibration_channel(o.channel);
 
   const std::string scenario_path = path_option(o.scenario_option, o.scenario, kDefaultScenario);
-  io::InputFiles inputs;
-  inputs.add_config(scenario_path, "--scenario");
+  io::ScenarioSetup setup = io::load_scenario(scenario_path);
+  io::InputFiles inputs;  // the scenario and the files it names
+  inputs.add(scenario_path, "--scenario");
+  inputs.add_all(setup.files);
   checks.not_an_input("--out", o.out, inputs);
   checks.throw_if_any();
-  io::ScenarioSetup setup = io::load_scenario(scenario_path);
   // A different method comes with its own default tolerances, as in `rover simulate`.
   if (!o.integrator.empty())
     setup.scenario.integrator = default_integrator_settings(integrator_from_name(o.integrator));

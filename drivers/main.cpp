@@ -16,6 +16,7 @@
 // study: 0.4 ms of system time a run, 3.6 % of its wall time).
 #include <algorithm>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <iostream>
@@ -29,6 +30,7 @@
 #include "drivers/command_line_errors.hpp"
 #include "drivers/command_registry.hpp"
 #include "drivers/options.hpp"
+#include "io/json_reader.hpp"
 #include "study/runtime/study_runner.hpp"
 
 namespace rover::cli {
@@ -78,6 +80,34 @@ void reject_empty_values(const CLI::App& app) {
   checks.throw_if_any();
 }
 
+// This process's rank under mpirun (Open MPI, PMIx and MPICH name it in the
+// environment), or 0 when run alone.
+int launcher_rank() {
+  for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"})
+    if (const char* value = std::getenv(name); value != nullptr && *value != '\0') return std::atoi(value);
+  return 0;
+}
+
+// Prints `lines` on stderr in one write, so that the messages of several
+// ranks never interleave within a line.
+void print_lines(const std::vector<std::string>& lines) {
+  std::string text;
+  for (const std::string& line : lines) text += line + "\n";
+  std::cerr << text << std::flush;
+}
+
+// A problem of the command line or of an input file: under mpirun every rank
+// checks the same arguments and files and finds the same problem, so rank 0
+// alone reports it. Other errors (a rank's own) are reported by the rank,
+// which then names itself.
+void report_input_problem(const std::vector<std::string>& lines) {
+  if (launcher_rank() == 0) print_lines(lines);
+}
+void report_error(const std::string& prefix, const std::string& what) {
+  const int rank = launcher_rank();
+  print_lines({prefix + (rank == 0 ? "" : "(rank " + std::to_string(rank) + ") ") + what});
+}
+
 }  // namespace
 }  // namespace rover::cli
 
@@ -101,7 +131,7 @@ int main(int argc, char** argv) {
   if (argc > 1 && argv[1][0] != '-' &&
       std::none_of(registry.begin(), registry.end(),
                    [&](const CommandEntry& entry) { return entry.name == argv[1]; })) {
-    std::cerr << unknown_subcommand_message(argv[1], registry) << "\nRun 'rover --help' for the list.\n";
+    report_input_problem({unknown_subcommand_message(argv[1], registry), "Run 'rover --help' for the list."});
     return 1;
   }
   try {
@@ -120,7 +150,7 @@ int main(int argc, char** argv) {
       if (next != nullptr) command += (command.empty() ? "" : " ") + next->get_name();
       level = next;
     }
-    for (const std::string& line : command_line_error_lines(e, app, command)) std::cerr << line << "\n";
+    report_input_problem(command_line_error_lines(e, app, command));
     return 1;
   }
   for (auto& [sub, run] : runners) {
@@ -131,13 +161,21 @@ int main(int argc, char** argv) {
       reject_empty_values(*sub);
       status = run();
     } catch (const CommandLineError& e) {
-      for (const std::string& problem : e.problems()) std::cerr << prefix << problem << "\n";
+      std::vector<std::string> lines;
+      for (const std::string& problem : e.problems()) lines.push_back(prefix + problem);
+      report_input_problem(lines);
       return 1;
     } catch (const rover::study::StudyInterrupted& e) {
       std::cerr << "rover " << sub->get_name() << ": " << e.what() << "\n";
       return rover::study::StudyInterrupted::kExitCode;
+    } catch (const rover::io::ConfigError& e) {
+      report_input_problem({prefix + e.what()});
+      return 1;
+    } catch (const std::invalid_argument& e) {  // refused before any run
+      report_input_problem({prefix + e.what()});
+      return 1;
     } catch (const std::exception& e) {
-      std::cerr << prefix << e.what() << "\n";
+      report_error(prefix, e.what());
       return 1;
     }
     std::cout.flush();

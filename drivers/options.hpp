@@ -29,6 +29,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "core/model_scale.hpp"
 #include "core/number_text.hpp"
 #include "core/scenario.hpp"
 #include "core/simulate.hpp"
@@ -89,6 +90,13 @@ class FlagChecks {
         add(flag + " '" + path + "': cannot create the directory '" + dir.string() + "'" +
             (error ? " (" + error.message() + ")" : std::string(" (a file of that name exists)")));
     }
+  }
+
+  // The plots beside a result file `path` (io::plots_beside_refused): each
+  // one that may not be written is refused now, not skipped after the run.
+  void plots_beside(const std::string& flag, const std::string& path) {
+    for (const std::string& problem : io::plots_beside_refused(path))
+      add(flag + " '" + path + "': the plot " + problem + "; or pass --no-plot");
   }
 
   // An output that would replace one of `inputs`, the files the command reads
@@ -201,6 +209,10 @@ inline std::optional<std::array<double, kNumSJoints>> parse_preloads(const std::
       checks.add("--M0: value " + std::to_string(index + 1) + " must be a finite preload >= 0 N m (as in rover.json), got " +
                  number_text(preloads[index]));
       ok = false;
+    } else if (const std::string beyond = beyond_scale(preloads[index], kMaxPreload_Nm, "N m", kSStructureScaleReason);
+               !beyond.empty()) {
+      checks.add("--M0: value " + std::to_string(index + 1) + ": " + beyond);
+      ok = false;
     }
   }
   if (n != preloads.size()) {
@@ -215,6 +227,15 @@ inline std::optional<std::array<double, kNumSJoints>> parse_preloads(const std::
 inline void check_overrides(const InputOverrides& o, FlagChecks& checks) {
   if (o.f) checks.positive("--f", *o.f);
   if (o.c_q) checks.non_negative("--cq", *o.c_q);
+  // The bounds of rover.json (core/model_scale.hpp).
+  if (o.f && std::isfinite(*o.f))
+    if (const std::string beyond = beyond_scale(*o.f, kMaxSharpness_per_rad, "1/rad", kSStructureScaleReason);
+        !beyond.empty())
+      checks.add("--f " + beyond);
+  if (o.c_q && std::isfinite(*o.c_q))
+    if (const std::string beyond = beyond_scale(*o.c_q, kMaxDamping_Nms_per_rad, "N m s/rad", kSStructureScaleReason);
+        !beyond.empty())
+      checks.add("--cq " + beyond);
   if (!o.M0.empty()) parse_preloads(o.M0, checks);
 }
 

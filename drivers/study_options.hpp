@@ -107,10 +107,20 @@ inline std::string study_results_path(const study::StudyRunOptions& c, const std
   return name.empty() ? "" : "results/" + name + ".h5";
 }
 
-// The checks of where a study writes, before the study is loaded: --out is a
-// file in a directory that can be made; neither it nor the plots and the
-// checkpoint beside it replace the study file or any file named inside it
-// (io/input_files.hpp); a leftover checkpoint needs --resume or --restart.
+// The checks of where a study writes that need no study loaded: --out is a
+// file in a directory that can be made; a leftover checkpoint needs --resume
+// or --restart. The study driver checks the rest once the study is loaded:
+// no output over a file the loader read, no plot path it may not write.
+inline void check_study_output_path(FlagChecks& checks, const study::StudyRunOptions& c,
+                                    const std::string& study_path) {
+  checks.output_file("--out", c.results_path, /*regular_only=*/true);
+  check_leftover_checkpoint(checks, study_results_path(c, study_path), c.resume, c.restart);
+}
+
+// used by calibration and surrogate, whose loaders do not list the files they
+// read yet: check_study_output_path, and --out, the plots and the checkpoint
+// beside it against every file named inside the study file, found by
+// io::InputFiles::add_config.
 inline void check_study_output(FlagChecks& checks, const study::StudyRunOptions& c, const std::string& study_path) {
   checks.output_file("--out", c.results_path, /*regular_only=*/true);
   const std::string out = study_results_path(c, study_path);
@@ -120,36 +130,38 @@ inline void check_study_output(FlagChecks& checks, const study::StudyRunOptions&
   check_leftover_checkpoint(checks, out, c.resume, c.restart);
 }
 
-// The checks of `rover evaluate`'s --out: a CSV or HDF5 file (written by
-// rename: no device), neither the design, the scenario nor a file the scenario
-// names, and no leftover checkpoint without --resume or --restart.
-inline void check_evaluate_output(FlagChecks& checks, const study::EvaluateRequest& request, bool resume,
-                                  bool restart) {
-  checks.output_file("--out", request.out_path, /*regular_only=*/true);
-  io::InputFiles inputs;
-  inputs.add(request.design_path, "--design");
-  inputs.add_config(request.scenario_path, "--scenario");
-  checks.not_an_input("--out", request.out_path, inputs, /*beside=*/true);
-  check_leftover_checkpoint(checks, request.out_path, resume, restart);
-}
-
 // The command that continues this one: `rover <subcommand>`, every flag the
 // user gave, in the order given, with its values (each quoted where the shell
 // needs it), and --resume.
 std::string resume_command(const CLI::App& subcommand);
 
-// Runs a study subcommand: the MPI session, the checks of --out against the
-// study file, then `run` with the options completed by the resume command
-// (run loads the study and calls study::drive_study). Returns the exit status.
+// Runs a study subcommand: the MPI session, the checks of --out's form and of
+// a leftover checkpoint, then `run` with the options completed by the resume
+// command (run loads the study and calls study::drive_study, which checks the
+// outputs against the program's inputs). Returns the exit status.
 template <class Run>
 int run_study_session(const CLI::App& subcommand, study::StudyRunOptions options, const std::string& study_path,
                       Run&& run) {
   study::MpiSession mpi(nullptr, nullptr);
   FlagChecks checks;
-  check_study_output(checks, options, study_path);
+  check_study_output_path(checks, options, study_path);
   checks.throw_if_any();
   options.resume_command = resume_command(subcommand);
   return run(options);
+}
+
+// The inputs the outputs must not replace: the study file and the files its
+// loader read (`listed`); a loader that lists none has every file named
+// inside the study file taken instead (io::InputFiles::add_config).
+inline io::InputFiles study_inputs(const std::string& study_path, const io::InputFiles& listed) {
+  io::InputFiles inputs;
+  if (listed.files().empty()) {
+    inputs.add_config(study_path, "--study");
+  } else {
+    inputs.add(study_path, "--study");
+    inputs.add_all(listed);
+  }
+  return inputs;
 }
 
 // run_study_session for a subcommand whose `load` reads the study file,
@@ -157,8 +169,11 @@ int run_study_session(const CLI::App& subcommand, study::StudyRunOptions options
 template <class Load>
 int run_study_command(const CLI::App& subcommand, const study::StudyRunOptions& options,
                       const std::string& study_path, Load&& load) {
-  return run_study_session(subcommand, options, study_path,
-                           [&](const study::StudyRunOptions& completed) { return study::drive_study(load(), completed); });
+  return run_study_session(subcommand, options, study_path, [&](const study::StudyRunOptions& completed) {
+    auto program = load();
+    program.inputs = study_inputs(study_path, program.inputs);
+    return study::drive_study(program, completed);
+  });
 }
 
 inline constexpr const char* kMpiFooter =

@@ -248,6 +248,7 @@ void ResultCheckpoint::create_file() {
   require_output(path_, OutputFormat::kSeekable);  // never renamed over a link or a read-only file
   const std::string partial = path_ + ".partial";
   const std::string header = encode_header(fingerprint_);
+  create_temporary(partial, path_);
   {
     Descriptor fd(::open(partial.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644));
     if (fd.get() < 0) fail_io(partial, "cannot create the checkpoint", errno);

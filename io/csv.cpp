@@ -190,6 +190,7 @@ void write_csv(const std::string& path, const std::vector<std::string>& header,
   }
 
   const std::string partial = path + ".partial";
+  create_temporary(partial, path);
   errno = 0;
   std::ofstream out(partial, std::ios::trunc);
   if (!out) throw std::runtime_error(path + ": cannot create '" + partial + "'" + system_reason());

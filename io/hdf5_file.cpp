@@ -314,6 +314,7 @@ Hdf5Writer::Hdf5Writer(const std::string& path) : path_(path), partial_path_(pat
   const Handle fcpl = checked_handle(H5Pcreate(H5P_FILE_CREATE), H5Pclose, path_, "file",
                                      "cannot create property list");
   no_time_stamps(fcpl.get(), path_, "file");
+  create_temporary(partial_path_, path_);
   file_ = H5Fcreate(partial_path_.c_str(), H5F_ACC_TRUNC, fcpl.get(), H5P_DEFAULT);
   if (file_ < 0) fail(path_, "file", "cannot create '" + partial_path_ + "'");
 }

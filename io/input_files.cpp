@@ -54,6 +54,10 @@ void InputFiles::add(const std::string& path, const std::string& named_by) {
   files_.push_back({path, named_by});
 }
 
+void InputFiles::add_all(const InputFiles& other) {
+  files_.insert(files_.end(), other.files_.begin(), other.files_.end());
+}
+
 void InputFiles::add_config(const std::string& path, const std::string& named_by) {
   const bool known = same_file_as(path) != nullptr;
   add(path, named_by);

@@ -2,12 +2,13 @@
 //
 // A command's inputs are the files its flags name and, transitively, every
 // file named inside a config: a scenario's rover and terrain, a study's
-// scenario, reference curves and measured data. add_config() finds the latter
-// by one rule rather than by each format's keys: every string in a JSON
-// config that names an existing regular file (relative to the config's
-// directory, as io::resolve_relative reads it) is an input, and a JSON input
-// is searched the same way. A config that does not parse is skipped; its
-// loader reports it.
+// scenario, reference curves and measured data. Each loader knows which of
+// its fields name files and lists what it read (io::ScenarioSources::files,
+// study::StudySpec::files, ...); the command adds the files its flags name.
+// add_config() is the fallback of the loaders that do not list their files
+// yet (calibration, surrogate): every string in a JSON config that names an
+// existing regular file (relative to the config's directory) counts, and a
+// JSON input is searched the same way.
 //
 // Two ways an output replaces an input:
 //   * it is the same file, under any spelling or link (std::filesystem::
@@ -30,7 +31,9 @@ class InputFiles {
   };
 
   void add(const std::string& path, const std::string& named_by);
-  // `path` and every file named inside it, recursively (see above).
+  // Every file of `other`, after those already here.
+  void add_all(const InputFiles& other);
+  // `path` and every file named inside it, recursively (the fallback above).
   void add_config(const std::string& path, const std::string& named_by);
 
   const std::vector<File>& files() const { return files_; }

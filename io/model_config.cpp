@@ -27,9 +27,9 @@ RoverModel load_rover_model(const std::string& rover_config_path, const std::str
 }
 
 ModelInputs parse_model_inputs(const JsonReader& r, ModelInputs in) {
-  if (r.has("f")) in.sharpness_f = r.positive("f");
-  if (r.has("c_q")) in.damping_c_q = r.non_negative("c_q");
-  if (r.has("M0")) in.preload_Nm = r.fixed_numbers<kNumSJoints>("M0");
+  if (r.has("f")) in.sharpness_f = read_sharpness_f(r, "f");
+  if (r.has("c_q")) in.damping_c_q = read_damping_c_q(r, "c_q");
+  if (r.has("M0")) in.preload_Nm = read_preloads(r, "M0");
   if (r.has("w_ref")) in.wheel_speed_ref_radps = r.fixed_numbers<kNumLegs>("w_ref");
   if (r.has("d_ref")) in.steer_ref_rad = r.fixed_numbers<kNumLegs>("d_ref");
   r.finish();

@@ -1,10 +1,13 @@
 // See output_target.hpp.
 #include "io/output_target.hpp"
 
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <stdexcept>
 #include <system_error>
@@ -86,6 +89,36 @@ OutputTarget inspect_output(const std::string& path, OutputFormat format) {
                    "); an existing result that is not writable is never replaced: make it writable "
                    "(chmod u+w) or give another name");
   return {};
+}
+
+void create_temporary(const std::string& temporary, const std::string& output) {
+  std::error_code error;
+  const fs::file_status there = fs::symlink_status(temporary, error);
+  if (fs::exists(there) && !fs::is_directory(there)) fs::remove(temporary, error);  // a link itself, not its target
+  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (fd < 0)
+    throw std::runtime_error(output + ": cannot create the temporary file '" + temporary + "': " +
+                             std::strerror(errno));
+  ::close(fd);
+}
+
+std::vector<std::string> plots_beside_refused(const std::string& output) {
+  std::vector<std::string> problems;
+  if (output.empty()) return problems;
+  const fs::path out(output);
+  const fs::path dir = out.parent_path();
+  const std::string stem = out.stem().string();
+  std::error_code error;
+  for (fs::directory_iterator it(dir.empty() ? fs::path(".") : dir, error), end; !error && it != end;
+       it.increment(error)) {
+    const std::string name = it->path().filename().string();
+    const bool plot_name = name.ends_with(".png") && (name == stem + ".png" || name.starts_with(stem + "_"));
+    if (!plot_name) continue;
+    const std::string path = (dir / name).string();
+    if (const OutputTarget target = inspect_output(path, OutputFormat::kSeekable); !target.refusal.empty())
+      problems.push_back(path + ": " + target.refusal);
+  }
+  return problems;
 }
 
 OutputMode require_output(const std::string& path, OutputFormat format) {

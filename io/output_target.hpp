@@ -18,6 +18,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 namespace rover::io {
 
@@ -40,5 +41,20 @@ OutputTarget inspect_output(const std::string& path, OutputFormat format);
 
 // inspect_output's mode; throws std::runtime_error "<path>: <refusal>" when refused.
 OutputMode require_output(const std::string& path, OutputFormat format);
+
+// Makes `temporary` (a writer's "<output>.partial") a new, empty regular
+// file of this process before the writer opens it: whatever stands there (a
+// crashed run's leftover, a symbolic link) is removed, never followed or
+// written through, and the file is created exclusively (O_EXCL). Throws
+// std::runtime_error naming `output` and `temporary` when it cannot.
+void create_temporary(const std::string& temporary, const std::string& output);
+
+// The plots written beside a result file `output` are <stem>.png and
+// <stem>_*.png in its directory (results/m.h5: results/m.png,
+// results/m_summary.png). For each such entry that exists and that
+// inspect_output refuses (a link, a read-only file, a directory, a device),
+// "<path>: <refusal>": checked before any run, so that a study never ends
+// without the figure it was asked for.
+std::vector<std::string> plots_beside_refused(const std::string& output);
 
 }  // namespace rover::io

@@ -7,6 +7,8 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "core/model_scale.hpp"
+
 namespace rover::io {
 namespace {
 
@@ -38,6 +40,31 @@ std::array<double, N> non_negative_array(const JsonReader& r, const std::string&
 
 }  // namespace
 
+double read_sharpness_f(const JsonReader& r, const std::string& key) {
+  const double f = r.positive(key);
+  if (const std::string beyond = beyond_scale(f, kMaxSharpness_per_rad, "1/rad", kSStructureScaleReason);
+      !beyond.empty())
+    r.fail(key, beyond);
+  return f;
+}
+
+double read_damping_c_q(const JsonReader& r, const std::string& key) {
+  const double c_q = r.non_negative(key);
+  if (const std::string beyond = beyond_scale(c_q, kMaxDamping_Nms_per_rad, "N m s/rad", kSStructureScaleReason);
+      !beyond.empty())
+    r.fail(key, beyond);
+  return c_q;
+}
+
+std::array<double, kNumSJoints> read_preloads(const JsonReader& r, const std::string& key) {
+  const auto values = non_negative_array<kNumSJoints>(r, key);
+  for (std::size_t i = 0; i < values.size(); ++i)
+    if (const std::string beyond = beyond_scale(values[i], kMaxPreload_Nm, "N m", kSStructureScaleReason);
+        !beyond.empty())
+      r.fail(key, "element " + std::to_string(i) + ": " + beyond);
+  return values;
+}
+
 RoverParameters parse_rover_parameters(const Json& config, const std::string& file) {
   const JsonReader top(config, file);
   RoverParameters p;
@@ -63,9 +90,9 @@ RoverParameters parse_rover_parameters(const Json& config, const std::string& fi
   bodies.finish();
 
   const JsonReader s = top.child("s_structure");
-  p.s_structure.sharpness_f = s.positive("f");
+  p.s_structure.sharpness_f = read_sharpness_f(s, "f");
   p.s_structure.stiffness_Nm_per_rad = s.non_negative("k_q");
-  p.s_structure.damping_c_q = s.non_negative("c_q");
+  p.s_structure.damping_c_q = read_damping_c_q(s, "c_q");
   // preload_order documents the order of preload_mean and preload_sd (docs/model.md §5);
   // it cannot change it, so any other order is an error rather than a silent relabelling.
   if (s.has("preload_order")) {
@@ -74,8 +101,8 @@ RoverParameters parse_rover_parameters(const Json& config, const std::string& fi
       s.fail("preload_order", "the preloads are always in the order " + expected.dump() +
                                   " (this key documents it and cannot change it)");
   }
-  p.s_structure.preload_mean_Nm = non_negative_array<kNumSJoints>(s, "preload_mean");
-  p.s_structure.preload_sd_Nm = non_negative_array<kNumSJoints>(s, "preload_sd");
+  p.s_structure.preload_mean_Nm = read_preloads(s, "preload_mean");
+  p.s_structure.preload_sd_Nm = read_preloads(s, "preload_sd");
   s.finish();
 
   const JsonReader st = top.child("steering");

@@ -303,9 +303,9 @@ IntegratorSettings parse_integrator_settings(const JsonReader& r, IntegratorSett
 }
 
 ModelInputs parse_simulation_inputs(const JsonReader& r, ModelInputs in) {
-  if (r.has("f")) in.sharpness_f = r.positive("f");
-  if (r.has("c_q")) in.damping_c_q = r.non_negative("c_q");
-  if (r.has("M0")) in.preload_Nm = r.fixed_numbers<kNumSJoints>("M0");
+  if (r.has("f")) in.sharpness_f = read_sharpness_f(r, "f");
+  if (r.has("c_q")) in.damping_c_q = read_damping_c_q(r, "c_q");
+  if (r.has("M0")) in.preload_Nm = read_preloads(r, "M0");
   r.finish();
   return in;
 }
@@ -330,7 +330,15 @@ ScenarioSources read_scenario_sources(const std::string& path) {
     sources.terrain = load_terrain(sources.terrain_path);
   }
   sources.rover = read_json_file(sources.rover_path);
+  sources.files = scenario_files(sources);
   return sources;
+}
+
+InputFiles scenario_files(const ScenarioSources& sources) {
+  InputFiles files;
+  files.add(sources.rover_path, "'rover' in " + sources.scenario_path);
+  files.add(sources.terrain_path, "'terrain' in " + sources.scenario_path);
+  return files;
 }
 
 ScenarioSetup load_scenario(const std::string& path) {
@@ -349,6 +357,7 @@ ScenarioSetup build_scenario(const ScenarioSources& sources) {
   if (r.has("terrain")) r.string("terrain");
   setup.rover_path = sources.rover_path;
   setup.terrain_path = sources.terrain_path;
+  setup.files = sources.files;
   setup.model = make_checked_rover_model(parse_rover_parameters(sources.rover, sources.rover_path),
                                         sources.terrain, sources.rover_path);
   const double R = setup.model.parameters.geometry.wheel_radius_m;

@@ -10,6 +10,7 @@
 #include "core/rover_model.hpp"
 #include "core/scenario.hpp"
 #include "core/simulate.hpp"
+#include "io/input_files.hpp"
 #include "io/json_reader.hpp"
 
 namespace rover::io {
@@ -19,6 +20,7 @@ struct ScenarioSetup {
   RoverModel model;
   ModelInputs inputs;  // rover config defaults with the scenario's overrides
   std::string scenario_path, rover_path, terrain_path;
+  InputFiles files;  // the files the scenario names (scenario_files)
 };
 
 ScenarioSetup load_scenario(const std::string& path);
@@ -32,8 +34,14 @@ struct ScenarioSources {
   Json scenario, rover;
   std::string scenario_path, rover_path, terrain_path;  // for messages and provenance
   Terrain terrain = Terrain::flat();
+  InputFiles files;  // the files the scenario names (scenario_files)
 };
 ScenarioSources read_scenario_sources(const std::string& path);
+
+// The files a scenario names, so that no output replaces them: its rover
+// ("'rover' in <scenario>") and terrain ("'terrain' in <scenario>"); the
+// scenario file itself is named by whoever names it (a flag, a study field).
+InputFiles scenario_files(const ScenarioSources& sources);
 // load_scenario(path) == build_scenario(read_scenario_sources(path)).
 // Throws ConfigError naming the file (scenario or rover) and the field.
 ScenarioSetup build_scenario(const ScenarioSources& sources);

@@ -208,6 +208,7 @@ void save_terrain_grid(const HeightGrid& grid, const std::string& path, const Js
 
   require_output(path, OutputFormat::kSeekable);
   const std::string temp = path + ".tmp." + std::to_string(::getpid());
+  create_temporary(temp, path);
   {
     std::ofstream file(temp, std::ios::binary | std::ios::trunc);
     file << out;

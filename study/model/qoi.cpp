@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "core/metrics.hpp"
+#include "core/number_text.hpp"
 
 namespace rover::study {
 namespace {
@@ -178,6 +179,28 @@ double compute_qoi(const QoiSpec& spec, const Trajectory& tr) {
     case QoiKind::kRmsVs: return rms_against(tr, spec);
   }
   return std::nan("");
+}
+
+std::string reference_span_problem(const std::vector<double>& t, double offset_s, double duration_s) {
+  if (t.empty()) return "";
+  const double lo = offset_s, hi = offset_s + duration_s;
+  constexpr double kTimeTolerance_s = 1e-12;  // as rms_difference
+  const auto inside = static_cast<std::size_t>(std::count_if(
+      t.begin(), t.end(), [&](double s) { return s >= lo - kTimeTolerance_s && s <= hi + kTimeTolerance_s; }));
+  if (inside >= kMinReferenceSamplesInRun) return "";
+  return "spans " + number_text(t.front()) + " .. " + number_text(t.back()) + " s; the run's " +
+         number_text(duration_s) + " s with time_offset " + number_text(offset_s) + " s cover reference times " +
+         number_text(lo) + " .. " + number_text(hi) + " s, which hold " + std::to_string(inside) +
+         " of its samples, fewer than the " + std::to_string(kMinReferenceSamplesInRun) +
+         " a comparison needs (times in seconds? the offset?)";
+}
+
+std::string constant_reference_problem(const std::vector<double>& value) {
+  if (value.empty()) return "";
+  const auto [lo, hi] = std::minmax_element(value.begin(), value.end());
+  if (*hi > *lo) return "";
+  return "every one of its " + std::to_string(value.size()) + " heights is " + number_text(*lo) +
+         " m: a constant curve has no motion to compare a run with (the wrong column?)";
 }
 
 }  // namespace rover::study

@@ -60,6 +60,22 @@ QoiKind qoi_kind_from_name(const std::string& name);  // throws std::invalid_arg
 const char* qoi_unit(const QoiSpec& spec);
 std::string qoi_description(const QoiSpec& spec);
 
+// The fewest samples of a reference curve inside the span of a run: fewer
+// and the RMS compares the run with a line between two points.
+inline constexpr std::size_t kMinReferenceSamplesInRun = 3;
+
+// Why a reference curve (times `t`, reference time = simulation time +
+// offset_s) cannot be compared with a run of duration_s: the run covers
+// reference times [offset_s, offset_s + duration_s], and fewer than
+// kMinReferenceSamplesInRun of its samples lie there (a curve in
+// milliseconds, an offset beyond the curve, a run far shorter than the
+// record). Empty if it can. Names both spans and the offset.
+std::string reference_span_problem(const std::vector<double>& t, double offset_s, double duration_s);
+
+// Why a reference of heights says nothing about a run: every value is the
+// same (a wrong column, a placeholder). Empty if the values vary.
+std::string constant_reference_problem(const std::vector<double>& value);
+
 // The QoI of a trajectory with at least one sample. A trajectory that ended
 // early (failed run) still has values, but studies do not use them.
 double compute_qoi(const QoiSpec& spec, const Trajectory& trajectory);

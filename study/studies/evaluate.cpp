@@ -12,6 +12,7 @@
 
 #include "io/hdf5_file.hpp"
 #include "io/json_reader.hpp"
+#include "io/output_target.hpp"
 #include "study/studies/study_output.hpp"
 #include "study/studies/summary_figure.hpp"
 #include "study/runtime/study_runner.hpp"
@@ -176,6 +177,9 @@ EvaluateStudy load_evaluate(const EvaluateRequest& request) {
   if (!request.integrator.empty())
     integrator = default_integrator_settings(integrator_from_name(request.integrator));
   s.fingerprint = evaluate_fingerprint(request, sources);
+  s.files.add(request.design_path, "--design");
+  s.files.add(request.scenario_path, "--scenario");
+  s.files.add_all(sources.files);
   s.model = std::make_shared<RoverStudyModel>(std::move(sources), s.names, plain_qois(request.qoi_names), channels,
                                               integrator);
   if (world_rank() == 0) check_rows(s.design, *s.model);
@@ -233,6 +237,7 @@ void write_evaluate_csv(const EvaluateResult& result, const std::string& path) {
   const EvaluateStudy& study = result.study;
   const DesignMatrix& x = study.design.values;
   const std::string partial = path + ".partial";
+  io::create_temporary(partial, path);
   std::ofstream csv(partial, std::ios::binary | std::ios::trunc);
   if (!csv) throw std::runtime_error("cannot write " + partial);
   for (const std::string& c : study.design.columns) csv << c << ",";
@@ -274,6 +279,7 @@ StudyProgram<EvaluateResult> evaluate_program(EvaluateStudy study) {
   p.command = "evaluate";
   p.name = "evaluate";
   p.fingerprint = study.fingerprint;
+  p.inputs = study.files;
   p.run = [study](const StudyRuntime& runtime) { return run_evaluate(study, runtime); };
   p.write = write_evaluate;
   p.write_csv = write_evaluate_csv;

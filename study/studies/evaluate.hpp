@@ -57,6 +57,7 @@ struct EvaluateStudy {
   std::vector<std::string> names;  // the canonical parameter of each design column
   std::shared_ptr<const RoverStudyModel> model;
   std::string fingerprint;         // design, scenario, rover, terrain, QoIs, channels, integrator
+  io::InputFiles files;            // --design, --scenario and the files the scenario names
 };
 
 // Reads the scenario and the design and checks every row (rank 0) before any

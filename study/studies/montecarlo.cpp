@@ -18,6 +18,8 @@ constexpr int kMinBootstrap = 100, kMaxBootstrap = 100000;
 // Per sample, beyond the design's inputs: the status, the wall time, the rhs
 // evaluations and the message's pointer.
 constexpr double kPerSampleValues = 4.0;
+// The fewest samples with a standard deviation (and so a band).
+constexpr int kMinSamples = 2;
 constexpr double kBytesPerValue = 8.0;
 
 }  // namespace
@@ -36,6 +38,9 @@ MonteCarloStudy load_montecarlo_study(const std::string& path) {
     if (s.bootstrap_resamples < kMinBootstrap || s.bootstrap_resamples > kMaxBootstrap)
       r.fail("bootstrap", "give 100 .. 100000 resamples");
   }
+  if (s.spec.design.samples < kMinSamples)
+    r.fail("design", "a Monte Carlo needs at least " + std::to_string(kMinSamples) + " samples for its sd and bands, got " +
+                         std::to_string(s.spec.design.samples));
   if (s.spec.rover && s.spec.rover->qoi_names().empty() && s.spec.rover->channel_names().empty())
     r.fail("qoi", "a Monte Carlo needs at least one of \"qoi\" and \"channels\"");
   r.finish();
@@ -118,6 +123,7 @@ StudyProgram<MonteCarloResult> montecarlo_program(MonteCarloStudy study) {
   p.command = "montecarlo";
   p.name = spec.name;
   p.fingerprint = spec.fingerprint;
+  p.inputs = spec.files;
   p.banner = std::to_string(spec.design.samples) + " runs of " + spec.model->describe() + " over " +
              std::to_string(spec.inputs.size()) + " inputs (" + design_type_name(spec.design.type) + ", seed " +
              std::to_string(spec.design.seed) + ") on " + std::to_string(world_size()) + " rank(s)";

@@ -72,9 +72,16 @@ void report_montecarlo(const MonteCarloResult& result, std::ostream& out) {
     const QoiSummary& s = result.summaries[q];
     const DisplayUnit unit = display_unit(model.qoi_units()[q]);
     const double k = unit.factor;
-    out << "  " << model.qoi_names()[q] << ": mean " << k * s.mean << " [" << k * s.mean_lower << ", "
-        << k * s.mean_upper << "], sd " << k * s.sd << " [" << k * s.sd_lower << ", " << k * s.sd_upper << "] "
-        << unit.name << " (" << s.samples << " runs, " << percent << " % intervals)\n";
+    out << "  " << model.qoi_names()[q] << ": ";
+    if (s.samples == 0) {
+      out << "undefined: no run gave a finite value\n";
+    } else if (s.samples < 2) {  // a mean without an interval, and no sd
+      out << "mean " << k * s.mean << " " << unit.name << "; sd and intervals undefined: 1 run succeeded, they need 2\n";
+    } else {
+      out << "mean " << k * s.mean << " [" << k * s.mean_lower << ", " << k * s.mean_upper << "], sd " << k * s.sd
+          << " [" << k * s.sd_lower << ", " << k * s.sd_upper << "] " << unit.name << " (" << s.samples << " runs, "
+          << percent << " % intervals)\n";
+    }
     if (!s.note.empty() && s.note != last_note) out << "    " << s.note << "\n";
     last_note = s.note;
   }

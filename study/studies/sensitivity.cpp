@@ -6,6 +6,7 @@
 #include <cmath>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 #include <numeric>
 #include <sstream>
 
@@ -76,8 +77,14 @@ std::vector<std::string> sobol_warnings(const std::string& qoi, const SobolIndic
   return w;
 }
 
+// A spread of the values within this many units of rounding of their
+// magnitude is rounding, not a response (the bound the Sobol' estimator
+// puts on a zero variance, study/estimators/sobol_indices.cpp).
+constexpr double kRoundingUnits = 16.0;
+
 // Why a QoI's indices are undefined: it does not vary over the runs that
-// succeeded ("" when it does).
+// succeeded, or only at rounding level ("" when it does), for Sobol' and
+// Morris alike.
 std::string constant_qoi_reason(const std::vector<double>& values) {
   double lo = INFINITY, hi = -INFINITY;
   for (double v : values)
@@ -85,10 +92,13 @@ std::string constant_qoi_reason(const std::vector<double>& values) {
       lo = std::min(lo, v);
       hi = std::max(hi, v);
     }
-  if (hi > lo) return "";
   if (!(hi >= lo)) return "no run gave a finite value";
+  const double rounding = kRoundingUnits * std::numeric_limits<double>::epsilon() * std::max(std::abs(lo), std::abs(hi));
+  if (hi - lo > rounding) return "";
   std::ostringstream os;
-  os << "constant (" << lo << ") over every run that succeeded: its variance is zero";
+  os << "constant (" << lo << ") over every run that succeeded";
+  if (hi > lo) os << " up to rounding (spread " << hi - lo << ")";
+  os << ": its variance is zero";
   return os.str();
 }
 
@@ -285,8 +295,9 @@ SensitivityResult analyse_sensitivity(const SensitivityStudy& study, const Desig
                           : study.method == SensitivityMethod::kMorris ? "trajectories"
                                                                        : "runs";
   if (failed_units > study.max_failed_fraction * units)
-    throw std::runtime_error(std::to_string(failed_units) + " of " + std::to_string(units) + " " + unit_name +
-                             " have a failed run, more than max_failed_fraction = " +
+    throw RunsRefused(std::to_string(failed_units) + " of " + std::to_string(units) + " " + unit_name +
+                             (study.method == SensitivityMethod::kPce ? " failed" : " have a failed run") +
+                             ", more than max_failed_fraction = " +
                              fixed_text(study.max_failed_fraction, 2) + "; the indices would not describe the model. " +
                              out.failure_report);
   if (failed_units > 0)
@@ -315,6 +326,11 @@ SensitivityResult analyse_sensitivity(const SensitivityStudy& study, const Desig
         for (int k = 0; k < layout.time_samples; ++k) Y(i, k) = curve[k];
       }
       out.sobol_t.push_back(estimate_sobol_indices_along_time(study.layout, Y, study.sobol.estimator));
+      if (!out.sobol_t.back().aggregated_ST.allFinite()) {
+        const std::string& channel = model.channel_names()[static_cast<std::size_t>(c)];
+        out.undefined.push_back({channel, "the channel does not vary over the runs: its variance along time is zero"});
+        out.warnings.push_back(channel + ": indices along time undefined: " + out.undefined.back().reason);
+      }
     }
   return out;
 }
@@ -362,6 +378,7 @@ StudyProgram<SensitivityResult> sensitivity_program(SensitivityStudy study) {
   p.command = "sensitivity";
   p.name = spec.name;
   p.fingerprint = spec.fingerprint;
+  p.inputs = spec.files;
   p.banner = std::string(kMethodTitle[static_cast<int>(study.method)]) + ", " + std::to_string(spec.inputs.size()) +
              " inputs, " + std::to_string(spec.design.samples) + " runs of " + spec.model->describe() + " on " +
              std::to_string(world_size()) + " rank(s)";

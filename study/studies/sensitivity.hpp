@@ -67,9 +67,10 @@ void set_pce_runs(SensitivityStudy& study, int runs);
 // The runs of the study in physical units (rows in run order).
 DesignMatrix sensitivity_design(const SensitivityStudy& study);
 
-// A QoI whose indices are undefined (a constant QoI), and why.
+// A QoI whose indices are undefined (a constant QoI), or a channel whose
+// indices along time are (a channel that does not vary), and why.
 struct UndefinedIndices {
-  std::string qoi, reason;
+  std::string qoi, reason;  // qoi: the QoI's or the channel's name
 };
 
 struct SensitivityResult {

@@ -118,8 +118,11 @@ void write_sensitivity(const SensitivityResult& result, io::Hdf5Writer& h5) {
     else write_sobol(h5, name, result.sobol[q], study.sobol);
   }
   if (!result.sobol_t.empty()) h5.write("/t", model.time_s());
-  for (std::size_t c = 0; c < result.sobol_t.size(); ++c)
-    write_sobol_t(h5, model.channel_names()[c], result.sobol_t[c]);
+  for (std::size_t c = 0; c < result.sobol_t.size(); ++c) {
+    const std::string& channel = model.channel_names()[c];
+    write_sobol_t(h5, channel, result.sobol_t[c]);
+    if (const std::string* why = undefined_reason(result, channel)) write_undefined(h5, "/indices_t/" + channel, *why);
+  }
   for (std::size_t q = 0; q < result.morris.size(); ++q) {
     const std::string& name = model.qoi_names()[q];
     if (const std::string* why = undefined_reason(result, name)) write_undefined(h5, "/morris/" + name, *why);
@@ -148,7 +151,8 @@ void report_sensitivity(const SensitivityResult& result, std::ostream& out) {
     if (!undefined_reason(result, model.qoi_names()[q]))
       print_morris(out, model.qoi_names()[q], result.morris[q], labels);
   for (std::size_t c = 0; c < result.sobol_t.size(); ++c)
-    print_aggregated(out, model.channel_names()[c], result.sobol_t[c], labels);
+    if (!undefined_reason(result, model.channel_names()[c]))
+      print_aggregated(out, model.channel_names()[c], result.sobol_t[c], labels);
   for (const std::string& w : result.warnings) out << "sensitivity: warning: " << w << "\n";
 }
 

@@ -2,8 +2,10 @@
 #include "study/studies/study_driver.hpp"
 
 #include <filesystem>
+#include <stdexcept>
 
 #include "io/checkpoint.hpp"
+#include "io/output_target.hpp"
 
 #include "study/runtime/run_record.hpp"
 #include "study/studies/study_output.hpp"
@@ -24,9 +26,31 @@ RunCounts count_runs(const std::vector<int>& status, const std::vector<std::stri
 
 namespace rover::study::driver_detail {
 
+namespace {
+
+// Refuses an output that would replace an input, and a plot beside it that
+// may not be written, before any run.
+void check_outputs(const std::string& flag, const std::string& out, const io::InputFiles& inputs,
+                   PlotSelection plots) {
+  std::vector<std::string> problems = io::outputs_over_inputs(flag, out, inputs, /*beside=*/true);
+  if (plots != PlotSelection::kNone)
+    for (const std::string& problem : io::plots_beside_refused(out))
+      problems.push_back(flag + " '" + out + "': the plot " + problem + "; or pass --plots none");
+  if (problems.empty()) return;
+  std::string text;
+  for (const std::string& problem : problems) text += (text.empty() ? "" : "; ") + problem;
+  throw std::invalid_argument(text);
+}
+
+}  // namespace
+
 StudyRunOptions prepare(const std::string& command, const std::string& name, const std::string& fingerprint,
                         const MemoryEstimate& memory, const std::string& banner, bool csv_allowed,
-                        StudyRunOptions options) {
+                        const io::InputFiles& inputs, StudyRunOptions options) {
+  const bool given = !options.results_path.empty();
+  // An input the output would destroy comes first, before the path's form.
+  check_outputs(given ? "--out" : "--out (default)", given ? options.results_path : "results/" + name + ".h5", inputs,
+                options.plots);
   options.results_path = checked_results_path(name, options.results_path, csv_allowed);
   if (memory.bytes > 0.0) require_memory(memory.what, memory.bytes);
   options.label = command;
@@ -69,6 +93,14 @@ int exit_status(const std::string& command, const std::string& results_path, con
 void report_dry_run(const std::string& command, const std::string& results_path) {
   std::cerr << command << ": dry run: the inputs are read and checked, " << results_path
             << " can be written; nothing was run or written\n";
+}
+
+std::string with_kept_runs(const std::string& message, const std::string& results_path) {
+  const std::string checkpoint = io::ResultCheckpoint::path_for(results_path);
+  std::error_code error;
+  if (world_rank() != 0 || !std::filesystem::exists(checkpoint, error)) return message;
+  return message + "\nNothing was written; the finished runs are kept in " + checkpoint +
+         ": the next run of this study needs --restart (discard them) or --resume (reuse them)";
 }
 
 int interrupted(const std::string& command, const StudyInterrupted& e) {

@@ -1,7 +1,9 @@
 // The one driver every study runs through (docs/studies.md): a study says what
 // it computes, writes, reports and plots; the driver owns everything around
 // that, the same for every study:
-//   * the results path (results/<name>.h5 by default), checked before any run;
+//   * the results path (results/<name>.h5 by default), checked before any run:
+//     neither it nor the plots and checkpoint beside it replace an input,
+//     and no plot beside it is a link or read-only;
 //   * the memory estimate, refused up front beyond the limit;
 //   * the checkpoint beside the result file, its fingerprint and --resume;
 //   * SIGINT and SIGTERM: stop handing out runs, save the checkpoint, print the
@@ -27,11 +29,13 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <ostream>
 #include <string>
 #include <vector>
 
 #include "io/hdf5_file.hpp"
+#include "io/input_files.hpp"
 #include "study/runtime/study_runner.hpp"
 
 namespace rover::study {
@@ -66,6 +70,9 @@ struct StudyProgram {
   std::string fingerprint;  // every input and result-changing option (the checkpoint's key)
   std::string banner;       // what is about to run; rank 0 prints it first
   MemoryEstimate memory;
+  // The files the study reads; no output (the result, its plots, its
+  // checkpoint) may replace one of them (io/input_files.hpp).
+  io::InputFiles inputs;
   // Required. Collective: every rank calls it.
   std::function<Result(const StudyRuntime&)> run;
   // Rank 0 only, in this order.
@@ -83,6 +90,14 @@ struct StudyProgram {
   std::function<int(const Result&)> verdict;
 };
 
+// Thrown by a study whose runs finished but whose results it refuses (a
+// sensitivity analysis with more failed runs than max_failed_fraction): the
+// driver adds that nothing was written and where the runs are kept.
+class RunsRefused : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 // The exit status of a study whose every run failed (its results are kept),
 // and of one whose some runs failed where the study counts that as an error.
 inline constexpr int kEveryRunFailedStatus = 2;
@@ -90,11 +105,13 @@ inline constexpr int kSomeRunsFailedStatus = 2;
 
 namespace driver_detail {
 
-// Checks the results path and the memory estimate, completes `options`
-// (results path, label, fingerprint) and prints the banner on rank 0.
+// Checks the results path (neither it, nor a plot or the checkpoint beside
+// it, may replace one of `inputs`; a plot beside it must be writable) and
+// the memory estimate, completes `options` (results path, label,
+// fingerprint) and prints the banner on rank 0.
 StudyRunOptions prepare(const std::string& command, const std::string& name, const std::string& fingerprint,
                         const MemoryEstimate& memory, const std::string& banner, bool csv_allowed,
-                        StudyRunOptions options);
+                        const io::InputFiles& inputs, StudyRunOptions options);
 
 bool is_csv_path(const std::string& path);
 
@@ -113,6 +130,10 @@ std::optional<int> keep_earlier_result(const std::string& command, const std::st
 int exit_status(const std::string& command, const std::string& results_path, const RunCounts& counts,
                 int status_when_some_failed);
 
+// `message` of an error after the runs, and, when their checkpoint is
+// there, that nothing was written and where the runs are kept.
+std::string with_kept_runs(const std::string& message, const std::string& results_path);
+
 // Prints the interrupt message; returns StudyInterrupted::kExitCode.
 int interrupted(const std::string& command, const StudyInterrupted& e);
 
@@ -129,7 +150,8 @@ template <class Result>
 int drive_study(const StudyProgram<Result>& study, const StudyRunOptions& options) {
   StudyRuntime runtime;
   runtime.options = driver_detail::prepare(study.command, study.name, study.fingerprint, study.memory,
-                                           study.banner, static_cast<bool>(study.write_csv), options);
+                                           study.banner, static_cast<bool>(study.write_csv), study.inputs,
+                                           options);
   const std::string& out = runtime.options.results_path;
   if (options.dry_run) {
     if (world_rank() == 0) driver_detail::report_dry_run(study.command, out);
@@ -160,6 +182,8 @@ int drive_study(const StudyProgram<Result>& study, const StudyRunOptions& option
     return study.verdict ? std::max(status, study.verdict(result)) : status;
   } catch (const StudyInterrupted& e) {
     return driver_detail::interrupted(study.command, e);
+  } catch (const RunsRefused& e) {
+    throw std::runtime_error(driver_detail::with_kept_runs(e.what(), out));
   }
 }
 

@@ -1,13 +1,13 @@
 // See study_output.hpp.
 #include "study/studies/study_output.hpp"
 
-#include <cerrno>
+#include <unistd.h>
+
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <stdexcept>
 
+#include "io/output_target.hpp"
 #include "study/runtime/study_runner.hpp"
 
 namespace rover::study {
@@ -29,9 +29,13 @@ std::string checked_results_path(const std::string& name, const std::string& req
                                   "': " + error.message());
   }
   // Can a file be created there? (Found now, not after the study ran.)
-  const std::string probe = path + ".probe";
-  if (!std::ofstream(probe, std::ios::binary | std::ios::trunc))
-    throw std::invalid_argument("cannot write '" + path + "': " + std::strerror(errno));
+  // One name per process: every rank checks the path at once.
+  const std::string probe = path + ".probe-" + std::to_string(::getpid());
+  try {
+    io::create_temporary(probe, path);  // never written through a link
+  } catch (const std::runtime_error& e) {
+    throw std::invalid_argument(std::string("cannot write '") + path + "': " + e.what());
+  }
   std::filesystem::remove(probe);
   return path;
 }

@@ -9,6 +9,7 @@
 #include <optional>
 #include <sstream>
 
+#include "core/number_text.hpp"
 #include "core/rover_parameters.hpp"
 #include "io/checkpoint.hpp"
 #include "io/csv.hpp"
@@ -82,6 +83,38 @@ void refuse_inputs_that_cannot_vary_alone(const io::JsonReader& r, const RoverSt
     if (!varies)
       r.fail("parameters", "'" + inputs[j].label + "' cannot vary alone: with every other parameter at its " +
                                "configured value, any change of it is refused (" + why + ")");
+  }
+}
+
+// How far inside a bounded support its ends are tried (a continuous
+// distribution never draws the end itself: f uniform on [0, 1e5] is fine).
+constexpr double kSupportEndInset = 1e-9;
+
+// Refuses, before any run, a distribution whose support reaches values the
+// model refuses (with every other input at its nominal value): f uniform up
+// to 1e9, say, beyond the S-structure's bound. Every sample there would be a
+// failed run found only after the study; unbounded supports are not tried.
+void refuse_supports_the_model_refuses(const io::JsonReader& r, const RoverStudyModel& model,
+                                       const std::vector<UncertainInput>& inputs) {
+  std::vector<double> nominal;
+  for (const UncertainInput& in : inputs) nominal.push_back(in.nominal);
+  for (std::size_t j = 0; j < inputs.size(); ++j) {
+    const Distribution& d = inputs[j].distribution;
+    if (d.kind == DistributionKind::kFixed) continue;
+    const double lo = d.support_lower(), hi = d.support_upper();
+    const double inset = kSupportEndInset * (std::isfinite(hi - lo) ? hi - lo : std::max(1.0, std::abs(lo) + std::abs(hi)));
+    for (const double end : {lo, hi}) {
+      if (!std::isfinite(end)) continue;
+      std::vector<double> x = nominal;
+      x[j] = end == lo ? end + inset : end - inset;
+      try {
+        (void)model.setup_at(x.data());
+      } catch (const std::exception& e) {
+        r.fail("parameters", "'" + inputs[j].label + "': its distribution reaches " + number_text(end) +
+                                 ", where the model refuses it; every sample near there would fail (" + e.what() +
+                                 "); narrow the distribution");
+      }
+    }
   }
 }
 
@@ -232,6 +265,21 @@ std::vector<QoiSpec> parse_qois(const io::JsonReader& r, const std::string& stud
   return qois;
 }
 
+// A reference curve that the run of `scenario` (its duration_s) cannot be
+// compared with (reference_span_problem), or a constant curve of heights.
+void refuse_references_beside_the_run(const io::JsonReader& r, const std::vector<QoiSpec>& qois,
+                                      const std::string& scenario, double duration_s) {
+  for (std::size_t k = 0; k < qois.size(); ++k) {
+    if (!qois[k].reference) continue;
+    const ReferenceCurve& ref = *qois[k].reference;
+    const std::string field = "qoi[" + std::to_string(k) + "].reference";
+    if (const std::string p = reference_span_problem(ref.t, ref.time_offset_s, duration_s); !p.empty())
+      r.fail(field, ref.path + " " + p + " (run: " + scenario + ")");
+    if (std::string(channel_name(qois[k].channel)).ends_with("_z"))
+      if (const std::string p = constant_reference_problem(ref.value); !p.empty()) r.fail(field, ref.path + ": " + p);
+  }
+}
+
 std::vector<Channel> parse_channels(const io::JsonReader& r) {
   std::vector<Channel> channels;
   if (!r.has("channels")) return channels;
@@ -371,23 +419,33 @@ StudySpec parse_study_spec(const io::JsonReader& r, const std::vector<std::strin
     const std::string scenario = io::resolve_relative(s.path, r.string("scenario"));
     io::ScenarioSources sources;
     IntegratorSettings scenario_integrator;
+    double duration_s = 0.0;
     try {
       sources = io::read_scenario_sources(scenario);
-      scenario_integrator = io::build_scenario(sources).scenario.integrator;
+      const io::ScenarioSetup nominal = io::build_scenario(sources);
+      scenario_integrator = nominal.scenario.integrator;
+      duration_s = nominal.scenario.duration_s;
     } catch (const io::ConfigError& e) {
       r.fail("scenario", e.what());
     }
     const std::optional<IntegratorSettings> integrator = study_integrator(r, scenario_integrator);
     qois = parse_qois(r, s.path);
+    refuse_references_beside_the_run(r, qois, scenario, duration_s);
     const std::vector<Channel> channels = parse_channels(r);
     if (r.has("parameters")) s.inputs = parse_rover_parameters_block(r, sources);
     std::vector<std::string> names;
     for (const UncertainInput& in : s.inputs) names.push_back(in.name);
     fingerprint_text += file_text(scenario) + file_text(sources.rover_path) + file_text(sources.terrain_path);
-    for (const QoiSpec& q : qois)
-      if (q.reference) fingerprint_text += file_text(q.reference->path);
+    s.files.add(scenario, "'scenario' in " + s.path);
+    s.files.add_all(sources.files);
+    for (std::size_t k = 0; k < qois.size(); ++k)
+      if (qois[k].reference) {
+        fingerprint_text += file_text(qois[k].reference->path);
+        s.files.add(qois[k].reference->path, "'qoi[" + std::to_string(k) + "].reference' in " + s.path);
+      }
     auto rover = std::make_shared<RoverStudyModel>(std::move(sources), names, qois, channels, integrator);
     refuse_inputs_that_cannot_vary_alone(r, *rover, s.inputs);
+    refuse_supports_the_model_refuses(r, *rover, s.inputs);
     s.rover = rover;
     s.model = rover;
   }

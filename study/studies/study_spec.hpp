@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/scenario.hpp"
+#include "io/input_files.hpp"
 #include "io/json_reader.hpp"
 #include "study/design/design.hpp"
 #include "study/estimators/distributions.hpp"
@@ -55,6 +56,9 @@ StudyIdentity parse_study_identity(const io::JsonReader& r, const std::vector<st
 struct StudySpec {
   std::string path, type, name, description;
   std::string fingerprint;  // every file that changes a result, and the options
+  // The files the study file names: its scenario and what that names, the
+  // reference curves (not the study file itself: the command names it).
+  io::InputFiles files;
   std::shared_ptr<const StudyModel> model;
   std::shared_ptr<const RoverStudyModel> rover;  // null for an analytic model
   std::vector<UncertainInput> inputs;

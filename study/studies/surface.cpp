@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "core/number_text.hpp"
 #include "core/simulate.hpp"
 #include "io/trajectory_io.hpp"
 #include "study/design/design.hpp"
@@ -32,6 +33,25 @@ std::vector<double> parse_axis(const io::JsonReader& parent, const std::string& 
   if (log_spacing != nullptr) *log_spacing = spacing == "log";
   a.finish();
   return v;
+}
+
+// Refuses, before any run, a grid or sweep whose ends the model refuses (an
+// f or c_q beyond the S-structure's bounds, core/model_scale.hpp): every run
+// there would fail. Each end is tried with the other axis at its first value.
+void refuse_points_the_model_refuses(const io::JsonReader& r, const SurfaceStudy& s) {
+  const RoverStudyModel model(s.sources, kSurfaceInputs, {}, {}, s.integrator);
+  auto try_point = [&](const std::string& field, double f, double c_q) {
+    const double point[2] = {f, c_q};
+    try {
+      (void)model.setup_at(point);
+    } catch (const std::exception& e) {
+      r.fail(field, "the run at f = " + number_text(f) + ", c_q = " + number_text(c_q) + " is refused: " + e.what());
+    }
+  };
+  for (double f : {s.f.front(), s.f.back()}) try_point("f", f, s.c_q.front());
+  for (double c_q : {s.c_q.front(), s.c_q.back()}) try_point("c_q", s.f.front(), c_q);
+  if (!s.sweep_f.empty())
+    for (double f : {s.sweep_f.front(), s.sweep_f.back()}) try_point("sweep.f", f, s.sweep_c_q);
 }
 
 // The reference curve: the study's file, or the run at its (f, c_q).
@@ -139,9 +159,10 @@ LinearFit sweep_regression(const SurfaceResult& r) {
   return linear_regression(f, t_c);
 }
 
-// The "reference" block: a curve file (checked, its time offset applied) or
+// The "reference" block: a curve file (checked against the run's duration_s,
+// its time offset applied) or
 // the (f, c_q) of a simulated reference. Returns its text for the fingerprint.
-std::string parse_reference(const io::JsonReader& ref, const ModelInputs& nominal, SurfaceStudy& s) {
+std::string parse_reference(const io::JsonReader& ref, const ModelInputs& nominal, double duration_s, SurfaceStudy& s) {
   if (ref.has("file") == ref.has("simulate"))
     ref.fail("file", "give exactly one of 'file' (a measured or simulated curve) and 'simulate'");
   if (ref.has("file")) {
@@ -160,10 +181,14 @@ std::string parse_reference(const io::JsonReader& ref, const ModelInputs& nomina
     for (double z : c.y)
       if (!std::isfinite(z) || std::abs(z) > kMaxReferenceHeightM) ref.fail("file", file + ": values must be finite heights in metres");
     const double offset = ref.number_or("time_offset", 0.0);
+    if (const std::string p = reference_span_problem(c.t, offset, duration_s); !p.empty())
+      ref.fail("file", file + " " + p + " (run: " + s.sources.scenario_path + ")");
+    if (const std::string p = constant_reference_problem(c.y); !p.empty()) ref.fail("file", file + ": " + p);
     for (double& t : c.t) t -= offset;
     s.reference_t = c.t;
     s.reference_z = c.y;
     s.reference_description = "file " + file;
+    s.files.add(file, "'reference.file' in " + s.path);
     ref.finish();
     return file_text(file) + "|offset " + std::to_string(offset);
   }
@@ -227,6 +252,8 @@ SurfaceStudy load_surface_study(const std::string& path) {
   try {
     s.sources = io::read_scenario_sources(scenario);
     nominal = io::build_scenario(s.sources);
+    s.files.add(scenario, "'scenario' in " + path);
+    s.files.add_all(s.sources.files);
   } catch (const io::ConfigError& e) {
     r.fail("scenario", e.what());
   }
@@ -236,6 +263,7 @@ SurfaceStudy load_surface_study(const std::string& path) {
   s.f = parse_axis(r, "f", &f_log);
   s.c_q = parse_axis(r, "c_q", &c_q_log);
   s.kriging = parse_surface_kriging(r, path, s.f.front(), s.f.back(), f_log, s.c_q.front(), s.c_q.back(), c_q_log);
+  if (!s.kriging.check_file.empty()) s.files.add(s.kriging.check_file, "'check.file' in " + path);
   if (!s.kriging.check_file.empty()) {  // refused before any run, not after
     Eigen::MatrixXd rms, t_c;
     try {
@@ -252,8 +280,9 @@ SurfaceStudy load_surface_study(const std::string& path) {
     s.sweep_c_q = sw.non_negative("c_q");
     sw.finish();
   }
-  const std::string reference_text = parse_reference(r.child("reference"), nominal.inputs, s);
+  const std::string reference_text = parse_reference(r.child("reference"), nominal.inputs, nominal.scenario.duration_s, s);
   r.finish();
+  refuse_points_the_model_refuses(r, s);
   s.fingerprint = io::config_fingerprint(file_text(path) + file_text(scenario) + file_text(s.sources.rover_path) +
                                          file_text(s.sources.terrain_path) + reference_text);
   return s;
@@ -292,6 +321,7 @@ StudyProgram<SurfaceResult> surface_program(SurfaceStudy study) {
   p.command = "surface";
   p.name = study.name;
   p.fingerprint = study.fingerprint;
+  p.inputs = study.files;
   p.banner = std::to_string(study.f.size()) + " x " + std::to_string(study.c_q.size()) + " grid" +
              (study.kriging.enabled ? std::string(study.runs_grid() ? " (run and" : " (") + " kriged from " +
                                           std::to_string(study.kriging.runs) + " Latin hypercube runs)"

@@ -62,6 +62,8 @@ struct SurfaceStudy {
 
   // The grid is run: no kriging, or kriging checked against the grid.
   bool runs_grid() const { return !kriging.enabled || kriging.check_grid; }
+  // The files the study file names: its scenario, what that names, the reference file.
+  io::InputFiles files;
 };
 
 SurfaceStudy load_surface_study(const std::string& path);

@@ -20,6 +20,7 @@
 #include <fstream>
 #include <functional>
 #include <iterator>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -55,6 +56,7 @@ struct Case {
   // (an input or an earlier result changed, a link replaced).
   std::function<std::string()> aftermath = {};
   std::string environment = {};  // VAR=value ... before `rover`
+  std::vector<std::string> absent = {};  // substrings the output must not hold (a "nan" for a number)
 };
 
 struct Outcome {
@@ -279,6 +281,7 @@ void run_table(const std::string& dir, const std::vector<Case>& cases) {
       case Want::kAllFailed: EXPECT_EQ(o.status, 2); break;
     }
     for (const std::string& m : c.mentions) EXPECT_NE(o.output.find(m), std::string::npos) << "missing '" << m << "'";
+    for (const std::string& a : c.absent) EXPECT_EQ(o.output.find(a), std::string::npos) << "'" << a << "'";
     if (c.aftermath) {
       const std::string problem = c.aftermath();
       EXPECT_TRUE(problem.empty()) << problem;
@@ -299,6 +302,16 @@ class Audit : public ::testing::Test {
   }
   static std::string study_args(const std::string& command, const std::string& path, const std::string& out) {
     return command + " --no-plot --study " + path + " --out " + out;
+  }
+  // A curve as HDF5 (t, B_l_z, ...): the quick drop simulated into `path`.
+  std::string simulated_curve(const std::string& path) {
+    std::string output;
+    EXPECT_EQ(run_command(rover_binary() + " simulate --no-plot --scenario " + w().quick() + " --out " + path + ".h5",
+                          &output),
+              0)
+        << output;
+    fs::rename(path + ".h5", path);
+    return path;
   }
 
  private:
@@ -790,20 +803,25 @@ TEST_F(Audit, StudyLevelReliability) {
     cases.push_back({method + " with a constant QoI", study("sensitivity", path), Want::kRuns,
                      {"t_min: indices undefined", "constant"}});
   }
-  // Every run failed: the results are kept, the status is 2.
+  // A distribution reaching where the model refuses every run: refused, named, before any run.
   const Json in_the_ground{{"distribution", "uniform"}, {"min", -0.6}, {"max", -0.5}};
-  const std::string all_fail =
+  const std::string into_ground =
       w().montecarlo([&](Json& j) { j["parameters"] = {{"scenario.initial_q.z", in_the_ground}}; });
-  cases.push_back({"montecarlo where every run fails", study("montecarlo", all_fail), Want::kAllFailed,
-                   {"every run failed"}});
-  const std::string all_fail_sobol = w().sensitivity([&](Json& j) {
+  cases.push_back({"montecarlo of a drop height inside the ground", study("montecarlo", into_ground), Want::kError,
+                   {into_ground, "'scenario.initial_q.z'", "reaches -0.6", "below the ground"}});
+  const std::string into_ground_sobol = w().sensitivity([&](Json& j) {
     j.erase("model");
     j["scenario"] = w().quick();
     j["parameters"] = {{"c_q", uniform_c_q}, {"scenario.initial_q.z", in_the_ground}};
     j["qoi"] = {"t_min"};
   });
-  cases.push_back({"sobol where every run fails", study("sensitivity", all_fail_sobol), Want::kError,
-                   {"max_failed_fraction"}});
+  cases.push_back({"sobol of a drop height inside the ground", study("sensitivity", into_ground_sobol), Want::kError,
+                   {"'scenario.initial_q.z'", "reaches -0.6"}});
+  // Every run failed (each exceeds its wall-time budget): the results are kept, the status is 2.
+  const std::string all_fail = w().montecarlo(
+      [&](Json& j) { j["scenario"] = w().scenario([](Json& s) { s["wall_time_budget"] = 1e-9; }); });
+  cases.push_back({"montecarlo where every run fails", study("montecarlo", all_fail), Want::kAllFailed,
+                   {"every run failed"}});
   run_table(w().dir(), cases);
 }
 
@@ -1110,7 +1128,7 @@ TEST_F(Audit, Flags) {
   run_table(w().dir(), cases);
 }
 
-// ---- issue 33 class 1: files named inside a config are inputs too ------------
+// ---- class 1: files named inside a config are inputs too ------------
 
 TEST_F(Audit, InputsNamedInConfigs) {
   std::vector<Case> cases;
@@ -1164,13 +1182,13 @@ TEST_F(Audit, InputsNamedInConfigs) {
   const std::string deep = w().montecarlo([&](Json& j) { j["scenario"] = w().scenario_with_rover(deep_rover); });
   refused("montecarlo --out over the rover its scenario names",
           "montecarlo --no-plot --study " + deep + " --out " + deep_rover, deep_rover, {"--out", "'rover' in"});
-  const std::string curve = w().text_file("reference", measured_text("\n"), "h5");
+  const std::string curve = simulated_curve(dir + "/reference.h5");
   const std::string with_reference = w().montecarlo([&](Json& j) {
-    j["qoi"] = {{{"name", "rms_vs"}, {"reference", curve}, {"time_offset", 0.05}}};
+    j["qoi"] = {{{"name", "rms_vs"}, {"reference", curve}}};
   });
   refused("montecarlo --out over a reference curve", "montecarlo --no-plot --study " + with_reference + " --out " + curve,
           curve, {"--out", "'qoi[0].reference' in " + with_reference});
-  const std::string surface_reference = w().text_file("surface_reference", measured_text("\n"), "h5");
+  const std::string surface_reference = simulated_curve(dir + "/surface_reference.h5");
   const std::string surface = w().surface([&](Json& j) { j["reference"] = {{"file", surface_reference}}; });
   refused("surface --out over its reference file", "surface --no-plot --study " + surface + " --out " + surface_reference,
           surface_reference, {"--out", "'reference.file' in " + surface});
@@ -1178,13 +1196,13 @@ TEST_F(Audit, InputsNamedInConfigs) {
   const std::string calibration = w().calibration([&](Json& j) { j["data"] = data; });
   refused("calibrate --out over the study's data", "calibrate --no-plot --study " + calibration + " --out " + data, data,
           {"--out", "'data' in " + calibration});
-  const std::string sens = w().sensitivity([](Json&) {});
-  const std::string sens_png = dir + "/sens_result_indices.png";
-  fs::copy_file(sens, sens_png);
-  const std::string sens_named_png = w().sensitivity([&](Json& j) { j["description"] = sens_png; });
-  refused("sensitivity's plots over a file the study names",
-          "sensitivity --study " + sens_named_png + " --out " + dir + "/sens_result.h5", sens_png,
-          {"--out", "plot", "'description' in"});
+  // A plot <out stem>_*.png would be renamed onto the study's scenario.
+  const std::string scenario_png = dir + "/mc_result_summary.png";
+  fs::copy_file(w().quick(), scenario_png);
+  const std::string mc_named_png = w().montecarlo([&](Json& j) { j["scenario"] = scenario_png; });
+  refused("montecarlo's plots over the study's scenario",
+          "montecarlo --study " + mc_named_png + " --out " + dir + "/mc_result.h5", scenario_png,
+          {"--out", "plot", "'scenario' in"});
   // The checkpoint <out>.checkpoint would be made over the scenario.
   const std::string checkpoint_named = dir + "/cp.h5.checkpoint";
   fs::copy_file(w().quick(), checkpoint_named);
@@ -1205,7 +1223,7 @@ TEST_F(Audit, InputsNamedInConfigs) {
   run_table(dir, cases);
 }
 
-// ---- issue 33 class 2: what stands at an output path --------------------------
+// ---- class 2: what stands at an output path --------------------------
 
 TEST_F(Audit, OutputPaths) {
   std::vector<Case> cases;
@@ -1287,7 +1305,7 @@ TEST_F(Audit, CsvIntoAPipe) {
   EXPECT_EQ(output.rfind("t,", 0), 0u) << output;
 }
 
-// ---- issue 33 class 2: leftover checkpoints and failed studies ------------------
+// ---- class 2: leftover checkpoints and failed studies ------------------
 
 TEST_F(Audit, LeftoverCheckpoints) {
   std::vector<Case> cases;
@@ -1333,7 +1351,7 @@ TEST_F(Audit, LeftoverCheckpoints) {
   run_table(dir, cases);
 }
 
-// ---- issue 33 class 7: finite numbers beyond the model's scale ----------------
+// ---- class 7: finite numbers beyond the model's scale ----------------
 
 TEST_F(Audit, MeaninglessScale) {
   std::vector<Case> cases;
@@ -1399,7 +1417,7 @@ TEST_F(Audit, MeaninglessScale) {
   run_table(w().dir(), cases);
 }
 
-// ---- issue 33 class 8: messages in rover's words --------------------------------
+// ---- class 8: messages in rover's words --------------------------------
 
 TEST_F(Audit, CommandLineMessages) {
   std::vector<Case> cases;
@@ -1432,7 +1450,7 @@ TEST_F(Audit, CommandLineMessages) {
                    {"rover simulate: error: --scenario needs a value"}});
   cases.push_back({"a required flag missing", "simulate", Want::kError, {"rover simulate: error: --scenario is required"}});
   cases.push_back({"a word for an integer", study("montecarlo", w().montecarlo([](Json&) {})) + " --samples many",
-                   Want::kError, {"--samples", "many", "from 1 to"}});
+                   Want::kError, {"--samples", "many", "from 2 to"}});
   cases.push_back({"a word for a number", "simulate --no-plot --scenario " + q + " --f stiff", Want::kError,
                    {"--f", "'stiff'", "a number"}});
   cases.push_back({"a value for a flag", "simulate --no-plot=maybe --scenario " + q, Want::kError, {"--no-plot"}});
@@ -1457,6 +1475,242 @@ TEST_F(Audit, CommandLineMessages) {
   cases.push_back({"montecarlo with an eager limit of 64k", commands[2].second, Want::kRuns, {}, {},
                    "OMPI_MCA_btl_vader_eager_limit=64k"});
   run_table(w().dir(), cases);
+}
+
+// ---- The second audit ----------------------------------------------------------
+
+// Class 1: the inputs are the files each loader reads (the scenario's rover
+// and terrain, a study's scenario and reference curves), not every string
+// that happens to name a file.
+TEST_F(Audit, InputsListedByLoaders) {
+  std::vector<Case> cases;
+  const std::string dir = w().dir();
+  // Through a symbolic link named in the scenario, for evaluate's checkpoint.
+  const std::string terrain = w().text_file("terrain", Json{{"type", "flat"}, {"height", 0.0}}.dump(), "csv");
+  const std::string terrain_link = dir + "/terrain_link.json";
+  fs::create_symlink(terrain, terrain_link);
+  const std::string on_link = w().scenario_with_terrain(terrain_link);
+  const std::string design = w().text_file("design", "c_q\n0.1\n", "csv");
+  cases.push_back({"evaluate --out over the terrain its scenario names through a link",
+                   "evaluate --no-plot --scenario " + on_link + " --design " + design + " --qoi t_min --out " + terrain,
+                   Want::kError, {"--out", "'terrain' in " + on_link}, unchanged(terrain)});
+  const std::string design_checkpoint = dir + "/ev.csv.checkpoint";
+  fs::copy_file(design, design_checkpoint);
+  cases.push_back({"evaluate's checkpoint over its design",
+                   "evaluate --no-plot --restart --scenario " + w().quick() + " --design " + design_checkpoint +
+                       " --qoi t_min --out " + dir + "/ev.csv",
+                   Want::kError, {"--out", "checkpoint", "--design"}, unchanged(design_checkpoint)});
+  // The surface's reference file, named like a plot beside --out.
+  const std::string reference_png = simulated_curve(dir + "/surf_summary.png");
+  const std::string surface = w().surface([&](Json& j) { j["reference"] = {{"file", reference_png}}; });
+  cases.push_back({"surface's plot over its reference file", "surface --study " + surface + " --out " + dir + "/surf.h5",
+                   Want::kError, {"--out", "plot", "'reference.file' in " + surface}, unchanged(reference_png)});
+  // A string that names a file but is no input field (a description) is no input.
+  const std::string notes = w().text_file("notes", "free text\n", "h5");
+  const std::string described = w().montecarlo([&](Json& j) { j["description"] = notes; });
+  cases.push_back({"montecarlo --out over a file its description names", study_args("montecarlo", described, notes),
+                   Want::kRuns, {}});
+  run_table(dir, cases);
+}
+
+// Class 2: a plot path that may not be written is refused before any run,
+// like --out, and nothing is written.
+TEST_F(Audit, PlotPathsRefusedUpFront) {
+  std::vector<Case> cases;
+  const std::string dir = w().dir();
+  const std::string target = write_file(dir + "/target.png", "an earlier figure\n");
+  auto link = [&](const std::string& name) {
+    fs::create_symlink(target, dir + "/" + name);
+    return dir + "/" + name;
+  };
+  auto nothing_at = [](const std::string& path) {
+    return [=] { return fs::exists(path) ? path + " was written" : std::string(); };
+  };
+  const std::string sim_link = link("sim.png");
+  cases.push_back({"simulate's plot path is a link", "simulate --scenario " + w().quick() + " --out " + dir + "/sim.h5",
+                   Want::kError, {"--out", sim_link, "symbolic link", "--no-plot"},
+                   all_of({still_a_link(sim_link, target), nothing_at(dir + "/sim.h5")})});
+  const std::string unplotted_link = link("unplotted.png");
+  cases.push_back({"simulate --no-plot beside a plot link", "simulate --no-plot --scenario " + w().quick() + " --out " +
+                                                                dir + "/unplotted.h5",
+                   Want::kRuns, {}, still_a_link(unplotted_link, target)});
+  const std::string mc_plot = write_file(dir + "/mc_summary.png", "an earlier figure\n");
+  fs::permissions(mc_plot, fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read);
+  cases.push_back({"montecarlo's summary figure is read-only",
+                   "montecarlo --study " + w().montecarlo([](Json&) {}) + " --out " + dir + "/mc.h5", Want::kError,
+                   {"--out", mc_plot, "read-only", "--plots none"}, all_of({unchanged(mc_plot), nothing_at(dir + "/mc.h5")})});
+  const std::string ev_link = link("ev_summary.png");
+  cases.push_back({"evaluate's summary figure is a link",
+                   "evaluate --scenario " + w().quick() + " --design " + w().text_file("design", "c_q\n0.1\n", "csv") +
+                       " --qoi t_min --out " + dir + "/ev.csv",
+                   Want::kError, {"--out", ev_link, "symbolic link"}, still_a_link(ev_link, target)});
+  const std::string sens_link = link("sens_s_summary.png");
+  cases.push_back({"sensitivity's summary figure is a link",
+                   "sensitivity --study " + w().sensitivity([](Json&) {}) + " --out " + dir + "/sens_s.h5", Want::kError,
+                   {"--out", sens_link, "symbolic link"}, still_a_link(sens_link, target)});
+  cases.push_back({"sensitivity --plots none beside a link",
+                   "sensitivity --plots none --study " + w().sensitivity([](Json&) {}) + " --out " + dir + "/sens_s.h5",
+                   Want::kRuns, {}, still_a_link(sens_link, target)});
+  fs::create_directories(dir + "/results");
+  fs::create_symlink(target, dir + "/results/quick.png");
+  cases.push_back({"simulate's default plot path is a link", "simulate --scenario " + w().quick(), Want::kError,
+                   {"--out (default)", "results/quick.png", "symbolic link"}});
+  run_table(dir, cases);
+}
+
+// Class 2: the temporary files written beside an output (<out>.partial, the
+// checkpoint's) are made anew, never written through a link standing there.
+TEST_F(Audit, TemporaryFilesNeverWrittenThroughLinks) {
+  std::vector<Case> cases;
+  const std::string dir = w().dir();
+  auto precious = [&](const std::string& name) { return write_file(dir + "/" + name, "precious\n"); };
+  auto a_regular_file = [](const std::string& path) {
+    return [=] { return fs::is_regular_file(fs::symlink_status(path)) ? std::string() : path + " is not a regular file"; };
+  };
+  const std::string kept_h5 = precious("kept_h5.txt"), kept_csv = precious("kept_csv.txt"),
+                    kept_mc = precious("kept_mc.txt");
+  fs::create_symlink(kept_h5, dir + "/sim.h5.partial");
+  fs::create_symlink(kept_csv, dir + "/sim.csv.partial");
+  cases.push_back({"simulate beside links at <out>.partial",
+                   "simulate --no-plot --scenario " + w().quick() + " --out " + dir + "/sim.h5 --csv " + dir + "/sim.csv",
+                   Want::kRuns, {},
+                   all_of({unchanged(kept_h5), unchanged(kept_csv), a_regular_file(dir + "/sim.h5"),
+                           a_regular_file(dir + "/sim.csv")})});
+  fs::create_symlink(kept_mc, dir + "/mc.h5.checkpoint.partial");
+  cases.push_back({"montecarlo beside a link at its checkpoint's temporary file",
+                   study_args("montecarlo", w().montecarlo([](Json&) {}), dir + "/mc.h5"), Want::kRuns, {},
+                   all_of({unchanged(kept_mc), a_regular_file(dir + "/mc.h5")})});
+  run_table(dir, cases);
+}
+
+// Class 3: a reference curve the run cannot be compared with is refused
+// before any run: its span (times in milliseconds, an offset beyond it) and a
+// constant curve of heights.
+TEST_F(Audit, ReferenceCurvesAgainstTheRun) {
+  std::vector<Case> cases;
+  // The shipped synthetic drop's first rows, times scaled and heights replaced.
+  auto curve = [&](double time_scale, std::optional<double> constant) {
+    std::ifstream in(source_path("configs/data/drop_horizontal_synthetic.csv"));
+    std::string text = "t,z\n", line;
+    for (int rows = 0; std::getline(in, line) && rows < 40;) {
+      if (line.empty() || line[0] == '#' || line[0] == 't') continue;
+      const std::size_t comma = line.find(',');
+      text += std::to_string(std::stod(line.substr(0, comma)) * time_scale) + "," +
+              (constant ? std::to_string(*constant) : line.substr(comma + 1)) + "\n";
+      ++rows;
+    }
+    return w().text_file("curve", text, "csv");
+  };
+  const std::string in_ms = curve(1000.0, std::nullopt), constant = curve(1.0, 0.2), good = curve(1.0, std::nullopt);
+  auto rms_vs = [&](const std::string& reference, double offset, const std::string& channel) {
+    return w().montecarlo([&](Json& j) {
+      j["qoi"] = {{{"name", "rms_vs"}, {"reference", reference}, {"time_offset", offset}, {"channel", channel}}};
+    });
+  };
+  cases.push_back({"rms_vs against a curve in milliseconds", study("montecarlo", rms_vs(in_ms, 0.0, "B_l_z")),
+                   Want::kError, {"'qoi[0].reference'", in_ms, "spans 0 .. 78 s", "hold 1 of its samples"}});
+  cases.push_back({"rms_vs with an offset beyond the curve", study("montecarlo", rms_vs(good, 100.0, "B_l_z")),
+                   Want::kError, {"'qoi[0].reference'", "time_offset 100 s", "hold 0 of its samples"}});
+  cases.push_back({"rms_vs against constant heights", study("montecarlo", rms_vs(constant, 0.0, "B_l_z")),
+                   Want::kError, {"'qoi[0].reference'", constant, "0.2 m", "constant"}});
+  cases.push_back({"rms_vs of the roll against a constant curve", study("montecarlo", rms_vs(constant, 0.0, "roll")),
+                   Want::kRuns, {}});
+  auto surface = [&](const std::string& reference, double offset) {
+    return w().surface([&](Json& j) { j["reference"] = {{"file", reference}, {"time_offset", offset}}; });
+  };
+  cases.push_back({"surface against a curve in milliseconds", study("surface", surface(in_ms, 0.0)), Want::kError,
+                   {"'reference.file'", in_ms, "hold 1 of its samples"}});
+  cases.push_back({"surface with an offset of 1e6 s", study("surface", surface(good, 1e6)), Want::kError,
+                   {"'reference.file'", "time_offset 1000000 s"}});
+  cases.push_back({"surface against constant heights", study("surface", surface(constant, 0.0)), Want::kError,
+                   {"'reference.file'", "constant"}});
+  run_table(w().dir(), cases);
+}
+
+// Classes 5 and 7: numbers without meaning are refused up front or marked
+// undefined, never printed as nan; S-structure values far beyond the rover's.
+TEST_F(Audit, ResultsWithoutMeaning) {
+  std::vector<Case> cases;
+  const std::string q = w().quick();
+  cases.push_back({"a one-sample Monte Carlo",
+                   study("montecarlo", w().montecarlo([](Json& j) { j["design"]["samples"] = 1; })), Want::kError,
+                   {"'design'", "at least 2 samples", "got 1"}});
+  cases.push_back({"montecarlo --samples 1", study("montecarlo", w().montecarlo([](Json&) {})) + " --samples 1",
+                   Want::kError, {"--samples", "from 2"}});
+  // On the quick drop nothing touches the ground: B_l_z does not depend on f or c_q.
+  auto quick_sensitivity = [&](const std::string& method, const Json& design) {
+    return w().sensitivity([&](Json& j) {
+      j.erase("model");
+      j["method"] = method;
+      j["scenario"] = q;
+      j["parameters"] = {{"c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.2}}},
+                         {"f", {{"distribution", "uniform"}, {"min", 1e3}, {"max", 1e4}}}};
+      j["design"] = design;
+      j["qoi"] = {"B_l_z_min"};
+      j["channels"] = {"B_l_z"};
+      if (method == "morris") j.erase("bootstrap");
+    });
+  };
+  cases.push_back({"Sobol' indices of a channel that does not vary",
+                   study("sensitivity", quick_sensitivity("sobol", {{"type", "sobol"}, {"samples", 4}, {"seed", 1}})),
+                   Want::kRuns, {"B_l_z: indices along time undefined", "B_l_z_min: indices undefined"}, {}, {},
+                   {"S1 nan"}});
+  cases.push_back({"Morris effects of a QoI constant up to rounding",
+                   study("sensitivity", quick_sensitivity("morris", {{"trajectories", 3}, {"levels", 4}, {"seed", 1}})),
+                   Want::kRuns, {"B_l_z_min: indices undefined", "constant"}, {}, {}, {"mu*"}});
+  const std::string sim = "simulate --no-plot --scenario " + q + " --out " + w().out();
+  cases.push_back({"--f 1e300", sim + " --f 1e300", Want::kError, {"--f 1e+300 1/rad", "+-100000000 1/rad"}});
+  cases.push_back({"--cq 1e8", sim + " --cq 1e8", Want::kError, {"--cq 100000000 N m s/rad", "+-1000"}});
+  cases.push_back({"--M0 1e6", sim + " --M0 1e6,0,0,0,0,0,0,0", Want::kError, {"--M0: value 1", "1000000 N m"}});
+  const std::string stiff_rover = w().rover([](Json& j) { j["s_structure"]["f"] = 1e12; });
+  cases.push_back({"rover.json f = 1e12", simulate(w().scenario_with_rover(stiff_rover)), Want::kError,
+                   {stiff_rover, "'s_structure.f'", "1e+12"}});
+  const std::string negative_preload = w().scenario([](Json& j) { j["inputs"] = {{"M0", {-1, 0, 0, 0, 0, 0, 0, 0}}}; });
+  cases.push_back({"a scenario's negative preload", simulate(negative_preload), Want::kError,
+                   {negative_preload, "'inputs.M0'", "must not be negative"}});
+  cases.push_back({"montecarlo of f up to 1e9", study("montecarlo", w().montecarlo([](Json& j) {
+                     j["parameters"] = {{"f", {{"distribution", "uniform"}, {"min", 1e3}, {"max", 1e9}}}};
+                   })),
+                   Want::kError, {"'parameters'", "'f'", "reaches 1000000000", "narrow"}});
+  cases.push_back({"a surface up to f = 1e9", study("surface", w().surface([](Json& j) { j["f"]["max"] = 1e9; })),
+                   Want::kError, {"'f'", "f = 1000000000", "refused"}});
+  run_table(w().dir(), cases);
+}
+
+// Classes 2 and 6: a sensitivity study refused after its runs (too many
+// failed) writes nothing, keeps an earlier result and says where the runs are.
+TEST_F(Audit, RefusedAfterTheRuns) {
+  std::vector<Case> cases;
+  const std::string dir = w().dir();
+  const std::string earlier = write_file(dir + "/earlier.h5", "an earlier result\n");
+  const std::string failing = w().sensitivity([&](Json& j) {
+    j.erase("model");
+    j["scenario"] = w().scenario([](Json& s) { s["wall_time_budget"] = 1e-9; });
+    j["parameters"] = {{"c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.2}}},
+                       {"f", {{"distribution", "uniform"}, {"min", 1e3}, {"max", 1e4}}}};
+    j["design"] = {{"type", "sobol"}, {"samples", 2}, {"seed", 1}};
+    j["qoi"] = {"t_min"};
+  });
+  Case c{"sensitivity whose every run fails", study_args("sensitivity", failing, earlier), Want::kError,
+         {"pick-freeze groups have a failed run", "max_failed_fraction", "Nothing was written", earlier + ".checkpoint", "--restart"},
+         unchanged(earlier)};
+  cases.push_back(c);
+  run_table(dir, cases);
+}
+
+// Class 8: under mpirun every rank finds the same bad input; the message is
+// printed once, on a line of its own.
+TEST_F(Audit, OneMessageUnderMpirun) {
+  std::string output;
+  const int status = run_command(testing::mpiexec() + " -np 2 " + rover_binary() + " montecarlo --study " +
+                                     w().montecarlo([](Json&) {}) + " --samples 0 2>&1",
+                                 &output);
+  EXPECT_NE(status, 0);
+  const std::string message = "rover montecarlo: error: --samples must be from 2";
+  const std::size_t first = output.find(message);
+  ASSERT_NE(first, std::string::npos) << output;
+  EXPECT_EQ(output.find(message, first + 1), std::string::npos) << "printed twice:\n" << output;
+  EXPECT_TRUE(first == 0 || output[first - 1] == '\n') << output;
 }
 
 }  // namespace

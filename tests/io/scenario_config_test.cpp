@@ -34,6 +34,20 @@ std::array<double, kNumLegs> wheel_bottoms(const RoverModel& model, const Coordi
   return bottom;
 }
 
+// The files a scenario names are listed by the fields that name them, each
+// with where it was named, so that no output can replace one of them.
+TEST(ScenarioConfig, ListsTheFilesItNames) {
+  const std::string path = source_path("configs/scenarios/obstacle_v1.json");
+  const io::ScenarioSources sources = io::read_scenario_sources(path);
+  ASSERT_EQ(sources.files.files().size(), 2u);
+  EXPECT_EQ(sources.files.files()[0].named_by, "'rover' in " + path);
+  EXPECT_TRUE(std::filesystem::equivalent(sources.files.files()[0].path, source_path("configs/rover.json")));
+  EXPECT_EQ(sources.files.files()[1].named_by, "'terrain' in " + path);
+  EXPECT_TRUE(std::filesystem::equivalent(sources.files.files()[1].path, source_path("configs/terrains/obstacle.json")));
+  EXPECT_NE(sources.files.same_file_as(source_path("configs/terrains/obstacle.json")), nullptr);
+  EXPECT_EQ(sources.files.same_file_as(path), nullptr);  // the scenario itself is named by its caller
+}
+
 TEST(ScenarioConfig, DropScenariosHaveTheInitialStatesOfTable2) {
   struct Case {
     const char* file;
