@@ -37,6 +37,16 @@ Coordinates contact_generalized_forces(const RoverModel& model, const TreeKinema
   return Q;
 }
 
+NodeWrenches contact_wrenches(const TreeKinematics& kin, const std::array<WheelContacts, kNumLegs>& contacts) {
+  NodeWrenches wrenches;
+  for (int leg = 0; leg < kNumLegs; ++leg)
+    for (int k = 0; k < contacts[leg].count; ++k) {
+      const ContactPoint& c = contacts[leg].points[k];
+      wrenches.add_point_force(kin, node::wheel(leg), c.point_m, c.normal_force_N * c.normal + c.friction_force_N);
+    }
+  return wrenches;
+}
+
 void compute_kinematics(const RoverModel& model, DynamicsWorkspace& workspace,
                         const Coordinates& q, const Coordinates& u) {
   forward_kinematics(model.tree, q, u, workspace.kinematics);
@@ -52,11 +62,12 @@ void compute_mass_matrix(const RoverModel& model, DynamicsWorkspace& workspace) 
 
 void compute_forcing(const RoverModel& model, DynamicsWorkspace& workspace,
                      const ModelInputs& inputs, const Coordinates& q, const Coordinates& u) {
-  workspace.forcing_without_contact =
-      gravity_and_inertia_forces(model.tree, workspace.kinematics, model.parameters.gravity_mps2) +
-      joint_forces(model.parameters, inputs, q, u);
-  workspace.forcing = workspace.forcing_without_contact +
-                      contact_generalized_forces(model, workspace.kinematics, workspace.contacts);
+  ForcingPass pass(model.tree, workspace.kinematics, model.parameters.gravity_mps2,
+                   contact_wrenches(workspace.kinematics, workspace.contacts));
+  for (int i = kNumTreeNodes - 1; i >= 0; --i) pass.visit(i);
+  const Coordinates joints = joint_forces(model.parameters, inputs, q, u);
+  for (int c = 0; c < kNumCoordinates; ++c)
+    pass.complete(c, joints, workspace.forcing_without_contact, workspace.forcing);
 }
 
 void compute_acceleration(DynamicsWorkspace& workspace) {
@@ -92,14 +103,26 @@ StateVector state_derivative(const RoverModel& model, DynamicsWorkspace& workspa
   return dx;
 }
 
+void compute_forcing_and_acceleration_articulated(const RoverModel& model, DynamicsWorkspace& workspace,
+                                                  const ModelInputs& inputs, const Coordinates& q,
+                                                  const Coordinates& u) {
+  if (articulated_forcing_and_solve(model.tree, workspace.kinematics, model.parameters.gravity_mps2,
+                                    joint_forces(model.parameters, inputs, q, u),
+                                    contact_wrenches(workspace.kinematics, workspace.contacts),
+                                    workspace.forcing_without_contact, workspace.forcing, workspace.acceleration))
+    return;
+  compute_forcing(model, workspace, inputs, q, u);
+  compute_mass_matrix(model, workspace);
+  compute_acceleration(workspace);
+}
+
 StateVector state_derivative_articulated(const RoverModel& model, DynamicsWorkspace& workspace,
                                          const ModelInputs& inputs, const StateVector& x) {
   const Coordinates q = x.head<kNumCoordinates>();
   const Coordinates u = x.tail<kNumCoordinates>();
   compute_kinematics(model, workspace, q, u);
   compute_contacts(model, workspace);
-  compute_forcing(model, workspace, inputs, q, u);
-  compute_acceleration_articulated(model, workspace);
+  compute_forcing_and_acceleration_articulated(model, workspace, inputs, q, u);
   StateVector dx;
   dx << u, workspace.acceleration;
   return dx;
