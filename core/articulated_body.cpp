@@ -182,12 +182,15 @@ bool solve_trunk_and_legs(const KinematicTree& tree, const Coordinates& tau, Rec
 
 [[gnu::flatten]] bool articulated_forcing_and_solve(const KinematicTree& tree, const TreeKinematics& kin,
                                                     double gravity_mps2, const Coordinates& joint_forces,
-                                                    const NodeWrenches& applied,
-                                                    Coordinates& forcing_without_applied, Coordinates& forcing,
+                                                    const Coordinates& contact_forces,
+                                                    Coordinates& forcing_without_contact, Coordinates& forcing,
                                                     Coordinates& acceleration) {
   Recursion r;
   for (int i = 0; i < kNumTreeNodes; ++i) start_node(tree, kin, i, r);
-  ForcingPass pass(tree, kin, gravity_mps2, applied);
+  ForcingPass pass(tree, kin, gravity_mps2);
+  const auto complete = [&](int c) {
+    pass.complete(c, joint_forces, contact_forces, forcing_without_contact, forcing);
+  };
   for (int i = kNumTreeNodes - 1; i >= 0; --i) {
     pass.visit(i);
     const int c = tree.nodes[i].coordinate;
@@ -195,10 +198,10 @@ bool solve_trunk_and_legs(const KinematicTree& tree, const Coordinates& tau, Rec
       add_trunk_node(tree, i, r);
       continue;
     }
-    pass.complete(c, joint_forces, forcing_without_applied, forcing);  // a leg coordinate drives this node alone
+    complete(c);  // a leg coordinate drives this node alone
     if (!eliminate_leg_joint(tree, i, forcing[c], r)) return false;
   }
-  for (int c = 0; c < kTrunk; ++c) pass.complete(c, joint_forces, forcing_without_applied, forcing);
+  for (int c = 0; c < kTrunk; ++c) complete(c);
   return solve_trunk_and_legs(tree, forcing, r, acceleration);
 }
 

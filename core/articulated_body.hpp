@@ -49,14 +49,13 @@ std::optional<Coordinates> articulated_body_solve(const KinematicTree& tree, con
                                                   const Coordinates& generalized_force);
 
 // Kane's forcing and du/dt = M^{-1} F in one backward pass over the tree:
-// F = gravity and inertia forces + joint_forces + the generalized forces of
-// the applied wrenches (the contacts), written into forcing_without_applied
-// (without the last term) and forcing, and du/dt into acceleration. Returns
-// false for a degenerate tree (as articulated_body_solve()); the outputs are
-// then incomplete.
+// F = gravity and inertia forces + joint_forces + contact_forces, written
+// into forcing_without_contact (without the last term) and forcing, and
+// du/dt into acceleration. Returns false for a degenerate tree (as
+// articulated_body_solve()); the outputs are then incomplete.
 bool articulated_forcing_and_solve(const KinematicTree& tree, const TreeKinematics& kin, double gravity_mps2,
-                                   const Coordinates& joint_forces, const NodeWrenches& applied,
-                                   Coordinates& forcing_without_applied, Coordinates& forcing,
+                                   const Coordinates& joint_forces, const Coordinates& contact_forces,
+                                   Coordinates& forcing_without_contact, Coordinates& forcing,
                                    Coordinates& acceleration);
 
 }  // namespace rover

@@ -57,39 +57,17 @@ inline void gravity_and_inertia_wrench(double mass_kg, const BodyKinematics& bod
   moment = torque + (n.origin + rho - reference).cross(force);
 }
 
-// Forces applied at points of the tree's node frames (the contact forces at
-// the wheels), each node's summed into one wrench: the moment about the
-// reference point of TreeKinematics and the force. Their generalized force,
-// the sum of J_P^T f over the points (paper eq. 9), is the projection of
-// each subtree's net wrench on the unit motion of its joint, which
-// ForcingPass forms in the same backward pass as the inertia forces.
-struct NodeWrenches {
-  std::array<Vec3, kNumTreeNodes> moment, force;
-  NodeWrenches() {
-    for (int i = 0; i < kNumTreeNodes; ++i) {
-      moment[i].setZero();
-      force[i].setZero();
-    }
-  }
-  void add_point_force(const TreeKinematics& kin, int node, const Vec3& point, const Vec3& f) {
-    moment[node] += (point - kin.reference).cross(f);
-    force[node] += f;
-  }
-};
-
 // Kane's forcing in one backward pass over the tree, a node at a time,
 // leaves first (every child visited before its parent): the net wrench of
-// gravity and the inertia forces on the node's subtree, and of the applied
-// wrenches, projected on the node's unit motion. Once every node is visited,
-// inertia_forces() is gravity_and_inertia_forces() and applied_forces() the
-// generalized applied forces. The mass-matrix path (compute_forcing()) and
-// the articulated-body path (articulated_body.hpp) both assemble F through it
-// and complete(), so that they give the same F to the last bit.
+// gravity and the inertia forces on the node's subtree, projected on the
+// node's unit motion. Once every node is visited, inertia_forces() is
+// gravity_and_inertia_forces(). The mass-matrix path (compute_forcing()) and
+// the articulated-body path (articulated_body.hpp) both assemble F through
+// it and complete(), so that they give the same F to the last bit.
 class ForcingPass {
  public:
-  ForcingPass(const KinematicTree& tree, const TreeKinematics& kin, double gravity_mps2,
-              const NodeWrenches& applied)
-      : tree_(tree), kin_(kin), applied_wrench_(applied) {
+  ForcingPass(const KinematicTree& tree, const TreeKinematics& kin, double gravity_mps2)
+      : tree_(tree), kin_(kin) {
     const Vec3 gravity(0.0, 0.0, -gravity_mps2);
     for (int i = 0; i < kNumTreeNodes; ++i) {
       const int b = tree.nodes[i].body;
@@ -105,35 +83,29 @@ class ForcingPass {
 
   void visit(int i) {
     const NodeKinematics& n = kin_.nodes[i];
-    const int c = tree_.nodes[i].coordinate;
-    inertia_[c] += n.motion_omega.dot(moment_[i]) + n.motion_velocity.dot(force_[i]);
-    applied_[c] += n.motion_omega.dot(applied_wrench_.moment[i]) + n.motion_velocity.dot(applied_wrench_.force[i]);
+    inertia_[tree_.nodes[i].coordinate] += n.motion_omega.dot(moment_[i]) + n.motion_velocity.dot(force_[i]);
     const int parent = tree_.nodes[i].parent;
     if (parent >= 0) {
       moment_[parent] += moment_[i];
       force_[parent] += force_[i];
-      applied_wrench_.moment[parent] += applied_wrench_.moment[i];
-      applied_wrench_.force[parent] += applied_wrench_.force[i];
     }
   }
 
-  // F without and with the applied forces at coordinate c, once every node
-  // of c is visited: inertia + joint, then + applied.
-  void complete(int c, const Coordinates& joint_forces, Coordinates& forcing_without_applied,
-                Coordinates& forcing) const {
-    forcing_without_applied[c] = inertia_[c] + joint_forces[c];
-    forcing[c] = forcing_without_applied[c] + applied_[c];
+  // F without and with the contact forces at coordinate c, once every node
+  // of c is visited: inertia + joint, then + contact.
+  void complete(int c, const Coordinates& joint_forces, const Coordinates& contact_forces,
+                Coordinates& forcing_without_contact, Coordinates& forcing) const {
+    forcing_without_contact[c] = inertia_[c] + joint_forces[c];
+    forcing[c] = forcing_without_contact[c] + contact_forces[c];
   }
 
   const Coordinates& inertia_forces() const { return inertia_; }
-  const Coordinates& applied_forces() const { return applied_; }
 
  private:
   const KinematicTree& tree_;
   const TreeKinematics& kin_;
-  NodeWrenches applied_wrench_;  // summed over each subtree as the pass goes
   std::array<Vec3, kNumTreeNodes> moment_, force_;
-  Coordinates inertia_ = Coordinates::Zero(), applied_ = Coordinates::Zero();
+  Coordinates inertia_ = Coordinates::Zero();
 };
 
 // Gravity plus the velocity-dependent inertia forces (F_r* at du/dt = 0).

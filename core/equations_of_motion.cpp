@@ -37,16 +37,6 @@ Coordinates contact_generalized_forces(const RoverModel& model, const TreeKinema
   return Q;
 }
 
-NodeWrenches contact_wrenches(const TreeKinematics& kin, const std::array<WheelContacts, kNumLegs>& contacts) {
-  NodeWrenches wrenches;
-  for (int leg = 0; leg < kNumLegs; ++leg)
-    for (int k = 0; k < contacts[leg].count; ++k) {
-      const ContactPoint& c = contacts[leg].points[k];
-      wrenches.add_point_force(kin, node::wheel(leg), c.point_m, c.normal_force_N * c.normal + c.friction_force_N);
-    }
-  return wrenches;
-}
-
 void compute_kinematics(const RoverModel& model, DynamicsWorkspace& workspace,
                         const Coordinates& q, const Coordinates& u) {
   forward_kinematics(model.tree, q, u, workspace.kinematics);
@@ -62,12 +52,12 @@ void compute_mass_matrix(const RoverModel& model, DynamicsWorkspace& workspace) 
 
 void compute_forcing(const RoverModel& model, DynamicsWorkspace& workspace,
                      const ModelInputs& inputs, const Coordinates& q, const Coordinates& u) {
-  ForcingPass pass(model.tree, workspace.kinematics, model.parameters.gravity_mps2,
-                   contact_wrenches(workspace.kinematics, workspace.contacts));
+  ForcingPass pass(model.tree, workspace.kinematics, model.parameters.gravity_mps2);
   for (int i = kNumTreeNodes - 1; i >= 0; --i) pass.visit(i);
   const Coordinates joints = joint_forces(model.parameters, inputs, q, u);
+  const Coordinates contact = contact_generalized_forces(model, workspace.kinematics, workspace.contacts);
   for (int c = 0; c < kNumCoordinates; ++c)
-    pass.complete(c, joints, workspace.forcing_without_contact, workspace.forcing);
+    pass.complete(c, joints, contact, workspace.forcing_without_contact, workspace.forcing);
 }
 
 void compute_acceleration(DynamicsWorkspace& workspace) {
@@ -108,7 +98,7 @@ void compute_forcing_and_acceleration_articulated(const RoverModel& model, Dynam
                                                   const Coordinates& u) {
   if (articulated_forcing_and_solve(model.tree, workspace.kinematics, model.parameters.gravity_mps2,
                                     joint_forces(model.parameters, inputs, q, u),
-                                    contact_wrenches(workspace.kinematics, workspace.contacts),
+                                    contact_generalized_forces(model, workspace.kinematics, workspace.contacts),
                                     workspace.forcing_without_contact, workspace.forcing, workspace.acceleration))
     return;
   compute_forcing(model, workspace, inputs, q, u);

@@ -95,10 +95,6 @@ StateVector state_derivative_articulated(const RoverModel& model, DynamicsWorksp
 std::array<WheelContacts, kNumLegs> wheel_contacts(const RoverModel& model,
                                                    const TreeKinematics& kin);
 
-// The contact forces F_n n + F_t of every wheel as one wrench on its node
-// (NodeWrenches, dynamics.hpp), as stage 4 applies them.
-NodeWrenches contact_wrenches(const TreeKinematics& kin, const std::array<WheelContacts, kNumLegs>& contacts);
-
 // Generalized contact forces: the sum over wheels and contact points of
 // J_P^T (F_n n + F_t).
 Coordinates contact_generalized_forces(const RoverModel& model, const TreeKinematics& kin,
