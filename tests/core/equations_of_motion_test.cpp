@@ -163,10 +163,10 @@ TEST(EquationsOfMotion, ArticulatedRightHandSideEqualsTheOneThroughTheMassMatrix
   }
 }
 
-// Stage 4 assembles F in one backward pass over the tree (ForcingPass), the
-// contact forces as wrenches on the wheels' nodes: against F built term by
-// term, the contacts' J_P^T (F_n n + F_t) from their point Jacobians
-// (paper eq. 9), gravity and inertia forces and the joint torques.
+// Stage 4 assembles F per coordinate from one backward pass over the tree
+// (ForcingPass): against F built term by term, the contacts' J_P^T
+// (F_n n + F_t) from their point Jacobians (paper eq. 9), gravity and
+// inertia forces and the joint torques.
 TEST(EquationsOfMotion, ForcingIsTheSumOfItsTermsWithContactsThroughTheirPointJacobians) {
   const RoverModel model = make_rover_model(default_rover_parameters());
   const ModelInputs in = nominal_inputs(model.parameters);
