@@ -61,9 +61,10 @@ inline void gravity_and_inertia_wrench(double mass_kg, const BodyKinematics& bod
 // leaves first (every child visited before its parent): the net wrench of
 // gravity and the inertia forces on the node's subtree, projected on the
 // node's unit motion. Once every node is visited, inertia_forces() is
-// gravity_and_inertia_forces(). The mass-matrix path (compute_forcing()) and
-// the articulated-body path (articulated_body.hpp) both assemble F through
-// it and complete(), so that they give the same F to the last bit.
+// gravity_and_inertia_forces() to the last bit (the same wrenches, summed in
+// the same order), and complete() adds the joint and contact terms in the
+// order of compute_forcing(): the articulated-body pass (articulated_body.hpp)
+// gives the same F as the mass-matrix path.
 class ForcingPass {
  public:
   ForcingPass(const KinematicTree& tree, const TreeKinematics& kin, double gravity_mps2)

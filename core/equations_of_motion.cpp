@@ -52,12 +52,11 @@ void compute_mass_matrix(const RoverModel& model, DynamicsWorkspace& workspace) 
 
 void compute_forcing(const RoverModel& model, DynamicsWorkspace& workspace,
                      const ModelInputs& inputs, const Coordinates& q, const Coordinates& u) {
-  ForcingPass pass(model.tree, workspace.kinematics, model.parameters.gravity_mps2);
-  for (int i = kNumTreeNodes - 1; i >= 0; --i) pass.visit(i);
-  const Coordinates joints = joint_forces(model.parameters, inputs, q, u);
-  const Coordinates contact = contact_generalized_forces(model, workspace.kinematics, workspace.contacts);
-  for (int c = 0; c < kNumCoordinates; ++c)
-    pass.complete(c, joints, contact, workspace.forcing_without_contact, workspace.forcing);
+  workspace.forcing_without_contact =
+      gravity_and_inertia_forces(model.tree, workspace.kinematics, model.parameters.gravity_mps2) +
+      joint_forces(model.parameters, inputs, q, u);
+  workspace.forcing = workspace.forcing_without_contact +
+                      contact_generalized_forces(model, workspace.kinematics, workspace.contacts);
 }
 
 void compute_acceleration(DynamicsWorkspace& workspace) {
