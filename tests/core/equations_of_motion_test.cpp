@@ -163,8 +163,7 @@ TEST(EquationsOfMotion, ArticulatedRightHandSideEqualsTheOneThroughTheMassMatrix
   }
 }
 
-// Stage 4 assembles F per coordinate from one backward pass over the tree
-// (ForcingPass): against F built term by term, the contacts' J_P^T
+// Stage 4's F against its terms built one by one: the contacts' J_P^T
 // (F_n n + F_t) from their point Jacobians (paper eq. 9), gravity and
 // inertia forces and the joint torques.
 TEST(EquationsOfMotion, ForcingIsTheSumOfItsTermsWithContactsThroughTheirPointJacobians) {
