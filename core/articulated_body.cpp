@@ -55,93 +55,154 @@ struct Subtrees {
   }
 };
 
-}  // namespace
-
-std::optional<Coordinates> articulated_body_solve(const KinematicTree& tree, const TreeKinematics& kin,
-                                                  const Coordinates& tau) {
+// The state of one recursion, filled by its passes: the unit motions S_i, the
+// legs' U_i, D_i and u_i, the trunk matrix A and, for each trunk node,
+// S_i^T p^A_i (subtracted from tau in node order once tau is complete).
+struct Recursion {
   Subtrees sub;
-  for (int b = 0; b < kNumBodies; ++b) {
-    const int i = tree.body_node[b];
-    const BodyKinematics& body = kin.bodies[b];
-    set_spatial_inertia(tree.bodies[b].mass_kg, body.inertia,
-                        kin.nodes[i].origin + body.com_offset - kin.reference, sub.inertia[i]);
-    sub.bias[i].setZero();
-    sub.loaded[i] = true;
-  }
-  std::array<Vector6, kNumTreeNodes> motion;  // S_i
-  for (int i = 0; i < kNumTreeNodes; ++i) motion[i] << kin.nodes[i].motion_omega, kin.nodes[i].motion_velocity;
-
-  // Pass 2 over the legs, leaves first (children come after their parents).
+  std::array<Vector6, kNumTreeNodes> motion;
   std::array<Vector6, kNumTreeNodes> U;
   std::array<double, kNumTreeNodes> D{}, u{};
-  for (int i = kNumTreeNodes - 1; i >= 0; --i) {
-    const int c = tree.nodes[i].coordinate;
-    if (c < kTrunk) continue;
-    if (!sub.loaded[i]) return std::nullopt;  // a massless subtree
-    U[i].noalias() = sub.inertia[i] * motion[i];
-    D[i] = motion[i].dot(U[i]);
-    if (!(D[i] > 0.0) || !std::isfinite(D[i])) return std::nullopt;
-    u[i] = tau[c] - motion[i].dot(sub.bias[i]);
-    const double inverse = 1.0 / D[i];
-    const Vector6 scaled = inverse * U[i];
-    // I^A_i - U_i U_i^T / D_i to the parent, column by column (one axpy each).
-    const int p = tree.nodes[i].parent;
-    Matrix6& parent = sub.inertia[p];
-    if (sub.loaded[p]) {
-      for (int col = 0; col < 6; ++col) parent.col(col) += sub.inertia[i].col(col) - U[i][col] * scaled;
-      sub.bias[p] += sub.bias[i] + u[i] * scaled;
-    } else {
-      for (int col = 0; col < 6; ++col) parent.col(col) = sub.inertia[i].col(col) - U[i][col] * scaled;
-      sub.bias[p] = sub.bias[i] + u[i] * scaled;
-      sub.loaded[p] = true;
-    }
-  }
-
-  // The trunk, as the composite-rigid-body algorithm forms a mass matrix
-  // (dynamics.cpp): each trunk node carries the articulated inertia of its
-  // subtree, children added before their parent is reached; A(c_i, c_j) =
-  // S_j^T I^C_i S_i for every trunk node j on node i's path (c_j < c_i: the
-  // lower triangle, all that FixedSizeLLT reads). The two nodes of phi add
-  // into its row and column.
+  std::array<double, kNumTreeNodes> trunk_bias{};
   TrunkMatrix A = TrunkMatrix::Zero();
+};
+
+// Node i's body, if it has one, as the articulated inertia its subtree
+// starts from (with no bias), and its unit motion S_i.
+void start_node(const KinematicTree& tree, const TreeKinematics& kin, int i, Recursion& r) {
+  const NodeKinematics& n = kin.nodes[i];
+  r.motion[i] << n.motion_omega, n.motion_velocity;
+  const int b = tree.nodes[i].body;
+  if (b < 0) return;
+  const BodyKinematics& body = kin.bodies[b];
+  set_spatial_inertia(tree.bodies[b].mass_kg, body.inertia, n.origin + body.com_offset - kin.reference,
+                      r.sub.inertia[i]);
+  r.sub.bias[i].setZero();
+  r.sub.loaded[i] = true;
+}
+
+// Pass 2 at leg node i, whose subtree is complete, with tau_i = `tau`: U_i,
+// D_i, u_i, and I^A_i - U_i U_i^T / D_i and p^A_i + U_i u_i / D_i to the
+// parent. False for a massless subtree or a pivot that is not positive.
+bool eliminate_leg_joint(const KinematicTree& tree, int i, double tau, Recursion& r) {
+  Subtrees& sub = r.sub;
+  if (!sub.loaded[i]) return false;  // a massless subtree
+  const Vector6& motion = r.motion[i];
+  r.U[i].noalias() = sub.inertia[i] * motion;
+  const double D = motion.dot(r.U[i]);
+  r.D[i] = D;
+  if (!(D > 0.0) || !std::isfinite(D)) return false;
+  r.u[i] = tau - motion.dot(sub.bias[i]);
+  const double inverse = 1.0 / D;
+  const Vector6 scaled = inverse * r.U[i];
+  // I^A_i - U_i U_i^T / D_i to the parent, column by column (one axpy each).
+  const int p = tree.nodes[i].parent;
+  Matrix6& parent = sub.inertia[p];
+  if (sub.loaded[p]) {
+    for (int col = 0; col < 6; ++col) parent.col(col) += sub.inertia[i].col(col) - r.U[i][col] * scaled;
+    sub.bias[p] += sub.bias[i] + r.u[i] * scaled;
+  } else {
+    for (int col = 0; col < 6; ++col) parent.col(col) = sub.inertia[i].col(col) - r.U[i][col] * scaled;
+    sub.bias[p] = sub.bias[i] + r.u[i] * scaled;
+    sub.loaded[p] = true;
+  }
+  return true;
+}
+
+// The trunk, as the composite-rigid-body algorithm forms a mass matrix
+// (dynamics.cpp): trunk node i carries the articulated inertia of its
+// subtree, children added before it is reached; A(c_i, c_j) = S_j^T I^C_i S_i
+// for every trunk node j on node i's path (c_j < c_i: the lower triangle, all
+// that FixedSizeLLT reads). The two nodes of phi add into its row and column.
+void add_trunk_node(const KinematicTree& tree, int i, Recursion& r) {
+  Subtrees& sub = r.sub;
+  if (!sub.loaded[i]) return;
+  const int ci = tree.nodes[i].coordinate;
+  const Vector6 momentum = sub.inertia[i] * r.motion[i];
+  r.trunk_bias[i] = r.motion[i].dot(sub.bias[i]);
+  r.A(ci, ci) += r.motion[i].dot(momentum);
+  for (int k = 1; k < tree.path_length[i]; ++k) {
+    const int j = tree.path[i][k];
+    r.A(ci, tree.nodes[j].coordinate) += r.motion[j].dot(momentum);
+  }
+  const int p = tree.nodes[i].parent;
+  if (p >= 0) sub.add(p, sub.inertia[i], sub.bias[i]);
+}
+
+// With every node passed, and tau complete: the trunk's 7 x 7 solve, then
+// pass 3 over the legs, root first: the acceleration of each node's frame
+// (the sum of S_j a_j over its path), then the legs' joint accelerations.
+bool solve_trunk_and_legs(const KinematicTree& tree, const Coordinates& tau, Recursion& r, Coordinates& a) {
   TrunkVector rhs = tau.head<kTrunk>();
   for (int i = kNumTreeNodes - 1; i >= 0; --i) {
     const int ci = tree.nodes[i].coordinate;
-    if (ci >= kTrunk || !sub.loaded[i]) continue;
-    const Vector6 momentum = sub.inertia[i] * motion[i];
-    rhs[ci] -= motion[i].dot(sub.bias[i]);
-    A(ci, ci) += motion[i].dot(momentum);
-    for (int k = 1; k < tree.path_length[i]; ++k) {
-      const int j = tree.path[i][k];
-      A(ci, tree.nodes[j].coordinate) += motion[j].dot(momentum);
-    }
-    const int p = tree.nodes[i].parent;
-    if (p >= 0) sub.add(p, sub.inertia[i], sub.bias[i]);
+    if (ci < kTrunk && r.sub.loaded[i]) rhs[ci] -= r.trunk_bias[i];
   }
   FixedSizeLLT<kTrunk> trunk;
-  if (!trunk.compute(A)) return std::nullopt;
+  if (!trunk.compute(r.A)) return false;
   trunk.solve_in_place(rhs);
-
-  // Pass 3 over the legs, root first: the acceleration of each node's frame
-  // (the sum of S_j a_j over its path), then the legs' joint accelerations.
-  std::optional<Coordinates> result(std::in_place);
-  Coordinates& a = *result;
   a.head<kTrunk>() = rhs;
   std::array<Vector6, kNumTreeNodes> acceleration;
   for (int i = 0; i < kNumTreeNodes; ++i) {
     const int c = tree.nodes[i].coordinate;
     const int p = tree.nodes[i].parent;
     if (p < 0) {  // a root: at rest above it
-      if (c >= kTrunk) a[c] = u[i] / D[i];
-      acceleration[i] = a[c] * motion[i];
+      if (c >= kTrunk) a[c] = r.u[i] / r.D[i];
+      acceleration[i] = a[c] * r.motion[i];
       continue;
     }
     const Vector6& above = acceleration[p];
-    if (c >= kTrunk) a[c] = (u[i] - U[i].dot(above)) / D[i];
-    acceleration[i] = above + a[c] * motion[i];
+    if (c >= kTrunk) a[c] = (r.u[i] - r.U[i].dot(above)) / r.D[i];
+    acceleration[i] = above + a[c] * r.motion[i];
   }
-  if (!a.allFinite()) return std::nullopt;
+  return a.allFinite();
+}
+
+}  // namespace
+
+// Both entry points are flattened: the helpers above are inlined into their
+// loops, whose state then stays in registers between them.
+[[gnu::flatten]] std::optional<Coordinates> articulated_body_solve(const KinematicTree& tree, const TreeKinematics& kin,
+                                                  const Coordinates& tau) {
+  Recursion r;
+  for (int i = 0; i < kNumTreeNodes; ++i) start_node(tree, kin, i, r);
+  // Leaves first (children come after their parents): the legs' pass 2, the trunk's composites.
+  for (int i = kNumTreeNodes - 1; i >= 0; --i) {
+    const int c = tree.nodes[i].coordinate;
+    if (c < kTrunk) {
+      add_trunk_node(tree, i, r);
+    } else if (!eliminate_leg_joint(tree, i, tau[c], r)) {
+      return std::nullopt;
+    }
+  }
+  std::optional<Coordinates> result(std::in_place);
+  if (!solve_trunk_and_legs(tree, tau, r, *result)) return std::nullopt;
   return result;
+}
+
+[[gnu::flatten]] bool articulated_forcing_and_solve(const KinematicTree& tree, const TreeKinematics& kin,
+                                                    double gravity_mps2, const Coordinates& joint_forces,
+                                                    const Coordinates& contact_forces,
+                                                    Coordinates& forcing_without_contact, Coordinates& forcing,
+                                                    Coordinates& acceleration) {
+  Recursion r;
+  for (int i = 0; i < kNumTreeNodes; ++i) start_node(tree, kin, i, r);
+  ForcingPass pass(tree, kin, gravity_mps2);
+  const auto complete = [&](int c) {
+    pass.complete(c, joint_forces, contact_forces, forcing_without_contact, forcing);
+  };
+  for (int i = kNumTreeNodes - 1; i >= 0; --i) {
+    pass.visit(i);
+    const int c = tree.nodes[i].coordinate;
+    if (c < kTrunk) {
+      add_trunk_node(tree, i, r);
+      continue;
+    }
+    complete(c);  // a leg coordinate drives this node alone
+    if (!eliminate_leg_joint(tree, i, forcing[c], r)) return false;
+  }
+  for (int c = 0; c < kTrunk; ++c) complete(c);
+  return solve_trunk_and_legs(tree, forcing, r, acceleration);
 }
 
 }  // namespace rover

@@ -23,11 +23,21 @@
 //   * Legs, root first: a_i = a_parent + S_i (u_i - U_i^T a_parent) / D_i
 //     (pass 3).
 // No M is formed, and no matrix larger than 7 x 7 is factorized.
+//
+// articulated_forcing_and_solve() runs the backward pass once for both Kane's
+// forcing and the recursion: at each node, leaves first, the net wrench of
+// gravity and the inertia forces on its subtree (dynamics.hpp) gives the
+// node's entry of F, which completes tau_i just before the node's U_i, D_i
+// and u_i are formed, and the node's body enters the wrench and the
+// articulated inertia in the same visit. F comes out as
+// gravity_and_inertia_forces() + joint forces + contact forces gives it, to
+// the last bit.
 #pragma once
 
 #include <optional>
 
 #include "core/coordinates.hpp"
+#include "core/dynamics.hpp"
 #include "core/kinematic_tree.hpp"
 
 namespace rover {
@@ -37,5 +47,15 @@ namespace rover {
 // caller then factorizes M itself).
 std::optional<Coordinates> articulated_body_solve(const KinematicTree& tree, const TreeKinematics& kin,
                                                   const Coordinates& generalized_force);
+
+// Kane's forcing and du/dt = M^{-1} F in one backward pass over the tree:
+// F = gravity and inertia forces + joint_forces + contact_forces, written
+// into forcing_without_contact (without the last term) and forcing, and
+// du/dt into acceleration. Returns false for a degenerate tree (as
+// articulated_body_solve()); the outputs are then incomplete.
+bool articulated_forcing_and_solve(const KinematicTree& tree, const TreeKinematics& kin, double gravity_mps2,
+                                   const Coordinates& joint_forces, const Coordinates& contact_forces,
+                                   Coordinates& forcing_without_contact, Coordinates& forcing,
+                                   Coordinates& acceleration);
 
 }  // namespace rover

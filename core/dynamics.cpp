@@ -84,15 +84,8 @@ Coordinates gravity_and_inertia_forces(const KinematicTree& tree, const TreeKine
       force[i].setZero();
       continue;
     }
-    const double mass = tree.bodies[b].mass_kg;
-    const BodyKinematics& body = kin.bodies[b];
-    const NodeKinematics& n = kin.nodes[i];
-    const Vec3& rho = body.com_offset;
-    const Vec3 com_accel = n.accel_bias + n.alpha_bias.cross(rho) + n.omega.cross(n.omega.cross(rho));
-    // Active gravity minus the inertia force and torque of paper eq. 4 at du/dt = 0.
-    force[i] = mass * (gravity - com_accel);
-    const Vec3 torque = -(body.inertia * n.alpha_bias + n.omega.cross(body.inertia * n.omega));
-    moment[i] = torque + (n.origin + rho - kin.reference).cross(force[i]);
+    gravity_and_inertia_wrench(tree.bodies[b].mass_kg, kin.bodies[b], kin.nodes[i], kin.reference, gravity,
+                               moment[i], force[i]);
   }
   Coordinates F = Coordinates::Zero();
   for (int i = kNumTreeNodes - 1; i >= 0; --i) {

@@ -9,6 +9,8 @@
 // the kinematic tree, dotted with the net wrench of the subtree it carries.
 #pragma once
 
+#include <array>
+
 #include "core/coordinates.hpp"
 #include "core/kinematic_tree.hpp"
 #include "core/model_inputs.hpp"
@@ -40,6 +42,72 @@ inline Mat3 inertia_about_offset(double mass_kg, const Mat3& inertia_com, const 
 
 // M(q): sum over bodies of m J_v^T J_v + J_w^T I J_w (symmetric positive definite).
 CoordinateMatrix mass_matrix(const KinematicTree& tree, const TreeKinematics& kin);
+
+// The wrench of gravity minus one body's inertia force and torque at
+// du/dt = 0 (paper eq. 4): `force` on the body, `moment` about the reference
+// point of `kin`. Shared by gravity_and_inertia_forces() and the single
+// backward pass of articulated_body.hpp, so that both give the same F.
+inline void gravity_and_inertia_wrench(double mass_kg, const BodyKinematics& body, const NodeKinematics& n,
+                                       const Vec3& reference, const Vec3& gravity, Vec3& moment,
+                                       Vec3& force) {
+  const Vec3& rho = body.com_offset;
+  const Vec3 com_accel = n.accel_bias + n.alpha_bias.cross(rho) + n.omega.cross(n.omega.cross(rho));
+  force = mass_kg * (gravity - com_accel);
+  const Vec3 torque = -(body.inertia * n.alpha_bias + n.omega.cross(body.inertia * n.omega));
+  moment = torque + (n.origin + rho - reference).cross(force);
+}
+
+// Kane's forcing in one backward pass over the tree, a node at a time,
+// leaves first (every child visited before its parent): the net wrench of
+// gravity and the inertia forces on the node's subtree, projected on the
+// node's unit motion. Once every node is visited, inertia_forces() is
+// gravity_and_inertia_forces() to the last bit (the same wrenches, summed in
+// the same order), and complete() adds the joint and contact terms in the
+// order of compute_forcing(): the articulated-body pass (articulated_body.hpp)
+// gives the same F as the mass-matrix path.
+class ForcingPass {
+ public:
+  ForcingPass(const KinematicTree& tree, const TreeKinematics& kin, double gravity_mps2)
+      : tree_(tree), kin_(kin) {
+    const Vec3 gravity(0.0, 0.0, -gravity_mps2);
+    for (int i = 0; i < kNumTreeNodes; ++i) {
+      const int b = tree.nodes[i].body;
+      if (b < 0) {
+        moment_[i].setZero();
+        force_[i].setZero();
+        continue;
+      }
+      gravity_and_inertia_wrench(tree.bodies[b].mass_kg, kin.bodies[b], kin.nodes[i], kin.reference, gravity,
+                                 moment_[i], force_[i]);
+    }
+  }
+
+  void visit(int i) {
+    const NodeKinematics& n = kin_.nodes[i];
+    inertia_[tree_.nodes[i].coordinate] += n.motion_omega.dot(moment_[i]) + n.motion_velocity.dot(force_[i]);
+    const int parent = tree_.nodes[i].parent;
+    if (parent >= 0) {
+      moment_[parent] += moment_[i];
+      force_[parent] += force_[i];
+    }
+  }
+
+  // F without and with the contact forces at coordinate c, once every node
+  // of c is visited: inertia + joint, then + contact.
+  void complete(int c, const Coordinates& joint_forces, const Coordinates& contact_forces,
+                Coordinates& forcing_without_contact, Coordinates& forcing) const {
+    forcing_without_contact[c] = inertia_[c] + joint_forces[c];
+    forcing[c] = forcing_without_contact[c] + contact_forces[c];
+  }
+
+  const Coordinates& inertia_forces() const { return inertia_; }
+
+ private:
+  const KinematicTree& tree_;
+  const TreeKinematics& kin_;
+  std::array<Vec3, kNumTreeNodes> moment_, force_;
+  Coordinates inertia_ = Coordinates::Zero();
+};
 
 // Gravity plus the velocity-dependent inertia forces (F_r* at du/dt = 0).
 Coordinates gravity_and_inertia_forces(const KinematicTree& tree, const TreeKinematics& kin,

@@ -92,14 +92,26 @@ StateVector state_derivative(const RoverModel& model, DynamicsWorkspace& workspa
   return dx;
 }
 
+void compute_forcing_and_acceleration_articulated(const RoverModel& model, DynamicsWorkspace& workspace,
+                                                  const ModelInputs& inputs, const Coordinates& q,
+                                                  const Coordinates& u) {
+  if (articulated_forcing_and_solve(model.tree, workspace.kinematics, model.parameters.gravity_mps2,
+                                    joint_forces(model.parameters, inputs, q, u),
+                                    contact_generalized_forces(model, workspace.kinematics, workspace.contacts),
+                                    workspace.forcing_without_contact, workspace.forcing, workspace.acceleration))
+    return;
+  compute_forcing(model, workspace, inputs, q, u);
+  compute_mass_matrix(model, workspace);
+  compute_acceleration(workspace);
+}
+
 StateVector state_derivative_articulated(const RoverModel& model, DynamicsWorkspace& workspace,
                                          const ModelInputs& inputs, const StateVector& x) {
   const Coordinates q = x.head<kNumCoordinates>();
   const Coordinates u = x.tail<kNumCoordinates>();
   compute_kinematics(model, workspace, q, u);
   compute_contacts(model, workspace);
-  compute_forcing(model, workspace, inputs, q, u);
-  compute_acceleration_articulated(model, workspace);
+  compute_forcing_and_acceleration_articulated(model, workspace, inputs, q, u);
   StateVector dx;
   dx << u, workspace.acceleration;
   return dx;

@@ -5,8 +5,8 @@
 // Every evaluation goes through one workspace, filled in stages in a fixed
 // order, as MuJoCo's mjData is filled by mj_forward (Todorov et al. 2012):
 //   kinematics -> contacts -> M -> F -> factorisation of M and du/dt,
-// or, where M itself is not needed, kinematics -> contacts -> F -> du/dt by
-// the articulated-body recursion.
+// or, where M itself is not needed, kinematics -> contacts -> F and du/dt in
+// one backward pass of the articulated-body recursion.
 // Every stage takes its arguments in one order, (model, workspace, inputs, q, u),
 // the order of Pinocchio's algo(model, data, q, v) (Carpentier et al. 2019),
 // leaving out what the stage does not read. A later stage reads what the
@@ -64,6 +64,16 @@ void compute_acceleration(DynamicsWorkspace& workspace);
 // tree the recursion finds degenerate falls back to stages 3 and 5.
 void compute_acceleration_articulated(const RoverModel& model, DynamicsWorkspace& workspace);
 
+// Stages 4 and 5 at once, without stage 3: F and du/dt = M^{-1} F in one
+// backward pass over the tree (articulated_forcing_and_solve(),
+// articulated_body.hpp), which gives F as compute_forcing() does, to the last
+// bit (needs stages 1 and 2). As compute_acceleration_articulated(), it
+// leaves mass_matrix and mass_factorization as they were, unless the tree is
+// degenerate: then stages 4, 3 and 5.
+void compute_forcing_and_acceleration_articulated(const RoverModel& model, DynamicsWorkspace& workspace,
+                                                  const ModelInputs& inputs, const Coordinates& q,
+                                                  const Coordinates& u);
+
 // All five stages at (q, u).
 void compute_dynamics(const RoverModel& model, DynamicsWorkspace& workspace,
                       const ModelInputs& inputs, const Coordinates& q, const Coordinates& u);
@@ -73,8 +83,8 @@ void compute_dynamics(const RoverModel& model, DynamicsWorkspace& workspace,
 // path of every simulation.
 StateVector state_derivative(const RoverModel& model, DynamicsWorkspace& workspace,
                              const ModelInputs& inputs, const StateVector& x);
-// The same right-hand side through stages 1, 2, 4 and
-// compute_acceleration_articulated(): for integrators that need du/dt but
+// The same right-hand side through stages 1, 2 and
+// compute_forcing_and_acceleration_articulated(): for integrators that need du/dt but
 // not M itself (Dormand-Prince, the Rosenbrock stages). Equal to
 // state_derivative() to round-off.
 StateVector state_derivative_articulated(const RoverModel& model, DynamicsWorkspace& workspace,

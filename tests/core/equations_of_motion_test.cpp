@@ -1,7 +1,9 @@
 // The assembled equations of motion (core/equations_of_motion.cpp): energy
 // conservation in free flight, left/right mirror symmetry, the right-hand side
-// against the equations assembled stage by stage.
+// against the equations assembled stage by stage, F against its terms.
 #include "core/equations_of_motion.hpp"
+
+#include <algorithm>
 
 #include <gtest/gtest.h>
 
@@ -158,6 +160,41 @@ TEST(EquationsOfMotion, ArticulatedRightHandSideEqualsTheOneThroughTheMassMatrix
         << "trial " << trial;
     EXPECT_TRUE((without_mass.mass_matrix.array() == 7.0).all());
     EXPECT_EQ(without_mass.forcing, with_mass.forcing);
+  }
+}
+
+// Stage 4's F against its terms built one by one: the contacts' J_P^T
+// (F_n n + F_t) from their point Jacobians (paper eq. 9), gravity and
+// inertia forces and the joint torques.
+TEST(EquationsOfMotion, ForcingIsTheSumOfItsTermsWithContactsThroughTheirPointJacobians) {
+  const RoverModel model = make_rover_model(default_rover_parameters());
+  const ModelInputs in = nominal_inputs(model.parameters);
+  std::mt19937 rng(33);
+  for (int trial = 0; trial < 20; ++trial) {
+    Coordinates q, u;
+    testing::random_state(rng, q, u);
+    q[coord::z] = 0.21;
+    DynamicsWorkspace eom;
+    compute_kinematics(model, eom, q, u);
+    compute_contacts(model, eom);
+    compute_forcing(model, eom, in, q, u);
+    Coordinates contact = Coordinates::Zero();
+    int points = 0;
+    for (int leg = 0; leg < kNumLegs; ++leg)
+      for (int k = 0; k < eom.contacts[leg].count; ++k, ++points) {
+        const ContactPoint& c = eom.contacts[leg].points[k];
+        contact += point_jacobian(model.tree, eom.kinematics, node::wheel(leg), c.point_m).transpose() *
+                   (c.normal_force_N * c.normal + c.friction_force_N);
+      }
+    ASSERT_GT(points, 0);
+    const Coordinates without_contact =
+        gravity_and_inertia_forces(model.tree, eom.kinematics, model.parameters.gravity_mps2) +
+        joint_forces(model.parameters, in, q, u);
+    const double scale = std::max(without_contact.cwiseAbs().maxCoeff(), contact.cwiseAbs().maxCoeff());
+    EXPECT_LT((eom.forcing_without_contact - without_contact).cwiseAbs().maxCoeff(), 1e-13 * scale)
+        << "trial " << trial;
+    EXPECT_LT((eom.forcing - eom.forcing_without_contact - contact).cwiseAbs().maxCoeff(), 1e-12 * scale)
+        << "trial " << trial;
   }
 }
 
