@@ -49,8 +49,8 @@ io::InputFiles calibration_inputs(const CalibrateOptions& o, const study::Calibr
   io::InputFiles inputs;
   inputs.add(o.study_path, "--study");
   for (const study::CalibrationDataset& d : s.datasets) {
-    inputs.add(d.path, "the data of " + o.study_path);
-    inputs.add(d.scenario_path, "a scenario of " + o.study_path);
+    inputs.add(d.path, "'data' in " + o.study_path);
+    inputs.add(d.scenario_path, "'scenario' in " + o.study_path);
     inputs.add_all(d.sources.files);
   }
   if (!o.next_experiment.empty()) inputs.add_config(o.next_experiment, "--next-experiment");

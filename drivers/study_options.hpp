@@ -117,19 +117,6 @@ inline void check_study_output_path(FlagChecks& checks, const study::StudyRunOpt
   check_leftover_checkpoint(checks, study_results_path(c, study_path), c.resume, c.restart);
 }
 
-// used by calibration and surrogate, whose loaders do not list the files they
-// read yet: check_study_output_path, and --out, the plots and the checkpoint
-// beside it against every file named inside the study file, found by
-// io::InputFiles::add_config.
-inline void check_study_output(FlagChecks& checks, const study::StudyRunOptions& c, const std::string& study_path) {
-  checks.output_file("--out", c.results_path, /*regular_only=*/true);
-  const std::string out = study_results_path(c, study_path);
-  io::InputFiles inputs;
-  inputs.add_config(study_path, "--study");
-  checks.not_an_input(c.results_path.empty() ? "--out (default)" : "--out", out, inputs, /*beside=*/true);
-  check_leftover_checkpoint(checks, out, c.resume, c.restart);
-}
-
 // The command that continues this one: `rover <subcommand>`, every flag the
 // user gave, in the order given, with its values (each quoted where the shell
 // needs it), and --resume.

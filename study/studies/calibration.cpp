@@ -9,6 +9,7 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include <boost/random/mersenne_twister.hpp>
 #include <boost/random/uniform_real_distribution.hpp>
@@ -57,10 +58,40 @@ std::string on_a_bound(const CheckedFit& c) {
   return text;
 }
 
+// The bounds of a parameter of the Gauss-Newton uncertainty (a fitted one or
+// a curve's time offset).
+std::pair<double, double> bounds_of(const CheckedFit& c, const std::string& name) {
+  for (const FitParameter& f : c.study.fit)
+    if (f.name == name) return {f.lower, f.upper};
+  return {c.study.offset_min_s, c.study.offset_max_s};
+}
+
+// The parameters the data leave undetermined, in words: a standard error that
+// is not finite, a 95 % interval wider than the parameter's bounds (a
+// parameter the curves barely depend on, such as a damping when the data end
+// before the contact: the profile probe cannot test it, its points lie
+// outside the bounds), or a Jacobian of lower rank than the parameters.
+// Empty when every parameter is determined.
+std::string undetermined_parameters(const CheckedFit& c) {
+  const LeastSquaresUncertainty& u = c.gn.uncertainty;
+  std::string names;
+  for (Eigen::Index k = 0; k < u.standard_error.size(); ++k) {
+    const std::string& name = c.gn.names[static_cast<std::size_t>(k)];
+    const auto [lower, upper] = bounds_of(c, name);
+    if (!std::isfinite(u.standard_error[k]) || !(u.upper[k] - u.lower[k] < upper - lower))
+      names += (names.empty() ? "" : ", ") + name;
+  }
+  if (names.empty() && u.rank >= u.standard_error.size()) return "";
+  return "the data do not determine " + (names.empty() ? std::string("every parameter") : names) +
+         ": its 95 % interval is wider than its bounds (the Jacobian has rank " + std::to_string(u.rank) + " of " +
+         std::to_string(u.standard_error.size()) + ")" + (u.warning.empty() ? "" : "; " + u.warning);
+}
+
 // Why the intervals of a checked fit cannot be trusted (rank 0); empty when they can.
 std::string not_valid_because(const CheckedFit& c) {
   if (!c.fit.converged) return "the fit did not converge: " + c.fit.message;
   if (!c.gn.ok) return c.gn.message;
+  if (const std::string undetermined = undetermined_parameters(c); !undetermined.empty()) return undetermined;
   if (const std::string bound = on_a_bound(c); !bound.empty()) return bound;
   if (c.shift.ok && c.shift.largest_se > c.study.integration_check.max_shift_se)
     return "the integration error moves a parameter by " + format_number(c.shift.largest_se, 3) +

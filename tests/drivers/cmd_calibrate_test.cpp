@@ -3,6 +3,7 @@
 // posterior is identical on one and two ranks, and bad input is refused with
 // a message naming the field or the file.
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <iterator>
 
@@ -396,6 +397,29 @@ TEST(CmdCalibrate, AnOffsetOnItsBoundIsFlagged) {
       << log;
   EXPECT_NE(log.find("time_offset = 0.06 is on its bound (widen bounds.time_offset)"), std::string::npos) << log;
   EXPECT_EQ(io::Hdf5Reader(dir + "/o.h5").attribute_integer("/best", "intervals_valid"), 0) << log;
+}
+
+// Data that end before the wheels touch the ground say nothing about the
+// damping: its column of the Jacobian is zero, and the fit must say that the
+// data do not determine it instead of printing an interval.
+TEST(CmdCalibrate, DataThatCannotDetermineAParameterAreFlagged) {
+  const std::string dir = rover::testing::temp_dir();
+  std::ifstream full(source_path("configs/data/drop_horizontal_synthetic.csv"));
+  std::string free_fall;  // released at 0.05 s of the data clock, first contact about 0.09 s later
+  for (std::string line; std::getline(full, line);) {
+    double t = 0.0;
+    if (std::sscanf(line.c_str(), "%lf,", &t) == 1 && line[0] != '#' && t > 0.12) break;
+    free_fall += line + "\n";
+  }
+  write_file(dir + "/free_fall.csv", free_fall);
+  const std::string study = write_file(dir + "/free.json", R"({"type": "calibration", "name": "c",
+      "scenario": ")" + source_path("configs/scenarios/drop_horizontal.json") + R"(", "data": "free_fall.csv",
+      "fit": ["c_q"], "bounds": {"c_q": [0.02, 1.0], "time_offset": [0.0, 0.1]}})");
+  std::string log;
+  EXPECT_EQ(run_command(rover_binary() + " calibrate --study " + study + " --no-plot --out " + dir + "/f.h5", &log), 2)
+      << log;
+  EXPECT_NE(log.find("the data do not determine c_q"), std::string::npos) << log;
+  EXPECT_EQ(io::Hdf5Reader(dir + "/f.h5").attribute_integer("/best", "intervals_valid"), 0) << log;
 }
 
 }  // namespace
