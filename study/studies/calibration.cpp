@@ -109,6 +109,11 @@ void fitted_curves(const CalibrationStudy& s, CalibrationFitResult& r) {
   std::size_t points = 0;
   for (std::size_t k = 0; k < s.datasets.size(); ++k) {
     CalibrationCurve curve = simulate_calibration_curve(r.checked.study, k, r.checked.fit.values);
+    if (!curve.ok) {  // the best point failed too (every run failed): no curve, no RMS
+      r.fitted_curves.push_back(std::move(curve));
+      rss = std::numeric_limits<double>::quiet_NaN();
+      continue;
+    }
     for (double& t : curve.t_s) t += r.checked.fit.offsets[k];
     for (double v : shifted_residuals(curve.t_s, curve.z_m, s.datasets[k].t, s.datasets[k].z, 0.0)) rss += v * v;
     points += s.datasets[k].t.size();

@@ -822,6 +822,10 @@ TEST_F(Audit, StudyLevelReliability) {
       [&](Json& j) { j["scenario"] = w().scenario([](Json& s) { s["wall_time_budget"] = 1e-9; }); });
   cases.push_back({"montecarlo where every run fails", study("montecarlo", all_fail), Want::kAllFailed,
                    {"every run failed"}});
+  const std::string all_fail_calibration = w().calibration(
+      [&](Json& j) { j["scenario"] = w().scenario([](Json& s) { s["wall_time_budget"] = 1e-9; }); });
+  cases.push_back({"calibrate where every run fails", study("calibrate", all_fail_calibration), Want::kAllFailed,
+                   {"NOT CONVERGED", "wall-time budget used up", "every run failed"}});
   run_table(w().dir(), cases);
 }
 
