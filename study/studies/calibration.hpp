@@ -42,6 +42,7 @@
 // not_valid_because, iterations, integrator, gn_warning.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -118,9 +119,12 @@ struct McmcSettings {
   int predictive_draws = 40;  // posterior draws re-simulated for the predictive band
 };
 
-// The burn-in steps of a posterior run with `sampler`.
+// The burn-in steps of a posterior run with `sampler`: the study's, else the
+// sampler's default, at most half the steps (an independence study whose fit
+// has no intervals runs the ensemble, and must still keep samples).
 inline long mcmc_discard(const McmcSettings& m, McmcSampler sampler) {
-  return m.discard.value_or(sampler == McmcSampler::independence ? kIndependenceDiscard : kEnsembleDiscard);
+  const long by_default = sampler == McmcSampler::independence ? kIndependenceDiscard : kEnsembleDiscard;
+  return m.discard.value_or(std::min(by_default, m.steps / 2));
 }
 
 // One measured curve of a (joint) calibration: its scenario, the channel it
