@@ -85,7 +85,7 @@ int run_calibrate_command(const CLI::App& app, CalibrateOptions o) {
   });
 }
 
-const RegisterCommand registration{
+const RegisterCommand calibrate_command{
     58, "calibrate", "Fit any parameters (c_q, f, k_q, ...) to measured drop curves, with intervals or a posterior",
     [](CLI::App& app) -> std::function<int()> {
       auto o = std::make_shared<CalibrateOptions>();

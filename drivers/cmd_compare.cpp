@@ -48,7 +48,7 @@ int run_compare(const CompareOptions& o) {
   return 0;
 }
 
-const RegisterCommand registration{
+const RegisterCommand compare_command{
     45, "compare", "Compare two curves: RMS, deflection error (eq. 10), at-rest error (eq. 11)",
     [](CLI::App& app) -> std::function<int()> {
       auto o = std::make_shared<CompareOptions>();

@@ -24,10 +24,8 @@ Coordinates read_coordinates(const io::JsonReader& r, const std::string& key) {
   return Eigen::Map<const Coordinates>(values.data());
 }
 
-constexpr const char* kDefaultConfig = "configs/rover.json";
-
 struct EomOptions {
-  std::string config = kDefaultConfig;
+  std::string config = kDefaultRoverConfig;
   std::string terrain;
   std::string state;
   CLI::Option* config_option = nullptr;
@@ -35,7 +33,7 @@ struct EomOptions {
 
 int run_eom(const EomOptions& o) {
   const RoverModel model =
-      io::load_rover_model(path_option(o.config_option, o.config, kDefaultConfig), o.terrain);
+      io::load_rover_model(path_option(o.config_option, o.config, kDefaultRoverConfig), o.terrain);
   const io::Json state_json = io::read_json_file(o.state);
   const io::JsonReader state(state_json, o.state);
   const Coordinates q = read_coordinates(state, "q");
@@ -76,7 +74,7 @@ int run_eom(const EomOptions& o) {
   return 0;
 }
 
-const RegisterCommand registration{
+const RegisterCommand eom_command{
     10, "eom", "Print the equations of motion M(q) du/dt = F(q, u) at one state, as JSON",
     [](CLI::App& app) -> std::function<int()> {
       auto o = std::make_shared<EomOptions>();

@@ -55,7 +55,7 @@ study::StudyProgram<study::EvaluateResult> load(EvaluateOptions& o) {
   return study::evaluate_program(study::load_evaluate(o.request));
 }
 
-const RegisterCommand registration{
+const RegisterCommand evaluate_command{
     45, "evaluate", "Batch evaluation: one run per row of a design CSV -> QoIs per row (for Dakota, OpenTURNS, SALib)",
     [](CLI::App& app) -> std::function<int()> {
       auto o = std::make_shared<EvaluateOptions>();

@@ -22,10 +22,8 @@
 namespace rover::cli {
 namespace {
 
-constexpr const char* kDefaultConfig = "configs/rover.json";
-
 struct FrictionOptions {
-  std::string config = kDefaultConfig;
+  std::string config = kDefaultRoverConfig;
   std::optional<double> mu_static, v_static_mps, mu_kinetic, v_kinetic_mps;  // empty: the config's
   bool synthesize = false;
   std::string png;
@@ -75,7 +73,7 @@ int run_friction(const FrictionOptions& o) {
   checks.distinct_files("--png", o.png, "--config", o.config);
   checks.throw_if_any();
 
-  const std::string config = path_option(o.config_option, o.config, kDefaultConfig);
+  const std::string config = path_option(o.config_option, o.config, kDefaultRoverConfig);
   FrictionParameters p = io::load_rover_parameters(config).friction;
   if (o.mu_static) p.mu_static = *o.mu_static;
   if (o.v_static_mps) p.v_static_mps = *o.v_static_mps;
@@ -129,7 +127,7 @@ int run_friction(const FrictionOptions& o) {
   return 0;
 }
 
-const RegisterCommand registration{
+const RegisterCommand friction_command{
     20, "friction",
     "Makkar friction gammas for mu_s, v_s, mu_k, v_k: fit quality as JSON, mu(v) as PNG",
     [](CLI::App& app) -> std::function<int()> {

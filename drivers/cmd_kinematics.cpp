@@ -30,10 +30,8 @@ namespace {
 
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 
-constexpr const char* kDefaultConfig = "configs/rover.json";
-
 struct KinematicsOptions {
-  std::string config = kDefaultConfig;
+  std::string config = kDefaultRoverConfig;
   CLI::Option* config_option = nullptr;
   std::string mode;
   double speed_mps = 0.0;
@@ -174,7 +172,7 @@ int run_kinematics(const KinematicsOptions& o) {
   checks.throw_if_any();
   const std::optional<DriveMode> mode = drive_mode_from_keyword(o.mode);
   if (!mode) throw std::invalid_argument("unknown mode '" + o.mode + "'");
-  const std::string config = path_option(o.config_option, o.config, kDefaultConfig);
+  const std::string config = path_option(o.config_option, o.config, kDefaultRoverConfig);
   const DriveKinematics kin = make_drive_kinematics(io::load_rover_parameters(config));
   WheelCommandOptions wheel_options;
   wheel_options.allow_flip = !o.no_flip;
@@ -228,7 +226,7 @@ int run_kinematics(const KinematicsOptions& o) {
   return 0;
 }
 
-const RegisterCommand registration{
+const RegisterCommand kinematics_command{
     60, "kinematics",
     "Wheel commands (4 steering angles, 4 wheel speeds) of a driving-mode command",
     [](CLI::App& app) -> std::function<int()> {

@@ -8,8 +8,8 @@
 namespace rover::cli {
 namespace {
 
-constexpr long long kMinSamples = 2;  // an sd and a band need 2
-constexpr long long kMaxSamples = 100'000'000;
+constexpr long long kMinMonteCarloSamples = 2;  // an sd and a band need 2
+constexpr long long kMaxMonteCarloSamples = 100'000'000;
 
 struct MonteCarloOptions {
   std::string study_path;
@@ -36,7 +36,7 @@ study::StudyProgram<study::MonteCarloResult> load(const MonteCarloOptions& o) {
   return study::montecarlo_program(std::move(s));
 }
 
-const RegisterCommand registration{
+const RegisterCommand montecarlo_command{
     50, "montecarlo", "Monte Carlo over uncertain parameters: bands of output channels, QoI summaries (Fig. 13d)",
     [](CLI::App& app) -> std::function<int()> {
       auto o = std::make_shared<MonteCarloOptions>();
@@ -55,7 +55,7 @@ const RegisterCommand registration{
       app.add_option("--study", o->study_path, "Study file (configs/studies/*.json, type montecarlo)")
           ->required()->check(CLI::ExistingFile);
       app.add_option("--samples", o->samples, "Override the number of samples N, from 2 (an sd needs 2) to 1e8")
-          ->check(CLI::Range(kMinSamples, kMaxSamples));
+          ->check(CLI::Range(kMinMonteCarloSamples, kMaxMonteCarloSamples));
       app.add_option("--seed", o->seed, "Override the random seed, an integer from 0 to 2^64 - 1");
       add_study_flags(app, o->run);
       return [o, &app] { return run_study_command(app, o->run, o->study_path, [&] { return load(*o); }); };

@@ -8,7 +8,7 @@
 namespace rover::cli {
 namespace {
 
-constexpr long long kMinSamples = 2, kMaxSamples = 10'000'000;
+constexpr long long kMinSensitivitySamples = 2, kMaxSensitivitySamples = 10'000'000;
 
 struct SensitivityOptions {
   std::string study_path;
@@ -32,7 +32,7 @@ study::StudyProgram<study::SensitivityResult> load(const SensitivityOptions& o) 
   return study::sensitivity_program(std::move(s));
 }
 
-const RegisterCommand registration{
+const RegisterCommand sensitivity_command{
     55, "sensitivity", "Global sensitivity: Sobol' indices with confidence intervals (also along time), Morris screening",
     [](CLI::App& app) -> std::function<int()> {
       auto o = std::make_shared<SensitivityOptions>();
@@ -58,7 +58,7 @@ const RegisterCommand registration{
           ->required()->check(CLI::ExistingFile);
       app.add_option("--samples", o->samples,
                      "Override the Sobol' base sample count N (runs: N (d + 2)), or the runs of a PCE study; 2 to 1e7")
-          ->check(CLI::Range(kMinSamples, kMaxSamples));
+          ->check(CLI::Range(kMinSensitivitySamples, kMaxSensitivitySamples));
       add_study_flags(app, o->run);
       return [o, &app] { return run_study_command(app, o->run, o->study_path, [&] { return load(*o); }); };
     }};

@@ -130,7 +130,7 @@ int run_simulate(const SimulateOptions& o) {
   return tr.ok() ? 0 : 2;
 }
 
-const RegisterCommand registration{
+const RegisterCommand simulate_command{
     40, "simulate", "Simulate one scenario (drop test, obstacle run, ...) and write HDF5, CSV and PNG",
     [](CLI::App& app) -> std::function<int()> {
       auto o = std::make_shared<SimulateOptions>();

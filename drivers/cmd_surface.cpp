@@ -24,7 +24,7 @@ study::StudyProgram<study::SurfaceResult> load(const SurfaceOptions& o) {
   return study::surface_program(std::move(s));
 }
 
-const RegisterCommand registration{
+const RegisterCommand surface_command{
     55, "surface", "Response surfaces of RMS error and computation time over (f, c_q) (Fig. 13a-c)",
     [](CLI::App& app) -> std::function<int()> {
       auto o = std::make_shared<SurfaceOptions>();

@@ -14,7 +14,7 @@
 namespace rover::cli {
 namespace {
 
-constexpr long long kMaxSamples = 10'000'000;
+constexpr long long kMaxSurrogateSamples = 10'000'000;
 
 struct SurrogateOptions {
   std::string study_path, predict_path, design_path, csv_path;
@@ -24,7 +24,7 @@ struct SurrogateOptions {
 
 study::StudyProgram<study::SurrogateStudyResult> load(const SurrogateOptions& o) {
   FlagChecks checks;
-  if (o.samples && (*o.samples < 1 || *o.samples > kMaxSamples))
+  if (o.samples && (*o.samples < 1 || *o.samples > kMaxSurrogateSamples))
     checks.add("--samples must be from 1 to 1e7, got " + std::to_string(*o.samples));
   checks.throw_if_any();
   study::SurrogateStudy s = study::load_surrogate_study(o.study_path);
@@ -61,7 +61,7 @@ int run_surrogate_command(const CLI::App& app, const SurrogateOptions& o) {
   return run_study_command(app, o.run, o.study_path, [&] { return load(o); });
 }
 
-const RegisterCommand registration{
+const RegisterCommand surrogate_command{
     57, "surrogate", "Polynomial chaos or kriging surrogate of the QoIs: train, validate and save it; or predict with it",
     [](CLI::App& app) -> std::function<int()> {
       auto o = std::make_shared<SurrogateOptions>();

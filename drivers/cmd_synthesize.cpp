@@ -122,7 +122,7 @@ int run_synthesize(const SynthesizeOptions& o) {
   return 0;
 }
 
-const RegisterCommand registration{
+const RegisterCommand synthesize_command{
     70, "synthesize", "Make a SYNTHETIC measured drop curve (t,z CSV of one channel) with noise and a time offset",
     [](CLI::App& app) -> std::function<int()> {
       auto o = std::make_shared<SynthesizeOptions>();

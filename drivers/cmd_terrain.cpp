@@ -106,7 +106,7 @@ int run_obstacle(const ObstacleOptions& o) {
   return 0;
 }
 
-const RegisterCommand registration{
+const RegisterCommand terrain_command{
     30, "terrain", "Generate terrain files (the obstacle of docs/model.md §7)",
     [](CLI::App& app) -> std::function<int()> {
       app.require_subcommand(1);

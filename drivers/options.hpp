@@ -250,6 +250,9 @@ inline ModelInputs apply_overrides(const InputOverrides& o, ModelInputs in) {
   return in;
 }
 
+// The rover description a command reads unless told otherwise.
+inline constexpr const char* kDefaultRoverConfig = "configs/rover.json";
+
 // The file a default path names. `relative` is relative to the repository
 // root ("configs/rover.json"); when it does not exist from the working
 // directory, the repository the running program belongs to is searched: the

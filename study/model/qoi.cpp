@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/name_list.hpp"
 #include "core/metrics.hpp"
 #include "core/number_text.hpp"
 
@@ -56,12 +57,6 @@ const ChannelInfo& info(Channel channel) {
   throw std::logic_error("unknown channel");
 }
 
-std::string joined(const std::vector<std::string>& names) {
-  std::string out;
-  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
-  return out;
-}
-
 std::size_t argmin(const std::vector<double>& v) {
   return static_cast<std::size_t>(std::min_element(v.begin(), v.end()) - v.begin());
 }
@@ -104,7 +99,7 @@ const std::vector<std::string>& channel_names() {
 Channel channel_from_name(const std::string& name) {
   for (const ChannelInfo& c : kChannels)
     if (name == c.name) return c.channel;
-  throw std::invalid_argument("unknown channel '" + name + "' (valid: " + joined(channel_names()) + ")");
+  throw std::invalid_argument("unknown channel '" + name + "' (valid: " + comma_separated(channel_names()) + ")");
 }
 
 const char* channel_name(Channel channel) { return info(channel).name; }
@@ -139,7 +134,7 @@ QoiKind qoi_kind_from_name(const std::string& name) {
   for (const QoiInfo& q : kQois)
     if (name == q.name) return q.kind;
   throw std::invalid_argument("unknown quantity of interest '" + name + "' (valid: " +
-                              joined(qoi_kind_names()) + ")");
+                              comma_separated(qoi_kind_names()) + ")");
 }
 
 const char* qoi_unit(const QoiSpec& spec) {

@@ -15,6 +15,7 @@
 // so that no rank sits idle while another holds two; those requests are answered
 // later (a task when the worker returns a result, kStop once the queue is empty).
 #include "study/runtime/task_farm.hpp"
+#include "study/runtime/elapsed_time.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -48,10 +49,6 @@ constexpr int kTasksInHand = 2;  // a worker computes one and holds the next
 constexpr auto kMasterPoll = std::chrono::milliseconds(1);
 
 using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 std::string format_duration(double seconds) {
   const long long s = std::llround(std::max(seconds, 0.0));

@@ -7,6 +7,7 @@
 #include "io/plot.hpp"
 #include "study/studies/calibration_checked_fit.hpp"
 #include "study/studies/report_number.hpp"
+#include "study/studies/report_format.hpp"
 
 namespace rover::study {
 namespace {
@@ -14,12 +15,6 @@ namespace {
 // The 0.95 quantile of chi-square with one degree of freedom.
 constexpr double kChiSquare1At95 = 3.841458820694124;
 constexpr double kMillimetresPerMetre = 1000.0;
-
-std::vector<double> in_mm(const std::vector<double>& metres) {
-  std::vector<double> mm;
-  for (double z : metres) mm.push_back(kMillimetresPerMetre * z);
-  return mm;
-}
 
 io::LinePlot profile_plot(const ParameterProfile& prof, const std::string& study_name) {
   io::LinePlot plot;
@@ -45,8 +40,8 @@ io::LinePlot curve_plot(const CalibrationFitResult& r, const CalibrationStudy& s
                format_number(kMillimetresPerMetre * (gn.ok ? gn.noise_rms[k] : r.best_rms_m)) + " mm)";
   plot.x_label = "t (data clock) [s]";
   plot.y_label = s.datasets[k].channel + " [mm]";
-  io::Series data{.label = "data", .x = s.datasets[k].t, .y = in_mm(s.datasets[k].z), .style = io::SeriesStyle::points};
-  io::Series model{.label = "fitted model", .x = r.fitted_curves[k].t_s, .y = in_mm(r.fitted_curves[k].z_m)};
+  io::Series data{.label = "data", .x = s.datasets[k].t, .y = in_millimetres(s.datasets[k].z), .style = io::SeriesStyle::points};
+  io::Series model{.label = "fitted model", .x = r.fitted_curves[k].t_s, .y = in_millimetres(r.fitted_curves[k].z_m)};
   plot.series = {data, model};
   return plot;
 }

@@ -12,6 +12,7 @@
 #include "io/plot.hpp"
 #include "study/studies/calibration_mcmc.hpp"
 #include "study/studies/report_number.hpp"
+#include "study/studies/report_format.hpp"
 
 namespace rover::study {
 namespace {
@@ -146,11 +147,6 @@ io::LinePlot trace_plot(const CalibrationPosterior& posterior, const std::string
   return trace;
 }
 
-std::vector<double> in_mm(std::vector<double> v) {
-  for (double& x : v) x *= 1000.0;
-  return v;
-}
-
 io::LinePlot predictive_plot(const CalibrationPosterior& posterior, const CalibrationStudy& s, std::size_t c) {
   const PredictiveBand& band = posterior.predictive[c];
   const CalibrationDataset& data = s.datasets[c];
@@ -159,11 +155,11 @@ io::LinePlot predictive_plot(const CalibrationPosterior& posterior, const Calibr
                std::to_string(posterior.predictive_draws) + " draws, curve " + std::to_string(c) + ")";
   plot.x_label = "t (data clock) [s]";
   plot.y_label = data.channel + " [mm]";
-  plot.bands.push_back({.label = "with measurement noise", .x = band.t, .lower = in_mm(band.lower_noise),
-                        .upper = in_mm(band.upper_noise), .color = "#a0c0ff", .opacity = 0.4});
-  plot.bands.push_back({.label = "model only", .x = band.t, .lower = in_mm(band.lower), .upper = in_mm(band.upper),
+  plot.bands.push_back({.label = "with measurement noise", .x = band.t, .lower = in_millimetres(band.lower_noise),
+                        .upper = in_millimetres(band.upper_noise), .color = "#a0c0ff", .opacity = 0.4});
+  plot.bands.push_back({.label = "model only", .x = band.t, .lower = in_millimetres(band.lower), .upper = in_millimetres(band.upper),
                         .color = "#2040a0", .opacity = 0.5});
-  plot.series.push_back({.label = "data", .x = data.t, .y = in_mm(data.z), .style = io::SeriesStyle::points,
+  plot.series.push_back({.label = "data", .x = data.t, .y = in_millimetres(data.z), .style = io::SeriesStyle::points,
                          .color = "black", .line_width = 1.0});
   return plot;
 }

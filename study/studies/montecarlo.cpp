@@ -20,7 +20,6 @@ constexpr int kMinBootstrap = 100, kMaxBootstrap = 100000;
 constexpr double kPerSampleValues = 4.0;
 // The fewest samples with a standard deviation (and so a band).
 constexpr int kMinSamples = 2;
-constexpr double kBytesPerValue = 8.0;
 
 }  // namespace
 
@@ -83,7 +82,7 @@ MemoryEstimate montecarlo_memory(const MonteCarloStudy& study) {
   const StudySpec& spec = study.spec;
   const int N = spec.design.samples;
   return {"design and per-run results (N = " + std::to_string(N) + ")",
-          kBytesPerValue * N *
+          static_cast<double>(sizeof(double)) * N *
               (static_cast<double>(spec.inputs.size()) + spec.model->layout().qoi_count + kPerSampleValues)};
 }
 

@@ -20,8 +20,6 @@ namespace {
 // Channels: enough principal components for this share of the variance.
 constexpr double kCurveExplainedVariance = 0.99;
 // Inputs whose aggregated total index exceeds this are drawn along time.
-constexpr double kPlottedTotalIndex = 0.01;
-constexpr int kLabelWidth = 28;
 
 std::vector<Distribution> input_distributions(const StudySpec& spec) {
   std::vector<Distribution> d;
@@ -161,7 +159,7 @@ void print_qoi(std::ostream& out, const PceQoiResult& q, const std::vector<std::
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) { return s.ST[a] > s.ST[b]; });
   for (Eigen::Index i : order)
-    out << "  " << std::left << std::setw(kLabelWidth) << labels[static_cast<std::size_t>(i)] << std::right
+    out << "  " << std::left << std::setw(kIndexLabelWidth) << labels[static_cast<std::size_t>(i)] << std::right
         << " S1 " << std::setw(6) << fixed_text(s.S1[i]) << " " << std::setw(16)
         << interval(ci.S1_lower, ci.S1_upper, i, q.has_intervals) << "   ST " << std::setw(6) << fixed_text(s.ST[i]) << " "
         << interval(ci.ST_lower, ci.ST_upper, i, q.has_intervals) << "\n";

@@ -13,6 +13,11 @@
 
 namespace rover::study {
 
+// Width of the input names in the console tables of indices and effects.
+inline constexpr int kIndexLabelWidth = 28;
+// Inputs whose aggregated total Sobol' index exceeds this are drawn along time.
+inline constexpr double kPlottedTotalIndex = 0.01;
+
 struct DisplayUnit {
   double factor = 1.0;  // shown value = factor * stored value
   std::string name;     // "mm" for a stored "m"
@@ -29,6 +34,15 @@ inline std::string fixed_text(double x, int digits = 3) {
   std::ostringstream os;
   os << std::fixed << std::setprecision(digits) << x;
   return os.str();
+}
+
+// Lengths stored in metres, as shown: in millimetres.
+inline std::vector<double> in_millimetres(const std::vector<double>& metres) {
+  const double factor = display_unit("m").factor;
+  std::vector<double> shown;
+  shown.reserve(metres.size());
+  for (double length : metres) shown.push_back(factor * length);
+  return shown;
 }
 
 inline std::vector<double> to_vector(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }

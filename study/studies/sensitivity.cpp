@@ -1,5 +1,6 @@
 // See sensitivity.hpp: the study's configuration, design, runs and analysis.
 #include "study/studies/sensitivity.hpp"
+#include "study/runtime/elapsed_time.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -20,11 +21,6 @@ namespace {
 // Rank 0 holds every run's record; the vectors holding them take about this
 // much more than the values themselves.
 constexpr double kRecordOverhead = 1.2;
-constexpr double kBytesPerValue = 8.0;
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 int varied_count(const StudySpec& spec) { return static_cast<int>(spec.inputs.size()); }
 
@@ -346,7 +342,7 @@ MemoryEstimate sensitivity_memory(const SensitivityStudy& study) {
   return {"run records (" + std::to_string(spec.design.samples) + " runs with " +
               std::to_string(layout.channel_count) + " curves of " + std::to_string(layout.time_samples) +
               " samples)",
-          kBytesPerValue * spec.design.samples * static_cast<double>(layout.value_count() + spec.inputs.size()) *
+          static_cast<double>(sizeof(double)) * spec.design.samples * static_cast<double>(layout.value_count() + spec.inputs.size()) *
               kRecordOverhead};
 }
 

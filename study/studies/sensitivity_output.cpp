@@ -12,7 +12,6 @@
 namespace rover::study {
 namespace {
 
-constexpr int kLabelWidth = 28;
 
 // The group of a QoI without indices: attributes defined = 0 and
 // undefined_reason.
@@ -76,7 +75,7 @@ void print_sobol(std::ostream& out, const std::string& qoi, const SobolIndices& 
   out << qoi << " (mean " << s.mean << ", variance " << s.variance << ", " << s.groups_used << " of "
       << s.groups_total << " groups; " << static_cast<int>(100 * confidence) << " % intervals), by total index:\n";
   for (Eigen::Index i : order)
-    out << "  " << std::left << std::setw(kLabelWidth) << labels[static_cast<std::size_t>(i)] << std::right << " S1 "
+    out << "  " << std::left << std::setw(kIndexLabelWidth) << labels[static_cast<std::size_t>(i)] << std::right << " S1 "
         << std::setw(6) << fixed_text(s.S1[i]) << " [" << fixed_text(s.S1_lower[i]) << ", " << fixed_text(s.S1_upper[i]) << "]   ST "
         << std::setw(6) << fixed_text(s.ST[i]) << " [" << fixed_text(s.ST_lower[i]) << ", " << fixed_text(s.ST_upper[i]) << "]\n";
 }
@@ -85,7 +84,7 @@ void print_morris(std::ostream& out, const std::string& qoi, const MorrisResult&
                   const std::vector<std::string>& labels) {
   out << qoi << " (Morris, " << m.trajectories_used << " trajectories), by mu*:\n";
   for (int i : m.ranking)
-    out << "  " << std::left << std::setw(kLabelWidth) << labels[static_cast<std::size_t>(i)] << std::right << " mu* "
+    out << "  " << std::left << std::setw(kIndexLabelWidth) << labels[static_cast<std::size_t>(i)] << std::right << " mu* "
         << std::setw(10) << m.mu_star[i] << " [" << m.mu_star_lower[i] << ", " << m.mu_star_upper[i] << "]  mu "
         << std::setw(10) << m.mu[i] << "  sigma " << m.sigma[i] << "\n";
 }

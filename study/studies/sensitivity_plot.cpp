@@ -16,8 +16,6 @@
 namespace rover::study {
 namespace {
 
-// Inputs whose aggregated total index exceeds this are drawn along time.
-constexpr double kPlottedTotalIndex = 0.01;
 // Room beside the largest Morris effects for their labels.
 constexpr double kMorrisLabelRoomX = 1.3, kMorrisLabelRoomY = 1.15;
 

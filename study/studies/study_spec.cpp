@@ -1,5 +1,6 @@
 // See study_spec.hpp.
 #include "study/studies/study_spec.hpp"
+#include "core/name_list.hpp"
 #include "core/accuracy_choice.hpp"
 
 #include <cmath>
@@ -18,12 +19,6 @@
 
 namespace rover::study {
 namespace {
-
-std::string joined(const std::vector<std::string>& names) {
-  std::string out;
-  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
-  return out;
-}
 
 int preload_index(const std::string& label) {
   for (int i = 0; i < kNumSJoints; ++i)
@@ -183,7 +178,7 @@ std::vector<UncertainInput> analytic_inputs(const io::JsonReader& r, const Analy
   for (const auto& [label, spec] : r.raw("parameters").items()) {
     auto it = std::find_if(inputs.begin(), inputs.end(), [&](const UncertainInput& u) { return u.name == label; });
     if (it == inputs.end())
-      params.fail(label, "is not an input of the " + m.name() + " model (" + joined(m.input_names()) + ")");
+      params.fail(label, "is not an input of the " + m.name() + " model (" + comma_separated(m.input_names()) + ")");
     const io::JsonReader p = params.child(label);
     it->distribution = parse_distribution(p, it->nominal);
     std::string why;
@@ -198,7 +193,7 @@ std::vector<QoiSpec> parse_qois(const io::JsonReader& r, const std::string& stud
   const io::Json& list = r.raw("qoi");
   if (!list.is_array() || list.empty())
     r.fail("qoi", "expected a list of quantities of interest, e.g. [\"B_l_z_min\", \"deflection\"] (valid: " +
-                      joined(qoi_kind_names()) + ")");
+                      comma_separated(qoi_kind_names()) + ")");
   for (std::size_t k = 0; k < list.size(); ++k) {
     const std::string field = "qoi[" + std::to_string(k) + "]";
     QoiSpec q;
@@ -285,10 +280,10 @@ std::vector<Channel> parse_channels(const io::JsonReader& r) {
   if (!r.has("channels")) return channels;
   const std::vector<std::string> names = [&] {
     const io::Json& list = r.raw("channels");
-    if (!list.is_array()) r.fail("channels", "expected a list of channel names (" + joined(channel_names()) + ")");
+    if (!list.is_array()) r.fail("channels", "expected a list of channel names (" + comma_separated(channel_names()) + ")");
     std::vector<std::string> n;
     for (const auto& v : list) {
-      if (!v.is_string()) r.fail("channels", "expected channel names (" + joined(channel_names()) + ")");
+      if (!v.is_string()) r.fail("channels", "expected channel names (" + comma_separated(channel_names()) + ")");
       n.push_back(v.get<std::string>());
     }
     return n;
@@ -385,7 +380,7 @@ StudyIdentity parse_study_identity(const io::JsonReader& r, const std::vector<st
   id.path = r.file();
   id.type = r.string("type");
   if (std::find(types.begin(), types.end(), id.type) == types.end())
-    r.fail("type", "this command runs studies of type " + joined(types));
+    r.fail("type", "this command runs studies of type " + comma_separated(types));
   id.name = r.string("name");
   if (id.name.empty() || id.name.find_first_of("/\\") != std::string::npos || id.name == "." || id.name == "..")
     r.fail("name", "must be a plain file name (results go to results/<name>.h5)");

@@ -1,5 +1,6 @@
 // See surrogate_file.hpp.
 #include "study/studies/surrogate_file.hpp"
+#include "study/studies/report_format.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -14,7 +15,6 @@ constexpr DistributionKind kDistributionKinds[] = {DistributionKind::kFixed, Dis
                                                    DistributionKind::kLognormal};
 constexpr int kDistributionParameters = 4;  // a, b, lower, upper
 
-std::vector<double> to_vector(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
 
 Eigen::VectorXd read_vector(const io::Hdf5Reader& h5, const std::string& dataset) {
   const std::vector<double> v = h5.read_doubles(dataset);

@@ -1,5 +1,7 @@
 // See surrogate_prediction.hpp.
 #include "study/studies/surrogate_prediction.hpp"
+#include "core/number_text.hpp"
+#include "study/studies/report_format.hpp"
 
 #include <algorithm>
 #include <sstream>
@@ -9,19 +11,12 @@
 namespace rover::study {
 namespace {
 
-std::string text(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-
 std::string input_list(const SurrogateSet& set) {
   std::string out;
   for (const SurrogateInput& in : set.inputs) out += (out.empty() ? "" : ", ") + in.label;
   return out;
 }
 
-std::vector<double> to_vector(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
 
 // The surrogate input of each design column.
 std::vector<std::size_t> column_inputs(const SurrogateSet& set, const DesignTable& design) {
@@ -59,8 +54,8 @@ DesignMatrix surrogate_points(const SurrogateSet& set, const DesignTable& design
       const double v = design.values(i, static_cast<Eigen::Index>(c));
       if (!(v >= in.lower && v <= in.upper))
         throw io::ConfigError(design.path + ":" + std::to_string(design.line_numbers[static_cast<std::size_t>(i)]) +
-                              ": row " + std::to_string(i + 1) + ": " + in.label + " = " + text(v) +
-                              " lies outside the training support [" + text(in.lower) + ", " + text(in.upper) +
+                              ": row " + std::to_string(i + 1) + ": " + in.label + " = " + number_text(v) +
+                              " lies outside the training support [" + number_text(in.lower) + ", " + number_text(in.upper) +
                               "]; a surrogate is not extrapolated");
       x(i, static_cast<Eigen::Index>(input_of[c])) = v;
     }

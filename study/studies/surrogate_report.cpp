@@ -11,21 +11,14 @@
 
 #include "io/plot.hpp"
 #include "study/studies/study_output.hpp"
+#include "study/studies/report_format.hpp"
 
 namespace rover::study {
 namespace {
 
-constexpr int kLabelWidth = 24;
+constexpr int kSurrogateLabelWidth = 24;
 constexpr int kMaxPanelColumns = 3;
-constexpr int kPanelWidthPx = 520, kPanelHeightPx = 480;
-
-std::vector<double> to_vector(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
-
-std::string fixed(double x, int digits = 3) {
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(digits) << x;
-  return os.str();
-}
+constexpr int kSurrogatePanelWidthPx = 520, kSurrogatePanelHeightPx = 480;
 
 std::string general(double x) {
   std::ostringstream os;
@@ -75,9 +68,9 @@ void write_validation(io::Hdf5Writer& h5, const SurrogateQoiResult& q) {
 }
 
 std::string validation_text(const SurrogateValidation& v) {
-  std::string s = "Q2 LOO " + fixed(v.q2_loo, 4);
+  std::string s = "Q2 LOO " + fixed_text(v.q2_loo, 4);
   if (v.test_points > 0)
-    s += ", held-out Q2 " + fixed(v.q2_test, 4) + " (RMSE " + general(v.rmse_test) + ", " +
+    s += ", held-out Q2 " + fixed_text(v.q2_test, 4) + " (RMSE " + general(v.rmse_test) + ", " +
          std::to_string(v.test_points) + " runs)";
   return s;
 }
@@ -103,10 +96,10 @@ void report_indices(std::ostream& out, const SurrogateQoiResult& q, const std::v
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) { return q.indices.ST(a) > q.indices.ST(b); });
   for (Eigen::Index i : order)
-    out << "  " << std::left << std::setw(kLabelWidth) << labels[static_cast<std::size_t>(i)] << std::right << " S1 "
-        << std::setw(6) << fixed(q.indices.S1(i)) << " " << std::setw(16)
+    out << "  " << std::left << std::setw(kSurrogateLabelWidth) << labels[static_cast<std::size_t>(i)] << std::right << " S1 "
+        << std::setw(6) << fixed_text(q.indices.S1(i)) << " " << std::setw(16)
         << interval(q.intervals.S1_lower, q.intervals.S1_upper, i) << "   ST " << std::setw(6)
-        << fixed(q.indices.ST(i)) << " " << interval(q.intervals.ST_lower, q.intervals.ST_upper, i) << "\n";
+        << fixed_text(q.indices.ST(i)) << " " << interval(q.intervals.ST_lower, q.intervals.ST_upper, i) << "\n";
 }
 
 void report_qoi(std::ostream& out, const SurrogateQoiResult& q, const std::vector<std::string>& labels,
@@ -134,7 +127,7 @@ std::optional<io::LinePlot> predicted_panel(const SurrogateQoiResult& q) {
   if (!q.fitted || q.actual.size() == 0) return std::nullopt;
   io::LinePlot p;
   const SurrogateValidation& v = q.model.validation();
-  p.title = q.name + ": Q2 LOO " + fixed(v.q2_loo, 4) + (v.test_points > 0 ? ", held-out " + fixed(v.q2_test, 4) : "");
+  p.title = q.name + ": Q2 LOO " + fixed_text(v.q2_loo, 4) + (v.test_points > 0 ? ", held-out " + fixed_text(v.q2_test, 4) : "");
   p.x_label = "model";
   p.y_label = "surrogate";
   p.max_ticks = 4;
@@ -160,7 +153,7 @@ void plot_predicted(const std::string& png, const SurrogateStudyResult& r, std::
   const int rows = (static_cast<int>(panels.size()) + cols - 1) / cols;
   panels.resize(static_cast<std::size_t>(rows * cols));
   io::PanelGrid grid{.title = "surrogate against model", .rows = rows, .cols = cols, .panels = std::move(panels),
-                     .width_px = cols * kPanelWidthPx, .height_px = rows * kPanelHeightPx};
+                     .width_px = cols * kSurrogatePanelWidthPx, .height_px = rows * kSurrogatePanelHeightPx};
   io::write_png_or_warn(grid, png, "surrogate", log);
 }
 
@@ -239,15 +232,15 @@ void report_surrogate_study(std::ostream& out, const SurrogateStudy& study, cons
       << study.spec.inputs.size() << " inputs from " << r.training.runs() << " runs (" << r.training.failed_runs()
       << " failed) of " << r.training.source;
   if (r.held_out.runs() > 0) out << ", validated on " << r.held_out.runs() << " held-out runs";
-  out << "; runs " << fixed(r.runs_wall_time_s, 1) << " s, fit " << fixed(r.fit_wall_time_s, 2) << " s\n";
+  out << "; runs " << fixed_text(r.runs_wall_time_s, 1) << " s, fit " << fixed_text(r.fit_wall_time_s, 2) << " s\n";
   const std::vector<std::string> labels = input_labels(study.spec);
   for (const SurrogateQoiResult& q : r.qoi) report_qoi(out, q, labels, study.pce.confidence);
   for (const PceChannelResult& c : r.channels) {
     if (!c.defined) continue;
     out << c.name << " along time (PCE, " << c.curves.multi_indices.size() << " shared terms), variance-weighted:";
     for (std::size_t i = 0; i < labels.size(); ++i)
-      out << " " << labels[i] << " S1 " << fixed(c.indices.aggregated_S1(static_cast<Eigen::Index>(i))) << " ST "
-          << fixed(c.indices.aggregated_ST(static_cast<Eigen::Index>(i))) << (i + 1 < labels.size() ? ";" : "");
+      out << " " << labels[i] << " S1 " << fixed_text(c.indices.aggregated_S1(static_cast<Eigen::Index>(i))) << " ST "
+          << fixed_text(c.indices.aggregated_ST(static_cast<Eigen::Index>(i))) << (i + 1 < labels.size() ? ";" : "");
     out << "\n";
   }
   for (const std::string& w : r.warnings) out << "surrogate: warning: " << w << "\n";

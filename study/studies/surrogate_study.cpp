@@ -1,5 +1,6 @@
 // See surrogate_study.hpp.
 #include "study/studies/surrogate_study.hpp"
+#include "study/runtime/elapsed_time.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -17,10 +18,6 @@ namespace rover::study {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 std::vector<Eigen::Index> ok_rows(const TrainingRuns& runs) {
   std::vector<Eigen::Index> rows;

@@ -1,5 +1,7 @@
 // See surrogate_training.hpp.
 #include "study/studies/surrogate_training.hpp"
+#include "core/number_text.hpp"
+#include "core/name_list.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -13,17 +15,6 @@
 
 namespace rover::study {
 namespace {
-
-std::string joined(const std::vector<std::string>& names) {
-  return std::accumulate(names.begin(), names.end(), std::string(),
-                         [](const std::string& list, const std::string& n) { return list.empty() ? n : list + ", " + n; });
-}
-
-std::string text(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
 
 // Messages about one file: "<path>: <role> runs: <what>".
 struct FileErrors {
@@ -42,15 +33,15 @@ std::vector<Eigen::Index> input_columns(const FileErrors& errors, const std::vec
   for (const UncertainInput& in : study.spec.inputs) {
     const auto it = std::find(names.begin(), names.end(), in.name);
     if (it == names.end())
-      errors.fail("no input '" + in.label + "' (" + in.name + ") in /inputs/names (" + joined(names) + ")");
+      errors.fail("no input '" + in.label + "' (" + in.name + ") in /inputs/names (" + comma_separated(names) + ")");
     columns.push_back(it - names.begin());
     used[static_cast<std::size_t>(it - names.begin())] = true;
   }
   for (std::size_t k = 0; k < names.size(); ++k) {
     const auto column = values.col(static_cast<Eigen::Index>(k));
     if (used[k] || values.rows() == 0 || column.minCoeff() == column.maxCoeff()) continue;
-    errors.fail("input '" + names[k] + "' varies over the runs (" + text(column.minCoeff()) + " to " +
-                text(column.maxCoeff()) + ") but is not a parameter of " + study.spec.path +
+    errors.fail("input '" + names[k] + "' varies over the runs (" + number_text(column.minCoeff()) + " to " +
+                number_text(column.maxCoeff()) + ") but is not a parameter of " + study.spec.path +
                 ": list it under \"parameters\"");
   }
   return columns;
@@ -78,7 +69,7 @@ void check_support(const FileErrors& errors, const TrainingRuns& runs, const Sur
       const UncertainInput& in = study.spec.inputs[j];
       const double v = runs.x(i, static_cast<Eigen::Index>(j));
       if (v >= in.distribution.support_lower() && v <= in.distribution.support_upper()) continue;
-      errors.fail("run " + std::to_string(i) + ": " + in.label + " = " + text(v) + " lies outside its distribution " +
+      errors.fail("run " + std::to_string(i) + ": " + in.label + " = " + number_text(v) + " lies outside its distribution " +
                   in.distribution.describe() + " in " + study.spec.path);
     }
   }
@@ -120,7 +111,7 @@ TrainingRuns read_result_runs(const std::string& path, const SurrogateStudy& stu
   runs.y.resize(values.rows(), static_cast<Eigen::Index>(qois.size()));
   for (std::size_t q = 0; q < qois.size(); ++q) {
     if (!h5.exists("/qoi/" + qois[q]))
-      errors.fail("no QoI '" + qois[q] + "' (/qoi holds: " + (h5.exists("/qoi") ? joined(h5.list("/qoi")) : "nothing") + ")");
+      errors.fail("no QoI '" + qois[q] + "' (/qoi holds: " + (h5.exists("/qoi") ? comma_separated(h5.list("/qoi")) : "nothing") + ")");
     const std::vector<double> v = h5.read_doubles("/qoi/" + qois[q]);
     if (static_cast<Eigen::Index>(v.size()) != values.rows())
       errors.fail("/qoi/" + qois[q] + " has " + std::to_string(v.size()) + " values for " +
