@@ -41,19 +41,23 @@ double vertical_depth(const Terrain& terrain, const Vec3& p) {
   return terrain.height(p.x(), p.y()) - p.z();
 }
 
-// Brent's method finds the deepest point only to about sqrt(eps) of the
-// angle (the depth is flat at its maximum), and where it stops changes in
-// steps as the wheel moves: the contact point, and with it the moment of the
-// contact force, would jitter by ~1e-9 m from one right-hand side to the
-// next, a noise of ~1e-4 m/s^2 in du/dt that holds an explicit integrator at
-// tight tolerance to steps of 1e-8 s. The depth's slope along the rim,
+// The deepest point of a region is where the depth's slope along the rim,
 //   d'(a) = grad h(P(a)) . dP_xy/da - dP_z/da,
-// is smooth inside a terrain cell, and its root is found to round-off by a
-// few secant steps from Brent's point. The refined angle is kept only if it
-// stays within kRefineReach_rad and is at least as deep (near a grid line
-// where the slope jumps, snap_to_grid_line() decides).
+// changes sign. On a terrain face it is smooth, and a few secant steps from
+// the deepest rim sample find its root to round-off (a step shorter than
+// kSettled_rad ends them); the root is taken if it lies between the
+// neighbouring samples and is at least as deep as the deepest one. Where the
+// steps do not settle (a kink of the terrain between the samples, where the
+// slope jumps), Brent's method finds the deepest point to about sqrt(eps) of
+// the angle, and the same secant steps refine it within kRefineReach_rad
+// (snap_to_grid_line() then decides at a kink). Brent's point alone would not
+// do: where it stops changes in steps as the wheel moves, so the contact
+// point, and with it the moment of the contact force, would jitter by ~1e-9 m
+// from one right-hand side to the next, a noise of ~1e-4 m/s^2 in du/dt that
+// holds an explicit integrator at tight tolerance to steps of 1e-8 s.
 constexpr double kRefineReach_rad = 1e-4, kRefineDelta_rad = 1e-7;
-constexpr int kRefineIterations = 4;
+constexpr int kRefineIterations = 8;
+constexpr double kSettled_rad = 1e-13;
 
 double depth_slope_along_rim(const Terrain& terrain, const RimFrame& rim, double angle) {
   const Vec3 p = rim.point(angle);
@@ -62,19 +66,31 @@ double depth_slope_along_rim(const Terrain& terrain, const RimFrame& rim, double
   return g.x() * dp.x() + g.y() * dp.y() - dp.z();
 }
 
-double refine_deepest_angle(const Terrain& terrain, const RimFrame& rim, double angle) {
-  double a0 = angle, a1 = angle + kRefineDelta_rad;
+// Root of the depth's slope along the rim by secant steps from `start`,
+// kept within [lo, hi]; NaN if they leave it or do not settle to round-off
+// within kRefineIterations.
+double slope_root_along_rim(const Terrain& terrain, const RimFrame& rim, double start, double lo, double hi) {
+  double a0 = start, a1 = start + kRefineDelta_rad;
   double s0 = depth_slope_along_rim(terrain, rim, a0), s1 = depth_slope_along_rim(terrain, rim, a1);
-  for (int it = 0; it < kRefineIterations && s1 != s0; ++it) {
+  for (int it = 0; it < kRefineIterations; ++it) {
+    if (s1 == 0.0) return a1;
+    if (s1 == s0) break;
     const double a2 = a1 - s1 * (a1 - a0) / (s1 - s0);
-    if (!(std::abs(a2 - angle) <= kRefineReach_rad)) return angle;
+    if (!(a2 >= lo && a2 <= hi)) break;
+    if (std::abs(a2 - a1) <= kSettled_rad) return a2;
     a0 = a1;
     s0 = s1;
     a1 = a2;
     s1 = depth_slope_along_rim(terrain, rim, a1);
-    if (a1 == a0 || s1 == 0.0) break;
   }
-  return vertical_depth(terrain, rim.point(a1)) >= vertical_depth(terrain, rim.point(angle)) - 1e-15 ? a1 : angle;
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+// The deepest angle refined from `angle` (of depth `depth`) within
+// kRefineReach_rad: the slope's root if it is at least as deep, else `angle`.
+double refine_deepest_angle(const Terrain& terrain, const RimFrame& rim, double angle, double depth) {
+  const double a = slope_root_along_rim(terrain, rim, angle, angle - kRefineReach_rad, angle + kRefineReach_rad);
+  return !std::isnan(a) && vertical_depth(terrain, rim.point(a)) >= depth - 1e-15 ? a : angle;
 }
 
 // On a height grid the depth along the rim has kinks where the rim crosses a
@@ -212,11 +228,17 @@ WheelContacts find_wheel_contacts(const Terrain& terrain, const Vec3& wheel_cent
       c.penetration_m = sample_depth;
       return;
     }
-    // Refine the deepest point between the neighbouring samples (Brent).
-    const auto [angle, neg_depth] = boost::math::tools::brent_find_minima(
-        [&](double a) { return -depth_at(a); }, lo, hi, std::numeric_limits<double>::digits / 2);
-    double best_angle = -neg_depth < sample_depth ? sample_angle : angle;  // keep the better sample
-    best_angle = snap_to_grid_line(terrain, rim, refine_deepest_angle(terrain, rim, best_angle));
+    // The deepest point between the neighbouring samples: the root of the
+    // depth's slope from the deepest sample if it settles there, else Brent's
+    // method refined as above (kinks; see the top of this section).
+    double best_angle = slope_root_along_rim(terrain, rim, sample_angle, lo, hi);
+    if (std::isnan(best_angle) || !(depth_at(best_angle) >= sample_depth - 1e-15)) {
+      const auto [angle, neg_depth] = boost::math::tools::brent_find_minima(
+          [&](double a) { return -depth_at(a); }, lo, hi, std::numeric_limits<double>::digits / 2);
+      best_angle = -neg_depth < sample_depth ? sample_angle : angle;  // keep the better sample
+      best_angle = refine_deepest_angle(terrain, rim, best_angle, std::max(-neg_depth, sample_depth));
+    }
+    best_angle = snap_to_grid_line(terrain, rim, best_angle);
     c.point_m = rim.point(best_angle);
     c.depth_m = vertical_depth(terrain, c.point_m);
     c.normal = terrain.normal(c.point_m.x(), c.point_m.y());

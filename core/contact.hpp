@@ -45,7 +45,8 @@ struct WheelContacts {
 // Geometry only: the deepest rim point of every region below the terrain
 // (point, normal, depth, penetration). Exact (to round-off) on flat terrain;
 // on a height grid, regions are found by sampling the lower rim and each
-// deepest point is refined by Brent's method.
+// deepest point is refined to round-off between its neighbouring samples
+// (secant steps on the depth's slope, Brent's method where they fail).
 WheelContacts find_wheel_contacts(const Terrain& terrain, const Vec3& wheel_centre_m,
                                   const Vec3& spin_axis, double wheel_radius_m);
 

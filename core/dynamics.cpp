@@ -73,31 +73,11 @@ CoordinateMatrix mass_matrix(const KinematicTree& tree, const TreeKinematics& ki
 
 Coordinates gravity_and_inertia_forces(const KinematicTree& tree, const TreeKinematics& kin,
                                        double gravity_mps2) {
-  // Net wrench (moment about ref; force) on each node's subtree: a node's own
-  // body first, then its children's (later nodes) are added before it is reached.
-  std::array<Vec3, kNumTreeNodes> moment, force;  // about ref, for each subtree (see mass_matrix() on 6-vectors)
-  const Vec3 gravity(0.0, 0.0, -gravity_mps2);
-  for (int i = 0; i < kNumTreeNodes; ++i) {
-    const int b = tree.nodes[i].body;
-    if (b < 0) {
-      moment[i].setZero();
-      force[i].setZero();
-      continue;
-    }
-    gravity_and_inertia_wrench(tree.bodies[b].mass_kg, kin.bodies[b], kin.nodes[i], kin.reference, gravity,
-                               moment[i], force[i]);
-  }
-  Coordinates F = Coordinates::Zero();
-  for (int i = kNumTreeNodes - 1; i >= 0; --i) {
-    const NodeKinematics& n = kin.nodes[i];
-    F[tree.nodes[i].coordinate] += n.motion_omega.dot(moment[i]) + n.motion_velocity.dot(force[i]);
-    const int parent = tree.nodes[i].parent;
-    if (parent >= 0) {
-      moment[parent] += moment[i];
-      force[parent] += force[i];
-    }
-  }
-  return F;
+  // The net wrench on each node's subtree, a node's own body first, then its
+  // children's (later nodes) added before it is reached: ForcingPass's sums.
+  ForcingPass pass(tree, kin, gravity_mps2);
+  for (int i = kNumTreeNodes - 1; i >= 0; --i) pass.visit(i);
+  return pass.inertia_forces();
 }
 
 Coordinates joint_forces(const RoverParameters& p, const ModelInputs& in, const Coordinates& q,

@@ -45,8 +45,9 @@ CoordinateMatrix mass_matrix(const KinematicTree& tree, const TreeKinematics& ki
 
 // The wrench of gravity minus one body's inertia force and torque at
 // du/dt = 0 (paper eq. 4): `force` on the body, `moment` about the reference
-// point of `kin`. Shared by gravity_and_inertia_forces() and the single
-// backward pass of articulated_body.hpp, so that both give the same F.
+// point of `kin`. Summed over the tree by ForcingPass, which serves both
+// gravity_and_inertia_forces() and the single backward pass of
+// articulated_body.hpp, so that both give the same F.
 inline void gravity_and_inertia_wrench(double mass_kg, const BodyKinematics& body, const NodeKinematics& n,
                                        const Vec3& reference, const Vec3& gravity, Vec3& moment,
                                        Vec3& force) {
@@ -61,8 +62,8 @@ inline void gravity_and_inertia_wrench(double mass_kg, const BodyKinematics& bod
 // leaves first (every child visited before its parent): the net wrench of
 // gravity and the inertia forces on the node's subtree, projected on the
 // node's unit motion. Once every node is visited, inertia_forces() is
-// gravity_and_inertia_forces() to the last bit (the same wrenches, summed in
-// the same order), and complete() adds the joint and contact terms in the
+// gravity_and_inertia_forces() (which is this pass over the nodes in reverse
+// order), and complete() adds the joint and contact terms in the
 // order of compute_forcing(): the articulated-body pass (articulated_body.hpp)
 // gives the same F as the mass-matrix path.
 class ForcingPass {
