@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <stdexcept>
+#include <string_view>
 
 #include "io/checkpoint.hpp"
 #include "io/output_target.hpp"
@@ -104,8 +105,23 @@ std::string with_kept_runs(const std::string& message, const std::string& result
 }
 
 int interrupted(const std::string& command, const StudyInterrupted& e) {
-  std::cerr << "rover " << command << ": " << e.what() << std::endl;
+  // The task farm labels its message with the command already: said once.
+  std::string_view what = e.what();
+  if (const std::string label = command + ": "; what.starts_with(label)) what.remove_prefix(label.size());
+  std::cerr << "rover " << command << ": " << what << std::endl;
   return StudyInterrupted::kExitCode;
+}
+
+void stop_if_interrupted(const StudyRunOptions& options) {
+  if (world_rank() != 0 || !InterruptGuard::flag().load()) return;
+  const std::string checkpoint = io::ResultCheckpoint::path_for(options.results_path);
+  std::error_code error;
+  const bool kept = std::filesystem::exists(checkpoint, error);
+  const std::string resume =
+      options.resume_command.empty() ? std::string("the same command with --resume") : options.resume_command;
+  throw StudyInterrupted("interrupted before the study was complete; nothing was written" +
+                         (kept ? "; the finished runs are kept in " + checkpoint + ". Continue with:\n  " + resume
+                               : std::string("; run the same command again")));
 }
 
 }  // namespace rover::study::driver_detail

@@ -90,13 +90,19 @@ SurrogateQoiResult fit_qoi(const SurrogateStudy& study, const TrainingRuns& trai
   return r;
 }
 
+// Too few successful runs: a result file's is an input problem; the
+// study's own runs are refused after they ran (the driver says that nothing
+// was written and where the runs are kept), with the first failure's reason.
 void check_run_count(const SurrogateStudy& study, const TrainingRuns& training) {
   const int ok = training.runs() - training.failed_runs(), needed = min_training_runs(study);
   if (ok >= needed) return;
-  throw io::ConfigError(training.source + ": " + std::to_string(ok) + " successful training runs (" +
-                        std::to_string(training.failed_runs()) + " failed); a " + surrogate_kind_name(study.kind) +
-                        " of " + std::to_string(study.spec.inputs.size()) + " inputs needs at least " +
-                        std::to_string(needed));
+  const std::string problem = training.source + ": " + std::to_string(ok) + " successful training runs (" +
+                              std::to_string(training.failed_runs()) + " failed); a " +
+                              surrogate_kind_name(study.kind) + " of " + std::to_string(study.spec.inputs.size()) +
+                              " inputs needs at least " + std::to_string(needed);
+  if (!study.training_file.empty()) throw io::ConfigError(problem);
+  const RunCounts counts = count_runs(training.status, training.messages);
+  throw RunsRefused(problem + (counts.failed > 0 ? " (first failure: " + counts.first_failure + ")" : ""));
 }
 
 SurrogateSet surrogate_set(const SurrogateStudy& study, const TrainingRuns& training,
