@@ -1763,6 +1763,14 @@ TEST_F(Audit, ThirdAuditRefusedUpFront) {
     cases.push_back({command + " --out a new directory", args + named_dir, Want::kError, {"--out", "names a directory"},
                      nothing_at(named_dir)});
   }
+  cases.push_back({"friction: mu_k of 1e300", "friction --mu-k 1e300", Want::kError, {"--mu-k 1e+300", "order 1"}});
+  // Heights in millimetres are within the readers' bound, but no fit meets them.
+  std::string millimetres = "t,z\n";
+  for (int k = 0; k <= 25; ++k) millimetres += std::to_string(0.002 * k) + "," + std::to_string(281.0 - 2.0 * k) + "\n";
+  const std::string mm_data = w().text_file("mm", millimetres, "csv");
+  cases.push_back({"calibrate against heights in millimetres",
+                   study("calibrate", w().calibration([&](Json& j) { j["data"] = mm_data; })), Want::kAllFailed,
+                   {"NOT VALID", "misses the data", "millimetres"}});
   // A scenario key the scenario leaves out (initial_q.x) varies like any other.
   cases.push_back({"montecarlo of an unset scenario key", study("montecarlo", w().montecarlo([](Json& j) {
                      j["parameters"] = {{"scenario.initial_q.x", {{"distribution", "uniform"}, {"min", 0.0}, {"max", 0.1}}}};
@@ -1801,6 +1809,20 @@ TEST_F(Audit, ThirdAuditKeptRuns) {
                    {earlier + ".checkpoint", "different study configuration", "--restart"},
                    [=] { return fs::exists(earlier + ".checkpoint") ? std::string() : "the checkpoint was deleted"; }});
   run_table(dir, cases);
+}
+
+// Class 2: CSV into a pipe that no process reads is refused at once; it used
+// to wait forever.
+TEST_F(Audit, ThirdAuditPipeWithoutReader) {
+  const std::string dir = w().dir(), pipe = dir + "/unread.csv";
+  ASSERT_EQ(run_command("mkfifo " + pipe), 0);
+  std::string output;
+  const int status = run_command("cd " + dir + " && OMPI_MCA_ess_singleton_isolated=1 timeout -k 2 20 " +
+                                     rover_binary() + " simulate --no-plot --scenario " + w().quick() + " --out " +
+                                     w().out() + " --csv " + pipe,
+                                 &output);
+  EXPECT_EQ(status, 1) << output;
+  EXPECT_NE(output.find("no process reads"), std::string::npos) << output;
 }
 
 // Class 4: a signal while a calibration computes its profiles (work after
