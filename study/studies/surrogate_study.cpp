@@ -153,7 +153,10 @@ std::vector<std::string> study_warnings(const SurrogateStudy& study, const Surro
     if (q.fitted && q.undefined_reason.empty() && !q.model.validation().warning.empty())
       w.push_back(q.model.validation().warning);
     if (q.indices_defined && study.pce.bootstrap > 0 && !q.has_intervals)
-      w.push_back(q.name + ": no bootstrap resample could be refitted; the indices have no intervals");
+      w.push_back(q.name + ": " + std::to_string(q.intervals.resamples_used) + " of " +
+                  std::to_string(study.pce.bootstrap) +
+                  " bootstrap resamples could be refitted (too few distinct runs for the expansion); the indices "
+                  "have no intervals: use more runs");
   }
   return w;
 }

@@ -1771,6 +1771,17 @@ TEST_F(Audit, ThirdAuditRefusedUpFront) {
   cases.push_back({"calibrate against heights in millimetres",
                    study("calibrate", w().calibration([&](Json& j) { j["data"] = mm_data; })), Want::kAllFailed,
                    {"NOT VALID", "misses the data", "millimetres"}});
+  // Ten runs for a 9-term expansion: most bootstrap resamples are singular.
+  // (Written as text: the order of the parameters is the design's.)
+  const std::string contact = w().scenario([](Json& j) { j["duration"] = 0.3; });
+  const std::string few_runs = w().text_file("pce", R"({"type": "sensitivity", "method": "pce", "name": "p",
+      "scenario": ")" + contact + R"(",
+      "parameters": {"scenario.initial_q.x": {"distribution": "uniform", "min": 0.0, "max": 0.1},
+                     "c_q": {"distribution": "uniform", "min": 0.1, "max": 0.2}},
+      "design": {"type": "lhs", "samples": 10, "seed": 1}, "qoi": ["B_l_z_min"]})");
+  cases.push_back({"PCE intervals from a few bootstrap refits", study("sensitivity", few_runs), Want::kRuns,
+                   {"B_l_z_min: ", "bootstrap resamples could be refitted", "no intervals"}, {}, {},
+                   {"% bootstrap intervals, "}});
   // A scenario key the scenario leaves out (initial_q.x) varies like any other.
   cases.push_back({"montecarlo of an unset scenario key", study("montecarlo", w().montecarlo([](Json& j) {
                      j["parameters"] = {{"scenario.initial_q.x", {{"distribution", "uniform"}, {"min", 0.0}, {"max", 0.1}}}};
