@@ -1806,6 +1806,12 @@ TEST_F(Audit, ThirdAuditKeptRuns) {
                         {"qoi", {"t_min"}}});
   cases.push_back({"surrogate whose every run fails", study_args("surrogate", surrogate, dir + "/u.h5"), Want::kError,
                    {"successful training runs", "wall-time budget", "Nothing was written", "u.h5.checkpoint"}});
+  cases.push_back({"posterior whose every run fails", study("calibrate", w().calibration([&](Json& j) {
+                     j["scenario"] = failing;
+                     j["method"] = "mcmc";
+                     j["mcmc"] = {{"walkers", 4}, {"steps", 10}};
+                   })),
+                   Want::kError, {"every one of the fit's", "wall-time budget", "nothing was written"}});
   // Every run of a study failing beside an earlier result leaves its checkpoint.
   const std::string earlier = write_file(dir + "/kept.h5", "an earlier result\n");
   std::string output;
