@@ -1763,6 +1763,9 @@ TEST_F(Audit, ThirdAuditRefusedUpFront) {
     cases.push_back({command + " --out a new directory", args + named_dir, Want::kError, {"--out", "names a directory"},
                      nothing_at(named_dir)});
   }
+  const std::string curve = simulated_curve(dir + "/curve.h5");
+  cases.push_back({"compare --column the file does not hold", "compare " + curve + " " + curve + " --column Fn_9",
+                   Want::kError, {"no column 'Fn_9'", "B_l_z"}});
   cases.push_back({"friction: mu_k of 1e300", "friction --mu-k 1e300", Want::kError, {"--mu-k 1e+300", "order 1"}});
   // Heights in millimetres are within the readers' bound, but no fit meets them.
   std::string millimetres = "t,z\n";
