@@ -1766,6 +1766,9 @@ TEST_F(Audit, ThirdAuditRefusedUpFront) {
   const std::string curve = simulated_curve(dir + "/curve.h5");
   cases.push_back({"compare --column the file does not hold", "compare " + curve + " " + curve + " --column Fn_9",
                    Want::kError, {"no column 'Fn_9'", "B_l_z"}});
+  // A rank variable set by hand (no job size beside it) does not silence rover.
+  cases.push_back({"a lone rover with PMIX_RANK=1", "simulate --scenario " + dir + "/none.json", Want::kError,
+                   {"--scenario", "none.json"}, {}, "PMIX_RANK=1 OMPI_COMM_WORLD_RANK=1"});
   cases.push_back({"friction: mu_k of 1e300", "friction --mu-k 1e300", Want::kError, {"--mu-k 1e+300", "order 1"}});
   // Heights in millimetres are within the readers' bound, but no fit meets them.
   std::string millimetres = "t,z\n";
