@@ -43,6 +43,19 @@ void check_outputs(const std::string& flag, const std::string& out, const io::In
   throw std::invalid_argument(text);
 }
 
+// With --resume: a checkpoint of another configuration, or one that cannot be
+// read, is refused now, not after the work before its runs (a calibration's
+// fit). Reading it writes nothing.
+void check_resumable(const std::string& results_path, const std::string& fingerprint) {
+  std::error_code error;
+  if (!std::filesystem::exists(io::ResultCheckpoint::path_for(results_path), error)) return;
+  try {
+    io::ResultCheckpoint(results_path, fingerprint).load();
+  } catch (const std::runtime_error& e) {
+    throw std::invalid_argument(e.what());
+  }
+}
+
 }  // namespace
 
 StudyRunOptions prepare(const std::string& command, const std::string& name, const std::string& fingerprint,
@@ -53,6 +66,7 @@ StudyRunOptions prepare(const std::string& command, const std::string& name, con
   check_outputs(given ? "--out" : "--out (default)", given ? options.results_path : "results/" + name + ".h5", inputs,
                 options.plots);
   options.results_path = checked_results_path(name, options.results_path, csv_allowed);
+  if (options.resume) check_resumable(options.results_path, fingerprint);
   if (memory.bytes > 0.0) require_memory(memory.what, memory.bytes);
   options.label = command;
   options.fingerprint = fingerprint;

@@ -1831,6 +1831,13 @@ TEST_F(Audit, ThirdAuditKeptRuns) {
                    study_args("montecarlo", w().montecarlo([](Json&) {}), earlier) + " --resume", Want::kError,
                    {earlier + ".checkpoint", "different study configuration", "--restart"},
                    [=] { return fs::exists(earlier + ".checkpoint") ? std::string() : "the checkpoint was deleted"; }});
+  // The same for a posterior: refused before the fit, not after it.
+  const std::string posterior = dir + "/posterior.h5";
+  write_file(posterior + ".checkpoint", "not a checkpoint\n");
+  cases.push_back({"a posterior's --resume of a foreign checkpoint", study_args("calibrate", w().calibration([](Json& j) {
+                     j["method"] = "mcmc";
+                   }), posterior) + " --resume",
+                   Want::kError, {posterior + ".checkpoint", "not a rover checkpoint"}, {}, {}, {"Jacobian"}});
   run_table(dir, cases);
 }
 
