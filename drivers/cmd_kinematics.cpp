@@ -195,7 +195,7 @@ int run_kinematics(const KinematicsOptions& o) {
   if (!given(o.yaw_rate))
     if (const std::string p = beyond_scale(body.yaw_rate_radps, kMaxYawRate_radps, "rad/s", kDriveScaleReason);
         std::isfinite(body.yaw_rate_radps) && !p.empty())
-      throw CommandLineError({"the command (" + given_flags + ") gives a yaw rate that " + p});
+      throw CommandLineError({"the command (" + given_flags + ") gives a yaw rate beyond the rover's scale: " + p});
   const bool has_icr = command.motion.kind == PlanarMotion::Kind::kRotation;
 
   io::Json out;
