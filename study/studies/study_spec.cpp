@@ -64,6 +64,9 @@ std::vector<double> base_point(const std::vector<UncertainInput>& inputs) {
   return point;
 }
 
+// A settling time this close to the run's end (relative) is the run's end.
+constexpr double kRunEndTolerance = 1e-9;
+
 // Relative size of the step that tells whether an input can vary alone.
 constexpr double kAloneStep = 1e-6;
 
@@ -500,6 +503,24 @@ std::vector<std::string> input_labels(const StudySpec& spec) {
   std::vector<std::string> labels;
   for (const UncertainInput& in : spec.inputs) labels.push_back(in.label);
   return labels;
+}
+
+std::string unsettled_warning(const StudySpec& spec, std::size_t q, const std::vector<double>& values) {
+  if (!spec.rover || q >= spec.rover->qois().size()) return "";
+  const QoiSpec& qoi = spec.rover->qois()[q];
+  if (qoi.kind != QoiKind::kSettlingTime) return "";
+  const double end_s = spec.rover->nominal().scenario.duration_s;
+  long long finite = 0, at_end = 0;
+  for (const double v : values) {
+    if (!std::isfinite(v)) continue;
+    ++finite;
+    if (v >= end_s * (1.0 - kRunEndTolerance)) ++at_end;
+  }
+  if (at_end == 0) return "";
+  return qoi.name + ": " + std::to_string(at_end) + " of " + std::to_string(finite) +
+         " runs had not settled within the run's " + number_text(end_s) + " s (B_l z still outside the " +
+         number_text(qoi.settling_band) + " m band at the end): their value is the run's end, not a settling time; "
+         "lengthen \"duration\" or widen \"band\"";
 }
 
 }  // namespace rover::study

@@ -138,6 +138,12 @@ std::vector<PceChannelResult> fit_channels(const SurrogateStudy& study, const Tr
 
 std::vector<std::string> study_warnings(const SurrogateStudy& study, const SurrogateStudyResult& r) {
   std::vector<std::string> w;
+  for (Eigen::Index q = 0; q < r.training.y.cols(); ++q) {
+    const Eigen::VectorXd column = r.training.y.col(q);
+    const std::string unsettled = unsettled_warning(study.spec, static_cast<std::size_t>(q),
+                                                    std::vector<double>(column.data(), column.data() + column.size()));
+    if (!unsettled.empty()) w.push_back(unsettled);
+  }
   for (const PceChannelResult& c : r.channels) {
     if (!c.defined) w.push_back(c.name + ": indices along time undefined: " + c.undefined_reason);
     else if (!c.curves.warning.empty()) w.push_back(c.curves.warning);

@@ -1788,6 +1788,22 @@ TEST_F(Audit, ThirdAuditRefusedUpFront) {
   cases.push_back({"PCE intervals from a few bootstrap refits", study("sensitivity", few_runs), Want::kRuns,
                    {"B_l_z_min: ", "bootstrap resamples could be refitted", "no intervals"}, {}, {},
                    {"% bootstrap intervals, "}});
+  // The quick drop is still falling at its end: no run settles.
+  cases.push_back({"montecarlo of a settling time that never comes", study("montecarlo", w().montecarlo([](Json& j) {
+                     j["qoi"] = {"settling_time"};
+                   })),
+                   Want::kRuns, {"warning: settling_time: 2 of 2 runs had not settled within the run's 0.05 s"}});
+  cases.push_back({"sensitivity of a settling time that never comes", study("sensitivity", w().sensitivity([&](Json& j) {
+                     j.erase("model");
+                     j["method"] = "morris";
+                     j["scenario"] = w().quick();
+                     j["parameters"] = {{"c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.2}}},
+                                        {"f", {{"distribution", "uniform"}, {"min", 1e3}, {"max", 1e4}}}};
+                     j["design"] = {{"trajectories", 2}, {"levels", 4}, {"seed", 1}};
+                     j["qoi"] = {"settling_time"};
+                     j.erase("bootstrap");
+                   })),
+                   Want::kRuns, {"settling_time: 6 of 6 runs had not settled"}});
   // A scenario key the scenario leaves out (initial_q.x) varies like any other.
   cases.push_back({"montecarlo of an unset scenario key", study("montecarlo", w().montecarlo([](Json& j) {
                      j["parameters"] = {{"scenario.initial_q.x", {{"distribution", "uniform"}, {"min", 0.0}, {"max", 0.1}}}};
