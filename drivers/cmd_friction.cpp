@@ -62,6 +62,12 @@ void write_friction_png(const FrictionParameters& p, const MakkarGammas& gammas,
   io::write_png(plot, png_path);
 }
 
+// "--mu-s 0.3, --v-s 0.00055, --mu-k 0.2, --v-k 0.002", for messages.
+std::string friction_values_text(const FrictionParameters& p) {
+  return "--mu-s " + number_text(p.mu_static) + ", --v-s " + number_text(p.v_static_mps) + ", --mu-k " +
+         number_text(p.mu_kinetic) + ", --v-k " + number_text(p.v_kinetic_mps);
+}
+
 int run_friction(const FrictionOptions& o) {
   // The ranges of rover.json's friction section.
   FlagChecks checks;
@@ -89,9 +95,8 @@ int run_friction(const FrictionOptions& o) {
   try {
     gammas = o.synthesize ? synthesize_friction(p) : friction_gammas_for(p);
   } catch (const std::exception& e) {
-    throw CommandLineError({"no Makkar gammas for --mu-s " + number_text(p.mu_static) + ", --v-s " +
-                            number_text(p.v_static_mps) + ", --mu-k " + number_text(p.mu_kinetic) + ", --v-k " +
-                            number_text(p.v_kinetic_mps) + " (the synthesis failed: " + e.what() + ")"});
+    throw CommandLineError({"no Makkar gammas for " + friction_values_text(p) + " (the synthesis failed: " +
+                            e.what() + ")"});
   }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -110,7 +115,12 @@ int run_friction(const FrictionOptions& o) {
                     {"peak_speed_mps", quality.peak_speed_mps},
                     {"acceptable", quality.acceptable}};
   if (!o.png.empty()) out["png"] = o.png;
-  require_finite_output(out);
+  try {  // a coefficient far beyond friction's scale (--mu-k 1e300) gives an infinite fit error
+    require_finite_output(out);
+  } catch (const std::runtime_error& e) {
+    throw CommandLineError({"no usable Makkar gammas for " + friction_values_text(p) + ": " + e.what() +
+                            "; friction coefficients are of order 1"});
+  }
   std::cout << out.dump(2) << "\n";
   if (!from_config) std::cerr << "synthesized the gammas in " << seconds << " s\n";
   if (!quality.acceptable)

@@ -188,6 +188,12 @@ int run_kinematics(const KinematicsOptions& o) {
     throw CommandLineError({"the command (" + given_flags + "): " + e.what()});
   }
   const BodyVelocityCommand body = body_velocity(command.motion);
+  // The yaw rate a --radius or an ICR gives at --v, within the rover's scale
+  // as a scenario's drive segment is (io/scenario_config.cpp).
+  if (!given(o.yaw_rate))
+    if (const std::string p = beyond_scale(body.yaw_rate_radps, kMaxYawRate_radps, "rad/s", kDriveScaleReason);
+        std::isfinite(body.yaw_rate_radps) && !p.empty())
+      throw CommandLineError({"the command (" + given_flags + ") gives a yaw rate beyond the rover's scale: " + p});
   const bool has_icr = command.motion.kind == PlanarMotion::Kind::kRotation;
 
   io::Json out;

@@ -6,6 +6,7 @@
 // comment header records all of them. Every bad flag is reported before the
 // simulation, and a sample count whose file would be absurdly large is
 // refused with its size.
+#include <cmath>
 #include <iostream>
 #include <sstream>
 #include <stdexcept>
@@ -89,6 +90,13 @@ int run_synthesize(const SynthesizeOptions& o) {
                             " give " + std::to_string(points) + " data point(s); a measured curve needs at least " +
                             std::to_string(io::kMeasuredCurveMinRows) +
                             " (rover compare and calibrate refuse fewer): raise --rate"});
+  // The release past the data's end: every point would be the rover hanging
+  // at rest, a curve with no drop in it.
+  if (o.offset_s > setup.scenario.duration_s)
+    throw CommandLineError({"--offset " + number_text(o.offset_s) + " s: the data clock runs to the end of the " +
+                            number_text(setup.scenario.duration_s) + " s of " + scenario_path +
+                            ", so a release after it leaves no data point after the release; give an offset "
+                            "of at most " + number_text(setup.scenario.duration_s) + " s"});
   const ModelInputs in = apply_overrides(o.overrides, setup.inputs);
   const Trajectory tr = simulate(setup.model, setup.scenario, in);
   if (!tr.ok()) throw std::runtime_error("the simulation failed: " + tr.message);
@@ -103,6 +111,14 @@ int run_synthesize(const SynthesizeOptions& o) {
     t.push_back(td);
     z.push_back(interpolate(tr.t, clean, td - o.offset_s) + (o.noise_m > 0 ? noise(engine) : 0.0));
   }
+  // A curve that rover compare and calibrate would refuse is not written.
+  for (std::size_t k = 0; k < z.size(); ++k)
+    if (!(std::abs(z[k]) < io::kMeasuredCurveMaxAbsHeight_m))
+      throw CommandLineError({"--noise " + number_text(o.noise_m) + " m gives a height of " + number_text(z[k]) +
+                              " m at t = " + number_text(t[k]) + " s, beyond the |z| < " +
+                              number_text(io::kMeasuredCurveMaxAbsHeight_m) +
+                              " m that rover compare and calibrate accept; give a noise sd in metres, far below "
+                              "that; nothing was written"});
   std::ostringstream comment;
   comment << "SYNTHETIC measured drop curve, NOT experimental data.\n"
           << "Made by `rover synthesize` from " << scenario_path << " at f = " << in.sharpness_f

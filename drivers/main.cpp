@@ -81,8 +81,13 @@ void reject_empty_values(const CLI::App& app) {
 }
 
 // This process's rank under mpirun (Open MPI, PMIx and MPICH name it in the
-// environment), or 0 when run alone.
+// environment), or 0 when run alone. A rank variable without a job size above
+// 1 beside it (one set by hand, say) is no job: the messages stay printed.
 int launcher_rank() {
+  bool in_a_job = false;
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE", "SLURM_NTASKS"})
+    if (const char* value = std::getenv(name); value != nullptr && std::atoi(value) > 1) in_a_job = true;
+  if (!in_a_job) return 0;
   for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"})
     if (const char* value = std::getenv(name); value != nullptr && *value != '\0') return std::atoi(value);
   return 0;

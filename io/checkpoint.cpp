@@ -169,7 +169,9 @@ std::vector<TaskRecord> ResultCheckpoint::load() {
     return {};
   }
   const auto refuse = [&](const std::string& why) {
-    throw std::runtime_error(path_ + ": " + why + "; delete it or run without --resume");
+    throw std::runtime_error(path_ + ": " + why +
+                             "; it is kept: continue it with the configuration that made it, or discard it with "
+                             "--restart instead of --resume");
   };
 
   char magic[sizeof kMagic] = {};

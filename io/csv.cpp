@@ -1,6 +1,10 @@
 // See csv.hpp.
 #include "io/csv.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
 #include <cerrno>
@@ -55,6 +59,29 @@ std::string shortest_text(double x) {
 constexpr std::string_view kUtf8ByteOrderMark = "\xEF\xBB\xBF";
 
 // Writes header and rows to `out`; false if any write or the close failed.
+// While alive, holds a pipe at `path` open for writing without waiting; throws
+// std::runtime_error when no process has it open for reading. Anything other
+// than a pipe is left alone.
+class PipeProbe {
+ public:
+  explicit PipeProbe(const std::string& path) {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0 || !S_ISFIFO(st.st_mode)) return;
+    fd_ = ::open(path.c_str(), O_WRONLY | O_NONBLOCK);
+    if (fd_ < 0 && errno == ENXIO)
+      throw std::runtime_error(path + ": a pipe that no process reads; writing would wait forever: start its "
+                               "reader first (cat " + path + " &), or give a file name");
+  }
+  ~PipeProbe() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  PipeProbe(const PipeProbe&) = delete;
+  PipeProbe& operator=(const PipeProbe&) = delete;
+
+ private:
+  int fd_ = -1;
+};
+
 bool write_table(std::ofstream& out, const std::vector<std::string>& header,
                  const std::vector<std::vector<double>>& columns, std::size_t rows,
                  const std::string& comment) {
@@ -181,6 +208,9 @@ void write_csv(const std::string& path, const std::vector<std::string>& header,
   if (require_output(path, OutputFormat::kText) == OutputMode::kStream) {
     // A device, a pipe or an open descriptor: no temporary file next to it,
     // and no rename over it; appended to, as a shell's `>>` would.
+    // A pipe no process reads would block the open forever: refused. The
+    // probe stays open until the stream is, so a reader never sees an end.
+    const PipeProbe probe(path);
     errno = 0;
     std::ofstream out(path, std::ios::app);
     if (!out) throw std::runtime_error(path + ": cannot open for writing" + system_reason());

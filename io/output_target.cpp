@@ -66,6 +66,9 @@ OutputTarget stream_target(OutputFormat format, const std::string& what) {
 
 OutputTarget inspect_output(const std::string& path, OutputFormat format) {
   if (path.empty()) return refused("is an empty path");
+  // "dir/", "dir/." or "..": a directory, existing or not (nothing is made for it).
+  if (const fs::path name = fs::path(path).filename(); name.empty() || name == "." || name == "..")
+    return refused("names a directory; give a file name");
   std::error_code error;
   const fs::file_status own = fs::symlink_status(path, error);
   if (reaches_descriptor(path)) {
@@ -125,6 +128,10 @@ OutputMode require_output(const std::string& path, OutputFormat format) {
   const OutputTarget target = inspect_output(path, format);
   if (!target.refusal.empty()) throw std::runtime_error(path + ": " + target.refusal);
   return target.mode;
+}
+
+bool is_plain_file_name(const std::string& name) {
+  return !name.empty() && name.find_first_of("/\\") == std::string::npos && name != "." && name != "..";
 }
 
 }  // namespace rover::io

@@ -39,6 +39,10 @@ struct OutputTarget {
 
 OutputTarget inspect_output(const std::string& path, OutputFormat format);
 
+// Whether a config's "name" may name a file in results/ (the default output
+// results/<name>.h5): not empty, no directory separator, not "." or "..".
+bool is_plain_file_name(const std::string& name);
+
 // inspect_output's mode; throws std::runtime_error "<path>: <refusal>" when refused.
 OutputMode require_output(const std::string& path, OutputFormat format);
 

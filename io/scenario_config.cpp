@@ -1,5 +1,6 @@
 // See scenario_config.hpp.
 #include "io/scenario_config.hpp"
+#include "io/output_target.hpp"
 
 #include <algorithm>
 #include <array>
@@ -352,6 +353,8 @@ ScenarioSetup build_scenario(const ScenarioSources& sources) {
   setup.scenario_path = path;
   Scenario& s = setup.scenario;
   s.name = r.string_or("name", std::filesystem::path(path).stem().string());
+  if (r.has("name") && !is_plain_file_name(s.name))
+    r.fail("name", "must be a plain file name (rover simulate writes results/<name>.h5 by default)");
   r.string_or("description", "");
   r.string("rover");
   if (r.has("terrain")) r.string("terrain");

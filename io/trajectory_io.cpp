@@ -164,6 +164,11 @@ Curve read_curve(const std::string& path, const std::string& column) {
     return c;
   }
   const Hdf5Reader h5(path);
+  if (!h5.exists("/" + column)) {
+    std::string names;
+    for (const std::string& name : h5.list("/")) names += (names.empty() ? "" : ", ") + name;
+    throw ConfigError(path + ": no column '" + column + "' (the file holds: " + names + ")");
+  }
   c.t = h5.read_doubles("/t");
   c.y = h5.read_doubles("/" + column);
   const auto refuse = [&](const auto&... parts) {

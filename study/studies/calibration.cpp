@@ -122,6 +122,22 @@ void fitted_curves(const CalibrationStudy& s, CalibrationFitResult& r) {
   r.best_rms_m = std::sqrt(rss / static_cast<double>(points));
 }
 
+// Rank 0: why the best fit does not describe the data at all, or empty: its
+// RMS exceeds the span of every measured curve, so the model never comes near
+// them. A curve in millimetres, or of another channel, does that; the
+// intervals of such a fit say nothing.
+std::string fit_misses_the_data(const CalibrationStudy& s, const CalibrationFitResult& r) {
+  double widest_m = 0.0;
+  for (const CalibrationDataset& d : s.datasets) {
+    const auto [low, high] = std::minmax_element(d.z.begin(), d.z.end());
+    widest_m = std::max(widest_m, *high - *low);
+  }
+  if (!(r.best_rms_m > widest_m)) return "";
+  return "the best fit misses the data by " + format_number(r.best_rms_m, 4) + " m RMS, more than the " +
+         format_number(widest_m, 4) + " m the measured heights span: are they in metres (not millimetres), and " +
+         "of the channel named in the study?";
+}
+
 }  // namespace
 
 CalibrationFitResult run_calibration_fit(const CalibrationStudy& s, const StudyRunOptions& control,
@@ -141,7 +157,13 @@ CalibrationFitResult run_calibration_fit(const CalibrationStudy& s, const StudyR
   std::vector<double> trusted{r.not_valid_because.empty() ? 1.0 : 0.0};  // rank 0 holds the intervals
   broadcast_from_rank0(trusted);
   r.trusted = trusted[0] != 0.0;
-  if (world_rank() == 0) fitted_curves(s, r);
+  if (world_rank() == 0) {
+    fitted_curves(s, r);
+    if (const std::string miss = fit_misses_the_data(s, r); !miss.empty()) {
+      r.not_valid_because = miss + (r.not_valid_because.empty() ? "" : "; " + r.not_valid_because);
+      r.trusted = false;
+    }
+  }
   return r;
 }
 

@@ -34,10 +34,18 @@ double shifted_rms(const std::vector<double>& t, const std::vector<double>& z,
   return std::sqrt(sum / static_cast<double>(t_d.size()));
 }
 
+// The offset scan's step, its cap (the calibration's bounds keep the range
+// to a few data spans), and the golden-section polish's tolerance and cap
+// (each step shrinks the bracket by 0.618: 200 reach 1e-7 s from 1e34 s).
+constexpr double kOffsetScanStep_s = 1e-3;
+constexpr double kMaxOffsetScanSteps = 1e8;
+constexpr double kOffsetTolerance_s = 1e-7;
+constexpr int kMaxGoldenSteps = 200;
+
 double best_offset(const std::vector<double>& t, const std::vector<double>& z,
                    const std::vector<double>& t_d, const std::vector<double>& z_d, double lo,
                    double hi) {
-  const int n = std::max(2, static_cast<int>(std::ceil((hi - lo) / 1e-3)));
+  const int n = static_cast<int>(std::clamp(std::ceil((hi - lo) / kOffsetScanStep_s), 2.0, kMaxOffsetScanSteps));
   double best = lo, best_rms = std::numeric_limits<double>::infinity();
   for (int i = 0; i <= n; ++i) {
     const double o = lo + (hi - lo) * i / n;
@@ -52,7 +60,7 @@ double best_offset(const std::vector<double>& t, const std::vector<double>& z,
   const double g = (std::sqrt(5.0) - 1.0) / 2.0;
   double c = b - g * (b - a), d = a + g * (b - a);
   double fc = shifted_rms(t, z, t_d, z_d, c), fd = shifted_rms(t, z, t_d, z_d, d);
-  while (b - a > 1e-7) {
+  for (int i = 0; i < kMaxGoldenSteps && b - a > kOffsetTolerance_s; ++i) {
     if (fc < fd) {
       b = d;
       d = c;

@@ -2,8 +2,11 @@
 #include "study/studies/calibration_program.hpp"
 
 #include <sstream>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
+#include "study/runtime/calibration_mpi.hpp"
 #include "study/runtime/mpi_session.hpp"
 #include "study/studies/report_number.hpp"
 #include "study/studies/study_output.hpp"
@@ -61,23 +64,36 @@ StudyProgram<Result> calibration_program(const CalibrationStudy& s, const std::s
 }
 
 // The fit's evaluations as run counts: a failed simulation is a failed run.
-RunCounts fit_run_counts(const CalibrationFitResult& r) {
+RunCounts history_run_counts(const CalibrationStudy& study, const FitHistory& history) {
   RunCounts counts;
-  const HistoryLayout row(r.checked.study);
-  for (std::size_t at = 0; at + row.width() <= r.history.rows.size(); at += row.width()) {
+  const HistoryLayout row(study);
+  for (std::size_t at = 0; at + row.width() <= history.rows.size(); at += row.width()) {
     ++counts.runs;
-    if (r.history.rows[at + row.status()] == 0.0) continue;
+    if (history.rows[at + row.status()] == 0.0) continue;
     const std::size_t k = at / row.width();
-    if (counts.failed++ == 0 && k < r.history.messages.size()) counts.first_failure = r.history.messages[k];
+    if (counts.failed++ == 0 && k < history.messages.size()) counts.first_failure = history.messages[k];
   }
   return counts;
 }
+RunCounts fit_run_counts(const CalibrationFitResult& r) { return history_run_counts(r.checked.study, r.history); }
 
 }  // namespace
 
 CalibrationPosteriorResult run_calibration_posterior(const CalibrationStudy& s, const StudyRunOptions& control) {
   FitHistory history;
   const CheckedFit checked = checked_fit(s, s.initial_values(), control, history);
+  // Every run of the fit failed: the chains would fail alike, with no word of why.
+  const RunCounts counts = world_rank() == 0 ? history_run_counts(checked.study, history) : RunCounts{};
+  std::vector<double> all_failed{counts.runs > 0 && counts.failed == counts.runs ? 1.0 : 0.0};
+  broadcast_from_rank0(all_failed);
+  if (all_failed[0] != 0.0) {
+    if (world_rank() != 0) return {checked.study, true, {}};
+    // The fit's record holds its own verdict; one run at the start says why the runs fail.
+    const CalibrationCurve start = simulate_calibration_curve(checked.study, 0, checked.study.initial_values());
+    throw std::runtime_error("every one of the fit's " + std::to_string(counts.runs) + " runs failed (" +
+                             (start.ok ? counts.first_failure : "at the initial values: " + start.message) +
+                             "); the posterior has no point to start from: nothing was written");
+  }
   const McmcStart start = posterior_start(checked);
   CalibrationPosteriorResult r{checked.study, start.values.empty(), {}};
   r.posterior = run_calibration_mcmc(checked.study, control, start);

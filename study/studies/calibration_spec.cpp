@@ -9,6 +9,7 @@
 #include <iostream>
 #include <limits>
 #include <string>
+#include <tuple>
 #include <vector>
 #include <sstream>
 #include <stdexcept>
@@ -29,6 +30,21 @@ constexpr double kConstantCurveRange_m = 1e-9;
 // Data may end this share of the duration past the simulated end (rounding of
 // sample times).
 constexpr double kSpanTolerance = 1e-9;
+// How far bounds.time_offset may reach past the offsets at which the data
+// meet the run, at least (check_offsets_meet_the_data).
+constexpr double kOffsetMargin_s = 1.0;
+// A measurement noise sd the likelihood can use: heights are below 1e3 m
+// (io::kMeasuredCurveMaxAbsHeight_m), and below 1e-12 m the noise is under
+// the rounding of the data's digits; far outside these bounds the
+// likelihood's residual^2 / sd^2 is not a finite number.
+constexpr double kMinNoiseSd_m = 1e-12;
+constexpr double kMaxNoiseSd_m = 1e3;
+
+std::string noise_scale_problem(double sd_m) {
+  return format_number(sd_m, 6) + " m, outside the noise sds from " + format_number(kMinNoiseSd_m, 6) + " to " +
+         format_number(kMaxNoiseSd_m, 6) + " m that the likelihood resolves (heights are in metres)";
+}
+
 // The reference integrator of the integration check: Dormand-Prince at the
 // tightest tolerances that run through every contact event of the drops.
 constexpr double kReferenceRelativeTolerance = 1e-8;
@@ -153,6 +169,26 @@ void read_fit_parameters(const io::JsonReader& r, const CalibrationOverrides& o,
   (void)initial;
 }
 
+// Offsets at which the data overlap the run, t_data - offset in [0, duration],
+// span [t_first - duration, t_last]. The offsets searched may reach beyond
+// that window by its own width or kOffsetMargin_s, whichever is more: further
+// out no sample meets the run, and the offset scan (1 ms steps) would take
+// hours, or never end.
+void check_offsets_meet_the_data(const CalibrationStudy& s, const CalibrationDataset& d, double duration_s, double lower,
+                                 double upper) {
+  const double window_lower = d.t.front() - duration_s, window_upper = d.t.back();
+  const double margin = std::max(window_upper - window_lower, kOffsetMargin_s);
+  if (lower >= window_lower - margin && upper <= window_upper + margin) return;
+  throw io::ConfigError(s.identity.path + ": field 'bounds.time_offset' (value [" + format_number(lower, 6) + ", " +
+                        format_number(upper, 6) + "] s): the data of " + d.path + " (t " +
+                        format_number(d.t.front(), 6) + " .. " +
+                        format_number(d.t.back(), 6) + " s) meet the simulated " + format_number(duration_s, 6) +
+                        " s of " + d.scenario_path + " only at offsets in [" + format_number(window_lower, 6) +
+                        ", " + format_number(window_upper, 6) + "] s; give bounds within [" +
+                        format_number(window_lower - margin, 6) + ", " + format_number(window_upper + margin, 6) +
+                        "] s");
+}
+
 // A curve the fit can use: more rows than unknowns, not constant, and
 // inside the simulated span for at least the largest offset allowed.
 void check_data_fits_the_run(const CalibrationStudy& s, const CalibrationDataset& d) {
@@ -164,9 +200,10 @@ void check_data_fits_the_run(const CalibrationStudy& s, const CalibrationDataset
     throw io::ConfigError(d.path + ": column z is constant (" + format_number(*low, 6) +
                           " m throughout): a constant curve tells nothing about the parameters");
   const double duration_s = d.model->nominal().scenario.duration_s;
-  double offset_upper = s.offset_max_s;
+  double offset_lower = s.offset_min_s, offset_upper = s.offset_max_s;
   for (const FitParameter& f : s.fit)
-    if (f.name == kTimeOffset) offset_upper = f.upper;
+    if (f.name == kTimeOffset) std::tie(offset_lower, offset_upper) = std::pair(f.lower, f.upper);
+  check_offsets_meet_the_data(s, d, duration_s, offset_lower, offset_upper);
   if (d.t.back() - offset_upper > duration_s * (1.0 + kSpanTolerance))
     throw io::ConfigError(d.path + ": the data run to t = " + format_number(d.t.back(), 6) +
                           " s, past the end of the simulated " + format_number(duration_s, 6) + " s of " +
@@ -362,6 +399,8 @@ void read_mcmc_settings(const io::JsonReader& r, CalibrationStudy& s) {
       if (m.raw("noise_sd").is_number()) {
         s.mcmc.sample_noise = false;
         s.mcmc.known_noise_sd_m = m.positive("noise_sd");
+        if (!(s.mcmc.known_noise_sd_m >= kMinNoiseSd_m && s.mcmc.known_noise_sd_m <= kMaxNoiseSd_m))
+          m.fail("noise_sd", noise_scale_problem(s.mcmc.known_noise_sd_m));
       } else {
         const io::JsonReader noise = m.child("noise_sd");
         s.mcmc.noise_prior = parse_distribution(noise, std::numeric_limits<double>::quiet_NaN());
@@ -369,6 +408,9 @@ void read_mcmc_settings(const io::JsonReader& r, CalibrationStudy& s) {
         if (!s.mcmc.noise_prior.IsValid(&why)) m.fail("noise_sd", why);
         if (!(s.mcmc.noise_prior.support_lower() >= 0))
           m.fail("noise_sd", "the noise sd prior must not extend below 0");
+        const double lower = s.mcmc.noise_prior.support_lower(), upper = s.mcmc.noise_prior.support_upper();
+        if (upper > kMaxNoiseSd_m) m.fail("noise_sd", "the prior reaches " + noise_scale_problem(upper));
+        if (lower > 0.0 && lower < kMinNoiseSd_m) m.fail("noise_sd", "the prior reaches " + noise_scale_problem(lower));
         noise.finish();
       }
     }

@@ -111,6 +111,11 @@ MonteCarloResult run_montecarlo(const MonteCarloStudy& study, const StudyRuntime
   stream_study_tasks(N, compute, consume, runtime.options);
   if (world_rank() != 0) return {};
   MonteCarloResult result = analysis.finish();
+  for (std::size_t q = 0; q < result.summaries.size(); ++q)
+    if (const std::string w = unsettled_warning(spec, q, result.qoi[q]); !w.empty()) {
+      std::string& note = result.summaries[q].note;
+      note = "warning: " + w + (note.empty() ? "" : "\n    " + note);
+    }
   result.study = study;
   result.inputs = x;
   return result;

@@ -20,6 +20,10 @@ namespace {
 // Channels: enough principal components for this share of the variance.
 constexpr double kCurveExplainedVariance = 0.99;
 // Inputs whose aggregated total index exceeds this are drawn along time.
+// Bootstrap intervals need at least this share of the resamples refitted: a
+// resample of too few distinct runs leaves the basis singular, and the
+// percentiles of the few that fit are no interval.
+constexpr double kMinUsedResampleShare = 0.5;
 
 std::vector<Distribution> input_distributions(const StudySpec& spec) {
   std::vector<Distribution> d;
@@ -263,7 +267,8 @@ PceQoiResult pce_qoi_indices(const std::string& name, const DesignMatrix& x_ok, 
   if (options.bootstrap == 0) return q;
   try {
     q.intervals = bootstrap_pce_sobol(q.expansion, x_ok, y_ok, {options.bootstrap, options.confidence, options.seed});
-    q.has_intervals = true;
+    // Percentiles of a few refits that happened to work are no interval.
+    q.has_intervals = q.intervals.resamples_used >= kMinUsedResampleShare * options.bootstrap;
   } catch (const std::runtime_error&) {
     // No resample could be refitted: the indices stand, without intervals (warned by the caller).
   }
@@ -299,7 +304,11 @@ PceSensitivityResult analyse_pce_sensitivity(const StudySpec& spec, const PceSen
     if (!q.indices.defined) out.warnings.push_back(q.name + ": indices undefined: " + q.undefined_reason);
     else if (!q.expansion.validation.warning.empty()) out.warnings.push_back(q.expansion.validation.warning);
     if (q.indices.defined && options.bootstrap > 0 && !q.has_intervals)
-      out.warnings.push_back(q.name + ": no bootstrap resample could be refitted; no intervals");
+      out.warnings.push_back(q.name + ": " + std::to_string(q.intervals.resamples_used) + " of " +
+                             std::to_string(options.bootstrap) + " bootstrap resamples could be refitted (the " +
+                             std::to_string(q.runs_used) + " runs hold too few distinct points for the " +
+                             std::to_string(q.expansion.multi_indices.size()) +
+                             "-term expansion); no intervals: use more runs");
   }
   for (const PceChannelResult& c : out.channels) {
     if (!c.defined) out.warnings.push_back(c.name + ": indices along time undefined: " + c.undefined_reason);

@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <stdexcept>
+#include <string_view>
 
 #include "io/checkpoint.hpp"
 #include "io/output_target.hpp"
@@ -42,6 +43,19 @@ void check_outputs(const std::string& flag, const std::string& out, const io::In
   throw std::invalid_argument(text);
 }
 
+// With --resume: a checkpoint of another configuration, or one that cannot be
+// read, is refused now, not after the work before its runs (a calibration's
+// fit). Reading it writes nothing.
+void check_resumable(const std::string& results_path, const std::string& fingerprint) {
+  std::error_code error;
+  if (!std::filesystem::exists(io::ResultCheckpoint::path_for(results_path), error)) return;
+  try {
+    io::ResultCheckpoint(results_path, fingerprint).load();
+  } catch (const std::runtime_error& e) {
+    throw std::invalid_argument(e.what());
+  }
+}
+
 }  // namespace
 
 StudyRunOptions prepare(const std::string& command, const std::string& name, const std::string& fingerprint,
@@ -52,6 +66,7 @@ StudyRunOptions prepare(const std::string& command, const std::string& name, con
   check_outputs(given ? "--out" : "--out (default)", given ? options.results_path : "results/" + name + ".h5", inputs,
                 options.plots);
   options.results_path = checked_results_path(name, options.results_path, csv_allowed);
+  if (options.resume) check_resumable(options.results_path, fingerprint);
   if (memory.bytes > 0.0) require_memory(memory.what, memory.bytes);
   options.label = command;
   options.fingerprint = fingerprint;
@@ -104,8 +119,23 @@ std::string with_kept_runs(const std::string& message, const std::string& result
 }
 
 int interrupted(const std::string& command, const StudyInterrupted& e) {
-  std::cerr << "rover " << command << ": " << e.what() << std::endl;
+  // The task farm labels its message with the command already: said once.
+  std::string_view what = e.what();
+  if (const std::string label = command + ": "; what.starts_with(label)) what.remove_prefix(label.size());
+  std::cerr << "rover " << command << ": " << what << std::endl;
   return StudyInterrupted::kExitCode;
+}
+
+void stop_if_interrupted(const StudyRunOptions& options) {
+  if (world_rank() != 0 || !InterruptGuard::flag().load()) return;
+  const std::string checkpoint = io::ResultCheckpoint::path_for(options.results_path);
+  std::error_code error;
+  const bool kept = std::filesystem::exists(checkpoint, error);
+  const std::string resume =
+      options.resume_command.empty() ? std::string("the same command with --resume") : options.resume_command;
+  throw StudyInterrupted("interrupted before the study was complete; nothing was written" +
+                         (kept ? "; the finished runs are kept in " + checkpoint + ". Continue with:\n  " + resume
+                               : std::string("; run the same command again")));
 }
 
 }  // namespace rover::study::driver_detail

@@ -137,6 +137,13 @@ std::string with_kept_runs(const std::string& message, const std::string& result
 // Prints the interrupt message; returns StudyInterrupted::kExitCode.
 int interrupted(const std::string& command, const StudyInterrupted& e);
 
+// Rank 0: throws StudyInterrupted when a signal arrived during a
+// run that returned anyway (a calibration's probe, profiles or predictive
+// draws stop handing out work and return what they have): such a result is
+// incomplete and is never written. The message says where the finished runs
+// are kept, if anywhere, and how to continue.
+void stop_if_interrupted(const StudyRunOptions& options);
+
 // Rank 0: says that a dry run checked everything and ran nothing.
 void report_dry_run(const std::string& command, const std::string& results_path);
 
@@ -164,6 +171,7 @@ int drive_study(const StudyProgram<Result>& study, const StudyRunOptions& option
   const InterruptGuard interrupts;
   try {
     const Result result = study.run(runtime);
+    driver_detail::stop_if_interrupted(runtime.options);
     if (world_rank() != 0) return 0;
     const RunCounts counts = study.counts(result);
     if (const auto status = driver_detail::keep_earlier_result(study.command, out, counts)) return *status;

@@ -15,7 +15,7 @@ namespace rover::study {
 std::string checked_results_path(const std::string& name, const std::string& requested, bool csv_allowed) {
   const std::string path = requested.empty() ? "results/" + name + ".h5" : requested;
   const std::filesystem::path p(path);
-  if (std::filesystem::is_directory(p))
+  if (const auto file = p.filename(); std::filesystem::is_directory(p) || file.empty() || file == "." || file == "..")
     throw std::invalid_argument("--out '" + path + "' is a directory; give a file name ending in .h5");
   if (csv_allowed && p.extension() != ".h5" && p.extension() != ".csv")
     throw std::invalid_argument("--out must end in .csv or .h5, got '" + path + "'");

@@ -13,6 +13,7 @@
 #include "core/number_text.hpp"
 #include "core/rover_parameters.hpp"
 #include "io/checkpoint.hpp"
+#include "io/output_target.hpp"
 #include "io/csv.hpp"
 #include "io/trajectory_io.hpp"
 #include "study/model/distribution_json.hpp"
@@ -47,6 +48,20 @@ Distribution preload_distribution(const io::JsonReader& p, const io::Json& rover
   return d;
 }
 
+// The point the checks below start from: every input at its configured value;
+// an optional scenario key the scenario does not set (nominal NaN, such as
+// "scenario.initial_q.x") at its distribution's median instead, a value the
+// study will give it.
+std::vector<double> base_point(const std::vector<UncertainInput>& inputs) {
+  std::vector<double> point;
+  for (const UncertainInput& in : inputs)
+    point.push_back(std::isnan(in.nominal) ? in.distribution.quantile(0.5) : in.nominal);
+  return point;
+}
+
+// A settling time this close to the run's end (relative) is the run's end.
+constexpr double kRunEndTolerance = 1e-9;
+
 // Relative size of the step that tells whether an input can vary alone.
 constexpr double kAloneStep = 1e-6;
 
@@ -57,8 +72,7 @@ constexpr double kAloneStep = 1e-6;
 // at a bound of its valid range passes one way.
 void refuse_inputs_that_cannot_vary_alone(const io::JsonReader& r, const RoverStudyModel& model,
                                           const std::vector<UncertainInput>& inputs) {
-  std::vector<double> nominal;
-  for (const UncertainInput& in : inputs) nominal.push_back(in.nominal);
+  const std::vector<double> nominal = base_point(inputs);
   for (std::size_t j = 0; j < inputs.size(); ++j) {
     if (inputs[j].distribution.kind == DistributionKind::kFixed) continue;
     const double step = kAloneStep * std::max(1.0, std::abs(nominal[j]));
@@ -91,8 +105,7 @@ constexpr double kSupportEndInset = 1e-9;
 // failed run found only after the study; unbounded supports are not tried.
 void refuse_supports_the_model_refuses(const io::JsonReader& r, const RoverStudyModel& model,
                                        const std::vector<UncertainInput>& inputs) {
-  std::vector<double> nominal;
-  for (const UncertainInput& in : inputs) nominal.push_back(in.nominal);
+  const std::vector<double> nominal = base_point(inputs);
   for (std::size_t j = 0; j < inputs.size(); ++j) {
     const Distribution& d = inputs[j].distribution;
     if (d.kind == DistributionKind::kFixed) continue;
@@ -382,7 +395,7 @@ StudyIdentity parse_study_identity(const io::JsonReader& r, const std::vector<st
   if (std::find(types.begin(), types.end(), id.type) == types.end())
     r.fail("type", "this command runs studies of type " + comma_separated(types));
   id.name = r.string("name");
-  if (id.name.empty() || id.name.find_first_of("/\\") != std::string::npos || id.name == "." || id.name == "..")
+  if (!io::is_plain_file_name(id.name))
     r.fail("name", "must be a plain file name (results go to results/<name>.h5)");
   id.description = r.string_or("description", "");
   return id;
@@ -485,6 +498,24 @@ std::vector<std::string> input_labels(const StudySpec& spec) {
   std::vector<std::string> labels;
   for (const UncertainInput& in : spec.inputs) labels.push_back(in.label);
   return labels;
+}
+
+std::string unsettled_warning(const StudySpec& spec, std::size_t q, const std::vector<double>& values) {
+  if (!spec.rover || q >= spec.rover->qois().size()) return "";
+  const QoiSpec& qoi = spec.rover->qois()[q];
+  if (qoi.kind != QoiKind::kSettlingTime) return "";
+  const double end_s = spec.rover->nominal().scenario.duration_s;
+  long long finite = 0, at_end = 0;
+  for (const double v : values) {
+    if (!std::isfinite(v)) continue;
+    ++finite;
+    if (v >= end_s * (1.0 - kRunEndTolerance)) ++at_end;
+  }
+  if (at_end == 0) return "";
+  return qoi.name + ": " + std::to_string(at_end) + " of " + std::to_string(finite) +
+         " runs had not settled within the run's " + number_text(end_s) + " s (B_l z still outside the " +
+         number_text(qoi.settling_band) + " m band at the end): their value is the run's end, not a settling time; "
+         "lengthen \"duration\" or widen \"band\"";
 }
 
 }  // namespace rover::study

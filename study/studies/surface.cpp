@@ -6,6 +6,7 @@
 #include "core/number_text.hpp"
 #include "core/simulate.hpp"
 #include "io/trajectory_io.hpp"
+#include "io/output_target.hpp"
 #include "study/design/design.hpp"
 #include "study/runtime/study_runner.hpp"
 #include "study/studies/study_output.hpp"
@@ -244,7 +245,7 @@ SurfaceStudy load_surface_study(const std::string& path) {
   s.path = path;
   if (r.string("type") != "surface") r.fail("type", "this command runs 'surface' studies");
   s.name = r.string("name");
-  if (s.name.empty() || s.name.find_first_of("/\\") != std::string::npos || s.name == "." || s.name == "..")
+  if (!io::is_plain_file_name(s.name))
     r.fail("name", "must be a plain file name (results go to results/<name>.h5)");
   r.string_or("description", "");
   const std::string scenario = io::resolve_relative(path, r.string("scenario"));

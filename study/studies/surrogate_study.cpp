@@ -87,13 +87,19 @@ SurrogateQoiResult fit_qoi(const SurrogateStudy& study, const TrainingRuns& trai
   return r;
 }
 
+// Too few successful runs: a result file's is an input problem; the
+// study's own runs are refused after they ran (the driver says that nothing
+// was written and where the runs are kept), with the first failure's reason.
 void check_run_count(const SurrogateStudy& study, const TrainingRuns& training) {
   const int ok = training.runs() - training.failed_runs(), needed = min_training_runs(study);
   if (ok >= needed) return;
-  throw io::ConfigError(training.source + ": " + std::to_string(ok) + " successful training runs (" +
-                        std::to_string(training.failed_runs()) + " failed); a " + surrogate_kind_name(study.kind) +
-                        " of " + std::to_string(study.spec.inputs.size()) + " inputs needs at least " +
-                        std::to_string(needed));
+  const std::string problem = training.source + ": " + std::to_string(ok) + " successful training runs (" +
+                              std::to_string(training.failed_runs()) + " failed); a " +
+                              surrogate_kind_name(study.kind) + " of " + std::to_string(study.spec.inputs.size()) +
+                              " inputs needs at least " + std::to_string(needed);
+  if (!study.training_file.empty()) throw io::ConfigError(problem);
+  const RunCounts counts = count_runs(training.status, training.messages);
+  throw RunsRefused(problem + (counts.failed > 0 ? " (first failure: " + counts.first_failure + ")" : ""));
 }
 
 SurrogateSet surrogate_set(const SurrogateStudy& study, const TrainingRuns& training,
@@ -129,6 +135,12 @@ std::vector<PceChannelResult> fit_channels(const SurrogateStudy& study, const Tr
 
 std::vector<std::string> study_warnings(const SurrogateStudy& study, const SurrogateStudyResult& r) {
   std::vector<std::string> w;
+  for (Eigen::Index q = 0; q < r.training.y.cols(); ++q) {
+    const Eigen::VectorXd column = r.training.y.col(q);
+    const std::string unsettled = unsettled_warning(study.spec, static_cast<std::size_t>(q),
+                                                    std::vector<double>(column.data(), column.data() + column.size()));
+    if (!unsettled.empty()) w.push_back(unsettled);
+  }
   for (const PceChannelResult& c : r.channels) {
     if (!c.defined) w.push_back(c.name + ": indices along time undefined: " + c.undefined_reason);
     else if (!c.curves.warning.empty()) w.push_back(c.curves.warning);
@@ -144,7 +156,10 @@ std::vector<std::string> study_warnings(const SurrogateStudy& study, const Surro
     if (q.fitted && q.undefined_reason.empty() && !q.model.validation().warning.empty())
       w.push_back(q.model.validation().warning);
     if (q.indices_defined && study.pce.bootstrap > 0 && !q.has_intervals)
-      w.push_back(q.name + ": no bootstrap resample could be refitted; the indices have no intervals");
+      w.push_back(q.name + ": " + std::to_string(q.intervals.resamples_used) + " of " +
+                  std::to_string(study.pce.bootstrap) +
+                  " bootstrap resamples could be refitted (too few distinct runs for the expansion); the indices "
+                  "have no intervals: use more runs");
   }
   return w;
 }

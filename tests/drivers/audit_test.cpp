@@ -1717,5 +1717,181 @@ TEST_F(Audit, OneMessageUnderMpirun) {
   EXPECT_TRUE(first == 0 || output[first - 1] == '\n') << output;
 }
 
+// ---- The third audit -----------------------------------------------------------
+
+// Classes 5 and 7: inputs that could only fail after the runs, or give
+// numbers without meaning, are refused before any work, naming the flag or
+// the file and field, the value and what is accepted; nothing is written.
+TEST_F(Audit, ThirdAuditRefusedUpFront) {
+  std::vector<Case> cases;
+  const std::string dir = w().dir();
+  auto nothing_at = [](const std::string& path) {
+    return [=] { return fs::exists(path) ? path + " was written" : std::string(); };
+  };
+  // The offset scan over bounds of 1e300 s never ended.
+  cases.push_back({"time offset bounds of 1e300 s",
+                   study("calibrate", w().calibration([](Json& j) { j["bounds"]["time_offset"] = {-1e300, 1e300}; })),
+                   Want::kError, {"'bounds.time_offset'", "1e+300", "give bounds within"}});
+  cases.push_back({"a known noise sd of 1e300 m", study("calibrate", w().calibration([](Json& j) {
+                     j["method"] = "mcmc";
+                     j["mcmc"] = {{"noise_sd", 1e300}};
+                   })),
+                   Want::kError, {"'mcmc.noise_sd'", "1e+300", "from 1e-12 to 1000 m"}});
+  cases.push_back({"a noise sd prior up to 1e30 m", study("calibrate", w().calibration([](Json& j) {
+                     j["method"] = "mcmc";
+                     j["mcmc"] = {{"noise_sd", {{"distribution", "log_uniform"}, {"min", 1e-6}, {"max", 1e30}}}};
+                   })),
+                   Want::kError, {"'mcmc.noise_sd'", "the prior reaches 1e+30 m"}});
+  const std::string escaping = w().scenario([](Json& j) { j["name"] = "../escaped"; });
+  cases.push_back({"a scenario name that leaves results/", "simulate --no-plot --scenario " + escaping, Want::kError,
+                   {escaping, "'name'", "../escaped", "plain file name"}, nothing_at(dir + "/escaped.h5")});
+  cases.push_back({"kinematics: a 1 mm Ackermann turn", "kinematics --mode ackermann --v 0.3 --radius 0.001",
+                   Want::kError, {"--radius 0.001", "yaw rate", "300 rad/s", "+-10 rad/s"}});
+  const std::string late = w().out("csv"), noisy = w().out("csv");
+  cases.push_back({"synthesize: the release after the last data point",
+                   "synthesize --scenario " + w().quick() + " --offset 1 --out " + late, Want::kError,
+                   {"--offset 1 s", "no data point after the release"}, nothing_at(late)});
+  cases.push_back({"synthesize: noise of 1000 km", "synthesize --scenario " + w().quick() + " --noise 1e6 --out " + noisy,
+                   Want::kError, {"--noise 1000000 m", "|z| < 1000 m"}, nothing_at(noisy)});
+  // A path ending in '/' names a directory: refused, and none is made.
+  for (const auto& [command, args] : std::vector<std::pair<std::string, std::string>>{
+           {"simulate", "simulate --no-plot --scenario " + w().quick() + " --out "},
+           {"montecarlo", "montecarlo --no-plot --study " + w().montecarlo([](Json&) {}) + " --out "},
+           {"terrain", "terrain obstacle --out "},
+           {"synthesize", "synthesize --scenario " + w().quick() + " --out "}}) {
+    const std::string named_dir = dir + "/new_" + command + "/";
+    cases.push_back({command + " --out a new directory", args + named_dir, Want::kError, {"--out", "names a directory"},
+                     nothing_at(named_dir)});
+  }
+  const std::string curve = simulated_curve(dir + "/curve.h5");
+  cases.push_back({"compare --column the file does not hold", "compare " + curve + " " + curve + " --column Fn_9",
+                   Want::kError, {"no column 'Fn_9'", "B_l_z"}});
+  // A rank variable set by hand (no job size beside it) does not silence rover.
+  cases.push_back({"a lone rover with PMIX_RANK=1", "simulate --scenario " + dir + "/none.json", Want::kError,
+                   {"--scenario", "none.json"}, {}, "PMIX_RANK=1 OMPI_COMM_WORLD_RANK=1"});
+  cases.push_back({"friction: mu_k of 1e300", "friction --mu-k 1e300", Want::kError, {"--mu-k 1e+300", "order 1"}});
+  // Heights in millimetres are within the readers' bound, but no fit meets them.
+  std::string millimetres = "t,z\n";
+  for (int k = 0; k <= 25; ++k) millimetres += std::to_string(0.002 * k) + "," + std::to_string(281.0 - 2.0 * k) + "\n";
+  const std::string mm_data = w().text_file("mm", millimetres, "csv");
+  cases.push_back({"calibrate against heights in millimetres",
+                   study("calibrate", w().calibration([&](Json& j) { j["data"] = mm_data; })), Want::kAllFailed,
+                   {"NOT VALID", "misses the data", "millimetres"}});
+  // Ten runs for a 9-term expansion: most bootstrap resamples are singular.
+  // (Written as text: the order of the parameters is the design's.)
+  const std::string contact = w().scenario([](Json& j) { j["duration"] = 0.3; });
+  const std::string few_runs = w().text_file("pce", R"({"type": "sensitivity", "method": "pce", "name": "p",
+      "scenario": ")" + contact + R"(",
+      "parameters": {"scenario.initial_q.x": {"distribution": "uniform", "min": 0.0, "max": 0.1},
+                     "c_q": {"distribution": "uniform", "min": 0.1, "max": 0.2}},
+      "design": {"type": "lhs", "samples": 10, "seed": 1}, "qoi": ["B_l_z_min"]})");
+  cases.push_back({"PCE intervals from a few bootstrap refits", study("sensitivity", few_runs), Want::kRuns,
+                   {"B_l_z_min: ", "bootstrap resamples could be refitted", "no intervals"}, {}, {},
+                   {"% bootstrap intervals, "}});
+  // The quick drop is still falling at its end: no run settles.
+  cases.push_back({"montecarlo of a settling time that never comes", study("montecarlo", w().montecarlo([](Json& j) {
+                     j["qoi"] = {"settling_time"};
+                   })),
+                   Want::kRuns, {"warning: settling_time: 2 of 2 runs had not settled within the run's 0.05 s"}});
+  cases.push_back({"sensitivity of a settling time that never comes", study("sensitivity", w().sensitivity([&](Json& j) {
+                     j.erase("model");
+                     j["method"] = "morris";
+                     j["scenario"] = w().quick();
+                     j["parameters"] = {{"c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.2}}},
+                                        {"f", {{"distribution", "uniform"}, {"min", 1e3}, {"max", 1e4}}}};
+                     j["design"] = {{"trajectories", 2}, {"levels", 4}, {"seed", 1}};
+                     j["qoi"] = {"settling_time"};
+                     j.erase("bootstrap");
+                   })),
+                   Want::kRuns, {"settling_time: 6 of 6 runs had not settled"}});
+  // A scenario key the scenario leaves out (initial_q.x) varies like any other.
+  cases.push_back({"montecarlo of an unset scenario key", study("montecarlo", w().montecarlo([](Json& j) {
+                     j["parameters"] = {{"scenario.initial_q.x", {{"distribution", "uniform"}, {"min", 0.0}, {"max", 0.1}}}};
+                   })),
+                   Want::kRuns, {}});
+  run_table(dir, cases);
+}
+
+// Classes 2 and 8: a surrogate whose runs all failed says why and that its
+// runs are kept; a checkpoint of another configuration names --restart.
+TEST_F(Audit, ThirdAuditKeptRuns) {
+  std::vector<Case> cases;
+  const std::string dir = w().dir();
+  const std::string failing = w().scenario([](Json& s) { s["wall_time_budget"] = 1e-9; });
+  const std::string surrogate = w().json_file(
+      "surrogate", Json{{"type", "surrogate"},
+                        {"name", "u"},
+                        {"scenario", failing},
+                        {"parameters", {{"c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.2}}}}},
+                        {"design", {{"type", "lhs"}, {"samples", 6}, {"seed", 1}}},
+                        {"pce", {{"max_degree", 1}}},
+                        {"qoi", {"t_min"}}});
+  cases.push_back({"surrogate whose every run fails", study_args("surrogate", surrogate, dir + "/u.h5"), Want::kError,
+                   {"successful training runs", "wall-time budget", "Nothing was written", "u.h5.checkpoint"}});
+  cases.push_back({"posterior whose every run fails", study("calibrate", w().calibration([&](Json& j) {
+                     j["scenario"] = failing;
+                     j["method"] = "mcmc";
+                     j["mcmc"] = {{"walkers", 4}, {"steps", 10}};
+                   })),
+                   Want::kError, {"every one of the fit's", "wall-time budget", "nothing was written"}});
+  // Every run of a study failing beside an earlier result leaves its checkpoint.
+  const std::string earlier = write_file(dir + "/kept.h5", "an earlier result\n");
+  std::string output;
+  ASSERT_EQ(run_command("cd " + dir + " && OMPI_MCA_ess_singleton_isolated=1 " + rover_binary() + " " +
+                            study_args("montecarlo", w().montecarlo([&](Json& j) { j["scenario"] = failing; }), earlier),
+                        &output),
+            2)
+      << output;
+  ASSERT_TRUE(fs::exists(earlier + ".checkpoint")) << output;
+  cases.push_back({"--resume of another configuration's checkpoint",
+                   study_args("montecarlo", w().montecarlo([](Json&) {}), earlier) + " --resume", Want::kError,
+                   {earlier + ".checkpoint", "different study configuration", "--restart"},
+                   [=] { return fs::exists(earlier + ".checkpoint") ? std::string() : "the checkpoint was deleted"; }});
+  // The same for a posterior: refused before the fit, not after it.
+  const std::string posterior = dir + "/posterior.h5";
+  write_file(posterior + ".checkpoint", "not a checkpoint\n");
+  cases.push_back({"a posterior's --resume of a foreign checkpoint", study_args("calibrate", w().calibration([](Json& j) {
+                     j["method"] = "mcmc";
+                   }), posterior) + " --resume",
+                   Want::kError, {posterior + ".checkpoint", "not a rover checkpoint"}, {}, {}, {"Jacobian"}});
+  run_table(dir, cases);
+}
+
+// Class 2: CSV into a pipe that no process reads is refused at once; it used
+// to wait forever.
+TEST_F(Audit, ThirdAuditPipeWithoutReader) {
+  const std::string dir = w().dir(), pipe = dir + "/unread.csv";
+  ASSERT_EQ(run_command("mkfifo " + pipe), 0);
+  std::string output;
+  const int status = run_command("cd " + dir + " && OMPI_MCA_ess_singleton_isolated=1 timeout -k 2 20 " +
+                                     rover_binary() + " simulate --no-plot --scenario " + w().quick() + " --out " +
+                                     w().out() + " --csv " + pipe,
+                                 &output);
+  EXPECT_EQ(status, 1) << output;
+  EXPECT_NE(output.find("no process reads"), std::string::npos) << output;
+}
+
+// Class 4: a signal while a calibration computes its profiles (work after
+// the fit, outside the study's checkpointed runs) ends it with status 130
+// and writes nothing: the profiles it would write are incomplete.
+TEST_F(Audit, ThirdAuditInterruptedProfiles) {
+  const std::string dir = w().dir();
+  const std::string calibration = w().calibration([](Json& j) {
+    j["profile"] = true;
+    j["profile_points"] = 5000;
+  });
+  const std::string out = dir + "/profiled.h5", log = dir + "/profiled.log";
+  // The probe's progress line comes when the probe is done; the profiles follow.
+  std::string output;
+  run_command("cd " + dir + " && (OMPI_MCA_ess_singleton_isolated=1 timeout -k 2 60 " + rover_binary() + " " +
+                  study_args("calibrate", calibration, out) + " > " + log + " 2>&1 & pid=$!; " +
+                  "for i in $(seq 600); do grep -q 'profile probe' " + log + " && break; sleep 0.05; done; " +
+                  "kill -TERM $pid; wait $pid; echo \"status $?\"; cat " + log + ")",
+              &output);
+  EXPECT_NE(output.find("status 130"), std::string::npos) << output;
+  EXPECT_NE(output.find("interrupted"), std::string::npos) << output;
+  EXPECT_FALSE(fs::exists(out)) << output;
+}
+
 }  // namespace
 }  // namespace rover
