@@ -57,6 +57,12 @@ bool IntegratorSettings::IsValid(std::string* why) const {
     return fail(why, method_name + ": rtol must be finite and > 0, got " + number_text(relative_tolerance));
   if (!positive_finite(absolute_tolerance))
     return fail(why, method_name + ": atol must be finite and > 0, got " + number_text(absolute_tolerance));
+  if (!(relative_tolerance >= kMinRelativeTolerance && relative_tolerance <= kMaxRelativeTolerance))
+    return fail(why, method_name + ": rtol must lie in [" + number_text(kMinRelativeTolerance) + ", " +
+                         number_text(kMaxRelativeTolerance) + "], got " + number_text(relative_tolerance));
+  if (!(absolute_tolerance <= kMaxAbsoluteTolerance))
+    return fail(why, method_name + ": atol must be at most " + number_text(kMaxAbsoluteTolerance) + ", got " +
+                         number_text(absolute_tolerance));
   if (!positive_finite(min_step_s) || !positive_finite(initial_step_s) || !positive_finite(max_step_s))
     return fail(why, method_name + ": min_step, initial_step and max_step must be finite and > 0, got " +
                          number_text(min_step_s) + ", " + number_text(initial_step_s) + ", " +

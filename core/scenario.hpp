@@ -33,8 +33,14 @@ struct IntegratorSettings {
   double max_step_s = 1e-2;          // adaptive: upper bound on the step
   double fixed_step_s = 1e-5;        // RK4: step; must divide the output period
 
-  // Ceres-style check of the fields the method uses: finite positive
-  // tolerances and 0 < min_step <= initial_step <= max_step for the adaptive
+  // Tolerances beyond these say nothing about the result (an rtol of 1 lets
+  // every state be wrong by its own size; an atol above 1 cm is larger than
+  // the deflections studied) or ask for less than round-off.
+  static constexpr double kMinRelativeTolerance = 1e-14, kMaxRelativeTolerance = 0.1;
+  static constexpr double kMaxAbsoluteTolerance = 1e-2;
+
+  // Ceres-style check of the fields the method uses: tolerances within the
+  // limits above and 0 < min_step <= initial_step <= max_step for the adaptive
   // methods, a finite fixed_step > 0 for RK4. On failure, says why in `why`
   // (if not null), with the numbers as written (1e-12, not 0.000000).
   bool IsValid(std::string* why) const;

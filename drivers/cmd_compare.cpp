@@ -16,9 +16,29 @@ namespace {
 
 struct CompareOptions {
   std::string first, second, column = "B_l_z";
-  double rest_time_s = 1.0;
+  double rest_time_s = 1.0;      // the paper's at-rest time
+  bool rest_time_given = false;  // --rest-time typed (else the default)
   double time_offset_s = 0.0;
 };
+
+std::string span_text(const io::Curve& c) {
+  return "[" + number_text(c.t.front()) + ", " + number_text(c.t.back()) + "] s";
+}
+
+// The at-rest values z_r are read at the rest time; outside a curve's span
+// its value at the nearer end stands in. A typed rest time that neither curve
+// covers is refused; otherwise a rest time outside a curve is a warning.
+void check_rest_time(double rest_time_s, bool given, const io::Curve& a, const io::Curve& b) {
+  const auto covers = [&](const io::Curve& c) { return rest_time_s >= c.t.front() && rest_time_s <= c.t.back(); };
+  if (covers(a) && covers(b)) return;
+  std::string outside;
+  if (!covers(a)) outside = "curve A " + span_text(a);
+  if (!covers(b)) outside += (outside.empty() ? "" : " and ") + ("curve B " + span_text(b) + " (on A's clock)");
+  const std::string where =
+      (given ? "" : "the default ") + ("--rest-time " + number_text(rest_time_s) + " s lies outside " + outside);
+  if (given && !covers(a) && !covers(b)) throw std::invalid_argument(where + ": give a rest time within one of them");
+  std::cerr << "rover compare: warning: " << where << "; its value at the nearer end stands in for z_r\n";
+}
 
 int run_compare(const CompareOptions& o) {
   FlagChecks checks;
@@ -28,6 +48,7 @@ int run_compare(const CompareOptions& o) {
   const io::Curve a = io::read_curve(o.first, o.column);
   io::Curve b = io::read_curve(o.second, o.column);
   for (double& t : b.t) t -= o.time_offset_s;  // B's clock -> A's clock
+  check_rest_time(o.rest_time_s, o.rest_time_given, a, b);
   io::Json out;
   out["column"] = o.column;
   out["rms_m"] = rms_difference(a.t, a.y, b.t, b.y);
@@ -57,15 +78,23 @@ const RegisterCommand compare_command{
           "and the compared column (or 'z', as in measured drop data 't,z'). B is the reference:\n"
           "B is interpolated linearly onto A's sample times over the common interval.\n\n"
           "Example:\n"
-          "  rover compare results/drop_horizontal.h5 configs/data/drop_horizontal_synthetic.csv --time-offset 0.05");
+          "  rover compare results/drop_horizontal.h5 configs/data/drop_horizontal_synthetic.csv \\\n"
+          "      --time-offset 0.05 --rest-time 0.9");
       app.add_option("A", o->first, "Curve to judge (.h5 or .csv)")->required()->check(CLI::ExistingFile);
       app.add_option("B", o->second, "Reference curve (.h5 or .csv)")->required()->check(CLI::ExistingFile);
       app.add_option("--column", o->column, "Dataset/column to compare")->capture_default_str();
-      app.add_option("--rest-time", o->rest_time_s, "Time of the at-rest value z_r [s]")->capture_default_str();
+      CLI::Option* rest_time =
+          app.add_option("--rest-time", o->rest_time_s,
+                         "Time of the at-rest value z_r [s]: refused where neither curve reaches, a warning "
+                         "where one does not")
+              ->capture_default_str();
       app.add_option("--time-offset", o->time_offset_s,
                      "Time of A's t = 0 on B's clock [s] (e.g. the release time in measured data)")
           ->capture_default_str();
-      return [o] { return run_compare(*o); };
+      return [o, rest_time] {
+        o->rest_time_given = rest_time->count() > 0;
+        return run_compare(*o);
+      };
     }};
 
 }  // namespace

@@ -290,9 +290,13 @@ IntegratorSettings parse_integrator_settings(const JsonReader& r, IntegratorSett
   if (r.has("fixed_step")) s.fixed_step_s = r.positive("fixed_step");
   r.finish();
   if (std::string why; !s.IsValid(&why)) {
-    const char* key = s.method == IntegratorMethod::kRungeKutta4 ? "fixed_step"
-                      : !(s.min_step_s <= s.max_step_s)        ? "min_step"
-                                                                : "initial_step";
+    const bool rtol_out = !(s.relative_tolerance >= IntegratorSettings::kMinRelativeTolerance &&
+                            s.relative_tolerance <= IntegratorSettings::kMaxRelativeTolerance);
+    const char* key = s.method == IntegratorMethod::kRungeKutta4                     ? "fixed_step"
+                      : rtol_out                                                     ? "rtol"
+                      : !(s.absolute_tolerance <= IntegratorSettings::kMaxAbsoluteTolerance) ? "atol"
+                      : !(s.min_step_s <= s.max_step_s)                              ? "min_step"
+                                                                                     : "initial_step";
     r.fail(key, why);
   }
   // A fixed step below the adaptive methods' floor is a typo (1e-300), and its

@@ -36,7 +36,7 @@ step "coarse (f, c_q) response surface on $ranks ranks (Fig. 13a-c)"
 "${mpi[@]}" "${rover[@]}" surface --study configs/studies/f_cq_surface_coarse.json --out results/f_cq_surface_coarse.h5
 step "calibration of c_q on the synthetic drop curve"
 "${mpi[@]}" "${rover[@]}" calibrate --study configs/studies/calibration.json --out results/calibration.h5
-"${rover[@]}" compare results/drop_horizontal.h5 configs/data/drop_horizontal_synthetic.csv --time-offset 0.05 > results/compare_drop_vs_synthetic.json
+"${rover[@]}" compare results/drop_horizontal.h5 configs/data/drop_horizontal_synthetic.csv --time-offset 0.05 --rest-time 0.9 > results/compare_drop_vs_synthetic.json
 step "Sobol' indices of the Ishigami function (verification against the exact indices)"
 "${rover[@]}" sensitivity --study configs/studies/sobol_ishigami.json --out results/sobol_ishigami.h5
 step "Sobol' indices of the drop, N = $sobol_samples base samples on $ranks ranks"

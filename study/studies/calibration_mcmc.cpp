@@ -458,7 +458,8 @@ std::vector<PredictiveBand> predictive_bands(const CalibrationStudy& s, const Pr
   boost::random::normal_distribution<double> gauss;
   std::size_t first = 0;
   for (std::size_t c = 0; c < s.datasets.size(); ++c) {
-    PredictiveBand band{.t = s.datasets[c].t};
+    PredictiveBand band;
+    band.t = s.datasets[c].t;
     for (std::size_t i = first; i < first + s.datasets[c].t.size() && !runs.model.empty(); ++i) {
       std::vector<double> at, noisy;
       for (std::size_t d = 0; d < runs.model.size(); ++d) {

@@ -112,7 +112,7 @@ MonteCarloResult run_montecarlo(const MonteCarloStudy& study, const StudyRuntime
   if (world_rank() != 0) return {};
   MonteCarloResult result = analysis.finish();
   for (std::size_t q = 0; q < result.summaries.size(); ++q)
-    if (const std::string w = unsettled_warning(spec, q, result.qoi[q]); !w.empty()) {
+    if (const std::string w = qoi_values_warning(spec, q, result.qoi[q]); !w.empty()) {
       std::string& note = result.summaries[q].note;
       note = "warning: " + w + (note.empty() ? "" : "\n    " + note);
     }

@@ -276,7 +276,7 @@ SensitivityResult analyse_sensitivity(const SensitivityStudy& study, const Desig
   }
   out.failure_report = failure_report(study.spec, x, out.status);
   for (std::size_t q = 0; q < out.qoi.size(); ++q)
-    if (std::string w = unsettled_warning(study.spec, q, out.qoi[q]); !w.empty()) out.warnings.push_back(std::move(w));
+    if (std::string w = qoi_values_warning(study.spec, q, out.qoi[q]); !w.empty()) out.warnings.push_back(std::move(w));
 
   // Whole groups / trajectories fail together; more than the stated fraction stops the study.
   const int per_unit = study.method == SensitivityMethod::kSobol  ? study.layout.runs_per_group()

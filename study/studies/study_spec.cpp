@@ -500,10 +500,24 @@ std::vector<std::string> input_labels(const StudySpec& spec) {
   return labels;
 }
 
-std::string unsettled_warning(const StudySpec& spec, std::size_t q, const std::vector<double>& values) {
-  if (!spec.rover || q >= spec.rover->qois().size()) return "";
-  const QoiSpec& qoi = spec.rover->qois()[q];
-  if (qoi.kind != QoiKind::kSettlingTime) return "";
+namespace {
+
+std::string reference_missed_warning(const QoiSpec& qoi, const std::vector<double>& values) {
+  const auto [low, high] = std::minmax_element(qoi.reference->value.begin(), qoi.reference->value.end());
+  const double span = *high - *low;
+  long long finite = 0;
+  for (const double v : values) {
+    if (!std::isfinite(v)) continue;
+    ++finite;
+    if (!(v > span)) return "";
+  }
+  if (finite == 0) return "";
+  return qoi.name + ": every run misses the reference " + qoi.reference->path + " by more than the " +
+         number_text(span) + " " + qoi_unit(qoi) + " its values span: are they in SI units (metres, not millimetres), and of the " +
+         "channel named?";
+}
+
+std::string unsettled_warning(const StudySpec& spec, const QoiSpec& qoi, const std::vector<double>& values) {
   const double end_s = spec.rover->nominal().scenario.duration_s;
   long long finite = 0, at_end = 0;
   for (const double v : values) {
@@ -516,6 +530,17 @@ std::string unsettled_warning(const StudySpec& spec, std::size_t q, const std::v
          " runs had not settled within the run's " + number_text(end_s) + " s (B_l z still outside the " +
          number_text(qoi.settling_band) + " m band at the end): their value is the run's end, not a settling time; "
          "lengthen \"duration\" or widen \"band\"";
+}
+
+}  // namespace
+
+std::string qoi_values_warning(const StudySpec& spec, std::size_t q, const std::vector<double>& values) {
+  if (!spec.rover || q >= spec.rover->qois().size()) return "";
+  const QoiSpec& qoi = spec.rover->qois()[q];
+  if (qoi.kind == QoiKind::kSettlingTime) return unsettled_warning(spec, qoi, values);
+  if (qoi.kind == QoiKind::kRmsVs && qoi.reference && !qoi.reference->value.empty())
+    return reference_missed_warning(qoi, values);
+  return "";
 }
 
 }  // namespace rover::study

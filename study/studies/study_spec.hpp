@@ -79,11 +79,15 @@ DesignMatrix study_design(const StudySpec& spec);
 // Labels of the inputs, in order (for /inputs/names and CSV headers).
 std::vector<std::string> input_labels(const StudySpec& spec);
 
-// A warning for QoI `q` (the study's order) when it is a settling_time and
-// some runs (`values`, NaN for a failed one) had not settled: B_l z was still
-// outside its band at the end, so the value is the run's end, not a settling
-// time. Empty otherwise (and for an analytic model).
-std::string unsettled_warning(const StudySpec& spec, std::size_t q, const std::vector<double>& values);
+// A warning for QoI `q` (the study's order) whose values over the runs
+// (`values`, NaN for a failed one) do not mean what their name says:
+//  * a settling_time where some runs had not settled (B_l z still outside
+//    its band at the end): the value is the run's end, not a settling time;
+//  * an rms_vs where every run misses the reference by more than the span of
+//    its heights: the run never comes near it (heights not in metres, another
+//    channel).
+// Empty otherwise (and for an analytic model).
+std::string qoi_values_warning(const StudySpec& spec, std::size_t q, const std::vector<double>& values);
 
 // The text of a file ("" if unreadable), for fingerprints and provenance.
 std::string file_text(const std::string& path);

@@ -137,9 +137,9 @@ std::vector<std::string> study_warnings(const SurrogateStudy& study, const Surro
   std::vector<std::string> w;
   for (Eigen::Index q = 0; q < r.training.y.cols(); ++q) {
     const Eigen::VectorXd column = r.training.y.col(q);
-    const std::string unsettled = unsettled_warning(study.spec, static_cast<std::size_t>(q),
+    const std::string values_warning = qoi_values_warning(study.spec, static_cast<std::size_t>(q),
                                                     std::vector<double>(column.data(), column.data() + column.size()));
-    if (!unsettled.empty()) w.push_back(unsettled);
+    if (!values_warning.empty()) w.push_back(values_warning);
   }
   for (const PceChannelResult& c : r.channels) {
     if (!c.defined) w.push_back(c.name + ": indices along time undefined: " + c.undefined_reason);

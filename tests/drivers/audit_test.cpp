@@ -1890,5 +1890,31 @@ TEST_F(Audit, ThirdAuditInterruptedProfiles) {
   EXPECT_FALSE(fs::exists(out)) << output;
 }
 
+// Numbers that are finite but say nothing: tolerances that allow any answer,
+// a rest time beyond the curves, a reference in millimetres.
+TEST_F(Audit, MeaninglessSettingsAreRefusedOrNamed) {
+  std::vector<Case> cases;
+  const std::string loose = w().scenario([](Json& j) { j["integrator"] = {{"method", "rosenbrock"}, {"rtol", 1.0}}; });
+  cases.push_back({"an integrator rtol of 1", "simulate --no-plot --scenario " + loose + " --out " + w().out(),
+                   Want::kError, {"rtol", "[1e-14, 0.1]", "got 1"}});
+  const std::string wide = w().scenario([](Json& j) { j["integrator"] = {{"method", "dopri5"}, {"atol", 0.5}}; });
+  cases.push_back({"an integrator atol of 0.5 m", "simulate --no-plot --scenario " + wide + " --out " + w().out(),
+                   Want::kError, {"atol", "at most 0.01", "got 0.5"}});
+  const std::string data = source_path("configs/data/drop_horizontal_synthetic.csv");
+  cases.push_back({"compare: a rest time beyond both curves", "compare " + data + " " + data + " --rest-time 50",
+                   Want::kError, {"--rest-time 50 s", "curve A [", "curve B [", "within one of them"}});
+  cases.push_back({"compare: a rest time beyond one curve",
+                   "compare " + data + " " + data + " --time-offset 0.5 --rest-time 0.8", Want::kRuns,
+                   {"warning: --rest-time 0.8 s lies outside curve B [-0.5", "nearer end"}});
+  std::string millimetres = "t,z\n";
+  for (int i = 0; i <= 10; ++i) millimetres += std::to_string(0.005 * i) + "," + std::to_string(281.0 - i) + "\n";
+  const std::string reference = w().text_file("reference_mm", millimetres, "csv");
+  cases.push_back({"montecarlo: rms_vs a reference in millimetres", study("montecarlo", w().montecarlo([&](Json& j) {
+                     j["qoi"] = {{{"name", "rms_vs"}, {"reference", reference}}};
+                   })),
+                   Want::kRuns, {"every run misses the reference", "not millimetres"}});
+  run_table(w().dir(), cases);
+}
+
 }  // namespace
 }  // namespace rover

@@ -106,7 +106,7 @@ TEST_F(CmdSimulate, CompareWithItselfGivesZero) {
     for (std::size_t i = 0; i < t.size(); ++i) s << t[i] << "," << g[i] + 0.001 << "\n";
   }
   std::string out;
-  ASSERT_EQ(run_command(rover_binary() + " compare " + h5 + " " + shifted + " --column G_z", &out), 0) << out;
+  ASSERT_EQ(run_command(rover_binary() + " compare " + h5 + " " + shifted + " --column G_z --rest-time 0.1", &out), 0) << out;
   EXPECT_NEAR(json::parse(out).at("rms_m").get<double>(), 0.001, 1e-12);
 }
 
