@@ -92,7 +92,8 @@ const RegisterCommand surrogate_command{
       app.add_option("--csv", o->csv_path, "With --predict: CSV of the predictions");
       add_study_flags(app, o->run);
       return [o, &app] { return run_surrogate_command(app, *o); };
-    }};
+    },
+    Processes::kMany};
 
 }  // namespace
 }  // namespace rover::cli
