@@ -125,8 +125,8 @@ int run_simulate(const SimulateOptions& o) {
               << friction.mu_static << " within " << 100 * kFrictionMaxPeakError
               << " %); check `rover friction` for these mu_s, v_s, mu_k, v_k (recorded as "
                  "friction_fit_acceptable = 0 in the file)\n";
-  if (const auto dir = std::filesystem::path(out).parent_path(); !dir.empty())
-    std::filesystem::create_directories(dir);
+  io::create_parent_directories(out);  // the run begins: its folders are made
+  if (!o.csv.empty()) io::create_parent_directories(o.csv);
 
   std::cerr << "simulate: " << setup.scenario.name << ", " << setup.scenario.duration_s << " s, "
             << integrator_name(setup.scenario.integrator.method) << ", f = " << inputs.sharpness_f

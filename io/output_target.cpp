@@ -126,7 +126,6 @@ void create_parent_directories(const std::string& output) {
 }
 
 void create_temporary(const std::string& temporary, const std::string& output) {
-  create_parent_directories(output);
   std::error_code error;
   const fs::file_status there = fs::symlink_status(temporary, error);
   if (fs::exists(there) && !fs::is_directory(there)) fs::remove(temporary, error);  // a link itself, not its target

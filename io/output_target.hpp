@@ -51,13 +51,13 @@ OutputMode require_output(const std::string& path, OutputFormat format);
 // write in. Makes nothing (a refused command or a dry run leaves no folder).
 std::string parent_directory_refusal(const std::string& output);
 
-// Makes the missing directories above `output` (the run has begun); throws
+// Makes the missing directories above `output` (a command calls it when its
+// run begins; the writers themselves never make a directory); throws
 // std::runtime_error naming `output` and the directory when it cannot.
 void create_parent_directories(const std::string& output);
 
 // Makes `temporary` (a writer's "<output>.partial") a new, empty regular
-// file of this process before the writer opens it, in a directory made if
-// missing (create_parent_directories): whatever stands there (a
+// file of this process before the writer opens it: whatever stands there (a
 // crashed run's leftover, a symbolic link) is removed, never followed or
 // written through, and the file is created exclusively (O_EXCL). Throws
 // std::runtime_error naming `output` and `temporary` when it cannot.

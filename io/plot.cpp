@@ -276,11 +276,6 @@ void render(const std::string& png_path,
             const std::function<std::string(const std::string&)>& script_for) {
   if (const OutputTarget target = inspect_output(png_path, OutputFormat::kSeekable); !target.refusal.empty())
     throw PlotError("plot: " + png_path + ": " + target.refusal);
-  try {
-    create_parent_directories(png_path);
-  } catch (const std::runtime_error& e) {
-    throw PlotError(std::string("plot: ") + e.what());
-  }
   TempFile partial(png_path + ".partial-", "plot file");
   const TempFile script((fs::temp_directory_path() / "rover-plot-").string(), "gnuplot script");
   {

@@ -1643,6 +1643,11 @@ TEST_F(Audit, FoldersMadeOnlyByARun) {
                    Want::kRuns, {}, [=] {
                      return fs::is_regular_file(dir + "/made_synth/y/q.csv") ? std::string() : std::string("no curve");
                    }});
+  cases.push_back({"montecarlo into new folders", "montecarlo --no-plot --study " + w().montecarlo([](Json&) {}) +
+                                                     " --out " + dir + "/made_mc/z/m.h5",
+                   Want::kRunsOrFails, {}, [=] {
+                     return fs::is_regular_file(dir + "/made_mc/z/m.h5") ? std::string() : std::string("no result");
+                   }});
   cases.push_back({"terrain into new folders", "terrain obstacle --out " + dir + "/made_terrain/t.json --png " + dir +
                                                    "/made_png/t.png",
                    Want::kRuns, {}, [=] {
