@@ -146,7 +146,8 @@ const RegisterCommand calibrate_command{
           ->check(CLI::ExistingFile);
       add_study_flags(app, o->run);
       return [o, &app] { return run_calibrate_command(app, *o); };
-    }};
+    },
+    Processes::kMany};
 
 }  // namespace
 }  // namespace rover::cli

@@ -92,7 +92,8 @@ const RegisterCommand evaluate_command{
       add_plots_flags(app, o->run);
       add_progress_flags(app, o->run);
       return [o, &app] { return run_study_command(app, o->run, "", [&] { return load(*o); }); };
-    }};
+    },
+    Processes::kMany};
 
 }  // namespace
 }  // namespace rover::cli

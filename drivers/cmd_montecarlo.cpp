@@ -59,7 +59,8 @@ const RegisterCommand montecarlo_command{
       app.add_option("--seed", o->seed, "Override the random seed, an integer from 0 to 2^64 - 1");
       add_study_flags(app, o->run);
       return [o, &app] { return run_study_command(app, o->run, o->study_path, [&] { return load(*o); }); };
-    }};
+    },
+    Processes::kMany};
 
 }  // namespace
 }  // namespace rover::cli

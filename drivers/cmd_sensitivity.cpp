@@ -61,7 +61,8 @@ const RegisterCommand sensitivity_command{
           ->check(CLI::Range(kMinSensitivitySamples, kMaxSensitivitySamples));
       add_study_flags(app, o->run);
       return [o, &app] { return run_study_command(app, o->run, o->study_path, [&] { return load(*o); }); };
-    }};
+    },
+    Processes::kMany};
 
 }  // namespace
 }  // namespace rover::cli

@@ -45,15 +45,46 @@ void warn_if_chassis_below_ground(const Trajectory& tr, const Terrain& terrain) 
                "landing, a stiffer contact k_g or a smaller drop height)\n";
 }
 
+// The stem of the plots beside the HDF5 output: results/a.h5 -> results/a.
+std::string plot_stem(const std::string& out) {
+  return out.substr(0, out.size() - std::filesystem::path(out).extension().string().size());
+}
+
+// The HDF5 output `out` (named by `out_flag`: "--out" or "--out (default)")
+// and the plots beside it can be written.
+void check_output_targets(const SimulateOptions& o, const std::string& out_flag, const std::string& out,
+                          FlagChecks& checks) {
+  checks.output_file(out_flag, out, /*regular_only=*/true);
+  if (!o.no_plot) checks.plots_beside(out_flag, out);
+}
+
+// `out` is an .h5 name, and a different file from --csv and from each plot
+// (<stem>.png, <stem>_attitude.png), so that no output replaces another.
+// Checked after check_outputs_over_inputs: an input the output would destroy
+// is named first.
+void check_output_names(const SimulateOptions& o, const std::string& out_flag, const std::string& out) {
+  FlagChecks checks;
+  if (std::filesystem::path(out).extension() != ".h5") {
+    checks.add(out_flag + " '" + out + "' must end in .h5 (an HDF5 file)");
+    checks.throw_if_any();  // its plot has its name then: said once
+  }
+  std::vector<FlagChecks::NamedOutput> outputs{{out_flag, out}, {"--csv", o.csv}};
+  if (!o.no_plot) {
+    const std::string plot_of = "the plot of " + out_flag + " '" + out + "',";
+    outputs.push_back({plot_of, plot_stem(out) + ".png"});
+    outputs.push_back({plot_of, plot_stem(out) + "_attitude.png"});
+  }
+  checks.distinct_outputs(outputs);
+  checks.throw_if_any();
+}
+
 // Checks every flag before the scenario is loaded.
 void check_flags(const SimulateOptions& o) {
   FlagChecks checks;
   check_overrides(o.overrides, checks);
   check_integrator_flag(checks, o.integrator);
-  checks.output_file("--out", o.out, /*regular_only=*/true);
-  if (!o.no_plot) checks.plots_beside("--out", o.out);
   checks.output_file("--csv", o.csv);
-  checks.distinct_files("--csv", o.csv, "--out", o.out);
+  if (!o.out.empty()) check_output_targets(o, "--out", o.out, checks);
   checks.throw_if_any();
 }
 
@@ -81,11 +112,12 @@ int run_simulate(const SimulateOptions& o) {
       o.out.empty() ? "results/" + setup.scenario.name + ".h5" : o.out;
   if (o.out.empty()) {
     FlagChecks default_out;
-    default_out.output_file("--out (default)", out, /*regular_only=*/true);
-    if (!o.no_plot) default_out.plots_beside("--out (default)", out);
+    check_output_targets(o, "--out (default)", out, default_out);
     default_out.throw_if_any();
   }
-  check_outputs_over_inputs(o, setup, o.out.empty() ? "--out (default)" : "--out", out);
+  const std::string out_flag = o.out.empty() ? "--out (default)" : "--out";
+  check_outputs_over_inputs(o, setup, out_flag, out);
+  check_output_names(o, out_flag, out);
   const FrictionParameters& friction = setup.model.parameters.friction;
   if (const FrictionFitQuality fit = friction_fit_quality(friction.gammas, friction); !fit.acceptable)
     std::cerr << "simulate: warning: the friction gammas miss the fit quality bar (RMS " << fit.rms
@@ -93,8 +125,8 @@ int run_simulate(const SimulateOptions& o) {
               << friction.mu_static << " within " << 100 * kFrictionMaxPeakError
               << " %); check `rover friction` for these mu_s, v_s, mu_k, v_k (recorded as "
                  "friction_fit_acceptable = 0 in the file)\n";
-  if (const auto dir = std::filesystem::path(out).parent_path(); !dir.empty())
-    std::filesystem::create_directories(dir);
+  io::create_parent_directories(out);  // the run begins: its folders are made
+  if (!o.csv.empty()) io::create_parent_directories(o.csv);
 
   std::cerr << "simulate: " << setup.scenario.name << ", " << setup.scenario.duration_s << " s, "
             << integrator_name(setup.scenario.integrator.method) << ", f = " << inputs.sharpness_f
@@ -114,7 +146,7 @@ int run_simulate(const SimulateOptions& o) {
     std::cerr << "simulate: wrote " << o.csv << "\n";
   }
   if (!o.no_plot) {
-    const std::string stem = out.substr(0, out.size() - std::filesystem::path(out).extension().string().size());
+    const std::string stem = plot_stem(out);
     // A run where the rover travels (obstacle runs, turns) also gets B_r, G
     // and the attitude; a drop test only B_l z.
     const auto last = tr.q.rows() - 1;
@@ -145,7 +177,7 @@ const RegisterCommand simulate_command{
           "  rover simulate --scenario configs/scenarios/obstacle_v1.json --integrator rk4");
       app.add_option("--scenario", o->scenario, "Scenario file (configs/scenarios/*.json)")
           ->required()->check(CLI::ExistingFile);
-      app.add_option("--out", o->out, "HDF5 output (default results/<scenario>.h5)");
+      app.add_option("--out", o->out, "HDF5 output, ending in .h5 (default results/<scenario>.h5)");
       app.add_option("--csv", o->csv, "Also write the same columns as CSV to this file");
       app.add_flag("--no-plot", o->no_plot, "Do not write PNG plots");
       app.add_option("--integrator", o->integrator, "Override the scenario's integrator, with that method's default tolerances: " +

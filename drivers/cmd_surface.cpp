@@ -47,7 +47,8 @@ const RegisterCommand surface_command{
                          integrator_choices_text());
       add_study_flags(app, o->run);
       return [o, &app] { return run_study_command(app, o->run, o->study_path, [&] { return load(*o); }); };
-    }};
+    },
+    Processes::kMany};
 
 }  // namespace
 }  // namespace rover::cli

@@ -45,6 +45,7 @@ int predict(const SurrogateOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   const study::PredictionTable table = study::predict_surrogate_set(set, x);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  io::create_parent_directories(o.csv_path);
   io::write_csv(o.csv_path, table.header, table.columns);
   std::cerr << "surrogate: " << x.rows() << " points of " << set.models.size() << " " << study::surrogate_kind_name(set.kind)
             << " model(s) in " << 1e6 * seconds / static_cast<double>(x.rows()) << " us per point; wrote "
@@ -92,7 +93,8 @@ const RegisterCommand surrogate_command{
       app.add_option("--csv", o->csv_path, "With --predict: CSV of the predictions");
       add_study_flags(app, o->run);
       return [o, &app] { return run_surrogate_command(app, *o); };
-    }};
+    },
+    Processes::kMany};
 
 }  // namespace
 }  // namespace rover::cli

@@ -133,6 +133,7 @@ int run_synthesize(const SynthesizeOptions& o) {
   else
     comment << " (rtol " << integrator.relative_tolerance << ", atol " << integrator.absolute_tolerance << ")";
   comment << ".\nColumns: t [s], z [m] = " << channel.name << ", the " << channel.description << ".";
+  io::create_parent_directories(o.out);
   io::write_csv(o.out, {"t", "z"}, {t, z}, comment.str());
   std::cerr << "synthesize: wrote " << t.size() << " points of " << channel.name << " to " << o.out << "\n";
   return 0;

@@ -78,6 +78,8 @@ int run_obstacle(const ObstacleOptions& o) {
         {"y_max_m", obstacle.y_max_m},
         {"spacing_m", o.spacing_m},
         {"margin_m", o.margin_m}}}};
+  io::create_parent_directories(o.out);
+  if (!o.png.empty()) io::create_parent_directories(o.png);
   io::save_terrain_grid(grid, o.out, provenance);
 
   std::cout << "wrote " << o.out << ": " << grid.nx << " x " << grid.ny << " grid, spacing "

@@ -17,18 +17,26 @@ namespace rover::cli {
 // returns the process exit code.
 using CommandSetup = std::function<std::function<int()>(CLI::App& app)>;
 
+// Whether a subcommand shares its work among the ranks of mpirun (the
+// studies) or runs on one process: under mpirun with more than one process a
+// one-process subcommand is refused before it reads or writes anything
+// (docs/cluster.md), so that no output is written twice.
+enum class Processes { kOne, kMany };
+
 struct CommandEntry {
   int order;
   std::string name;
   std::string description;
   CommandSetup setup;
+  Processes processes = Processes::kOne;
 };
 
 std::vector<CommandEntry>& command_registry();
 
 struct RegisterCommand {
-  RegisterCommand(int order, std::string name, std::string description, CommandSetup setup) {
-    command_registry().push_back({order, std::move(name), std::move(description), std::move(setup)});
+  RegisterCommand(int order, std::string name, std::string description, CommandSetup setup,
+                  Processes processes = Processes::kOne) {
+    command_registry().push_back({order, std::move(name), std::move(description), std::move(setup), processes});
   }
 };
 

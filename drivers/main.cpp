@@ -80,13 +80,22 @@ void reject_empty_values(const CLI::App& app) {
   checks.throw_if_any();
 }
 
+// The number of processes the launcher started with this one (mpirun or
+// srun set it for each process: Open MPI, MPICH, PMIx), or 1 when run alone.
+// SLURM_NTASKS is not asked: a batch script running rover directly has it too.
+int launcher_size() {
+  int size = 1;
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE"})
+    if (const char* value = std::getenv(name); value != nullptr) size = std::max(size, std::atoi(value));
+  return size;
+}
+
 // This process's rank under mpirun (Open MPI, PMIx and MPICH name it in the
 // environment), or 0 when run alone. A rank variable without a job size above
 // 1 beside it (one set by hand, say) is no job: the messages stay printed.
 int launcher_rank() {
-  bool in_a_job = false;
-  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE", "SLURM_NTASKS"})
-    if (const char* value = std::getenv(name); value != nullptr && std::atoi(value) > 1) in_a_job = true;
+  bool in_a_job = launcher_size() > 1;
+  if (const char* value = std::getenv("SLURM_NTASKS"); value != nullptr && std::atoi(value) > 1) in_a_job = true;
   if (!in_a_job) return 0;
   for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"})
     if (const char* value = std::getenv(name); value != nullptr && *value != '\0') return std::atoi(value);
@@ -129,9 +138,14 @@ int main(int argc, char** argv) {
   std::sort(registry.begin(), registry.end(),
             [](const CommandEntry& a, const CommandEntry& b) { return a.order < b.order; });
   std::map<CLI::App*, std::function<int()>> runners;
+  std::map<CLI::App*, Processes> processes;
+  std::string shared_among_processes;  // "montecarlo, sensitivity, ..."
   for (auto& entry : registry) {
     CLI::App* sub = app.add_subcommand(entry.name, entry.description);
     runners[sub] = entry.setup(*sub);
+    processes[sub] = entry.processes;
+    if (entry.processes == Processes::kMany)
+      shared_among_processes += (shared_among_processes.empty() ? "" : ", ") + entry.name;
   }
   if (argc > 1 && argv[1][0] != '-' &&
       std::none_of(registry.begin(), registry.end(),
@@ -162,6 +176,12 @@ int main(int argc, char** argv) {
     if (!sub->parsed()) continue;
     const std::string prefix = "rover " + sub->get_name() + ": error: ";
     int status = 1;
+    if (const int size = launcher_size(); size > 1 && processes[sub] == Processes::kOne) {
+      report_input_problem({prefix + "runs on one process, but mpirun started " + std::to_string(size) +
+                            " (every one would write the same outputs): run it without mpirun; only " +
+                            shared_among_processes + " share their runs among processes"});
+      return 1;
+    }
     try {
       reject_empty_values(*sub);
       status = run();

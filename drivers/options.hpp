@@ -74,7 +74,7 @@ class FlagChecks {
   // An output file: nothing, or a writable regular file, at `path` (for a
   // text output also a device, a pipe or standard output; never a link, a
   // read-only file or a directory: io/output_target.hpp), in a directory that
-  // exists or can be made (it is made now, as the write would). With
+  // exists or can be made (it is made only when the output is written). With
   // `regular_only`, a device or a pipe is refused too (HDF5 must seek).
   void output_file(const std::string& flag, const std::string& path, bool regular_only = false) {
     if (path.empty()) return;
@@ -82,13 +82,9 @@ class FlagChecks {
         io::inspect_output(path, regular_only ? io::OutputFormat::kSeekable : io::OutputFormat::kText);
     if (!target.refusal.empty()) {
       add(flag + " '" + path + "' " + target.refusal);
-    } else if (const std::filesystem::path dir = std::filesystem::path(path).parent_path();
-               target.mode == io::OutputMode::kReplace && !dir.empty()) {
-      std::error_code error;
-      std::filesystem::create_directories(dir, error);
-      if (error || !std::filesystem::is_directory(dir))
-        add(flag + " '" + path + "': cannot create the directory '" + dir.string() + "'" +
-            (error ? " (" + error.message() + ")" : std::string(" (a file of that name exists)")));
+    } else if (target.mode == io::OutputMode::kReplace) {
+      if (const std::string refusal = io::parent_directory_refusal(path); !refusal.empty())
+        add(flag + " '" + path + "': " + refusal);
     }
   }
 
@@ -111,19 +107,23 @@ class FlagChecks {
   // (a relative path, a symbolic or hard link).
   void distinct_files(const std::string& output_flag, const std::string& output, const std::string& input_flag,
                       const std::string& input) {
-    if (output.empty() || input.empty()) return;
-    namespace fs = std::filesystem;
-    std::error_code e1, e2, e3;
-    bool same = false;
-    if (fs::exists(output, e1) && fs::exists(input, e2)) {
-      same = fs::equivalent(output, input, e3) && !e3;  // also through links
-    } else {
-      const fs::path a = fs::weakly_canonical(output, e1), b = fs::weakly_canonical(input, e2);
-      same = !e1 && !e2 && a == b;  // neither written yet: the same name
-    }
-    if (same)
+    if (same_file(output, input))
       add(output_flag + " '" + output + "' is the same file as " + input_flag + " '" + input +
           "'; writing it would destroy it");
+  }
+
+  // The outputs of one command (each a flag, or a description such as "the
+  // plot of --out 'r.h5'", and its path; empty paths are skipped) must be
+  // pairwise different files, or one would replace the other.
+  struct NamedOutput {
+    std::string flag, path;
+  };
+  void distinct_outputs(const std::vector<NamedOutput>& outputs) {
+    for (std::size_t i = 0; i < outputs.size(); ++i)
+      for (std::size_t j = i + 1; j < outputs.size(); ++j)
+        if (same_file(outputs[i].path, outputs[j].path))
+          add(outputs[j].flag + " '" + outputs[j].path + "' is the same file as " + outputs[i].flag + " '" +
+              outputs[i].path + "'; one output would replace the other: give different names");
   }
 
   // A seed flag, read as the JSON configs read "seed".
@@ -145,6 +145,17 @@ class FlagChecks {
   }
 
  private:
+  // Whether two paths name the same file, however spelt (a relative path, a
+  // symbolic or hard link); two names not yet written compare as names.
+  static bool same_file(const std::string& a, const std::string& b) {
+    if (a.empty() || b.empty()) return false;
+    namespace fs = std::filesystem;
+    std::error_code e1, e2, e3;
+    if (fs::exists(a, e1) && fs::exists(b, e2)) return fs::equivalent(a, b, e3) && !e3;  // also through links
+    const fs::path ca = fs::weakly_canonical(a, e1), cb = fs::weakly_canonical(b, e2);
+    return !e1 && !e2 && ca == cb;
+  }
+
   std::vector<std::string> problems_;
 };
 

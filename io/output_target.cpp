@@ -94,6 +94,37 @@ OutputTarget inspect_output(const std::string& path, OutputFormat format) {
   return {};
 }
 
+std::string parent_directory_refusal(const std::string& output) {
+  std::error_code error;
+  fs::path dir = fs::path(output).parent_path();
+  if (dir.empty()) return "";
+  fs::path existing = dir;
+  while (!existing.empty() && !fs::exists(existing, error)) existing = existing.parent_path();
+  if (existing.empty()) existing = ".";
+  if (!fs::is_directory(existing, error))
+    return "cannot create the directory '" + dir.string() + "' ('" + existing.string() +
+           "' is a file, not a directory)";
+  if (existing == dir) return "";
+  // Whether the first missing directory can be made is found by making it
+  // and removing it again (permissions alone do not tell: root, /proc).
+  fs::path first = dir;
+  while (first.parent_path() != existing && !first.parent_path().empty()) first = first.parent_path();
+  if (::mkdir(first.c_str(), 0777) != 0)
+    return "cannot create the directory '" + dir.string() + "' (" + std::strerror(errno) + ")";
+  fs::remove(first, error);
+  return "";
+}
+
+void create_parent_directories(const std::string& output) {
+  const fs::path dir = fs::path(output).parent_path();
+  if (dir.empty()) return;
+  std::error_code error;
+  fs::create_directories(dir, error);
+  if (error || !fs::is_directory(dir, error))
+    throw std::runtime_error(output + ": cannot create the directory '" + dir.string() + "'" +
+                             (error ? " (" + error.message() + ")" : std::string()));
+}
+
 void create_temporary(const std::string& temporary, const std::string& output) {
   std::error_code error;
   const fs::file_status there = fs::symlink_status(temporary, error);

@@ -46,6 +46,16 @@ bool is_plain_file_name(const std::string& name);
 // inspect_output's mode; throws std::runtime_error "<path>: <refusal>" when refused.
 OutputMode require_output(const std::string& path, OutputFormat format);
 
+// Why the directory of `output` could not be made, or empty when it exists
+// or can be: its nearest existing ancestor is a directory this process may
+// write in. Makes nothing (a refused command or a dry run leaves no folder).
+std::string parent_directory_refusal(const std::string& output);
+
+// Makes the missing directories above `output` (a command calls it when its
+// run begins; the writers themselves never make a directory); throws
+// std::runtime_error naming `output` and the directory when it cannot.
+void create_parent_directories(const std::string& output);
+
 // Makes `temporary` (a writer's "<output>.partial") a new, empty regular
 // file of this process before the writer opens it: whatever stands there (a
 // crashed run's leftover, a symbolic link) is removed, never followed or

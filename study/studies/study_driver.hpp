@@ -36,6 +36,7 @@
 
 #include "io/hdf5_file.hpp"
 #include "io/input_files.hpp"
+#include "io/output_target.hpp"
 #include "study/runtime/study_runner.hpp"
 
 namespace rover::study {
@@ -164,6 +165,7 @@ int drive_study(const StudyProgram<Result>& study, const StudyRunOptions& option
     if (world_rank() == 0) driver_detail::report_dry_run(study.command, out);
     return 0;
   }
+  if (world_rank() == 0) io::create_parent_directories(out);  // not for a dry run or a refusal
   const bool csv = driver_detail::is_csv_path(out);
   std::unique_ptr<io::Hdf5Writer> h5;
   if (world_rank() == 0 && !csv) h5 = std::make_unique<io::Hdf5Writer>(out);

@@ -21,14 +21,12 @@ std::string checked_results_path(const std::string& name, const std::string& req
     throw std::invalid_argument("--out must end in .csv or .h5, got '" + path + "'");
   if (!csv_allowed && p.extension() != ".h5")
     throw std::invalid_argument("--out '" + path + "' must end in .h5 (an HDF5 file)");
-  if (const auto dir = p.parent_path(); !dir.empty()) {
-    std::error_code error;
-    std::filesystem::create_directories(dir, error);
-    if (error || !std::filesystem::is_directory(dir))
-      throw std::invalid_argument("cannot create the directory '" + dir.string() + "' for '" + path +
-                                  "': " + error.message());
-  }
-  // Can a file be created there? (Found now, not after the study ran.)
+  if (const std::string refusal = io::parent_directory_refusal(path); !refusal.empty())
+    throw std::invalid_argument("--out '" + path + "': " + refusal);
+  // Can a file be created there? (Found now, not after the study ran.) A
+  // directory still to be made is made, and probed, only when the run begins.
+  std::error_code error;
+  if (const auto dir = p.parent_path(); !dir.empty() && !std::filesystem::is_directory(dir, error)) return path;
   // One name per process: every rank checks the path at once.
   const std::string probe = path + ".probe-" + std::to_string(::getpid());
   try {

@@ -1562,6 +1562,106 @@ TEST_F(Audit, PlotPathsRefusedUpFront) {
   run_table(dir, cases);
 }
 
+// Class 1: the outputs of one simulate (--out, --csv, the plots beside --out)
+// are different files and --out is an HDF5 name, checked before the run.
+TEST_F(Audit, OutputsOfOneCommandAreDistinct) {
+  std::vector<Case> cases;
+  const std::string dir = w().dir();
+  const std::string sim = "simulate --scenario " + w().quick();
+  auto nothing_at = [](std::vector<std::string> paths) {
+    return [=] {
+      for (const std::string& path : paths)
+        if (fs::exists(path)) return path + " was written";
+      return std::string();
+    };
+  };
+  cases.push_back({"simulate --out a .png", sim + " --out " + dir + "/r.png", Want::kError,
+                   {"--out", dir + "/r.png", "must end in .h5"}, nothing_at({dir + "/r.png"})});
+  cases.push_back({"simulate --out a .csv", sim + " --no-plot --out " + dir + "/k.csv", Want::kError,
+                   {"--out", dir + "/k.csv", "must end in .h5"}, nothing_at({dir + "/k.csv"})});
+  cases.push_back({"simulate --csv is the plot", sim + " --out " + dir + "/s.h5 --csv " + dir + "/s.png",
+                   Want::kError, {"--csv", dir + "/s.png", "the plot of --out"},
+                   nothing_at({dir + "/s.h5", dir + "/s.png"})});
+  cases.push_back({"simulate --csv is the attitude plot",
+                   sim + " --out " + dir + "/a.h5 --csv " + dir + "/a_attitude.png", Want::kError,
+                   {"--csv", dir + "/a_attitude.png", "the plot of --out"},
+                   nothing_at({dir + "/a.h5", dir + "/a_attitude.png"})});
+  cases.push_back({"simulate --no-plot --csv beside", sim + " --no-plot --out " + dir + "/n.h5 --csv " + dir + "/n.png",
+                   Want::kRuns, {}});
+  run_table(dir, cases);
+}
+
+// Class 2: under mpirun with two processes (its variables set by hand here) a
+// one-process subcommand is refused before it writes anything, once (rank 0
+// speaks); the other ranks refuse quietly.
+TEST_F(Audit, OneProcessCommandsUnderMpirun) {
+  std::vector<Case> cases;
+  const std::string dir = w().dir();
+  const std::string rank0 = "OMPI_COMM_WORLD_SIZE=2 OMPI_COMM_WORLD_RANK=0";
+  const std::string rank1 = "OMPI_COMM_WORLD_SIZE=2 OMPI_COMM_WORLD_RANK=1";
+  auto nothing_at = [](const std::string& path) {
+    return [=] { return fs::exists(path) ? path + " was written" : std::string(); };
+  };
+  const std::string sim = "simulate --no-plot --scenario " + w().quick() + " --out " + dir + "/mpi.h5";
+  cases.push_back({"simulate, rank 0", sim, Want::kError, {"rover simulate: error", "one process", "mpirun started 2",
+                   "montecarlo"}, nothing_at(dir + "/mpi.h5"), rank0});
+  cases.push_back({"simulate, rank 1", sim, Want::kError, {}, nothing_at(dir + "/mpi.h5"), rank1,
+                   {"one process"}});
+  const std::string synth = "synthesize --scenario " + w().quick() + " --out " + dir + "/mpi.csv";
+  cases.push_back({"synthesize, rank 0", synth, Want::kError, {"rover synthesize: error", "one process"},
+                   nothing_at(dir + "/mpi.csv"), rank0});
+  cases.push_back({"terrain, rank 0", "terrain obstacle --out " + dir + "/mpi.json", Want::kError,
+                   {"rover terrain: error", "one process"}, nothing_at(dir + "/mpi.json"), rank0});
+  cases.push_back({"simulate, a job of one process", "simulate --no-plot --scenario " + w().quick() + " --out " + w().out(), Want::kRuns, {}, {}, "OMPI_COMM_WORLD_SIZE=1 OMPI_COMM_WORLD_RANK=0"});
+  run_table(dir, cases);
+}
+
+// Class 2: a refused command, or a dry run, makes no folder for --out; a run
+// makes the missing ones.
+TEST_F(Audit, FoldersMadeOnlyByARun) {
+  std::vector<Case> cases;
+  const std::string dir = w().dir();
+  auto no_folder = [](const std::string& path) {
+    return [=] { return fs::exists(path) ? path + " was made" : std::string(); };
+  };
+  cases.push_back({"montecarlo --dry-run", "montecarlo --dry-run --study " + w().montecarlo([](Json&) {}) +
+                                               " --out " + dir + "/dry/sub/m.h5",
+                   Want::kRuns, {"nothing was run or written"}, no_folder(dir + "/dry")});
+  cases.push_back({"simulate refused", "simulate --no-plot --scenario " + w().quick() + " --f -1 --out " + dir +
+                                           "/refused/x/q.h5",
+                   Want::kError, {"--f"}, no_folder(dir + "/refused")});
+  cases.push_back({"synthesize refused", "synthesize --scenario " + w().quick() + " --noise -1 --out " + dir +
+                                             "/refused_synth/x/q.csv",
+                   Want::kError, {"--noise"}, no_folder(dir + "/refused_synth")});
+  cases.push_back({"simulate into new folders", "simulate --no-plot --scenario " + w().quick() + " --out " + dir +
+                                                    "/made/y/q.h5",
+                   Want::kRuns, {}, [=] {
+                     return fs::is_regular_file(dir + "/made/y/q.h5") ? std::string() : std::string("no result");
+                   }});
+  cases.push_back({"synthesize into new folders", "synthesize --scenario " + w().quick() + " --out " + dir +
+                                                      "/made_synth/y/q.csv",
+                   Want::kRuns, {}, [=] {
+                     return fs::is_regular_file(dir + "/made_synth/y/q.csv") ? std::string() : std::string("no curve");
+                   }});
+  cases.push_back({"montecarlo into new folders", "montecarlo --no-plot --study " + w().montecarlo([](Json&) {}) +
+                                                     " --out " + dir + "/made_mc/z/m.h5",
+                   Want::kRunsOrFails, {}, [=] {
+                     return fs::is_regular_file(dir + "/made_mc/z/m.h5") ? std::string() : std::string("no result");
+                   }});
+  cases.push_back({"terrain into new folders", "terrain obstacle --out " + dir + "/made_terrain/t.json --png " + dir +
+                                                   "/made_png/t.png",
+                   Want::kRuns, {}, [=] {
+                     return fs::is_regular_file(dir + "/made_terrain/t.json") && fs::is_regular_file(dir + "/made_png/t.png")
+                                ? std::string()
+                                : std::string("no terrain or no plot");
+                   }});
+  const std::string blocker = write_file(dir + "/blocker", "a file\n");
+  cases.push_back({"folder under a file", "simulate --no-plot --scenario " + w().quick() + " --out " + blocker +
+                                              "/q.h5",
+                   Want::kError, {"--out", "cannot create the directory", "is a file"}});
+  run_table(dir, cases);
+}
+
 // Class 2: the temporary files written beside an output (<out>.partial, the
 // checkpoint's) are made anew, never written through a link standing there.
 TEST_F(Audit, TemporaryFilesNeverWrittenThroughLinks) {
