@@ -50,6 +50,52 @@ std::size_t data_point_count(double duration_s, double offset_s, double rate_hz)
   return n;
 }
 
+// Refuses a data clock that gives a curve rover compare and calibrate would
+// refuse: too many or too few points, or a release after the run's end.
+void check_data_clock(const SynthesizeOptions& o, double duration_s, const std::string& scenario_path) {
+  if (const std::string problem = io::recording_size_problem(
+          io::recorded_sample_count(duration_s, o.rate_hz), kBytesPerLine, kMaxCurveBytes);
+      !problem.empty())
+    throw CommandLineError({"--rate " + number_text(o.rate_hz) + " over the " +
+                            number_text(duration_s) + " s of " + scenario_path +
+                            ": " + problem + "; reduce --rate"});
+  if (const std::size_t points = data_point_count(duration_s, o.offset_s, o.rate_hz);
+      points < io::kMeasuredCurveMinRows)
+    throw CommandLineError({"--rate " + number_text(o.rate_hz) + " Hz and --offset " + number_text(o.offset_s) +
+                            " s over the " + number_text(duration_s) + " s of " + scenario_path +
+                            " give " + std::to_string(points) + " data point(s); a measured curve needs at least " +
+                            std::to_string(io::kMeasuredCurveMinRows) +
+                            " (rover compare and calibrate refuse fewer): raise --rate"});
+  // The release past the data's end: every point would be the rover hanging
+  // at rest, a curve with no drop in it.
+  if (o.offset_s > duration_s)
+    throw CommandLineError({"--offset " + number_text(o.offset_s) + " s: the data clock runs to the end of the " +
+                            number_text(duration_s) + " s of " + scenario_path +
+                            ", so a release after it leaves no data point after the release; give an offset "
+                            "of at most " + number_text(duration_s) + " s"});
+}
+
+// The CSV's header comment: what made the curve, so it is never taken for
+// measured data.
+std::string provenance_comment(const SynthesizeOptions& o, const std::string& scenario_path, const ModelInputs& in,
+                               const IntegratorSettings& integrator, const study::CalibrationChannel& channel,
+                               std::uint64_t seed) {
+  std::ostringstream comment;
+  comment << "SYNTHETIC measured drop curve, NOT experimental data.\n"
+          << "Made by `rover synthesize` from " << scenario_path << " at f = " << in.sharpness_f
+          << ", c_q = " << in.damping_c_q << ", M0 = [";
+  for (int j = 0; j < kNumSJoints; ++j) comment << (j ? ", " : "") << in.preload_Nm[j];
+  comment << "],\nGaussian noise sd " << o.noise_m << " m (seed " << seed << "), time offset "
+          << o.offset_s << " s (t_data = t_release + offset), " << o.rate_hz << " Hz,\n"
+          << "integrator " << integrator_name(integrator.method);
+  if (integrator.method == IntegratorMethod::kRungeKutta4)
+    comment << " (step " << integrator.fixed_step_s << " s)";
+  else
+    comment << " (rtol " << integrator.relative_tolerance << ", atol " << integrator.absolute_tolerance << ")";
+  comment << ".\nColumns: t [s], z [m] = " << channel.name << ", the " << channel.description << ".";
+  return comment.str();
+}
+
 int run_synthesize(const SynthesizeOptions& o) {
   FlagChecks checks;
   checks.output_file("--out", o.out);
@@ -77,26 +123,7 @@ int run_synthesize(const SynthesizeOptions& o) {
   // A different method comes with its own default tolerances, as in `rover simulate`.
   if (!o.integrator.empty())
     setup.scenario.integrator = default_integrator_settings(integrator_from_name(o.integrator));
-  if (const std::string problem = io::recording_size_problem(
-          io::recorded_sample_count(setup.scenario.duration_s, o.rate_hz), kBytesPerLine, kMaxCurveBytes);
-      !problem.empty())
-    throw CommandLineError({"--rate " + number_text(o.rate_hz) + " over the " +
-                            number_text(setup.scenario.duration_s) + " s of " + scenario_path +
-                            ": " + problem + "; reduce --rate"});
-  if (const std::size_t points = data_point_count(setup.scenario.duration_s, o.offset_s, o.rate_hz);
-      points < io::kMeasuredCurveMinRows)
-    throw CommandLineError({"--rate " + number_text(o.rate_hz) + " Hz and --offset " + number_text(o.offset_s) +
-                            " s over the " + number_text(setup.scenario.duration_s) + " s of " + scenario_path +
-                            " give " + std::to_string(points) + " data point(s); a measured curve needs at least " +
-                            std::to_string(io::kMeasuredCurveMinRows) +
-                            " (rover compare and calibrate refuse fewer): raise --rate"});
-  // The release past the data's end: every point would be the rover hanging
-  // at rest, a curve with no drop in it.
-  if (o.offset_s > setup.scenario.duration_s)
-    throw CommandLineError({"--offset " + number_text(o.offset_s) + " s: the data clock runs to the end of the " +
-                            number_text(setup.scenario.duration_s) + " s of " + scenario_path +
-                            ", so a release after it leaves no data point after the release; give an offset "
-                            "of at most " + number_text(setup.scenario.duration_s) + " s"});
+  check_data_clock(o, setup.scenario.duration_s, scenario_path);
   const ModelInputs in = apply_overrides(o.overrides, setup.inputs);
   const Trajectory tr = simulate(setup.model, setup.scenario, in);
   if (!tr.ok()) throw std::runtime_error("the simulation failed: " + tr.message);
@@ -119,22 +146,9 @@ int run_synthesize(const SynthesizeOptions& o) {
                               number_text(io::kMeasuredCurveMaxAbsHeight_m) +
                               " m that rover compare and calibrate accept; give a noise sd in metres, far below "
                               "that; nothing was written"});
-  std::ostringstream comment;
-  comment << "SYNTHETIC measured drop curve, NOT experimental data.\n"
-          << "Made by `rover synthesize` from " << scenario_path << " at f = " << in.sharpness_f
-          << ", c_q = " << in.damping_c_q << ", M0 = [";
-  for (int j = 0; j < kNumSJoints; ++j) comment << (j ? ", " : "") << in.preload_Nm[j];
-  const IntegratorSettings& integrator = setup.scenario.integrator;
-  comment << "],\nGaussian noise sd " << o.noise_m << " m (seed " << seed << "), time offset "
-          << o.offset_s << " s (t_data = t_release + offset), " << o.rate_hz << " Hz,\n"
-          << "integrator " << integrator_name(integrator.method);
-  if (integrator.method == IntegratorMethod::kRungeKutta4)
-    comment << " (step " << integrator.fixed_step_s << " s)";
-  else
-    comment << " (rtol " << integrator.relative_tolerance << ", atol " << integrator.absolute_tolerance << ")";
-  comment << ".\nColumns: t [s], z [m] = " << channel.name << ", the " << channel.description << ".";
+  const std::string comment = provenance_comment(o, scenario_path, in, setup.scenario.integrator, channel, seed);
   io::create_parent_directories(o.out);
-  io::write_csv(o.out, {"t", "z"}, {t, z}, comment.str());
+  io::write_csv(o.out, {"t", "z"}, {t, z}, comment);
   std::cerr << "synthesize: wrote " << t.size() << " points of " << channel.name << " to " << o.out << "\n";
   return 0;
 }

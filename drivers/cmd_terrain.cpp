@@ -26,6 +26,26 @@ struct ObstacleOptions {
   double ramp_angle_deg = 20.0;
 };
 
+// The grid's heights as a PNG; a plot that cannot be drawn is a warning.
+void plot_obstacle(const HeightGrid& grid, const std::string& png) {
+  io::SurfacePlot plot;
+  plot.title = "Trapezoid obstacle (docs/model.md §7): terrain height [m]";
+  plot.x_label = "x [m]";
+  plot.y_label = "y [m]";
+  plot.z_label = "height [m]";
+  for (int ix = 0; ix < grid.nx; ++ix) plot.x.push_back(grid.node_x(ix));
+  for (int iy = 0; iy < grid.ny; ++iy) plot.y.push_back(grid.node_y(iy));
+  plot.z = grid.heights_m;
+  plot.contour_levels = 4;
+  plot.height_px = 500;
+  try {
+    io::write_png(plot, png);
+    std::cout << "wrote " << png << "\n";
+  } catch (const io::PlotError& e) {
+    std::cerr << "rover terrain: warning: no plot: " << e.what() << "\n";
+  }
+}
+
 int run_obstacle(const ObstacleOptions& o) {
   // Each flag by name (core/obstacle checks the same ranges by field name).
   FlagChecks checks;
@@ -87,24 +107,7 @@ int run_obstacle(const ObstacleOptions& o) {
             << ", " << grid.node_x(grid.nx - 1) << "], y in [" << grid.node_y(0) << ", "
             << grid.node_y(grid.ny - 1) << "], ramp length " << obstacle.ramp_length_m()
             << " m, " << std::filesystem::file_size(o.out) << " bytes\n";
-  if (!o.png.empty()) {
-    io::SurfacePlot plot;
-    plot.title = "Trapezoid obstacle (docs/model.md §7): terrain height [m]";
-    plot.x_label = "x [m]";
-    plot.y_label = "y [m]";
-    plot.z_label = "height [m]";
-    for (int ix = 0; ix < grid.nx; ++ix) plot.x.push_back(grid.node_x(ix));
-    for (int iy = 0; iy < grid.ny; ++iy) plot.y.push_back(grid.node_y(iy));
-    plot.z = grid.heights_m;
-    plot.contour_levels = 4;
-    plot.height_px = 500;
-    try {
-      io::write_png(plot, o.png);
-      std::cout << "wrote " << o.png << "\n";
-    } catch (const io::PlotError& e) {
-      std::cerr << "rover terrain: warning: no plot: " << e.what() << "\n";
-    }
-  }
+  if (!o.png.empty()) plot_obstacle(grid, o.png);
   return 0;
 }
 

@@ -122,6 +122,55 @@ void report_error(const std::string& prefix, const std::string& what) {
   print_lines({prefix + (rank == 0 ? "" : "(rank " + std::to_string(rank) + ") ") + what});
 }
 
+// The subcommands typed, as far as CLI11 knows them: "simulate", "terrain
+// obstacle" (for the message of a refused command line).
+std::string typed_subcommands(const CLI::App& app, int argc, char** argv) {
+  std::string command;
+  const CLI::App* level = &app;
+  for (int i = 1; i < argc && level != nullptr; ++i) {
+    const CLI::App* next = nullptr;
+    for (const CLI::App* sub : level->get_subcommands([](const CLI::App*) { return true; }))
+      if (sub->get_name() == argv[i]) next = sub;
+    if (next != nullptr) command += (command.empty() ? "" : " ") + next->get_name();
+    level = next;
+  }
+  return command;
+}
+
+// Runs the parsed subcommand `sub`: its exit status, or 1 with rover's
+// message for every error (130 when a study was interrupted).
+int run_subcommand(CLI::App& sub, const std::function<int()>& run) {
+  const std::string prefix = "rover " + sub.get_name() + ": error: ";
+  int status = 1;
+  try {
+    reject_empty_values(sub);
+    status = run();
+  } catch (const CommandLineError& e) {
+    std::vector<std::string> lines;
+    for (const std::string& problem : e.problems()) lines.push_back(prefix + problem);
+    report_input_problem(lines);
+    return 1;
+  } catch (const rover::study::StudyInterrupted& e) {
+    std::cerr << "rover " << sub.get_name() << ": " << e.what() << "\n";
+    return rover::study::StudyInterrupted::kExitCode;
+  } catch (const rover::io::ConfigError& e) {
+    report_input_problem({prefix + e.what()});
+    return 1;
+  } catch (const std::invalid_argument& e) {  // refused before any run
+    report_input_problem({prefix + e.what()});
+    return 1;
+  } catch (const std::exception& e) {
+    report_error(prefix, e.what());
+    return 1;
+  }
+  std::cout.flush();
+  if (!std::cout) {
+    std::cerr << prefix << "cannot write to standard output" << (errno ? std::string(" (") + std::strerror(errno) + ")" : "") << "\n";
+    return 1;
+  }
+  return status;
+}
+
 }  // namespace
 }  // namespace rover::cli
 
@@ -160,55 +209,18 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // Every refused command line exits 1, as a refused config file does
     // (CLI11's own codes, 101-115, are not documented), in rover's words.
-    std::string command;  // the subcommands typed: "simulate", "terrain obstacle"
-    const CLI::App* level = &app;
-    for (int i = 1; i < argc && level != nullptr; ++i) {
-      const CLI::App* next = nullptr;
-      for (const CLI::App* sub : level->get_subcommands([](const CLI::App*) { return true; }))
-        if (sub->get_name() == argv[i]) next = sub;
-      if (next != nullptr) command += (command.empty() ? "" : " ") + next->get_name();
-      level = next;
-    }
-    report_input_problem(command_line_error_lines(e, app, command));
+    report_input_problem(command_line_error_lines(e, app, typed_subcommands(app, argc, argv)));
     return 1;
   }
   for (auto& [sub, run] : runners) {
     if (!sub->parsed()) continue;
-    const std::string prefix = "rover " + sub->get_name() + ": error: ";
-    int status = 1;
     if (const int size = launcher_size(); size > 1 && processes[sub] == Processes::kOne) {
-      report_input_problem({prefix + "runs on one process, but mpirun started " + std::to_string(size) +
-                            " (every one would write the same outputs): run it without mpirun; only " +
-                            shared_among_processes + " share their runs among processes"});
+      report_input_problem({"rover " + sub->get_name() + ": error: runs on one process, but mpirun started " +
+                            std::to_string(size) + " (every one would write the same outputs): run it without " +
+                            "mpirun; only " + shared_among_processes + " share their runs among processes"});
       return 1;
     }
-    try {
-      reject_empty_values(*sub);
-      status = run();
-    } catch (const CommandLineError& e) {
-      std::vector<std::string> lines;
-      for (const std::string& problem : e.problems()) lines.push_back(prefix + problem);
-      report_input_problem(lines);
-      return 1;
-    } catch (const rover::study::StudyInterrupted& e) {
-      std::cerr << "rover " << sub->get_name() << ": " << e.what() << "\n";
-      return rover::study::StudyInterrupted::kExitCode;
-    } catch (const rover::io::ConfigError& e) {
-      report_input_problem({prefix + e.what()});
-      return 1;
-    } catch (const std::invalid_argument& e) {  // refused before any run
-      report_input_problem({prefix + e.what()});
-      return 1;
-    } catch (const std::exception& e) {
-      report_error(prefix, e.what());
-      return 1;
-    }
-    std::cout.flush();
-    if (!std::cout) {
-      std::cerr << prefix << "cannot write to standard output" << (errno ? std::string(" (") + std::strerror(errno) + ")" : "") << "\n";
-      return 1;
-    }
-    return status;
+    return run_subcommand(*sub, run);
   }
   return 1;
 }
