@@ -48,6 +48,10 @@ int run_compare(const CompareOptions& o) {
   const io::Curve a = io::read_curve(o.first, o.column);
   io::Curve b = io::read_curve(o.second, o.column);
   for (double& t : b.t) t -= o.time_offset_s;  // B's clock -> A's clock
+  if (a.t.back() < b.t.front() || b.t.back() < a.t.front())
+    throw std::invalid_argument("curve A " + span_text(a) + " and curve B " + span_text(b) +
+                                " (on A's clock, --time-offset " + number_text(o.time_offset_s) +
+                                " s) have no common time interval: give the offset of A's t = 0 on B's clock");
   check_rest_time(o.rest_time_s, o.rest_time_given, a, b);
   io::Json out;
   out["column"] = o.column;

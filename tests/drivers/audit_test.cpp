@@ -2006,6 +2006,9 @@ TEST_F(Audit, MeaninglessSettingsAreRefusedOrNamed) {
   cases.push_back({"compare: a rest time beyond one curve",
                    "compare " + data + " " + data + " --time-offset 0.5 --rest-time 0.8", Want::kRuns,
                    {"warning: --rest-time 0.8 s lies outside curve B [-0.5", "nearer end"}});
+  cases.push_back({"compare: an offset that leaves no common interval",
+                   "compare " + data + " " + data + " --time-offset 10", Want::kError,
+                   {"curve A [", "--time-offset 10 s", "no common time interval"}});
   std::string millimetres = "t,z\n";
   for (int i = 0; i <= 10; ++i) millimetres += std::to_string(0.005 * i) + "," + std::to_string(281.0 - i) + "\n";
   const std::string reference = w().text_file("reference_mm", millimetres, "csv");
