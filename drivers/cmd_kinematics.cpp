@@ -29,6 +29,8 @@ namespace rover::cli {
 namespace {
 
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+// A crab angle beyond a half turn names a heading a smaller one names.
+constexpr double kMaxCrabAngle_deg = 180.0;
 
 struct KinematicsOptions {
   std::string config = kDefaultRoverConfig;
@@ -37,7 +39,7 @@ struct KinematicsOptions {
   double speed_mps = 0.0;
   double radius_m = std::numeric_limits<double>::infinity();
   double icr_x_m = 0.0, icr_y_m = 0.0;
-  double crab_deg = 0.0;
+  double crab_deg = 0.0;  // within +-kMaxCrabAngle_deg: a larger angle is the same heading
   double yaw_rate_radps = 0.0;
   double vx_mps = 0.0, vy_mps = 0.0;
   bool no_flip = false;
@@ -102,6 +104,9 @@ DriveCommand command_from_options(const KinematicsOptions& o, const DriveKinemat
       return general_ackermann_command(o.speed_mps, Vec2(o.icr_x_m, o.icr_y_m));
     case DriveMode::kParallel:
       require_only(o, mode, {"--v", "--crab-deg"}, {"--v"});
+      if (!(std::abs(o.crab_deg) <= kMaxCrabAngle_deg))
+        throw std::invalid_argument("--crab-deg must lie in [-" + number_text(kMaxCrabAngle_deg) + ", " +
+                                    number_text(kMaxCrabAngle_deg) + "], got " + number_text(o.crab_deg));
       return parallel_command(o.speed_mps, o.crab_deg / kDegPerRad);
     case DriveMode::kLateral:
       require_only(o, mode, {"--v"}, {"--v"});

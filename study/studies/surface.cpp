@@ -25,7 +25,10 @@ std::vector<double> parse_axis(const io::JsonReader& parent, const std::string& 
   const int count = a.integer("count");
   if (count < 1) a.fail("count", "the grid needs at least one point");
   if (count > kMaxAxisPoints) a.fail("count", "more than 1e6 points on one axis");
-  if (!(max >= min)) a.fail("max", "must not be below min (" + std::to_string(min) + ")");
+  if (!(max >= min)) a.fail("max", "must not be below min (" + number_text(min) + ")");
+  if (count > 1 && !(max > min))
+    a.fail("count", std::to_string(count) + " points between min = max = " + number_text(min) +
+                        " would be identical runs: give count 1, or max above min");
   const std::string spacing = a.string_or("spacing", "linear");
   std::vector<double> v;
   if (spacing == "log") v = log_grid(min, max, count);

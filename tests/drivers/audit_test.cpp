@@ -2009,6 +2009,12 @@ TEST_F(Audit, MeaninglessSettingsAreRefusedOrNamed) {
   cases.push_back({"compare: an offset that leaves no common interval",
                    "compare " + data + " " + data + " --time-offset 10", Want::kError,
                    {"curve A [", "--time-offset 10 s", "no common time interval"}});
+  cases.push_back({"kinematics: a crab angle of a million degrees",
+                   "kinematics --mode parallel --v 0.5 --crab-deg 1e6", Want::kError, {"--crab-deg", "[-180, 180]", "got 1000000"}});
+  cases.push_back({"surface: four points on an axis of one value", study("surface", w().surface([](Json& j) {
+                     j["c_q"] = {{"min", 0.14}, {"max", 0.14}, {"count", 4}};
+                   })),
+                   Want::kError, {"'c_q.count'", "identical runs"}});
   std::string millimetres = "t,z\n";
   for (int i = 0; i <= 10; ++i) millimetres += std::to_string(0.005 * i) + "," + std::to_string(281.0 - i) + "\n";
   const std::string reference = w().text_file("reference_mm", millimetres, "csv");
