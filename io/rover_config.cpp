@@ -40,20 +40,24 @@ std::array<double, N> non_negative_array(const JsonReader& r, const std::string&
 
 }  // namespace
 
-double read_sharpness_f(const JsonReader& r, const std::string& key) {
-  const double f = r.positive(key);
-  if (const std::string beyond = beyond_scale(f, kMaxSharpness_per_rad, "1/rad", kSStructureScaleReason);
-      !beyond.empty())
+namespace {
+
+// `value` read from `key`, refused beyond the S-structure's scale `max`.
+double within_s_structure_scale(const JsonReader& r, const std::string& key, double value, double max,
+                                const char* unit) {
+  if (const std::string beyond = beyond_scale(value, max, unit, kSStructureScaleReason); !beyond.empty())
     r.fail(key, beyond);
-  return f;
+  return value;
+}
+
+}  // namespace
+
+double read_sharpness_f(const JsonReader& r, const std::string& key) {
+  return within_s_structure_scale(r, key, r.positive(key), kMaxSharpness_per_rad, "1/rad");
 }
 
 double read_damping_c_q(const JsonReader& r, const std::string& key) {
-  const double c_q = r.non_negative(key);
-  if (const std::string beyond = beyond_scale(c_q, kMaxDamping_Nms_per_rad, "N m s/rad", kSStructureScaleReason);
-      !beyond.empty())
-    r.fail(key, beyond);
-  return c_q;
+  return within_s_structure_scale(r, key, r.non_negative(key), kMaxDamping_Nms_per_rad, "N m s/rad");
 }
 
 std::array<double, kNumSJoints> read_preloads(const JsonReader& r, const std::string& key) {
