@@ -17,6 +17,9 @@
 // transition of atan(f b) is narrower than the integrators resolve an angle,
 // and a damping or preload four orders of magnitude beyond the paper's makes
 // the drop a stiff problem no integrator finishes in its wall-time budget.
+// A gravity beyond kMaxGravity_mps2 (ten Earths) or a body heavier than
+// kMaxBodyMass_kg (the rover's bodies weigh 0.08 .. 1.3 kg) is a unit
+// mistake: 981 cm/s^2, a mass in grams.
 #pragma once
 
 #include <cmath>
@@ -33,6 +36,8 @@ inline constexpr double kMaxYawRate_radps = 10.0;
 inline constexpr double kMaxSharpness_per_rad = 1e8;
 inline constexpr double kMaxDamping_Nms_per_rad = 1e3;
 inline constexpr double kMaxPreload_Nm = 1e3;
+inline constexpr double kMaxGravity_mps2 = 1e2;
+inline constexpr double kMaxBodyMass_kg = 1e2;
 
 // Empty if |value| <= bound; otherwise "1e+308 m is beyond +-1e+06 m, <why>".
 inline std::string beyond_scale(double value, double bound, const std::string& unit, const std::string& why) {
@@ -45,6 +50,10 @@ inline const std::string kPositionScaleReason =
 inline const std::string kSStructureScaleReason =
     "orders of magnitude beyond the rover's S-structure (paper: f 1e2 .. 1e5 1/rad, c_q ~0.1 N m s/rad, "
     "M0 ~2 N m); a unit mistake?";
+inline const std::string kGravityScaleReason =
+    "far beyond any planet's surface gravity (Earth 9.81 m/s^2, Mars 3.71 m/s^2); a unit mistake?";
+inline const std::string kBodyMassScaleReason =
+    "far beyond the rover's bodies (0.08 .. 1.3 kg); a unit mistake?";
 inline const std::string kDriveScaleReason =
     "far beyond what the rover drives (decimetres per second); a unit mistake?";
 

@@ -2,6 +2,7 @@
 // Measured CSV curves t,z go through io::read_measured_curve's checks; a metric
 // that is not finite (a flat reference makes eq. 10 divide by zero) is an
 // error naming it, not JSON null.
+#include <algorithm>
 #include <iomanip>
 #include <iostream>
 
@@ -40,6 +41,24 @@ void check_rest_time(double rest_time_s, bool given, const io::Curve& a, const i
   std::cerr << "rover compare: warning: " << where << "; its value at the nearer end stands in for z_r\n";
 }
 
+// Eqs. 10 and 11 divide by the reference's rise from its lowest point to the
+// rest time and by its height at the rest time: either being zero leaves that
+// error undefined, refused naming curve B and --rest-time.
+void check_reference_divisors(const CompareOptions& o, const io::Curve& b) {
+  const double z_rest = interpolate(b.t, b.y, o.rest_time_s);
+  const double rise = z_rest - *std::min_element(b.y.begin(), b.y.end());
+  const std::string reference = "curve B ('" + o.second + "', column " + o.column + ")";
+  const std::string rest = "--rest-time " + number_text(o.rest_time_s) + " s";
+  if (!(rise != 0.0))
+    throw std::invalid_argument("deflection_error (eq. 10) is undefined: " + reference +
+                                ", the reference, rises by 0 m from its lowest point to " + rest +
+                                " (eq. 10 divides by that rise); give a rest time after its rebound, or "
+                                "a reference that rebounds; nothing printed");
+  if (!(z_rest != 0.0))
+    throw std::invalid_argument("at_rest_error (eq. 11) is undefined: " + reference + " is at height 0 m at " +
+                                rest + " (eq. 11 divides by it); nothing printed");
+}
+
 int run_compare(const CompareOptions& o) {
   FlagChecks checks;
   checks.finite("--rest-time", o.rest_time_s);
@@ -53,6 +72,7 @@ int run_compare(const CompareOptions& o) {
                                 " (on A's clock, --time-offset " + number_text(o.time_offset_s) +
                                 " s) have no common time interval: give the offset of A's t = 0 on B's clock");
   check_rest_time(o.rest_time_s, o.rest_time_given, a, b);
+  check_reference_divisors(o, b);
   io::Json out;
   out["column"] = o.column;
   out["rms_m"] = rms_difference(a.t, a.y, b.t, b.y);

@@ -69,7 +69,8 @@ int run_eom(const EomOptions& o) {
     }
     out["contacts"].push_back(wheel);
   }
-  require_finite_output(out);
+  require_finite_output(out, "at the state of '" + o.state + "' (fields q and u: an entry far beyond the rover's "
+                             "scale, metres and radians per second, overflows the forces)");
   std::cout << out.dump() << "\n";
   return 0;
 }

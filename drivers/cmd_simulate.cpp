@@ -137,6 +137,12 @@ int run_simulate(const SimulateOptions& o) {
   };
   const Trajectory tr = simulate(setup.model, setup.scenario, inputs, observer);
   warn_if_chassis_below_ground(tr, setup.model.terrain);
+  // A failed run never replaces an earlier result: its record goes only where there was none.
+  if (!tr.ok() && std::filesystem::exists(out)) {
+    std::cerr << "simulate: the run failed (" << tr.message << "); the earlier result " << out
+              << " was kept and nothing was written (give a new --out to keep the failed run's record)\n";
+    return 2;
+  }
   io::write_trajectory_hdf5(out, tr, setup, inputs);
   std::cerr << "simulate: " << (tr.ok() ? "ok" : tr.message) << "; wall " << tr.wall_time_s
             << " s, " << tr.rhs_evaluations << " right-hand sides, " << tr.steps << " steps; wrote "
@@ -170,7 +176,8 @@ const RegisterCommand simulate_command{
           "Writes HDF5 datasets /t /B_l_z /B_r_z /G_z /pitch /roll /q (T x 23) /u (T x 23) /Fn (T x 4)\n"
           "with attributes recording every parameter, the integrator, wall time and right-hand-side\n"
           "evaluations, and PNG plots next to it (<out>.png; obstacle runs also <out>_attitude.png).\n"
-          "Exit status 2 if the run failed (diverged, step underflow, time budget); the file records why.\n\n"
+          "Exit status 2 if the run failed (diverged, step underflow, time budget); the file records why,\n"
+          "unless --out held an earlier result: that is kept and nothing is written.\n\n"
           "Examples:\n"
           "  rover simulate --scenario configs/scenarios/drop_horizontal.json --out results/drop_horizontal.h5\n"
           "  rover simulate --scenario configs/scenarios/drop_skewed.json --cq 0.3 --f 1e3 --csv results/skewed.csv\n"

@@ -320,11 +320,11 @@ inline std::optional<NonFiniteEntry> first_non_finite(const io::Json& value,
 }
 
 // Throws std::runtime_error naming the first non-finite quantity of `out`
-// (which would print as null).
-inline void require_finite_output(const io::Json& out) {
+// (which would print as null) and, if given, the input it came from.
+inline void require_finite_output(const io::Json& out, const std::string& from_input = "") {
   if (const std::optional<NonFiniteEntry> entry = first_non_finite(out))
-    throw std::runtime_error(entry->where + " is " + number_text(entry->value) +
-                             ", not a finite number; nothing printed");
+    throw std::runtime_error(entry->where + " is " + number_text(entry->value) + ", not a finite number" +
+                             (from_input.empty() ? "" : " " + from_input) + "; nothing printed");
 }
 
 }  // namespace rover::cli

@@ -76,15 +76,17 @@ OutputTarget inspect_output(const std::string& path, OutputFormat format) {
     return stream_target(format, "an open descriptor (such as standard output)");
   }
   if (fs::is_symlink(own)) {
-    const fs::path target = fs::weakly_canonical(path, error);
-    return refused("is a symbolic link (to '" + (error ? std::string("?") : target.string()) +
-                   "'); writing by rename would replace the link by a file: give the target's path or "
+    const fs::path target = fs::read_symlink(path, error);
+    const bool dangling = !fs::exists(fs::status(path, error));
+    return refused("is a symbolic link (to '" + target.string() + "'" + (dangling ? ", which does not exist" : "") +
+                   "); writing by rename would replace the link by a file: give the target's path or "
                    "another name");
   }
   if (!fs::exists(own)) return {};
   if (fs::is_directory(own)) return refused("is a directory; give a file name");
   if (fs::is_character_file(own) || fs::is_block_file(own)) return stream_target(format, "a device");
   if (fs::is_fifo(own)) return stream_target(format, "a pipe");
+  if (fs::is_socket(own)) return refused("is a socket, which cannot be opened as a file; give a file name");
   if (!fs::is_regular_file(own)) return stream_target(format, "a socket or another special file");
   struct stat st {};
   if (::stat(path.c_str(), &st) == 0 && ((st.st_mode & 0222) == 0 || ::access(path.c_str(), W_OK) != 0))

@@ -5,7 +5,7 @@
 // replaces whatever directory entry is at the path, so before any work the
 // path is inspected (lstat, following no link):
 //   * nothing, or a writable regular file: written by rename;
-//   * a device, a pipe, a socket, a terminal, or an open descriptor
+//   * a device, a pipe, a terminal, or an open descriptor
 //     (/dev/stdout, /dev/fd/N, /proc/self/fd/N, or a link to one): text
 //     output (CSV) is written through it in place (appended, so a shell's
 //     `>>` keeps what is there); a file format that must seek (HDF5, PNG,
@@ -14,7 +14,7 @@
 //     link by a regular file; the message names the link's target);
 //   * a read-only regular file (no write permission bit, or not writable by
 //     this user): refused, also for root;
-//   * a directory: refused.
+//   * a directory or a socket (which no open() accepts): refused.
 #pragma once
 
 #include <string>

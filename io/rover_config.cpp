@@ -15,6 +15,8 @@ namespace {
 RigidBodyParameters parse_body(const JsonReader& r) {
   RigidBodyParameters b;
   b.mass_kg = r.positive("mass");
+  if (const std::string beyond = beyond_scale(b.mass_kg, kMaxBodyMass_kg, "kg", kBodyMassScaleReason); !beyond.empty())
+    r.fail("mass", beyond);
   b.com_m = r.vec3("com");
   b.inertia_kgm2 = r.mat3("inertia");
   const Mat3& I = b.inertia_kgm2;
@@ -74,6 +76,9 @@ RoverParameters parse_rover_parameters(const Json& config, const std::string& fi
   RoverParameters p;
   top.string_or("description", "");
   p.gravity_mps2 = top.non_negative("gravity");
+  if (const std::string beyond = beyond_scale(p.gravity_mps2, kMaxGravity_mps2, "m/s^2", kGravityScaleReason);
+      !beyond.empty())
+    top.fail("gravity", beyond);
 
   const JsonReader g = top.child("geometry");
   p.geometry.bogie_pivot_m = g.vec3("bogie_pivot");
@@ -134,7 +139,7 @@ RoverParameters parse_rover_parameters(const Json& config, const std::string& fi
   p.friction.mu_kinetic = f.non_negative("mu_k");
   p.friction.v_kinetic_mps = f.positive("v_k");
   if (!(p.friction.v_kinetic_mps > p.friction.v_static_mps))
-    f.fail("v_k", "must be larger than v_s (" + std::to_string(p.friction.v_static_mps) + ")");
+    f.fail("v_k", "must be larger than v_s (" + number_text(p.friction.v_static_mps) + " m/s)");
   if (f.has("gammas")) {
     p.friction.gammas = non_negative_array<6>(f, "gammas");
     p.friction.gammas_fitted_to = f.fixed_numbers<4>("gammas_fitted_to");

@@ -274,6 +274,12 @@ void plot_evaluate(const EvaluateResult& result, const std::string& results_path
                        panels, sibling_path(results_path, "_summary.png"), "evaluate");
 }
 
+void report_evaluate(const EvaluateResult& result, std::ostream& out) {
+  for (std::size_t q = 0; q < result.qoi.size(); ++q)
+    if (const std::string w = qoi_values_warning(*result.study.model, q, result.qoi[q]); !w.empty())
+      out << "evaluate: warning: " << w << "\n";
+}
+
 StudyProgram<EvaluateResult> evaluate_program(EvaluateStudy study) {
   StudyProgram<EvaluateResult> p;
   p.command = "evaluate";
@@ -284,6 +290,7 @@ StudyProgram<EvaluateResult> evaluate_program(EvaluateStudy study) {
   p.write = write_evaluate;
   p.write_csv = write_evaluate_csv;
   p.plot = plot_evaluate;
+  p.report = report_evaluate;
   p.counts = [](const EvaluateResult& r) { return count_runs(r.status, r.messages); };
   p.status_when_some_failed = kSomeRunsFailedStatus;
   return p;

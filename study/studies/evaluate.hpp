@@ -18,7 +18,7 @@
 // The study's parts, run by the study driver (study_driver.hpp):
 // load_evaluate() (the flags, the scenario and every design row checked),
 // run_evaluate() (the runs; curves streamed into the HDF5 file),
-// write_evaluate() or write_evaluate_csv(), and plot_evaluate().
+// write_evaluate() or write_evaluate_csv(), report_evaluate() and plot_evaluate().
 #pragma once
 
 #include <string>
@@ -82,6 +82,10 @@ void write_evaluate(const EvaluateResult& result, io::Hdf5Writer& h5);
 // The CSV: a header row, then one row per design row (inputs as given, QoIs,
 // status, message), written to "<path>.partial" and renamed into place.
 void write_evaluate_csv(const EvaluateResult& result, const std::string& path);
+
+// The console report: a warning for each QoI whose values do not mean what
+// its name says (qoi_values_warning: settling times that never came).
+void report_evaluate(const EvaluateResult& result, std::ostream& out);
 
 // <results>_summary.png: a histogram of each QoI over the successful rows.
 void plot_evaluate(const EvaluateResult& result, const std::string& results_path, PlotSelection plots);

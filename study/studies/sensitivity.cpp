@@ -380,6 +380,7 @@ StudyProgram<SensitivityResult> sensitivity_program(SensitivityStudy study) {
   p.banner = std::string(kMethodTitle[static_cast<int>(study.method)]) + ", " + std::to_string(spec.inputs.size()) +
              " inputs, " + std::to_string(spec.design.samples) + " runs of " + spec.model->describe() + " on " +
              std::to_string(world_size()) + " rank(s)";
+  p.warnings = spec.warnings;
   p.memory = sensitivity_memory(study);
   p.run = [study](const StudyRuntime& runtime) { return run_sensitivity(study, runtime); };
   p.provenance = [spec = study.spec](io::Hdf5Writer& h5) { write_study_provenance(h5, spec, spec.fingerprint); };

@@ -70,6 +70,9 @@ struct StudyProgram {
   std::string name;         // the study's name: results/<name>.h5 unless --out is given
   std::string fingerprint;  // every input and result-changing option (the checkpoint's key)
   std::string banner;       // what is about to run; rank 0 prints it first
+  // What the study file asks that will cost failed runs (a distribution tail
+  // the model refuses); rank 0 prints them after the banner.
+  std::vector<std::string> warnings;
   MemoryEstimate memory;
   // The files the study reads; no output (the result, its plots, its
   // checkpoint) may replace one of them (io/input_files.hpp).
@@ -160,6 +163,8 @@ int drive_study(const StudyProgram<Result>& study, const StudyRunOptions& option
   runtime.options = driver_detail::prepare(study.command, study.name, study.fingerprint, study.memory,
                                            study.banner, static_cast<bool>(study.write_csv), study.inputs,
                                            options);
+  if (world_rank() == 0)
+    for (const std::string& warning : study.warnings) std::cerr << study.command << ": warning: " << warning << "\n";
   const std::string& out = runtime.options.results_path;
   if (options.dry_run) {
     if (world_rank() == 0) driver_detail::report_dry_run(study.command, out);

@@ -17,6 +17,7 @@
 #include "io/csv.hpp"
 #include "io/trajectory_io.hpp"
 #include "study/model/distribution_json.hpp"
+#include "study/studies/report_number.hpp"
 
 namespace rover::study {
 namespace {
@@ -124,6 +125,62 @@ void refuse_supports_the_model_refuses(const io::JsonReader& r, const RoverStudy
       }
     }
   }
+}
+
+// The smallest tail probability probed, and the bisection steps that find
+// where a refused tail begins (to a share of 2^-40 of the probed range).
+constexpr double kTailProbe = 1e-6;
+constexpr int kTailBisections = 40;
+constexpr int kShareDigits = 3;
+
+// The share of input j's samples beyond where the model refuses it, in the
+// tail below (lower = true) or above its median; 0 if the model takes the
+// tail up to the kTailProbe quantile. `why` receives the model's reason.
+double refused_tail_share(const RoverStudyModel& model, const std::vector<double>& nominal, std::size_t j,
+                          const Distribution& d, bool lower, std::string* why) {
+  const auto refused = [&](double share) {
+    std::vector<double> x = nominal;
+    x[j] = d.quantile(lower ? share : 1.0 - share);
+    try {
+      (void)model.setup_at(x.data());
+      return false;
+    } catch (const std::exception& e) {
+      *why = e.what();
+      return true;
+    }
+  };
+  if (!refused(kTailProbe)) return 0.0;
+  double inside = kTailProbe, outside = 0.5;  // refused at `inside`; taken at `outside` (the median)
+  if (refused(outside)) return 0.5;
+  for (int i = 0; i < kTailBisections; ++i) {
+    const double mid = 0.5 * (inside + outside);
+    (refused(mid) ? inside : outside) = mid;
+  }
+  (void)refused(kTailProbe);  // the reason at the tail's far end
+  return outside;
+}
+
+// Warnings for unbounded distribution tails that reach values the model
+// refuses (c_q normal(0.05, 0.1) below 0): those samples are failed runs,
+// and the study's statistics cover only the rest. Bounded supports are
+// refused outright by refuse_supports_the_model_refuses.
+std::vector<std::string> refused_tail_warnings(const RoverStudyModel& model, const std::vector<UncertainInput>& inputs) {
+  std::vector<std::string> warnings;
+  const std::vector<double> nominal = base_point(inputs);
+  for (std::size_t j = 0; j < inputs.size(); ++j) {
+    const Distribution& d = inputs[j].distribution;
+    for (const bool lower : {true, false}) {
+      if (std::isfinite(lower ? d.support_lower() : d.support_upper())) continue;
+      std::string why;
+      const double share = refused_tail_share(model, nominal, j, d, lower, &why);
+      if (share == 0.0) continue;
+      warnings.push_back("'" + inputs[j].label + "': about " + format_number(100.0 * share, kShareDigits) +
+                         " % of its " + d.describe() + " samples lie in its " + (lower ? "lower" : "upper") +
+                         " tail, where the model refuses them (" + why + "); those runs will fail and the " +
+                         "results cover only the rest; \"truncate\": [lower, upper] restricts the distribution");
+    }
+  }
+  return warnings;
 }
 
 std::vector<UncertainInput> parse_rover_parameters_block(const io::JsonReader& r,
@@ -454,6 +511,7 @@ StudySpec parse_study_spec(const io::JsonReader& r, const std::vector<std::strin
     auto rover = std::make_shared<RoverStudyModel>(std::move(sources), names, qois, channels, integrator);
     refuse_inputs_that_cannot_vary_alone(r, *rover, s.inputs);
     refuse_supports_the_model_refuses(r, *rover, s.inputs);
+    s.warnings = refused_tail_warnings(*rover, s.inputs);
     s.rover = rover;
     s.model = rover;
   }
@@ -517,8 +575,8 @@ std::string reference_missed_warning(const QoiSpec& qoi, const std::vector<doubl
          "channel named?";
 }
 
-std::string unsettled_warning(const StudySpec& spec, const QoiSpec& qoi, const std::vector<double>& values) {
-  const double end_s = spec.rover->nominal().scenario.duration_s;
+std::string unsettled_warning(const RoverStudyModel& model, const QoiSpec& qoi, const std::vector<double>& values) {
+  const double end_s = model.nominal().scenario.duration_s;
   long long finite = 0, at_end = 0;
   for (const double v : values) {
     if (!std::isfinite(v)) continue;
@@ -534,13 +592,17 @@ std::string unsettled_warning(const StudySpec& spec, const QoiSpec& qoi, const s
 
 }  // namespace
 
-std::string qoi_values_warning(const StudySpec& spec, std::size_t q, const std::vector<double>& values) {
-  if (!spec.rover || q >= spec.rover->qois().size()) return "";
-  const QoiSpec& qoi = spec.rover->qois()[q];
-  if (qoi.kind == QoiKind::kSettlingTime) return unsettled_warning(spec, qoi, values);
+std::string qoi_values_warning(const RoverStudyModel& model, std::size_t q, const std::vector<double>& values) {
+  if (q >= model.qois().size()) return "";
+  const QoiSpec& qoi = model.qois()[q];
+  if (qoi.kind == QoiKind::kSettlingTime) return unsettled_warning(model, qoi, values);
   if (qoi.kind == QoiKind::kRmsVs && qoi.reference && !qoi.reference->value.empty())
     return reference_missed_warning(qoi, values);
   return "";
+}
+
+std::string qoi_values_warning(const StudySpec& spec, std::size_t q, const std::vector<double>& values) {
+  return spec.rover ? qoi_values_warning(*spec.rover, q, values) : "";
 }
 
 }  // namespace rover::study

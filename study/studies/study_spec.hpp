@@ -63,6 +63,10 @@ struct StudySpec {
   std::shared_ptr<const RoverStudyModel> rover;  // null for an analytic model
   std::vector<UncertainInput> inputs;
   DesignSpec design;
+  // Distribution tails the model refuses, with the share of samples they
+  // hold: those runs will fail. Printed before the runs, written as the
+  // attribute input_warnings.
+  std::vector<std::string> warnings;
 };
 
 // Reads the keys above and marks them used; the caller reads its own keys,
@@ -88,6 +92,8 @@ std::vector<std::string> input_labels(const StudySpec& spec);
 //    channel).
 // Empty otherwise (and for an analytic model).
 std::string qoi_values_warning(const StudySpec& spec, std::size_t q, const std::vector<double>& values);
+// The same for QoI `q` of a rover model (evaluate's rows).
+std::string qoi_values_warning(const RoverStudyModel& model, std::size_t q, const std::vector<double>& values);
 
 // The text of a file ("" if unreadable), for fingerprints and provenance.
 std::string file_text(const std::string& path);

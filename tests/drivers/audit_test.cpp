@@ -15,7 +15,12 @@
 // study command's time is waiting on MPI start-up, not computing).
 // Every case stays well under a second of computing: 0.05 s drops with the
 // stiff integrator, two-sample studies, analytic models.
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
+
 #include <atomic>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -331,8 +336,7 @@ TEST_F(Audit, RoverFile) {
   rover_case("gravity as a string", [](Json& j) { j["gravity"] = "9.81"; }, Want::kError, {"'gravity'", "9.81"});
   rover_case("negative gravity", [](Json& j) { j["gravity"] = -9.81; }, Want::kError, {"'gravity'", "-9.81"});
   rover_case("zero gravity", [](Json& j) { j["gravity"] = 0.0; }, Want::kRuns, {});
-  // A failed run (step-size underflow) is a status with its reason, not a crash.
-  rover_case("huge gravity", [](Json& j) { j["gravity"] = 1e300; }, Want::kRunsOrFails, {});
+  rover_case("huge gravity", [](Json& j) { j["gravity"] = 1e300; }, Want::kError, {"'gravity'", "1e+300", "100 m/s^2"});
   rover_case("wheel centre as an object",
              [](Json& j) { j["geometry"]["wheel_centre"] = {{"x", 0.168}, {"y", 0.089}, {"z", -0.033}}; },
              Want::kError, {"'geometry.wheel_centre'", "0.168"});
@@ -2022,6 +2026,67 @@ TEST_F(Audit, MeaninglessSettingsAreRefusedOrNamed) {
                      j["qoi"] = {{{"name", "rms_vs"}, {"reference", reference}}};
                    })),
                    Want::kRuns, {"every run misses the reference", "not millimetres"}});
+  run_table(w().dir(), cases);
+}
+
+// A Unix socket bound at `path` (it stays after the descriptor is closed).
+void bind_unix_socket(const std::string& path) {
+  const int fd = ::socket(AF_UNIX, SOCK_STREAM, 0);
+  ASSERT_GE(fd, 0);
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  ASSERT_LT(path.size(), sizeof address.sun_path);
+  std::strcpy(address.sun_path, path.c_str());
+  ASSERT_EQ(::bind(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address), 0) << path;
+  ::close(fd);
+}
+
+// Unit mistakes in the rover's gravity and masses, a distribution tail the
+// model refuses, a failed simulate over an earlier result, a socket or a
+// dangling link as an output, and non-finite results traced to their input.
+TEST_F(Audit, UnitMistakesTailsAndSpecialOutputs) {
+  std::vector<Case> cases;
+  cases.push_back({"gravity in cm/s^2", simulate(w().scenario_with_rover(w().rover([](Json& j) { j["gravity"] = 981; }))),
+                   Want::kError, {"'gravity'", "981", "a unit mistake?"}});
+  cases.push_back({"a body mass in grams",
+                   simulate(w().scenario_with_rover(w().rover([](Json& j) { j["bodies"]["chassis"]["mass"] = 1267; }))),
+                   Want::kError, {"'bodies.chassis.mass'", "1267", "a unit mistake?"}});
+  cases.push_back({"a normal c_q whose lower tail is negative", study("montecarlo", w().montecarlo([](Json& j) {
+                     j["parameters"]["c_q"] = {{"distribution", "normal"}, {"mean", 0.05}, {"sd", 0.1}};
+                   })),
+                   Want::kRuns, {"warning: 'c_q': about 30.9 % of its normal", "lower tail", "truncate"}});
+  cases.push_back({"a normal c_q far from zero", study("montecarlo", w().montecarlo([](Json& j) {
+                     j["parameters"]["c_q"] = {{"distribution", "normal"}, {"mean", 0.15}, {"sd", 0.01}};
+                   })),
+                   Want::kRuns, {}, {}, {}, {"warning"}});
+  const std::string good = simulated_curve(w().dir() + "/earlier_result.h5");
+  const std::string failing = w().scenario([](Json& j) { j["wall_time_budget"] = 1e-6; });
+  cases.push_back({"a failed simulate over an earlier result",
+                   "simulate --no-plot --scenario " + failing + " --out " + good, Want::kAllFailed,
+                   {"the earlier result", "was kept"}, unchanged(good)});
+  const std::string socket = w().dir() + "/sock";
+  bind_unix_socket(socket);
+  cases.push_back({"--csv at a socket", simulate(w().quick()) + " --csv " + socket, Want::kError,
+                   {"--csv", "is a socket"}});
+  const std::string dangling = w().dir() + "/dangling.h5";
+  fs::create_symlink("/nonexistent-target-dir/x.h5", dangling);
+  cases.push_back({"--out at a dangling link", "simulate --no-plot --scenario " + w().quick() + " --out " + dangling,
+                   Want::kError, {"to '/nonexistent-target-dir/x.h5', which does not exist"},
+                   still_a_link(dangling, "/nonexistent-target-dir/x.h5")});
+  Json state{{"q", std::vector<double>(23, 0.0)}, {"u", std::vector<double>(23, 1e300)}};
+  state["q"][2] = 0.281;
+  cases.push_back({"eom at an overflowing state", "eom --state " + w().json_file("state", state), Want::kError,
+                   {"at the state of", "fields q and u"}});
+  std::string flat = "t,z\n";
+  for (int i = 0; i <= 20; ++i) flat += std::to_string(0.05 * i) + ",0.2\n";
+  cases.push_back({"compare against a reference that never rebounds",
+                   "compare " + source_path("configs/data/drop_horizontal_synthetic.csv") + " " +
+                       w().text_file("flat", flat, "csv"),
+                   Want::kError, {"deflection_error (eq. 10) is undefined", "curve B", "--rest-time 1 s"}});
+  cases.push_back({"evaluate: settling times of runs that never settled",
+                   "evaluate --scenario " + w().quick() + " --design " + w().text_file("design", "c_q\n0.1\n0.2\n", "csv") +
+                       " --qoi settling_time --out " + w().out("csv"),
+                   Want::kRuns, {"warning: settling_time: 2 of 2 runs had not settled"}});
   run_table(w().dir(), cases);
 }
 
