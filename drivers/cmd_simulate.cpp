@@ -102,6 +102,23 @@ void check_outputs_over_inputs(const SimulateOptions& o, const io::ScenarioSetup
   checks.throw_if_any();
 }
 
+// A failed run never replaces an earlier output: its record (the state up to
+// the failure and why) goes to --out only when nothing is there, and no CSV
+// or plot is written. Exit status 2.
+int record_failed_run(const SimulateOptions& o, const std::string& out, const Trajectory& tr,
+                      const io::ScenarioSetup& setup, const ModelInputs& inputs) {
+  std::cerr << "simulate: the run failed: " << tr.message << "\n";
+  if (std::filesystem::exists(out)) {
+    std::cerr << "simulate: the earlier result " << out << " was kept and nothing was written (give a new "
+              << "--out to keep the failed run's record)\n";
+    return 2;
+  }
+  io::write_trajectory_hdf5(out, tr, setup, inputs);
+  std::cerr << "simulate: wrote the failed run's record to " << out
+            << (o.csv.empty() && o.no_plot ? "" : "; no CSV or plot of a failed run") << "\n";
+  return 2;
+}
+
 int run_simulate(const SimulateOptions& o) {
   check_flags(o);
   io::ScenarioSetup setup = io::load_scenario(o.scenario);
@@ -137,16 +154,10 @@ int run_simulate(const SimulateOptions& o) {
   };
   const Trajectory tr = simulate(setup.model, setup.scenario, inputs, observer);
   warn_if_chassis_below_ground(tr, setup.model.terrain);
-  // A failed run never replaces an earlier result: its record goes only where there was none.
-  if (!tr.ok() && std::filesystem::exists(out)) {
-    std::cerr << "simulate: the run failed (" << tr.message << "); the earlier result " << out
-              << " was kept and nothing was written (give a new --out to keep the failed run's record)\n";
-    return 2;
-  }
+  if (!tr.ok()) return record_failed_run(o, out, tr, setup, inputs);
   io::write_trajectory_hdf5(out, tr, setup, inputs);
-  std::cerr << "simulate: " << (tr.ok() ? "ok" : tr.message) << "; wall " << tr.wall_time_s
-            << " s, " << tr.rhs_evaluations << " right-hand sides, " << tr.steps << " steps; wrote "
-            << out << "\n";
+  std::cerr << "simulate: ok; wall " << tr.wall_time_s << " s, " << tr.rhs_evaluations << " right-hand sides, "
+            << tr.steps << " steps; wrote " << out << "\n";
   if (!o.csv.empty()) {
     io::write_trajectory_csv(o.csv, tr);
     std::cerr << "simulate: wrote " << o.csv << "\n";
@@ -165,7 +176,7 @@ int run_simulate(const SimulateOptions& o) {
       std::cerr << "simulate: warning: no plot (" << e.what() << "); the data are in " << out << "\n";
     }
   }
-  return tr.ok() ? 0 : 2;
+  return 0;
 }
 
 const RegisterCommand simulate_command{
@@ -176,8 +187,8 @@ const RegisterCommand simulate_command{
           "Writes HDF5 datasets /t /B_l_z /B_r_z /G_z /pitch /roll /q (T x 23) /u (T x 23) /Fn (T x 4)\n"
           "with attributes recording every parameter, the integrator, wall time and right-hand-side\n"
           "evaluations, and PNG plots next to it (<out>.png; obstacle runs also <out>_attitude.png).\n"
-          "Exit status 2 if the run failed (diverged, step underflow, time budget); the file records why,\n"
-          "unless --out held an earlier result: that is kept and nothing is written.\n\n"
+          "Exit status 2 if the run failed (diverged, step underflow, time budget): the file records why,\n"
+          "with no CSV or plot; if --out held an earlier result, that is kept and nothing is written.\n\n"
           "Examples:\n"
           "  rover simulate --scenario configs/scenarios/drop_horizontal.json --out results/drop_horizontal.h5\n"
           "  rover simulate --scenario configs/scenarios/drop_skewed.json --cq 0.3 --f 1e3 --csv results/skewed.csv\n"

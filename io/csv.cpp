@@ -13,6 +13,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -58,7 +59,6 @@ std::string shortest_text(double x) {
 
 constexpr std::string_view kUtf8ByteOrderMark = "\xEF\xBB\xBF";
 
-// Writes header and rows to `out`; false if any write or the close failed.
 // While alive, holds a pipe at `path` open for writing without waiting; throws
 // std::runtime_error when no process has it open for reading. Anything other
 // than a pipe is left alone.
@@ -82,9 +82,9 @@ class PipeProbe {
   int fd_ = -1;
 };
 
-bool write_table(std::ofstream& out, const std::vector<std::string>& header,
-                 const std::vector<std::vector<double>>& columns, std::size_t rows,
-                 const std::string& comment) {
+// Writes header and rows to `out`; false if any write failed.
+bool write_rows(std::ostream& out, const std::vector<std::string>& header,
+                const std::vector<std::vector<double>>& columns, std::size_t rows, const std::string& comment) {
   std::istringstream comment_lines(comment);
   for (std::string line; std::getline(comment_lines, line);) out << "# " << line << '\n';
   for (std::size_t j = 0; j < header.size(); ++j) out << (j ? "," : "") << header[j];
@@ -99,9 +99,36 @@ bool write_table(std::ofstream& out, const std::vector<std::string>& header,
     out << '\n';
   }
   out.flush();
-  const bool written = static_cast<bool>(out);
+  return static_cast<bool>(out);
+}
+
+// write_rows to a file, then closed; false if any write or the close failed.
+bool write_table(std::ofstream& out, const std::vector<std::string>& header,
+                 const std::vector<std::vector<double>>& columns, std::size_t rows,
+                 const std::string& comment) {
+  const bool written = write_rows(out, header, columns, rows, comment);
   out.close();
   return written && static_cast<bool>(out);
+}
+
+// write_rows through this process's open descriptor `fd` (io::own_descriptor),
+// after what the program's own streams hold, so that the table shares the
+// descriptor's offset and order with the console lines.
+void write_table_to_descriptor(int fd, const std::string& path, const std::vector<std::string>& header,
+                               const std::vector<std::vector<double>>& columns, std::size_t rows,
+                               const std::string& comment) {
+  std::ostringstream text;
+  write_rows(text, header, columns, rows, comment);
+  std::cout.flush();
+  std::cerr.flush();
+  const std::string bytes = text.str();
+  for (std::size_t done = 0; done < bytes.size();) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0)
+      throw std::runtime_error(path + ": cannot write" + (errno != 0 ? std::string(" (") + std::strerror(errno) + ")" : ""));
+    done += static_cast<std::size_t>(n);
+  }
 }
 
 }  // namespace
@@ -212,6 +239,10 @@ void write_csv(const std::string& path, const std::vector<std::string>& header,
     // probe stays open until the stream is, so a reader never sees an end.
     const PipeProbe probe(path);
     errno = 0;
+    if (const int fd = own_descriptor(path); fd >= 0) {
+      write_table_to_descriptor(fd, path, header, columns, rows, comment);
+      return;
+    }
     std::ofstream out(path, std::ios::app);
     if (!out) throw std::runtime_error(path + ": cannot open for writing" + system_reason());
     if (!write_table(out, header, columns, rows, comment))

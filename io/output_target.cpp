@@ -29,19 +29,30 @@ bool names_descriptor(const fs::path& absolute) {
   return s.rfind("/proc/", 0) == 0 && s.find("/fd/") != std::string::npos;
 }
 
-// Whether following the links from `path` passes a descriptor's name.
-bool reaches_descriptor(const std::string& path) {
+// The first descriptor's name passed by following the links from `path`
+// (lexically normal), or empty.
+std::string descriptor_name_reached(const std::string& path) {
   std::error_code error;
   fs::path p = fs::absolute(path, error);
-  if (error) return false;
+  if (error) return "";
   for (int hop = 0; hop < kMaxLinkHops; ++hop) {
-    if (names_descriptor(p)) return true;
-    if (!fs::is_symlink(fs::symlink_status(p, error))) return false;
+    if (names_descriptor(p)) return p.lexically_normal().string();
+    if (!fs::is_symlink(fs::symlink_status(p, error))) return "";
     const fs::path target = fs::read_symlink(p, error);
-    if (error) return false;
+    if (error) return "";
     p = target.is_absolute() ? target : p.parent_path() / target;
   }
-  return false;
+  return "";
+}
+
+bool reaches_descriptor(const std::string& path) { return !descriptor_name_reached(path).empty(); }
+
+// N of "<prefix>N" (digits only), or -1.
+int number_after(const std::string& text, const std::string& prefix) {
+  if (text.rfind(prefix, 0) != 0 || text.size() == prefix.size() || text.size() - prefix.size() > 9) return -1;
+  const std::string digits = text.substr(prefix.size());
+  if (digits.find_first_not_of("0123456789") != std::string::npos) return -1;
+  return std::stoi(digits);
 }
 
 std::string octal_mode(mode_t mode) {
@@ -94,6 +105,16 @@ OutputTarget inspect_output(const std::string& path, OutputFormat format) {
                    "); an existing result that is not writable is never replaced: make it writable "
                    "(chmod u+w) or give another name");
   return {};
+}
+
+int own_descriptor(const std::string& path) {
+  const std::string name = descriptor_name_reached(path);
+  if (name == "/dev/stdout") return STDOUT_FILENO;
+  if (name == "/dev/stderr") return STDERR_FILENO;
+  if (name == "/dev/stdin") return -1;
+  if (const int fd = number_after(name, "/dev/fd/"); fd >= 0) return fd;
+  if (const int fd = number_after(name, "/proc/self/fd/"); fd >= 0) return fd;
+  return number_after(name, "/proc/" + std::to_string(::getpid()) + "/fd/");
 }
 
 std::string parent_directory_refusal(const std::string& output) {

@@ -43,6 +43,13 @@ OutputTarget inspect_output(const std::string& path, OutputFormat format);
 // results/<name>.h5): not empty, no directory separator, not "." or "..".
 bool is_plain_file_name(const std::string& name);
 
+// The descriptor of this process that `path` names, also through links:
+// /dev/stdout 1, /dev/stderr 2, /dev/fd/N, /proc/self/fd/N and
+// /proc/<this process>/fd/N give N; -1 for any other path. Text for such a
+// path is written through the descriptor itself, so that it shares the
+// file offset with whatever else writes there (`> log 2>&1`).
+int own_descriptor(const std::string& path);
+
 // inspect_output's mode; throws std::runtime_error "<path>: <refusal>" when refused.
 OutputMode require_output(const std::string& path, OutputFormat format);
 

@@ -36,7 +36,7 @@ Band band_statistics(const Eigen::MatrixXd& curves) {
     const double mean = column[0] + shifted_sum / n;
     double ss = 0.0;
     for (double x : column) ss += (x - mean) * (x - mean);
-    const double sd = rows.size() > 1 ? std::sqrt(ss / (n - 1.0)) : 0.0;
+    const double sd = rows.size() > 1 ? std::sqrt(ss / (n - 1.0)) : nan;  // one curve has no spread to measure
     std::sort(column.begin(), column.end());
     band.mean[t] = mean;
     band.std[t] = sd;

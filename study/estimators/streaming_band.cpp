@@ -106,7 +106,7 @@ Band StreamingBand::result() const {
   std::vector<double> ascending(low_count), descending(high_count);
   for (std::size_t t = 0; t < time_samples_; ++t) {
     const double mean = shift_[t] + shifted_mean_[t];
-    const double sd = used_ > 1 ? std::sqrt(m2_[t] / (n - 1.0)) : 0.0;
+    const double sd = used_ > 1 ? std::sqrt(m2_[t] / (n - 1.0)) : nan;  // one curve has no spread to measure
     band.mean[t] = mean;
     band.std[t] = sd;
     band.lower[t] = mean - 3.0 * sd;

@@ -42,7 +42,8 @@ class StreamingBand {
   void add(const double* curve);
 
   // The band of the curves used so far; samples_used = curves_used(). With no
-  // curve used every value is NaN; with one, sd is 0.
+  // curve used every value is NaN; with one, sd and the mean -+ 3 sd are NaN
+  // (one curve has no spread to measure) and the quantiles are that curve.
   Band result() const;
 
   std::size_t curves_used() const { return used_; }

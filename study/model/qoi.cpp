@@ -198,4 +198,8 @@ std::string constant_reference_problem(const std::vector<double>& value) {
          " m: a constant curve has no motion to compare a run with (the wrong column?)";
 }
 
+bool settled_before_end(double settling_time_s, double duration_s) {
+  return duration_s - settling_time_s >= kMinSettledShare * duration_s;
+}
+
 }  // namespace rover::study

@@ -9,7 +9,9 @@
 //   deflection     [m]   z(t_end) - min_t z           (numerator of paper eq. 10)
 //   rebound_peak   [m]   max of z over t > t_min       (the rebound after the compression)
 //   settling_time  [s]   the last time z is outside [z(t_end) - band, z(t_end) + band]
-//                        (t_0 if never; band default 0.5 mm, "band" in the spec)
+//                        (t_0 if never; band default 0.5 mm, "band" in the spec); a run
+//                        that stayed in the band for less than 5 % of it has not settled
+//                        (settled_before_end): the studies warn, evaluate marks the row
 //   max_abs_pitch  [rad] max_t |chi|, max_abs_roll [rad] max_t |psi|
 //   max_wheel_load [N]   max over t and the four wheels of the total normal force
 //   B_r_rise       [m]   max_t B_r z - B_r z(t_0); G_rise [m] likewise for the chassis CoM G
@@ -79,5 +81,12 @@ std::string constant_reference_problem(const std::vector<double>& value);
 // The QoI of a trajectory with at least one sample. A trajectory that ended
 // early (failed run) still has values, but studies do not use them.
 double compute_qoi(const QoiSpec& spec, const Trajectory& trajectory);
+
+// A settling time counts as one when z then stayed within its band for at
+// least kMinSettledShare of the run: a curve still moving at the end leaves
+// the band around its last value just before the end (or at it), and that
+// time says nothing about settling.
+inline constexpr double kMinSettledShare = 0.05;
+bool settled_before_end(double settling_time_s, double duration_s);
 
 }  // namespace rover::study

@@ -115,26 +115,32 @@ void fitted_curves(const CalibrationStudy& s, CalibrationFitResult& r) {
       continue;
     }
     for (double& t : curve.t_s) t += r.checked.fit.offsets[k];
-    for (double v : shifted_residuals(curve.t_s, curve.z_m, s.datasets[k].t, s.datasets[k].z, 0.0)) rss += v * v;
+    double curve_rss = 0.0;
+    for (double v : shifted_residuals(curve.t_s, curve.z_m, s.datasets[k].t, s.datasets[k].z, 0.0))
+      curve_rss += v * v;
+    rss += curve_rss;
     points += s.datasets[k].t.size();
+    r.curve_rms_m.push_back(std::sqrt(curve_rss / static_cast<double>(s.datasets[k].t.size())));
     r.fitted_curves.push_back(std::move(curve));
   }
   r.best_rms_m = std::sqrt(rss / static_cast<double>(points));
 }
 
 // Rank 0: why the best fit does not describe the data at all, or empty: its
-// RMS exceeds the span of every measured curve, so the model never comes near
-// them. A curve in millimetres, or of another channel, does that; the
+// RMS against a measured curve exceeds that curve's span, so the model never
+// comes near it. A curve in millimetres, or of another channel, does that; the
 // intervals of such a fit say nothing.
 std::string fit_misses_the_data(const CalibrationStudy& s, const CalibrationFitResult& r) {
-  double widest_m = 0.0;
-  for (const CalibrationDataset& d : s.datasets) {
+  std::string missed;  // each curve the fit misses by more than its own span
+  for (std::size_t k = 0; k < s.datasets.size(); ++k) {
+    const CalibrationDataset& d = s.datasets[k];
     const auto [low, high] = std::minmax_element(d.z.begin(), d.z.end());
-    widest_m = std::max(widest_m, *high - *low);
+    if (k < r.curve_rms_m.size() && r.curve_rms_m[k] > *high - *low)
+      missed += std::string(missed.empty() ? "" : ", ") + d.path + " by " + format_number(r.curve_rms_m[k], 4) +
+                " m RMS against its " + format_number(*high - *low, 4) + " m span";
   }
-  if (!(r.best_rms_m > widest_m)) return "";
-  return "the best fit misses the data by " + format_number(r.best_rms_m, 4) + " m RMS, more than the " +
-         format_number(widest_m, 4) + " m the measured heights span: are they in metres (not millimetres), and " +
+  if (missed.empty()) return "";
+  return "the best fit misses the data (" + missed + "): are the heights in metres (not millimetres), and " +
          "of the channel named in the study?";
 }
 

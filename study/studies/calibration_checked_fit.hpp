@@ -120,6 +120,7 @@ struct CalibrationFitResult {
   std::vector<ParameterProfile> profiles;
   std::vector<CalibrationCurve> fitted_curves;  // each curve at the best fit, in data time
   double best_rms_m = 0.0;                      // pooled over the curves
+  std::vector<double> curve_rms_m;              // each curve's own, in the order of the datasets
   bool trusted = true;
   std::string not_valid_because;
 };

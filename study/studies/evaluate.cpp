@@ -10,6 +10,7 @@
 #include <limits>
 #include <sstream>
 
+#include "core/number_text.hpp"
 #include "io/hdf5_file.hpp"
 #include "io/json_reader.hpp"
 #include "io/output_target.hpp"
@@ -186,6 +187,23 @@ EvaluateStudy load_evaluate(const EvaluateRequest& request) {
   return s;
 }
 
+// A done row whose settling time is not one (settled_before_end) says so in
+// its message; its status stays done.
+void note_unsettled_rows(const RoverStudyModel& model, EvaluateResult& result) {
+  const double duration_s = model.nominal().scenario.duration_s;
+  for (std::size_t q = 0; q < result.qoi.size(); ++q) {
+    const QoiSpec& qoi = model.qois()[q];
+    if (qoi.kind != QoiKind::kSettlingTime) continue;
+    for (std::size_t i = 0; i < result.qoi[q].size(); ++i) {
+      if (result.status[i] != run_status::kOk || settled_before_end(result.qoi[q][i], duration_s)) continue;
+      std::string& message = result.messages[i];
+      message += (message.empty() ? "" : "; ") + qoi.name + " is no settling time: B_l z stayed within its " +
+                 number_text(qoi.settling_band) + " m band for less than the last " +
+                 number_text(100.0 * kMinSettledShare) + " % of the run";
+    }
+  }
+}
+
 EvaluateResult run_evaluate(const EvaluateStudy& study, const StudyRuntime& runtime) {
   const RoverStudyModel& model = *study.model;
   const DesignMatrix& x = study.design.values;
@@ -213,6 +231,7 @@ EvaluateResult run_evaluate(const EvaluateStudy& study, const StudyRuntime& runt
   };
   stream_study_tasks(rows, compute, consume, runtime.options);
   if (world_rank() != 0) return {};
+  note_unsettled_rows(model, result);
   result.study = study;
   return result;
 }

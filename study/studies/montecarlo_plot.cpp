@@ -23,9 +23,14 @@ io::LinePlot band_plot(const std::string& title, const std::string& channel, con
                        const std::vector<double>& t, const Band& band) {
   const DisplayUnit shown = display_unit(unit);
   io::LinePlot plot;
-  plot.title = title + ": " + channel + ", " + std::to_string(band.samples_used) + " runs";
   plot.x_label = "t [s]";
   plot.y_label = channel + " [" + shown.name + "]";
+  if (band.samples_used < 2) {  // one curve: no spread to show
+    plot.title = title + ": " + channel + ", " + std::to_string(band.samples_used) + " run (no band)";
+    plot.series.push_back({"the one run", t, scaled(band.mean, shown.factor)});
+    return plot;
+  }
+  plot.title = title + ": " + channel + ", " + std::to_string(band.samples_used) + " runs";
   plot.bands.push_back({"mean -+ 3 sd", t, scaled(band.lower, shown.factor), scaled(band.upper, shown.factor)});
   plot.series.push_back({"mean", t, scaled(band.mean, shown.factor)});
   plot.series.push_back({"0.135 % quantile", t, scaled(band.p00135, shown.factor), io::SeriesStyle::dashed});

@@ -194,6 +194,12 @@ SensitivityStudy load_sensitivity_study(const std::string& path) {
   s.max_failed_fraction = r.number_or("max_failed_fraction", 0.05);
   if (!(s.max_failed_fraction >= 0.0 && s.max_failed_fraction < 1.0))
     r.fail("max_failed_fraction", "must lie in [0, 1)");
+  // A group or trajectory fails with any of its runs: at least as often as a run.
+  if (s.spec.refused_share > s.max_failed_fraction)
+    r.fail("max_failed_fraction",
+           "is " + fixed_text(s.max_failed_fraction, 2) + ", but about " + fixed_text(100.0 * s.spec.refused_share, 1) +
+               " % of the samples lie in distribution tails the model refuses (" + s.spec.warnings.front() +
+               "): the study would fail after its runs; truncate the distributions");
   const io::JsonReader d = r.child("design");
   const double seed = d.number_or("seed", 1.0);
   if (!(seed >= 0 && seed < 9.007199254740992e15 && seed == std::floor(seed)))

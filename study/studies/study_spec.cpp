@@ -60,9 +60,6 @@ std::vector<double> base_point(const std::vector<UncertainInput>& inputs) {
   return point;
 }
 
-// A settling time this close to the run's end (relative) is the run's end.
-constexpr double kRunEndTolerance = 1e-9;
-
 // Relative size of the step that tells whether an input can vary alone.
 constexpr double kAloneStep = 1e-6;
 
@@ -111,9 +108,11 @@ void refuse_supports_the_model_refuses(const io::JsonReader& r, const RoverStudy
     const Distribution& d = inputs[j].distribution;
     if (d.kind == DistributionKind::kFixed) continue;
     const double lo = d.support_lower(), hi = d.support_upper();
-    const double inset = kSupportEndInset * (std::isfinite(hi - lo) ? hi - lo : std::max(1.0, std::abs(lo) + std::abs(hi)));
     for (const double end : {lo, hi}) {
       if (!std::isfinite(end)) continue;
+      // Relative to the width of a bounded support, or to the end's own size
+      // on a half-bounded one (a lognormal's 0, a one-sided truncation).
+      const double inset = kSupportEndInset * (std::isfinite(hi - lo) ? hi - lo : std::max(1.0, std::abs(end)));
       std::vector<double> x = nominal;
       x[j] = end == lo ? end + inset : end - inset;
       try {
@@ -160,12 +159,14 @@ double refused_tail_share(const RoverStudyModel& model, const std::vector<double
   return outside;
 }
 
-// Warnings for unbounded distribution tails that reach values the model
-// refuses (c_q normal(0.05, 0.1) below 0): those samples are failed runs,
-// and the study's statistics cover only the rest. Bounded supports are
+// Warns (spec.warnings) of unbounded distribution tails that reach values
+// the model refuses (c_q normal(0.05, 0.1) below 0), and sets
+// spec.refused_share: those samples are failed runs, and the study's
+// statistics cover only the rest. Bounded supports are
 // refused outright by refuse_supports_the_model_refuses.
-std::vector<std::string> refused_tail_warnings(const RoverStudyModel& model, const std::vector<UncertainInput>& inputs) {
-  std::vector<std::string> warnings;
+void warn_of_refused_tails(const RoverStudyModel& model, const std::vector<UncertainInput>& inputs, StudySpec& spec) {
+  std::vector<std::string>& warnings = spec.warnings;
+  double kept_share = 1.0;  // of samples outside every refused tail, the inputs drawn independently
   const std::vector<double> nominal = base_point(inputs);
   for (std::size_t j = 0; j < inputs.size(); ++j) {
     const Distribution& d = inputs[j].distribution;
@@ -174,13 +175,14 @@ std::vector<std::string> refused_tail_warnings(const RoverStudyModel& model, con
       std::string why;
       const double share = refused_tail_share(model, nominal, j, d, lower, &why);
       if (share == 0.0) continue;
+      kept_share *= 1.0 - share;
       warnings.push_back("'" + inputs[j].label + "': about " + format_number(100.0 * share, kShareDigits) +
                          " % of its " + d.describe() + " samples lie in its " + (lower ? "lower" : "upper") +
                          " tail, where the model refuses them (" + why + "); those runs will fail and the " +
                          "results cover only the rest; \"truncate\": [lower, upper] restricts the distribution");
     }
   }
-  return warnings;
+  spec.refused_share = 1.0 - kept_share;
 }
 
 std::vector<UncertainInput> parse_rover_parameters_block(const io::JsonReader& r,
@@ -511,7 +513,7 @@ StudySpec parse_study_spec(const io::JsonReader& r, const std::vector<std::strin
     auto rover = std::make_shared<RoverStudyModel>(std::move(sources), names, qois, channels, integrator);
     refuse_inputs_that_cannot_vary_alone(r, *rover, s.inputs);
     refuse_supports_the_model_refuses(r, *rover, s.inputs);
-    s.warnings = refused_tail_warnings(*rover, s.inputs);
+    warn_of_refused_tails(*rover, s.inputs, s);
     s.rover = rover;
     s.model = rover;
   }
@@ -581,12 +583,13 @@ std::string unsettled_warning(const RoverStudyModel& model, const QoiSpec& qoi, 
   for (const double v : values) {
     if (!std::isfinite(v)) continue;
     ++finite;
-    if (v >= end_s * (1.0 - kRunEndTolerance)) ++at_end;
+    if (!settled_before_end(v, end_s)) ++at_end;
   }
   if (at_end == 0) return "";
   return qoi.name + ": " + std::to_string(at_end) + " of " + std::to_string(finite) +
-         " runs had not settled within the run's " + number_text(end_s) + " s (B_l z still outside the " +
-         number_text(qoi.settling_band) + " m band at the end): their value is the run's end, not a settling time; "
+         " runs had not settled within the run's " + number_text(end_s) + " s (B_l z stayed within the " +
+         number_text(qoi.settling_band) + " m band around its last value for less than the last " +
+         number_text(100.0 * kMinSettledShare) + " % of the run): their value is not a settling time; "
          "lengthen \"duration\" or widen \"band\"";
 }
 

@@ -67,6 +67,7 @@ struct StudySpec {
   // hold: those runs will fail. Printed before the runs, written as the
   // attribute input_warnings.
   std::vector<std::string> warnings;
+  double refused_share = 0.0;  // of the samples, in those tails (inputs drawn independently)
 };
 
 // Reads the keys above and marks them used; the caller reads its own keys,

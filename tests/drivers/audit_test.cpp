@@ -25,6 +25,7 @@
 #include <fstream>
 #include <functional>
 #include <iterator>
+#include <map>
 #include <optional>
 #include <string>
 #include <thread>
@@ -2087,6 +2088,75 @@ TEST_F(Audit, UnitMistakesTailsAndSpecialOutputs) {
                    "evaluate --scenario " + w().quick() + " --design " + w().text_file("design", "c_q\n0.1\n0.2\n", "csv") +
                        " --qoi settling_time --out " + w().out("csv"),
                    Want::kRuns, {"warning: settling_time: 2 of 2 runs had not settled"}});
+  run_table(w().dir(), cases);
+}
+
+// Every shipped study file passes every check of its command (a dry run).
+TEST_F(Audit, ShippedStudiesPassTheirChecks) {
+  const std::map<std::string, std::string> command_of_type = {{"montecarlo", "montecarlo"},
+                                                              {"sensitivity", "sensitivity"},
+                                                              {"surface", "surface"},
+                                                              {"calibration", "calibrate"},
+                                                              {"surrogate", "surrogate"}};
+  std::vector<Case> cases;
+  for (const auto& entry : fs::directory_iterator(source_path("configs/studies"))) {
+    if (entry.path().extension() != ".json") continue;
+    const std::string type = io::read_json_file(entry.path().string()).at("type").get<std::string>();
+    ASSERT_TRUE(command_of_type.count(type)) << entry.path() << ": type " << type;
+    cases.push_back({entry.path().filename().string(),
+                     study_args(command_of_type.at(type), entry.path().string(), w().out()) + " --dry-run",
+                     Want::kRuns, {"dry run"}});
+  }
+  ASSERT_GE(cases.size(), 10u);
+  run_table(w().dir(), cases);
+}
+
+// Half-bounded distributions, the console and a CSV sharing one file, a
+// failed run beside an earlier CSV, tails beyond max_failed_fraction, and
+// evaluate rows whose settling time is none.
+TEST_F(Audit, FifthAuditCases) {
+  std::vector<Case> cases;
+  cases.push_back({"a lognormal c_q", study("montecarlo", w().montecarlo([](Json& j) {
+                     j["parameters"]["c_q"] = {{"distribution", "lognormal"}, {"mean", 0.1}, {"sd", 0.05}};
+                   })),
+                   Want::kRuns, {"2 runs (0 failed)"}, {}, {}, {"warning"}});
+  cases.push_back({"a normal c_q truncated below only", study("montecarlo", w().montecarlo([](Json& j) {
+                     j["parameters"]["c_q"] = {{"distribution", "normal"}, {"mean", 0.1}, {"sd", 0.05},
+                                               {"truncate", {0.02, nullptr}}};
+                   })),
+                   Want::kRuns, {"2 runs (0 failed)"}, {}, {}, {"warning"}});
+  const std::string both = w().dir() + "/both.csv";
+  cases.push_back({"--csv /dev/stdout with stdout and stderr in one file",
+                   simulate(w().quick()) + " --csv /dev/stdout > " + both + " 2>&1", Want::kRuns, {},
+                   [both] {
+                     const std::string text = file_bytes(both);
+                     if (text.find("\nt,B_l_z,") == std::string::npos) return both + " lost the CSV header:\n" + text.substr(0, 400);
+                     if (text.find("wrote /dev/stdout") == std::string::npos) return both + " lost the console lines";
+                     return std::string();
+                   }});
+  const std::string earlier_csv = w().text_file("earlier", "t,B_l_z\n0,0.281\n", "csv");
+  const std::string failing = w().scenario([](Json& j) { j["wall_time_budget"] = 1e-6; });
+  cases.push_back({"a failed simulate beside an earlier CSV",
+                   "simulate --no-plot --scenario " + failing + " --out " + w().out() + " --csv " + earlier_csv,
+                   Want::kAllFailed, {"the run failed", "no CSV or plot of a failed run"}, unchanged(earlier_csv)});
+  cases.push_back({"sensitivity: tails the model refuses beyond max_failed_fraction",
+                   study("sensitivity", w().sensitivity([&](Json& j) {
+                     j.erase("model");
+                     j["scenario"] = w().quick();
+                     j["qoi"] = {"t_min"};
+                     j["parameters"] = {{"c_q", {{"distribution", "normal"}, {"mean", 0.05}, {"sd", 0.05}}},
+                                        {"f", {{"distribution", "uniform"}, {"min", 1e3}, {"max", 1e4}}}};
+                   })),
+                   Want::kError, {"'max_failed_fraction'", "is 0.05", "about 15.9 %", "'c_q'", "truncate"}});
+  const std::string rows = w().out("csv");
+  cases.push_back({"evaluate: a row whose settling time is none",
+                   "evaluate --scenario " + w().quick() + " --design " + w().text_file("design", "c_q\n0.1\n", "csv") +
+                       " --qoi settling_time --out " + rows,
+                   Want::kRuns, {"had not settled"}, [rows] {
+                     return file_bytes(rows).find("settling_time is no settling time") == std::string::npos
+                                ? rows + " does not say the settling time is none"
+                                : std::string();
+                   }});
   run_table(w().dir(), cases);
 }
 
