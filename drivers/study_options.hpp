@@ -82,10 +82,18 @@ inline void check_leftover_checkpoint(FlagChecks& checks, const std::string& res
   if (resume && restart)
     checks.add("--resume and --restart exclude each other: --resume continues <out>.checkpoint, --restart "
                "discards it");
-  if (resume || restart || results_path.empty()) return;
+  if (results_path.empty()) return;
   const std::string checkpoint = io::ResultCheckpoint::path_for(results_path);
   std::error_code error;
-  if (std::filesystem::exists(std::filesystem::symlink_status(checkpoint, error)))
+  const std::filesystem::file_status there = std::filesystem::symlink_status(checkpoint, error);
+  // Only a file or a link can be a checkpoint: anything else is never read or discarded.
+  if (std::filesystem::exists(there) && !std::filesystem::is_regular_file(there) &&
+      !std::filesystem::is_symlink(there)) {
+    checks.add(checkpoint + " is no checkpoint (not a regular file): remove it, or give another --out");
+    return;
+  }
+  if (resume || restart) return;
+  if (std::filesystem::exists(there))
     checks.add(checkpoint + " holds the finished runs of an interrupted study; continue it with --resume, or "
                "discard them and start afresh with --restart");
 }

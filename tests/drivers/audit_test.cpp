@@ -2148,6 +2148,15 @@ TEST_F(Audit, FifthAuditCases) {
                                         {"f", {{"distribution", "uniform"}, {"min", 1e3}, {"max", 1e4}}}};
                    })),
                    Want::kError, {"'max_failed_fraction'", "is 0.05", "about 15.9 %", "'c_q'", "truncate"}});
+  const std::string socket_out = w().dir() + "/sk.h5";
+  bind_unix_socket(socket_out + ".checkpoint");
+  cases.push_back({"--restart with a socket where the checkpoint goes",
+                   study_args("montecarlo", w().montecarlo([](Json&) {}), socket_out) + " --restart", Want::kError,
+                   {"sk.h5.checkpoint is no checkpoint"}, [socket_out] {
+                     return fs::is_socket(fs::symlink_status(socket_out + ".checkpoint"))
+                                ? std::string()
+                                : "the socket at " + socket_out + ".checkpoint was removed";
+                   }});
   const std::string rows = w().out("csv");
   cases.push_back({"evaluate: a row whose settling time is none",
                    "evaluate --scenario " + w().quick() + " --design " + w().text_file("design", "c_q\n0.1\n", "csv") +
