@@ -10,6 +10,7 @@
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
+#include <string_view>
 #include <system_error>
 
 namespace rover::io {
@@ -63,6 +64,9 @@ std::string octal_mode(mode_t mode) {
 
 OutputTarget refused(std::string why) { return {OutputMode::kReplace, std::move(why)}; }
 
+// What a writer appends to its output's name for the temporary file.
+constexpr std::string_view kTemporarySuffix = ".partial";
+
 constexpr const char* kNeedsFile =
     "this output is written to a temporary file and renamed into place, which needs a regular "
     "file: give a file name";
@@ -80,10 +84,19 @@ OutputTarget inspect_output(const std::string& path, OutputFormat format) {
   // "dir/", "dir/." or "..": a directory, existing or not (nothing is made for it).
   if (const fs::path name = fs::path(path).filename(); name.empty() || name == "." || name == "..")
     return refused("names a directory; give a file name");
+  if (path.ends_with(kTemporarySuffix))
+    return refused("ends in " + std::string(kTemporarySuffix) + ", the name of a writer's temporary file, which the " +
+                   "next write beside it would remove: give another name");
   std::error_code error;
   const fs::file_status own = fs::symlink_status(path, error);
   if (reaches_descriptor(path)) {
     if (!fs::exists(fs::status(path, error))) return refused("names a descriptor that is not open");
+    if (const int fd = own_descriptor(path); fd >= 0) {
+      const int flags = ::fcntl(fd, F_GETFL);
+      if (flags < 0) return refused("names descriptor " + std::to_string(fd) + ", which is not open");
+      if ((flags & O_ACCMODE) == O_RDONLY)
+        return refused("names descriptor " + std::to_string(fd) + ", which is open for reading only");
+    }
     return stream_target(format, "an open descriptor (such as standard output)");
   }
   if (fs::is_symlink(own)) {
@@ -111,7 +124,7 @@ int own_descriptor(const std::string& path) {
   const std::string name = descriptor_name_reached(path);
   if (name == "/dev/stdout") return STDOUT_FILENO;
   if (name == "/dev/stderr") return STDERR_FILENO;
-  if (name == "/dev/stdin") return -1;
+  if (name == "/dev/stdin") return STDIN_FILENO;
   if (const int fd = number_after(name, "/dev/fd/"); fd >= 0) return fd;
   if (const int fd = number_after(name, "/proc/self/fd/"); fd >= 0) return fd;
   return number_after(name, "/proc/" + std::to_string(::getpid()) + "/fd/");

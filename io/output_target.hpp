@@ -44,7 +44,7 @@ OutputTarget inspect_output(const std::string& path, OutputFormat format);
 bool is_plain_file_name(const std::string& name);
 
 // The descriptor of this process that `path` names, also through links:
-// /dev/stdout 1, /dev/stderr 2, /dev/fd/N, /proc/self/fd/N and
+// /dev/stdin 0, /dev/stdout 1, /dev/stderr 2, /dev/fd/N, /proc/self/fd/N and
 // /proc/<this process>/fd/N give N; -1 for any other path. Text for such a
 // path is written through the descriptor itself, so that it shares the
 // file offset with whatever else writes there (`> log 2>&1`).

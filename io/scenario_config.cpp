@@ -393,14 +393,21 @@ ScenarioSetup build_scenario(const ScenarioSources& sources) {
   s.initial_u = parse_named_coordinates(r, "initial_u", s.initial_u);
   if (r.has("forward_speed")) {
     const double v = r.number("forward_speed");
+    if (const std::string beyond = beyond_scale(v, kMaxDriveSpeed_mps, "m/s", kDriveScaleReason); !beyond.empty())
+      r.fail("forward_speed", beyond);
     s.initial_u[coord::x] = v;
     for (int leg = 0; leg < kNumLegs; ++leg) {
       s.initial_u[coord::spin(leg)] = v / R;
       s.wheel_speed_ref_radps[leg] = v / R;
     }
   }
-  if (r.has("initial_ground_clearance"))
+  if (r.has("initial_ground_clearance")) {
+    // It sets z: a z given beside it would be silently replaced.
+    if (r.has("initial_q") && r.child("initial_q").has("z"))
+      r.fail("initial_ground_clearance", "sets initial_q.z from the lowest wheel, but initial_q.z is given too "
+                                         "(value " + number_text(s.initial_q[coord::z]) + "): give one of them");
     s.initial_q[coord::z] = r.number("initial_ground_clearance") - lowest_wheel_bottom(setup.model, s.initial_q);
+  }
   check_initial_position(r, s.initial_q);
   if (r.has("wheel_speed_ref")) s.wheel_speed_ref_radps = r.fixed_numbers<kNumLegs>("wheel_speed_ref");
   if (r.has("steer_ref")) {

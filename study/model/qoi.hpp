@@ -87,6 +87,9 @@ double compute_qoi(const QoiSpec& spec, const Trajectory& trajectory);
 // the band around its last value just before the end (or at it), and that
 // time says nothing about settling.
 inline constexpr double kMinSettledShare = 0.05;
+// A settling band wider than this is a unit mistake: the drop's whole
+// travel is a few centimetres.
+inline constexpr double kMaxSettlingBand_m = 0.05;
 bool settled_before_end(double settling_time_s, double duration_s);
 
 }  // namespace rover::study

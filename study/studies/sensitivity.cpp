@@ -163,6 +163,26 @@ void set_pce_runs(SensitivityStudy& study, int runs) {
   study.spec.fingerprint = extend_fingerprint(study.spec.fingerprint, "samples " + std::to_string(runs));
 }
 
+// A PCE run fails with its sample; a Sobol' pick-freeze group or a Morris
+// trajectory fails with any of its runs, and its runs take each input from
+// two independent draws (matrices A and B, a trajectory's two levels): it
+// fails with probability 1 - (1 - p)^2 for a per-sample share p in refused
+// distribution tails. Beyond max_failed_fraction the study would be refused
+// after its runs: refused now.
+void refuse_failures_beyond_the_limit(const io::JsonReader& r, const SensitivityStudy& s, const std::string& method) {
+  const double p = s.spec.refused_share;
+  const bool pairs = method != "pce";
+  const double unit_share = pairs ? 1.0 - (1.0 - p) * (1.0 - p) : p;
+  if (!(unit_share > s.max_failed_fraction)) return;
+  r.fail("max_failed_fraction",
+         "is " + fixed_text(s.max_failed_fraction, 2) + ", but about " + fixed_text(100.0 * unit_share, 1) + " % of the " +
+             (pairs ? std::string(method == "sobol" ? "pick-freeze groups" : "trajectories") +
+                          " would draw a value the model refuses (each draws every input twice; " +
+                          fixed_text(100.0 * p, 1) + " % of the samples: " + s.spec.warnings.front() + ")"
+                    : "runs would draw a value the model refuses (" + s.spec.warnings.front() + ")") +
+             ": the study would fail after its runs; truncate the distributions");
+}
+
 SensitivityStudy load_sensitivity_study(const std::string& path) {
   const io::Json json = io::read_json_file(path);
   const io::JsonReader r(json, path);
@@ -194,12 +214,7 @@ SensitivityStudy load_sensitivity_study(const std::string& path) {
   s.max_failed_fraction = r.number_or("max_failed_fraction", 0.05);
   if (!(s.max_failed_fraction >= 0.0 && s.max_failed_fraction < 1.0))
     r.fail("max_failed_fraction", "must lie in [0, 1)");
-  // A group or trajectory fails with any of its runs: at least as often as a run.
-  if (s.spec.refused_share > s.max_failed_fraction)
-    r.fail("max_failed_fraction",
-           "is " + fixed_text(s.max_failed_fraction, 2) + ", but about " + fixed_text(100.0 * s.spec.refused_share, 1) +
-               " % of the samples lie in distribution tails the model refuses (" + s.spec.warnings.front() +
-               "): the study would fail after its runs; truncate the distributions");
+  refuse_failures_beyond_the_limit(r, s, method);
   const io::JsonReader d = r.child("design");
   const double seed = d.number_or("seed", 1.0);
   if (!(seed >= 0 && seed < 9.007199254740992e15 && seed == std::floor(seed)))

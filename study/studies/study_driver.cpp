@@ -48,7 +48,15 @@ void check_outputs(const std::string& flag, const std::string& out, const io::In
 // fit). Reading it writes nothing.
 void check_resumable(const std::string& results_path, const std::string& fingerprint) {
   std::error_code error;
-  if (!std::filesystem::exists(io::ResultCheckpoint::path_for(results_path), error)) return;
+  const std::string checkpoint = io::ResultCheckpoint::path_for(results_path);
+  // The checkpoint is written in place, never through a link: a link there
+  // (dangling or not) would let every run go ahead and then refuse to save.
+  if (std::filesystem::is_symlink(std::filesystem::symlink_status(checkpoint, error)))
+    throw std::invalid_argument("--resume: " + checkpoint + " is a symbolic link (to '" +
+                                std::filesystem::read_symlink(checkpoint, error).string() +
+                                "'); a checkpoint is never written through a link: put the file itself there, or "
+                                "start afresh with --restart");
+  if (!std::filesystem::exists(checkpoint, error)) return;
   try {
     io::ResultCheckpoint(results_path, fingerprint).load();
   } catch (const std::runtime_error& e) {

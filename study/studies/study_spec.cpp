@@ -60,6 +60,9 @@ std::vector<double> base_point(const std::vector<UncertainInput>& inputs) {
   return point;
 }
 
+// A time this close to the run's end (relative) is the run's end.
+constexpr double kRunEndTolerance = 1e-9;
+
 // Relative size of the step that tells whether an input can vary alone.
 constexpr double kAloneStep = 1e-6;
 
@@ -97,6 +100,22 @@ void refuse_inputs_that_cannot_vary_alone(const io::JsonReader& r, const RoverSt
 // distribution never draws the end itself: f uniform on [0, 1e5] is fine).
 constexpr double kSupportEndInset = 1e-9;
 
+// Refuses a distribution whose median the model refuses (c_q normal(-1,
+// 0.1)), or that is no finite number: most of its samples would fail.
+void refuse_a_refused_median(const io::JsonReader& r, const RoverStudyModel& model, const std::vector<double>& nominal,
+                             std::size_t j, const UncertainInput& input) {
+  std::vector<double> x = nominal;
+  x[j] = input.distribution.quantile(0.5);
+  const std::string head = "'" + input.label + "': the median of its " + input.distribution.describe() + ", " +
+                           number_text(x[j]) + ", ";
+  if (!std::isfinite(x[j])) r.fail("parameters", head + "is no finite number; most samples would be too");
+  try {
+    (void)model.setup_at(x.data());
+  } catch (const std::exception& e) {
+    r.fail("parameters", head + "is refused by the model (" + e.what() + "): most samples would fail");
+  }
+}
+
 // Refuses, before any run, a distribution whose support reaches values the
 // model refuses (with every other input at its nominal value): f uniform up
 // to 1e9, say, beyond the S-structure's bound. Every sample there would be a
@@ -123,6 +142,7 @@ void refuse_supports_the_model_refuses(const io::JsonReader& r, const RoverStudy
                                  "); narrow the distribution");
       }
     }
+    refuse_a_refused_median(r, model, nominal, j, inputs[j]);
   }
 }
 
@@ -282,7 +302,13 @@ std::vector<QoiSpec> parse_qois(const io::JsonReader& r, const std::string& stud
           o.fail("name", e.what());
         }
         q.name = o.string_or("label", kind);
-        if (q.kind == QoiKind::kSettlingTime && o.has("band")) q.settling_band = o.positive("band");
+        if (q.kind == QoiKind::kSettlingTime && o.has("band")) {
+          q.settling_band = o.positive("band");
+          if (q.settling_band > kMaxSettlingBand_m)
+            o.fail("band", number_text(q.settling_band) + " m is beyond " + number_text(kMaxSettlingBand_m) +
+                               " m, wider than the drop's whole travel: every run would settle at once (a band in "
+                               "millimetres?)");
+        }
         if (q.kind == QoiKind::kRmsVs) {
           auto ref = std::make_shared<ReferenceCurve>();
           ref->path = io::resolve_relative(study_path, o.string("reference"));
@@ -577,6 +603,22 @@ std::string reference_missed_warning(const QoiSpec& qoi, const std::vector<doubl
          "channel named?";
 }
 
+// Runs whose lowest B_l z is at their end (t_min the run's end, deflection
+// 0): the rover was still falling, no compression to describe.
+std::string still_falling_warning(const RoverStudyModel& model, const QoiSpec& qoi, const std::vector<double>& values) {
+  const double end_s = model.nominal().scenario.duration_s;
+  long long finite = 0, falling = 0;
+  for (const double v : values) {
+    if (!std::isfinite(v)) continue;
+    ++finite;
+    if (qoi.kind == QoiKind::kTMin ? v >= end_s * (1.0 - kRunEndTolerance) : v == 0.0) ++falling;
+  }
+  if (falling == 0) return "";
+  return qoi.name + ": " + std::to_string(falling) + " of " + std::to_string(finite) +
+         " runs reach their lowest B_l z at the run's end (still falling: did a wheel touch the ground?); their " +
+         qoi.name + " describes no compression: lengthen \"duration\" or check the drop height";
+}
+
 std::string unsettled_warning(const RoverStudyModel& model, const QoiSpec& qoi, const std::vector<double>& values) {
   const double end_s = model.nominal().scenario.duration_s;
   long long finite = 0, at_end = 0;
@@ -599,6 +641,7 @@ std::string qoi_values_warning(const RoverStudyModel& model, std::size_t q, cons
   if (q >= model.qois().size()) return "";
   const QoiSpec& qoi = model.qois()[q];
   if (qoi.kind == QoiKind::kSettlingTime) return unsettled_warning(model, qoi, values);
+  if (qoi.kind == QoiKind::kTMin || qoi.kind == QoiKind::kDeflection) return still_falling_warning(model, qoi, values);
   if (qoi.kind == QoiKind::kRmsVs && qoi.reference && !qoi.reference->value.empty())
     return reference_missed_warning(qoi, values);
   return "";

@@ -2059,7 +2059,7 @@ TEST_F(Audit, UnitMistakesTailsAndSpecialOutputs) {
   cases.push_back({"a normal c_q far from zero", study("montecarlo", w().montecarlo([](Json& j) {
                      j["parameters"]["c_q"] = {{"distribution", "normal"}, {"mean", 0.15}, {"sd", 0.01}};
                    })),
-                   Want::kRuns, {}, {}, {}, {"warning"}});
+                   Want::kRuns, {}, {}, {}, {"lower tail", "upper tail"}});
   const std::string good = simulated_curve(w().dir() + "/earlier_result.h5");
   const std::string failing = w().scenario([](Json& j) { j["wall_time_budget"] = 1e-6; });
   cases.push_back({"a failed simulate over an earlier result",
@@ -2119,12 +2119,12 @@ TEST_F(Audit, FifthAuditCases) {
   cases.push_back({"a lognormal c_q", study("montecarlo", w().montecarlo([](Json& j) {
                      j["parameters"]["c_q"] = {{"distribution", "lognormal"}, {"mean", 0.1}, {"sd", 0.05}};
                    })),
-                   Want::kRuns, {"2 runs (0 failed)"}, {}, {}, {"warning"}});
+                   Want::kRuns, {"2 runs (0 failed)"}, {}, {}, {"lower tail", "upper tail"}});
   cases.push_back({"a normal c_q truncated below only", study("montecarlo", w().montecarlo([](Json& j) {
                      j["parameters"]["c_q"] = {{"distribution", "normal"}, {"mean", 0.1}, {"sd", 0.05},
                                                {"truncate", {0.02, nullptr}}};
                    })),
-                   Want::kRuns, {"2 runs (0 failed)"}, {}, {}, {"warning"}});
+                   Want::kRuns, {"2 runs (0 failed)"}, {}, {}, {"lower tail", "upper tail"}});
   const std::string both = w().dir() + "/both.csv";
   cases.push_back({"--csv /dev/stdout with stdout and stderr in one file",
                    simulate(w().quick()) + " --csv /dev/stdout > " + both + " 2>&1", Want::kRuns, {},
@@ -2147,7 +2147,7 @@ TEST_F(Audit, FifthAuditCases) {
                      j["parameters"] = {{"c_q", {{"distribution", "normal"}, {"mean", 0.05}, {"sd", 0.05}}},
                                         {"f", {{"distribution", "uniform"}, {"min", 1e3}, {"max", 1e4}}}};
                    })),
-                   Want::kError, {"'max_failed_fraction'", "is 0.05", "about 15.9 %", "'c_q'", "truncate"}});
+                   Want::kError, {"'max_failed_fraction'", "is 0.05", "about 29.2 % of the pick-freeze groups", "15.9 % of the samples", "'c_q'", "truncate"}});
   const std::string socket_out = w().dir() + "/sk.h5";
   bind_unix_socket(socket_out + ".checkpoint");
   cases.push_back({"--restart with a socket where the checkpoint goes",
@@ -2166,6 +2166,61 @@ TEST_F(Audit, FifthAuditCases) {
                                 ? rows + " does not say the settling time is none"
                                 : std::string();
                    }});
+  run_table(w().dir(), cases);
+}
+
+// A descriptor open for reading, group failures beyond max_failed_fraction,
+// a clearance beside a height, unit mistakes in a band and a speed, a
+// distribution centred in refused values, temporary-file names as outputs,
+// runs still falling at their end, and --resume through a link.
+TEST_F(Audit, SixthAuditCases) {
+  std::vector<Case> cases;
+  const std::string input = w().text_file("input", "keep me\n", "txt");
+  cases.push_back({"--csv at a descriptor open for reading", simulate(w().quick()) + " --csv /dev/fd/3 3<" + input,
+                   Want::kError, {"--csv '/dev/fd/3'", "open for reading only"}, unchanged(input)});
+  cases.push_back({"--csv /dev/stdin", simulate(w().quick()) + " --csv /dev/stdin < " + input, Want::kError,
+                   {"--csv '/dev/stdin'", "open for reading only"}, unchanged(input)});
+  cases.push_back({"Morris: a refused tail of 3 % in every other trajectory", study("sensitivity", w().sensitivity([&](Json& j) {
+                     j.erase("model");
+                     j["method"] = "morris";
+                     j["scenario"] = w().quick();
+                     j["qoi"] = {"B_l_z_min"};
+                     j["design"] = {{"trajectories", 4}, {"levels", 4}, {"seed", 1}};
+                     j.erase("bootstrap");
+                     j["parameters"] = {{"c_q", {{"distribution", "normal"}, {"mean", 0.1}, {"sd", 0.053}}},
+                                        {"f", {{"distribution", "uniform"}, {"min", 1e3}, {"max", 1e4}}}};
+                   })),
+                   Want::kError, {"'max_failed_fraction'", "of the trajectories", "each draws every input twice"}});
+  cases.push_back({"initial_q.z beside initial_ground_clearance", simulate(w().scenario([](Json& j) {
+                     j["initial_ground_clearance"] = 0.01;
+                   })),
+                   Want::kError, {"'initial_ground_clearance'", "initial_q.z is given too", "0.281"}});
+  cases.push_back({"a settling band in millimetres", study("montecarlo", w().montecarlo([](Json& j) {
+                     j["qoi"] = {{{"name", "settling_time"}, {"band", 0.5}}};
+                   })),
+                   Want::kError, {"'qoi[0].band'", "0.5 m is beyond 0.05 m"}});
+  cases.push_back({"a forward speed of 50 m/s", simulate(w().scenario([](Json& j) { j["forward_speed"] = 50; })),
+                   Want::kError, {"'forward_speed'", "50 m/s is beyond"}});
+  cases.push_back({"c_q centred on negative values", study("montecarlo", w().montecarlo([](Json& j) {
+                     j["parameters"]["c_q"] = {{"distribution", "normal"}, {"mean", -1.0}, {"sd", 0.1}};
+                   })),
+                   Want::kError, {"'c_q': the median of its normal", "-1", "refused by the model"}});
+  cases.push_back({"a lognormal whose median overflows", study("montecarlo", w().montecarlo([](Json& j) {
+                     j["parameters"]["c_q"] = {{"distribution", "lognormal"}, {"log_mean", 800}, {"log_sd", 0.1}};
+                   })),
+                   Want::kError, {"'c_q': the median of its lognormal", "no finite number"}, {}, {}, {"null"}});
+  const std::string earlier = w().out();
+  cases.push_back({"--csv at another output's temporary name",
+                   simulate(w().quick()) + " --csv " + earlier + ".partial", Want::kError,
+                   {".partial", "temporary file"}});
+  cases.push_back({"t_min of runs still falling at their end", study("montecarlo", w().montecarlo([](Json&) {})),
+                   Want::kRuns, {"t_min: 2 of 2 runs reach their lowest B_l z at the run's end"}});
+  const std::string linked_out = w().dir() + "/linked.h5";
+  fs::create_symlink(w().dir() + "/missing.checkpoint", linked_out + ".checkpoint");
+  cases.push_back({"--resume with a dangling link as the checkpoint",
+                   study_args("montecarlo", w().montecarlo([](Json&) {}), linked_out) + " --resume", Want::kError,
+                   {"--resume: ", "linked.h5.checkpoint is a symbolic link", "--restart"},
+                   still_a_link(linked_out + ".checkpoint", w().dir() + "/missing.checkpoint")});
   run_table(w().dir(), cases);
 }
 

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "core/integrators.hpp"
 #include "io/hdf5_file.hpp"
 #include "test_support.hpp"
 
@@ -237,19 +238,22 @@ TEST(CmdStudies, OneSummaryFigureByDefaultAndEveryFigureOnRequest) {
 }
 
 TEST(CmdStudies, EveryRunFailingIsAnErrorButTheResultsAreKept) {
-  // Every drop starts about 0.55 m below the ground: every sample is rejected.
-  // (A bounded distribution reaching there is refused before any run; a
-  // normal one is not tried at its ends.)
+  // A wall-time budget of a microsecond: every run stops at its first steps.
   const std::string dir = rover::testing::temp_dir();
+  const std::string scenario = write_file(dir + "/no_time.json", R"({"name": "no_time", "rover": ")" +
+                                                                     source_path("configs/rover.json") +
+                                                                     R"(", "duration": 0.25, "output_rate": 200,
+      "wall_time_budget": 1e-6, "initial_q": {"z": 0.281, "chi": 0.039, "psi": 0.0042}})");
   const std::string path = dir + "/all_fail.json";
-  write_file(path, R"({"type": "montecarlo", "name": "f", "scenario": ")" + short_drop(dir) + R"(",
-      "parameters": {"scenario.initial_q.z": {"distribution": "normal", "mean": -0.55, "sd": 0.01}},
+  write_file(path, R"({"type": "montecarlo", "name": "f", "scenario": ")" + scenario + R"(",
+      "parameters": {"c_q": {"distribution": "uniform", "min": 0.1, "max": 0.2}},
       "design": {"type": "monte_carlo", "samples": 3}, "qoi": ["t_min"]})");
   std::string log;
   EXPECT_EQ(run_command(rover_binary() + " montecarlo --study " + path + " --no-plot --out " + dir + "/f.h5", &log), 2) << log;
   EXPECT_NE(log.find("every run failed"), std::string::npos) << log;
   const io::Hdf5Reader h5(dir + "/f.h5");
-  EXPECT_EQ(h5.read_ints("/samples/status"), (std::vector<int>{10, 10, 10}));
+  const int budget = static_cast<int>(SimulationStatus::kTimeBudgetExceeded);
+  EXPECT_EQ(h5.read_ints("/samples/status"), (std::vector<int>{budget, budget, budget}));
 }
 
 TEST(CmdStudies, BandCollapsesWhenEveryStandardDeviationIsZero) {
