@@ -297,6 +297,11 @@ double Distribution::sd() const {
   return kNaN;
 }
 
+// A spread below this share of a value's size is lost in the rounding of
+// its samples (a double resolves about 2.2e-16 of it; the model's sums lose
+// a few digits more): such an input is a fixed value in all but name.
+constexpr double kMinRelativeWidth = 1e-12;
+
 bool Distribution::IsValid(std::string* why) const {
   const std::string name = distribution_name(kind);
   if (name == "unknown") return fail_with(why, "unknown distribution kind");
@@ -317,12 +322,19 @@ bool Distribution::IsValid(std::string* why) const {
         return fail_with(why, name + ": min (" + shortest(a) + ") must be less than max (" +
                                   shortest(b) + ")");
       if (!std::isfinite(b - a)) return fail_with(why, name + ": max - min overflows");
+      if (!(b - a > kMinRelativeWidth * std::max(std::abs(a), std::abs(b))))
+        return fail_with(why, name + ": [" + shortest(a) + ", " + shortest(b) + "] is narrower than " +
+                                  shortest(kMinRelativeWidth) + " of its size, below what its samples resolve: " +
+                                  "use a fixed value");
       return true;
     case DistributionKind::kNormal:
     case DistributionKind::kLognormal: {
       const std::string sd_name = kind == DistributionKind::kNormal ? "sd" : "log_sd";
       if (!(b > 0.0))
         return fail_with(why, name + ": " + sd_name + " (" + shortest(b) + ") must be positive");
+      if (kind == DistributionKind::kNormal && !(b > kMinRelativeWidth * std::abs(a)))
+        return fail_with(why, "normal: sd (" + shortest(b) + ") is less than " + shortest(kMinRelativeWidth) +
+                                  " of the mean (" + shortest(a) + "), below what its samples resolve: use a fixed value");
       if (!(lower < upper))
         return fail_with(why, name + ": truncation lower bound (" + shortest(lower) +
                                   ") must be less than the upper bound (" + shortest(upper) + ")");

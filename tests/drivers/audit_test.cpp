@@ -2209,6 +2209,14 @@ TEST_F(Audit, SixthAuditCases) {
                      j["parameters"]["c_q"] = {{"distribution", "lognormal"}, {"log_mean", 800}, {"log_sd", 0.1}};
                    })),
                    Want::kError, {"'c_q': the median of its lognormal", "no finite number"}, {}, {}, {"null"}});
+  cases.push_back({"a normal c_q of sd 1e-20", study("montecarlo", w().montecarlo([](Json& j) {
+                     j["parameters"]["c_q"] = {{"distribution", "normal"}, {"mean", 0.1}, {"sd", 1e-20}};
+                   })),
+                   Want::kError, {"'parameters.c_q", "sd (1e-20)", "use a fixed value"}});
+  cases.push_back({"a uniform c_q of relative width 1e-15", study("montecarlo", w().montecarlo([](Json& j) {
+                     j["parameters"]["c_q"] = {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.1 * (1 + 1e-15)}};
+                   })),
+                   Want::kError, {"'parameters.c_q", "narrower than 1e-12 of its size"}});
   const std::string earlier = w().out();
   cases.push_back({"--csv at another output's temporary name",
                    simulate(w().quick()) + " --csv " + earlier + ".partial", Want::kError,
