@@ -83,7 +83,10 @@ io::ScenarioSetup RoverStudyModel::setup_at(const double* x) const {
     friction["gammas"] = gammas;
     friction["gammas_fitted_to"] = key;
   }
+  // A refused value is this run's, not the file's: messages say so.
+  run.rover_path += " with this run's sampled values";
   io::ScenarioSetup setup = io::build_scenario(run);
+  setup.rover_path = sources_.rover_path;
   if (integrator_) setup.scenario.integrator = *integrator_;
   return setup;
 }
