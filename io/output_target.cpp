@@ -96,6 +96,11 @@ OutputTarget inspect_output(const std::string& path, OutputFormat format) {
       if (flags < 0) return refused("names descriptor " + std::to_string(fd) + ", which is not open");
       if ((flags & O_ACCMODE) == O_RDONLY)
         return refused("names descriptor " + std::to_string(fd) + ", which is open for reading only");
+    } else if (fs::is_regular_file(fs::status(path, error))) {
+      // Opened anew, the file would be written from its own offset, over
+      // what the other process writes there.
+      return refused("names another process's descriptor of the file '" + fs::canonical(path, error).string() +
+                     "'; give that file's path, or /dev/stdout for this command's own output");
     }
     return stream_target(format, "an open descriptor (such as standard output)");
   }

@@ -2217,6 +2217,11 @@ TEST_F(Audit, SixthAuditCases) {
                      j["parameters"]["c_q"] = {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.1 * (1 + 1e-15)}};
                    })),
                    Want::kError, {"'parameters.c_q", "narrower than 1e-12 of its size"}});
+  // The shell holds descriptor 3 on a file; rover gets the shell's name for it.
+  const std::string shells_file = w().text_file("shell", "", "csv");
+  cases.push_back({"--csv at another process's descriptor of a file", simulate(w().quick()) + " --csv /proc/$$/fd/3",
+                   Want::kError, {"names another process's descriptor of the file", "give that file's path"},
+                   unchanged(shells_file), "exec 3>>" + shells_file + ";"});
   const std::string earlier = w().out();
   cases.push_back({"--csv at another output's temporary name",
                    simulate(w().quick()) + " --csv " + earlier + ".partial", Want::kError,
