@@ -163,24 +163,59 @@ void set_pce_runs(SensitivityStudy& study, int runs) {
   study.spec.fingerprint = extend_fingerprint(study.spec.fingerprint, "samples " + std::to_string(runs));
 }
 
-// A PCE run fails with its sample; a Sobol' pick-freeze group or a Morris
-// trajectory fails with any of its runs, and its runs take each input from
-// two independent draws (matrices A and B, a trajectory's two levels): it
-// fails with probability 1 - (1 - p)^2 for a per-sample share p in refused
-// distribution tails. Beyond max_failed_fraction the study would be refused
-// after its runs: refused now.
-void refuse_failures_beyond_the_limit(const io::JsonReader& r, const SensitivityStudy& s, const std::string& method) {
+// The share of Morris trajectories that would visit a value the model
+// refuses. Input j takes the centred levels (k + 1/2) / p through its
+// quantile function, in pairs k and k + p/2 (the jump); a trajectory fails
+// with input j when its pair holds a refused level (every other input at its
+// configured value).
+double morris_refused_share(const SensitivityStudy& s) {
+  if (!s.spec.rover) return 0.0;
+  const std::vector<UncertainInput>& inputs = s.spec.inputs;
+  std::vector<double> x;
+  for (const UncertainInput& in : inputs) x.push_back(in.distribution.quantile(0.5));
+  const int pairs = s.levels / 2;
+  double kept = 1.0;
+  for (std::size_t j = 0; j < inputs.size(); ++j) {
+    std::vector<bool> refused_pair(static_cast<std::size_t>(pairs), false);
+    for (int k = 0; k < s.levels; ++k) {
+      std::vector<double> at = x;
+      at[j] = inputs[j].distribution.quantile((k + 0.5) / s.levels);
+      try {
+        (void)s.spec.rover->setup_at(at.data());
+      } catch (const std::exception&) {
+        refused_pair[static_cast<std::size_t>(k % pairs)] = true;
+      }
+    }
+    const auto refused = std::count(refused_pair.begin(), refused_pair.end(), true);
+    kept *= 1.0 - static_cast<double>(refused) / pairs;
+  }
+  return 1.0 - kept;
+}
+
+// A PCE run fails with its sample, a share p in refused distribution tails;
+// a Sobol' pick-freeze group with either of its two independent draws
+// (matrices A and B), 1 - (1 - p)^2; a Morris trajectory with a refused
+// level (morris_refused_share). Beyond max_failed_fraction the study would be
+// refused after its runs: refused now.
+void refuse_failures_beyond_the_limit(const io::JsonReader& r, const SensitivityStudy& s) {
   const double p = s.spec.refused_share;
-  const bool pairs = method != "pce";
-  const double unit_share = pairs ? 1.0 - (1.0 - p) * (1.0 - p) : p;
-  if (!(unit_share > s.max_failed_fraction)) return;
-  r.fail("max_failed_fraction",
-         "is " + fixed_text(s.max_failed_fraction, 2) + ", but about " + fixed_text(100.0 * unit_share, 1) + " % of the " +
-             (pairs ? std::string(method == "sobol" ? "pick-freeze groups" : "trajectories") +
-                          " would draw a value the model refuses (each draws every input twice; " +
-                          fixed_text(100.0 * p, 1) + " % of the samples: " + s.spec.warnings.front() + ")"
-                    : "runs would draw a value the model refuses (" + s.spec.warnings.front() + ")") +
-             ": the study would fail after its runs; truncate the distributions");
+  double share = p;
+  std::string units = "runs", why = s.spec.warnings.empty() ? "" : s.spec.warnings.front();
+  if (s.method == SensitivityMethod::kSobol) {
+    share = 1.0 - (1.0 - p) * (1.0 - p);
+    units = "pick-freeze groups";
+    why = "each draws every input twice; " + fixed_text(100.0 * p, 1) + " % of the samples: " + why;
+  } else if (s.method == SensitivityMethod::kMorris) {
+    share = morris_refused_share(s);
+    units = "trajectories";
+    why = "a level of " + std::to_string(s.levels) + " lies where the model refuses the input" +
+          (why.empty() ? "" : ": " + why);
+  }
+  if (!(share > s.max_failed_fraction)) return;
+  r.fail("max_failed_fraction", "is " + fixed_text(s.max_failed_fraction, 2) + ", but about " +
+                                    fixed_text(100.0 * share, 1) + " % of the " + units +
+                                    " would draw a value the model refuses (" + why +
+                                    "): the study would fail after its runs; truncate the distributions");
 }
 
 SensitivityStudy load_sensitivity_study(const std::string& path) {
@@ -214,7 +249,6 @@ SensitivityStudy load_sensitivity_study(const std::string& path) {
   s.max_failed_fraction = r.number_or("max_failed_fraction", 0.05);
   if (!(s.max_failed_fraction >= 0.0 && s.max_failed_fraction < 1.0))
     r.fail("max_failed_fraction", "must lie in [0, 1)");
-  refuse_failures_beyond_the_limit(r, s, method);
   const io::JsonReader d = r.child("design");
   const double seed = d.number_or("seed", 1.0);
   if (!(seed >= 0 && seed < 9.007199254740992e15 && seed == std::floor(seed)))
@@ -254,6 +288,7 @@ SensitivityStudy load_sensitivity_study(const std::string& path) {
   }
   d.finish();
   r.finish();
+  refuse_failures_beyond_the_limit(r, s);
   s.spec.fingerprint = extend_fingerprint(s.spec.fingerprint, "sensitivity");
   return s;
 }

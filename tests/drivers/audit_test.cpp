@@ -2180,17 +2180,25 @@ TEST_F(Audit, SixthAuditCases) {
                    Want::kError, {"--csv '/dev/fd/3'", "open for reading only"}, unchanged(input)});
   cases.push_back({"--csv /dev/stdin", simulate(w().quick()) + " --csv /dev/stdin < " + input, Want::kError,
                    {"--csv '/dev/stdin'", "open for reading only"}, unchanged(input)});
-  cases.push_back({"Morris: a refused tail of 3 % in every other trajectory", study("sensitivity", w().sensitivity([&](Json& j) {
-                     j.erase("model");
-                     j["method"] = "morris";
-                     j["scenario"] = w().quick();
-                     j["qoi"] = {"B_l_z_min"};
-                     j["design"] = {{"trajectories", 4}, {"levels", 4}, {"seed", 1}};
-                     j.erase("bootstrap");
-                     j["parameters"] = {{"c_q", {{"distribution", "normal"}, {"mean", 0.1}, {"sd", 0.053}}},
-                                        {"f", {{"distribution", "uniform"}, {"min", 1e3}, {"max", 1e4}}}};
-                   })),
-                   Want::kError, {"'max_failed_fraction'", "of the trajectories", "each draws every input twice"}});
+  const auto morris = [&](double mean, double sd) {
+    return study("sensitivity", w().sensitivity([&](Json& j) {
+      j.erase("model");
+      j.erase("bootstrap");
+      j["method"] = "morris";
+      j["scenario"] = w().quick();
+      j["qoi"] = {"B_l_z_min"};
+      j["design"] = {{"trajectories", 4}, {"levels", 4}, {"seed", 1}};
+      j["parameters"] = {{"c_q", {{"distribution", "normal"}, {"mean", mean}, {"sd", sd}}},
+                         {"f", {{"distribution", "uniform"}, {"min", 1e3}, {"max", 1e4}}}};
+    }));
+  };
+  // Levels at the 1/8, 3/8, 5/8 and 7/8 quantiles: the lowest is -0.0075 here,
+  // so every trajectory that jumps between it and 5/8 fails.
+  cases.push_back({"Morris: the lowest level where the model refuses c_q", morris(0.05, 0.05), Want::kError,
+                   {"'max_failed_fraction'", "about 50.0 % of the trajectories", "a level of 4"}});
+  // A 3 % tail below 0 that no level reaches: nothing fails.
+  cases.push_back({"Morris: a refused tail that no level reaches", morris(0.1, 0.053), Want::kRuns,
+                   {"12 runs (0 failed)"}});
   cases.push_back({"initial_q.z beside initial_ground_clearance", simulate(w().scenario([](Json& j) {
                      j["initial_ground_clearance"] = 0.01;
                    })),
