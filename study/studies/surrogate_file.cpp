@@ -172,13 +172,22 @@ std::vector<SurrogateInput> read_inputs(const io::Hdf5Reader& h5) {
   return inputs;
 }
 
+// A uniform or log-uniform input: the design spreads its runs over the whole
+// (finite) support. A normal or lognormal one, truncated or not, has tails
+// the runs rarely reach: a finite end of its support (a lognormal's 0, a
+// truncation bound) may lie far beyond every run.
+bool design_fills_support(const Distribution& distribution) {
+  return distribution.kind == DistributionKind::kUniform || distribution.kind == DistributionKind::kLogUniform ||
+         distribution.kind == DistributionKind::kFixed;
+}
+
 }  // namespace
 
 SurrogateInput surrogate_input(const std::string& name, const std::string& label, const Distribution& distribution,
                                const Eigen::VectorXd& training_values) {
-  const double lower = distribution.support_lower(), upper = distribution.support_upper();
-  return {name, label, distribution, std::isfinite(lower) ? lower : training_values.minCoeff(),
-          std::isfinite(upper) ? upper : training_values.maxCoeff()};
+  if (design_fills_support(distribution))
+    return {name, label, distribution, distribution.support_lower(), distribution.support_upper()};
+  return {name, label, distribution, training_values.minCoeff(), training_values.maxCoeff()};
 }
 
 void write_surrogate_set(io::Hdf5Writer& h5, const SurrogateSet& set) {
