@@ -28,6 +28,8 @@ void write_validation(io::Hdf5Writer& h5, const std::string& g, const FittedSurr
   h5.attribute(g, "q2_loo", v.q2_loo);
   h5.attribute(g, "test_points", static_cast<long long>(v.test_points));
   h5.attribute(g, "q2_test", v.q2_test);
+  if (const std::string why = held_out_q2_undefined_reason(v); !why.empty())
+    h5.attribute(g, "q2_test_undefined_reason", why);
   h5.attribute(g, "rmse_test", v.rmse_test);
   h5.attribute(g, "warning", v.warning);
   h5.attribute(g, "runs", static_cast<long long>(m.runs()));
