@@ -1,12 +1,14 @@
 // `rover compare A B`: the metrics of docs/model.md §8 between two curves.
 // Measured CSV curves t,z go through io::read_measured_curve's checks; a metric
 // that is not finite (a flat reference makes eq. 10 divide by zero) is an
-// error naming it, not JSON null.
+// error naming it, not JSON null; an RMS beyond the span of the reference's
+// values (a curve in millimetres) is a warning (core/reference_miss.hpp).
 #include <algorithm>
 #include <iomanip>
 #include <iostream>
 
 #include "core/metrics.hpp"
+#include "core/reference_miss.hpp"
 #include "drivers/command_registry.hpp"
 #include "drivers/options.hpp"
 #include "io/json_reader.hpp"
@@ -59,6 +61,20 @@ void check_reference_divisors(const CompareOptions& o, const io::Curve& b) {
                                 rest + " (eq. 11 divides by it); nothing printed");
 }
 
+// A curve that misses the reference by more than the span of the
+// reference's values is in other units or of another column (a measured
+// curve in millimetres): a warning, as for the studies' references.
+void warn_if_reference_missed(const CompareOptions& o, double rms, const io::Curve& b) {
+  const double span = value_span(b.y);
+  if (!every_rms_exceeds_span({rms}, span)) return;
+  const bool angle = o.column == "pitch" || o.column == "roll";
+  const std::string unit = angle ? "rad" : (o.column.ends_with("_z") ? "m" : "");
+  const std::string who = "curve A ('" + o.first + "') misses (RMS " + number_text(rms) + (unit.empty() ? "" : " " + unit) + ")";
+  std::cerr << "rover compare: warning: "
+            << reference_missed_text(who, "curve B ('" + o.second + "', column " + o.column + ")", span, unit, "column named")
+            << "\n";
+}
+
 int run_compare(const CompareOptions& o) {
   FlagChecks checks;
   checks.finite("--rest-time", o.rest_time_s);
@@ -89,6 +105,7 @@ int run_compare(const CompareOptions& o) {
   out["rest_time_s"] = o.rest_time_s;
   out["time_offset_s"] = o.time_offset_s;
   require_finite_output(out);
+  warn_if_reference_missed(o, out["rms_m"].get<double>(), b);
   std::cout << std::setw(2) << out << "\n";
   return 0;
 }

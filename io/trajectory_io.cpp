@@ -29,6 +29,18 @@ bool ends_with(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
+// A record that `rover simulate` wrote of a failed run (status_code not 0):
+// its curve stops, or runs away, where the run failed, so no reader may take
+// it for a trajectory. Files without the attribute (other tools) pass.
+void refuse_failed_run_record(const Hdf5Reader& h5, const std::string& path) {
+  if (!h5.has_attribute("/", "status_code") || h5.attribute_integer("/", "status_code") == 0) return;
+  const std::string status = h5.has_attribute("/", "status") ? h5.attribute_string("/", "status") : "failed";
+  const std::string message = h5.has_attribute("/", "message") ? h5.attribute_string("/", "message") : "";
+  throw ConfigError(path + ": the record of a failed run (status '" + status + "'" +
+                    (message.empty() ? "" : ": " + message) +
+                    "), not a trajectory; give the file of a run that succeeded");
+}
+
 }  // namespace
 
 void write_trajectory_hdf5(const std::string& path, const Trajectory& tr, const ScenarioSetup& setup,
@@ -164,6 +176,7 @@ Curve read_curve(const std::string& path, const std::string& column) {
     return c;
   }
   const Hdf5Reader h5(path);
+  refuse_failed_run_record(h5, path);
   if (!h5.exists("/" + column)) {
     std::string names;
     for (const std::string& name : h5.list("/")) names += (names.empty() ? "" : ", ") + name;

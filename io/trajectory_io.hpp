@@ -29,7 +29,9 @@ std::vector<std::string> write_trajectory_plots(const std::string& png_stem,
 // with a header (column "t" and the named one, or "z" for measured drop data,
 // read by read_measured_curve with its bound on |z|). Times must increase
 // strictly over at least 3 samples and every value be finite; throws
-// ConfigError naming the file and the line (CSV) or the sample (HDF5).
+// ConfigError naming the file and the line (CSV) or the sample (HDF5). The
+// HDF5 record of a failed run (attribute status_code not 0) is refused with
+// the run's recorded status and message.
 struct Curve {
   std::vector<double> t, y;
 };

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/number_text.hpp"
+#include "core/reference_miss.hpp"
 #include "core/simulate.hpp"
 #include "io/trajectory_io.hpp"
 #include "io/output_target.hpp"
@@ -77,6 +78,16 @@ std::shared_ptr<ReferenceCurve> reference_curve(const SurfaceStudy& study) {
   reference->t = tr->t;
   reference->value = tr->B_l_z;
   return reference;
+}
+
+// The run RMS values (grid and kriging design) all beyond the span of the
+// reference's heights: the warning that says so, else "".
+std::string reference_missed_warning(const SurfaceResult& r, const ReferenceCurve& reference) {
+  std::vector<double> rms(r.rms.data(), r.rms.data() + r.rms.size());
+  rms.insert(rms.end(), r.kriging.rms.data(), r.kriging.rms.data() + r.kriging.rms.size());
+  const double span = value_span(reference.value);
+  if (!every_rms_exceeds_span(rms, span)) return "";
+  return "rms: " + reference_missed_text("every run misses", reference.path, span, "m", "B_l z channel");
 }
 
 int grid_tasks(const SurfaceStudy& study) {
@@ -317,6 +328,7 @@ SurfaceResult run_surface(const SurfaceStudy& study, const StudyRuntime& runtime
   if (world_rank() != 0) return {};
   result.regression = sweep_regression(result);
   if (study.kriging.enabled) krige(study, result);
+  result.reference_warning = reference_missed_warning(result, *rms.reference);
   return result;
 }
 
@@ -341,8 +353,10 @@ StudyProgram<SurfaceResult> surface_program(SurfaceStudy study) {
     return c;
   };
   p.plot = plot_surface;
-  if (study.kriging.enabled)
-    p.report = [](const SurfaceResult& r, std::ostream& out) { report_surface_kriging(r.kriging, out); };
+  p.report = [](const SurfaceResult& r, std::ostream& out) {
+    if (r.study.kriging.enabled) report_surface_kriging(r.kriging, out);
+    if (!r.reference_warning.empty()) out << "surface: warning: " << r.reference_warning << "\n";
+  };
   return p;
 }
 

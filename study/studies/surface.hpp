@@ -27,7 +27,8 @@
 // /status (nf x nc), /rhs_evaluations (nf x nc), /reference/t, /reference/z,
 // /sweep/f, /sweep/t_c, /sweep/rhs_evaluations, /sweep/regression
 // [intercept a (s), slope b (s), r^2]; attributes include the integrator that
-// produced t_c, and the number of MPI ranks (t_c is wall time per run). A
+// produced t_c, the number of MPI ranks (t_c is wall time per run) and, when
+// every run misses the reference by more than its span, reference_warning. A
 // kriged surface writes the grid's datasets only when the grid is run, and
 // /gp and /surrogate (surface_kriging.hpp).
 #pragma once
@@ -85,6 +86,9 @@ struct SurfaceResult {
   LinearFit regression;              // of the sweep's successful runs
   int runs = 0, failed = 0;
   SurfaceKriging kriging;            // when study.kriging.enabled
+  // Not empty when every run's RMS exceeds the span of the reference's
+  // heights (core/reference_miss.hpp): a reference in millimetres, say.
+  std::string reference_warning;
 };
 
 // Least squares y = a + b x (NaN for fewer than two points).

@@ -33,6 +33,7 @@ void write_surface(const SurfaceResult& r, io::Hdf5Writer& h5) {
   h5.attribute("/", "reference", study.reference_description);
   h5.attribute("/", "t_c_meaning", "wall time of one simulate() call on one core, seconds");
   h5.attribute("/", "failed_runs", static_cast<long long>(r.failed));
+  if (!r.reference_warning.empty()) h5.attribute("/", "reference_warning", r.reference_warning);
 }
 
 }  // namespace rover::study

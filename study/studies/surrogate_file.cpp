@@ -28,6 +28,8 @@ void write_validation(io::Hdf5Writer& h5, const std::string& g, const FittedSurr
   h5.attribute(g, "q2_loo", v.q2_loo);
   h5.attribute(g, "test_points", static_cast<long long>(v.test_points));
   h5.attribute(g, "q2_test", v.q2_test);
+  if (const std::string why = held_out_q2_undefined_reason(v); !why.empty())
+    h5.attribute(g, "q2_test_undefined_reason", why);
   h5.attribute(g, "rmse_test", v.rmse_test);
   h5.attribute(g, "warning", v.warning);
   h5.attribute(g, "runs", static_cast<long long>(m.runs()));
@@ -172,13 +174,22 @@ std::vector<SurrogateInput> read_inputs(const io::Hdf5Reader& h5) {
   return inputs;
 }
 
+// A uniform or log-uniform input: the design spreads its runs over the whole
+// (finite) support. A normal or lognormal one, truncated or not, has tails
+// the runs rarely reach: a finite end of its support (a lognormal's 0, a
+// truncation bound) may lie far beyond every run.
+bool design_fills_support(const Distribution& distribution) {
+  return distribution.kind == DistributionKind::kUniform || distribution.kind == DistributionKind::kLogUniform ||
+         distribution.kind == DistributionKind::kFixed;
+}
+
 }  // namespace
 
 SurrogateInput surrogate_input(const std::string& name, const std::string& label, const Distribution& distribution,
                                const Eigen::VectorXd& training_values) {
-  const double lower = distribution.support_lower(), upper = distribution.support_upper();
-  return {name, label, distribution, std::isfinite(lower) ? lower : training_values.minCoeff(),
-          std::isfinite(upper) ? upper : training_values.maxCoeff()};
+  if (design_fills_support(distribution))
+    return {name, label, distribution, distribution.support_lower(), distribution.support_upper()};
+  return {name, label, distribution, training_values.minCoeff(), training_values.maxCoeff()};
 }
 
 void write_surrogate_set(io::Hdf5Writer& h5, const SurrogateSet& set) {

@@ -15,8 +15,9 @@
 //          correlation_cholesky (n x n), trend_cholesky, whitened_trend;
 //          attributes trend, process_variance, nugget, neg_log_likelihood
 //
-// A prediction is accepted inside `support`: per input, its distribution's
-// support where that end is finite, else the training runs' range.
+// A prediction is accepted inside `support`: per input, the support of a
+// uniform or log-uniform distribution (the design fills it), else (normal,
+// lognormal, truncated or not) the range of the training runs' values.
 #pragma once
 
 #include <string>

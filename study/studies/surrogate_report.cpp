@@ -67,11 +67,16 @@ void write_validation(io::Hdf5Writer& h5, const SurrogateQoiResult& q) {
   h5.write(g + "held_out_predicted", to_vector(q.held_out_predicted));
 }
 
+// The held-out Q2, or "undefined" (fewer than 2 held-out runs, or equal values).
+std::string held_out_q2_text(const SurrogateValidation& v) {
+  return std::isfinite(v.q2_test) ? fixed_text(v.q2_test, 4) : "undefined";
+}
+
 std::string validation_text(const SurrogateValidation& v) {
   std::string s = "Q2 LOO " + fixed_text(v.q2_loo, 4);
   if (v.test_points > 0)
-    s += ", held-out Q2 " + fixed_text(v.q2_test, 4) + " (RMSE " + general(v.rmse_test) + ", " +
-         std::to_string(v.test_points) + " runs)";
+    s += ", held-out Q2 " + held_out_q2_text(v) + " (RMSE " + general(v.rmse_test) + ", " +
+         std::to_string(v.test_points) + (v.test_points == 1 ? " run)" : " runs)");
   return s;
 }
 
@@ -127,7 +132,7 @@ std::optional<io::LinePlot> predicted_panel(const SurrogateQoiResult& q) {
   if (!q.fitted || q.actual.size() == 0) return std::nullopt;
   io::LinePlot p;
   const SurrogateValidation& v = q.model.validation();
-  p.title = q.name + ": Q2 LOO " + fixed_text(v.q2_loo, 4) + (v.test_points > 0 ? ", held-out " + fixed_text(v.q2_test, 4) : "");
+  p.title = q.name + ": Q2 LOO " + fixed_text(v.q2_loo, 4) + (v.test_points > 0 ? ", held-out " + held_out_q2_text(v) : "");
   p.x_label = "model";
   p.y_label = "surrogate";
   p.max_ticks = 4;

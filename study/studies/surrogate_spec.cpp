@@ -4,6 +4,8 @@
 #include <cmath>
 #include <filesystem>
 
+#include "core/number_text.hpp"
+#include "io/hdf5_file.hpp"
 #include "io/scenario_config.hpp"
 
 namespace rover::study {
@@ -83,6 +85,28 @@ void parse_held_out(const io::JsonReader& r, SurrogateStudy& s) {
   h.finish();
 }
 
+// A held-out Q2 needs kMinHeldOutRuns runs (surrogate_validation.hpp): a
+// held-out file or a fraction of the design that holds fewer is refused
+// before any run. A fraction of a training file is checked when it is read.
+void check_held_out_runs(const io::JsonReader& r, const SurrogateStudy& s) {
+  if (!r.has("held_out")) return;
+  const io::JsonReader h = r.child("held_out");
+  if (!s.held_out_file.empty()) {
+    Eigen::Index runs = kMinHeldOutRuns;
+    try {
+      const io::Hdf5Reader h5(s.held_out_file);
+      if (h5.exists("/inputs/values")) runs = h5.read_matrix("/inputs/values").rows();
+    } catch (const std::exception& e) {
+      h.fail("file", e.what());
+    }
+    if (runs < kMinHeldOutRuns)
+      h.fail("file", s.held_out_file + " holds " + std::to_string(runs) + " run(s); a held-out Q2 needs at least " +
+                         std::to_string(kMinHeldOutRuns));
+  } else if (s.training_file.empty() && s.held_out_runs() < kMinHeldOutRuns) {
+    h.fail("fraction", held_out_count_problem(s.held_out_fraction, s.spec.design.samples));
+  }
+}
+
 void check_design_runs(const io::JsonReader& r, const SurrogateStudy& s) {
   const int training = s.spec.design.samples - s.held_out_runs();
   const int needed = min_training_runs(s);
@@ -95,6 +119,15 @@ void check_design_runs(const io::JsonReader& r, const SurrogateStudy& s) {
 }
 
 }  // namespace
+
+std::string held_out_count_problem(double fraction, long long runs) {
+  const long long held_out = std::llround(fraction * static_cast<double>(runs));
+  if (held_out >= kMinHeldOutRuns) return "";
+  return number_text(fraction) + " of " + std::to_string(runs) + " runs holds out " + std::to_string(held_out) +
+         (held_out == 1 ? " run" : " runs") + "; a held-out Q2 needs at least " + std::to_string(kMinHeldOutRuns) +
+         " (a fraction of at least " + number_text((kMinHeldOutRuns - 0.5) / static_cast<double>(runs)) +
+         " of these runs, or more runs)";
+}
 
 double SurrogateStudy::q2_threshold() const {
   return kind == SurrogateKind::kPolynomialChaos ? pce.settings.q2_threshold : gp.q2_threshold;
@@ -155,6 +188,7 @@ SurrogateStudy load_surrogate_study(const std::string& path) {
     c.finish();
   }
   if (!from_file) check_design_runs(r, s);
+  check_held_out_runs(r, s);
   r.finish();
   s.spec.fingerprint = extend_fingerprint(
       s.spec.fingerprint, std::string("surrogate ") + surrogate_kind_name(s.kind) + " " + s.training_file + " " +
@@ -167,6 +201,9 @@ void set_surrogate_runs(SurrogateStudy& s, int runs) {
     throw std::invalid_argument("--samples sets the runs of a design; this study trains on " + s.training_file);
   if (s.spec.design.type == DesignType::kGrid)
     throw std::invalid_argument("--samples does not apply to a grid design (its size is the product of its levels)");
+  if (s.held_out_file.empty() && s.held_out_fraction > 0.0)
+    if (const std::string p = held_out_count_problem(s.held_out_fraction, runs); !p.empty())
+      throw std::invalid_argument("--samples " + std::to_string(runs) + ": 'held_out.fraction' " + p);
   SurrogateStudy trial = s;
   trial.spec.design.samples = runs;
   const int training = runs - trial.held_out_runs(), needed = min_training_runs(s);

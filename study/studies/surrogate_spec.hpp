@@ -11,7 +11,8 @@
 //     "training": {"file": "results/mc.h5"}        the runs of a result file of
 //               montecarlo, evaluate, sensitivity or surrogate (relative to the study file),
 //   "held_out": {"fraction": 0.2} (the last runs, design or file, in (0, 0.5])
-//               or {"file": "results/other.h5"}     optional held-out validation,
+//               or {"file": "results/other.h5"}     optional held-out validation
+//               of at least 2 runs (a Q2 needs the spread of 2 values),
 //   "pce": {"max_degree": 12, "q_norm": 0.75, "bootstrap": 200, "q2_threshold": 0.95},
 //   "gp":  {"trend": "constant" | "linear", "starts": 4, "nugget": 1e-8 | "estimate",
 //           "q2_threshold": 0.95},
@@ -60,8 +61,12 @@ SurrogateStudy load_surrogate_study(const std::string& path);
 // The fewest training runs the fit accepts (after failed and held-out runs are removed).
 int min_training_runs(const SurrogateStudy& study);
 
+// Why `fraction` of `runs` runs holds out too few runs for a held-out Q2
+// (kMinHeldOutRuns), naming the count and the least fraction; "" if enough.
+std::string held_out_count_problem(double fraction, long long runs);
+
 // --samples: the design's run count. Throws std::invalid_argument for a study
-// trained on a file, or too few runs for the fit.
+// trained on a file, or too few runs for the fit or for the held-out Q2.
 void set_surrogate_runs(SurrogateStudy& study, int runs);
 
 }  // namespace rover::study

@@ -155,6 +155,8 @@ std::vector<std::string> study_warnings(const SurrogateStudy& study, const Surro
     else if (!q.undefined_reason.empty()) w.push_back(q.name + ": indices undefined: " + q.undefined_reason);
     if (q.fitted && q.undefined_reason.empty() && !q.model.validation().warning.empty())
       w.push_back(q.model.validation().warning);
+    if (const std::string why = q.fitted ? held_out_q2_undefined_reason(q.model.validation()) : ""; !why.empty())
+      w.push_back(q.name + ": held-out Q2 undefined: " + why);
     if (q.indices_defined && study.pce.bootstrap > 0 && !q.has_intervals)
       w.push_back(q.name + ": " + std::to_string(q.intervals.resamples_used) + " of " +
                   std::to_string(study.pce.bootstrap) +
@@ -229,6 +231,9 @@ SurrogateStudyResult run_surrogate_study(const SurrogateStudy& study, const Stud
     held_out = read_result_runs(study.held_out_file, study, "held-out");
   } else {
     const int count = static_cast<int>(std::lround(study.held_out_fraction * runs.runs()));
+    if (study.held_out_fraction > 0.0)  // of a training file: its run count is known now
+      if (const std::string p = held_out_count_problem(study.held_out_fraction, runs.runs()); !p.empty())
+        throw io::ConfigError(study.spec.path + ": field 'held_out.fraction': " + runs.source + ": " + p);
     held_out = runs.slice(runs.runs() - count, count);
     runs = runs.slice(0, runs.runs() - count);
   }

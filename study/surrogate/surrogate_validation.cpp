@@ -25,11 +25,15 @@ void score_held_out(const Eigen::VectorXd& observed, const Eigen::VectorXd& pred
   const double sst = (observed.array() - observed.mean()).square().sum();
   validation->test_points = static_cast<int>(observed.size());
   validation->rmse_test = std::sqrt(sse / static_cast<double>(observed.size()));
-  if (sst > 0.0) {
-    validation->q2_test = 1.0 - sse / sst;
-  } else {
-    validation->q2_test = sse == 0.0 ? 1.0 : 0.0;
-  }
+  validation->q2_test = observed.size() >= kMinHeldOutRuns && sst > 0.0 ? 1.0 - sse / sst : std::nan("");
+}
+
+std::string held_out_q2_undefined_reason(const SurrogateValidation& v) {
+  if (v.test_points == 0 || std::isfinite(v.q2_test)) return "";
+  if (v.test_points < kMinHeldOutRuns)
+    return "Q2 needs at least " + std::to_string(kMinHeldOutRuns) + " held-out runs, got " +
+           std::to_string(v.test_points);
+  return "the " + std::to_string(v.test_points) + " held-out values are equal: no spread to explain";
 }
 
 void flag_low_q2(const std::string& output_name, int runs, double threshold,

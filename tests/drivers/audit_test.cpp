@@ -27,12 +27,14 @@
 #include <iterator>
 #include <map>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include "io/hdf5_file.hpp"
 #include "io/json_reader.hpp"
 #include "test_support.hpp"
 
@@ -2040,6 +2042,82 @@ void bind_unix_socket(const std::string& path) {
   std::strcpy(address.sun_path, path.c_str());
   ASSERT_EQ(::bind(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address), 0) << path;
   ::close(fd);
+}
+
+// A reference in millimetres against `compare` and `surface`, the record of a
+// failed run read as a curve, a surrogate asked beyond where it was trained
+// (a lognormal's lower end), and a held-out set too small for a Q2.
+TEST_F(Audit, SuspectReferencesAndSurrogateValidityLimits) {
+  std::vector<Case> cases;
+  // The synthetic drop's first 150 rows (0.3 s) with heights in millimetres.
+  std::string millimetres;
+  std::istringstream rows(measured_text("\n", 150));
+  for (std::string line; std::getline(rows, line);) {
+    const std::size_t comma = line.find(',');
+    if (line.starts_with("t,")) millimetres += line + "\n";
+    else millimetres += line.substr(0, comma) + "," + std::to_string(1000.0 * std::stod(line.substr(comma + 1))) + "\n";
+  }
+  const std::string mm = w().text_file("reference_mm", millimetres, "csv");
+  const std::string run = simulated_curve(w().dir() + "/run.h5");
+  cases.push_back({"compare against a reference in millimetres",
+                   "compare " + run + " " + mm + " --time-offset 0.05 --rest-time 0.2", Want::kRuns,
+                   {"warning", "misses (RMS", "millimetres"}});
+  const std::string surface_out = w().out();
+  const std::string surface_mm = w().surface([&](Json& j) {
+    j["reference"] = {{"file", mm}, {"time_offset", 0.05}};
+  });
+  cases.push_back({"surface against a reference in millimetres", study_args("surface", surface_mm, surface_out),
+                   Want::kRuns, {"warning: rms: every run misses the reference", "millimetres"},
+                   [surface_out] {
+                     const io::Hdf5Reader h5(surface_out);
+                     return h5.has_attribute("/", "reference_warning") ? std::string()
+                                                                       : surface_out + " has no reference_warning";
+                   }});
+  // A run that blows up at 0.15 s (rk4 at 5 ms steps): its record holds
+  // finite heights up to 1e60 m before the failure.
+  const std::string failed = w().dir() + "/failed.h5";
+  const std::string blows_up = w().scenario([](Json& j) {
+    j["duration"] = 0.2;
+    j["integrator"] = {{"method", "rk4"}, {"fixed_step", 0.005}};
+  });
+  std::string output;
+  ASSERT_EQ(run_command(rover_binary() + " simulate --no-plot --scenario " + blows_up + " --out " + failed, &output), 2)
+      << output;
+  const std::vector<std::string> failed_words = {failed, "the record of a failed run", "non-finite state"};
+  cases.push_back({"compare with the record of a failed run", "compare " + run + " " + failed, Want::kError,
+                   failed_words});
+  const std::string mc_failed = w().montecarlo([&](Json& j) {
+    j["qoi"] = {{{"name", "rms_vs"}, {"reference", failed}, {"channel", "B_l_z"}}};
+  });
+  std::vector<std::string> mc_words = failed_words;
+  mc_words.push_back("'qoi[0].reference'");
+  cases.push_back({"rms_vs against the record of a failed run", study("montecarlo", mc_failed), Want::kError, mc_words});
+  // A PCE of the linear model with x1 lognormal: trained on x1 near 1, never
+  // near the lognormal's lower end 0.
+  const Json surrogate{{"type", "surrogate"},
+                       {"name", "lin"},
+                       {"model", "linear"},
+                       {"parameters", {{"x1", {{"distribution", "lognormal"}, {"mean", 1.0}, {"sd", 0.2}}}}},
+                       {"design", {{"samples", 20}, {"seed", 1}}},
+                       {"pce", {{"max_degree", 1}, {"bootstrap", 0}}}};
+  const std::string trained = w().out();
+  ASSERT_EQ(run_command(rover_binary() + " " + study_args("surrogate", w().json_file("lin", surrogate), trained), &output), 0)
+      << output;
+  const std::string near_zero = w().text_file("near_zero", "x1,x2,x3,x4\n1e-6,0,0,0\n", "csv");
+  cases.push_back({"surrogate predicted at a lognormal's lower end",
+                   "surrogate --predict " + trained + " --design " + near_zero + " --csv " + w().out("csv"),
+                   Want::kError, {near_zero, "x1 = 1e-06 lies outside the training support"}});
+  Json one_held_out = surrogate;
+  one_held_out["design"]["samples"] = 10;
+  one_held_out["held_out"] = {{"fraction", 0.1}};
+  cases.push_back({"a held-out set of one run", study("surrogate", w().json_file("held1", one_held_out)), Want::kError,
+                   {"held_out.fraction", "holds out 1 run", "needs at least 2"}});
+  Json two_held_out = surrogate;
+  two_held_out["held_out"] = {{"fraction", 0.1}};
+  cases.push_back({"--samples leaving one held-out run",
+                   study("surrogate", w().json_file("held2", two_held_out)) + " --samples 10", Want::kError,
+                   {"--samples 10", "held_out.fraction", "needs at least 2"}});
+  run_table(w().dir(), cases);
 }
 
 // Unit mistakes in the rover's gravity and masses, a distribution tail the

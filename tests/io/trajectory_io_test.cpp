@@ -125,6 +125,16 @@ TEST(TrajectoryIo, FailedRunRecordsWhy) {
   EXPECT_EQ(h5.attribute_string("/", "status"), "step size underflow");
   EXPECT_EQ(h5.attribute_integer("/", "status_code"), 2);
   EXPECT_EQ(h5.attribute_string("/", "message"), tr.message);
+  // Its samples are finite, but it is no trajectory: read_curve refuses it
+  // with the recorded status and message.
+  try {
+    io::read_curve(path);
+    ADD_FAILURE() << "read the record of a failed run as a curve";
+  } catch (const io::ConfigError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find(path + ": the record of a failed run (status 'step size underflow'"), std::string::npos) << m;
+    EXPECT_NE(m.find(tr.message), std::string::npos) << m;
+  }
 }
 
 TEST(TrajectoryIo, OpensInH5py) {

@@ -218,6 +218,7 @@ TEST(SurrogateStudy, BadStudyFilesAreRefusedNamingTheField) {
            {head + R"("design": {"samples": 5}})", "design.samples"},
            {head + R"("design": {"samples": 8}, "held_out": {"fraction": 0.5}})", "design.samples"},
            {head + R"("design": {"samples": 100}, "held_out": {"fraction": 0.7}})", "held_out.fraction"},
+           {head + R"("design": {"samples": 100}, "held_out": {"fraction": 0.01}})", "held_out.fraction"},
            {head + R"("design": {"samples": 100}, "held_out": {"file": "none.h5"}})", "held_out.file"},
            {head + R"("design": {"samples": 100}, "training": {"file": "none.h5"}})", "design"},
            {head + R"("training": {"file": "none.h5"}})", "training.file"},
@@ -238,6 +239,10 @@ TEST(SurrogateStudy, BadStudyFilesAreRefusedNamingTheField) {
   EXPECT_THROW(set_surrogate_runs(s, min_training_runs(s) - 1), std::invalid_argument);
   set_surrogate_runs(s, min_training_runs(s));
   EXPECT_EQ(s.spec.design.samples, min_training_runs(s));
+  // A held-out Q2 needs 2 runs: 0.1 of 100 holds out 10, of 10 only 1.
+  SurrogateStudy held = load(head + R"("design": {"samples": 100}, "held_out": {"fraction": 0.1}})");
+  const std::string m = message_of([&] { set_surrogate_runs(held, 10); });
+  EXPECT_NE(m.find("--samples 10: 'held_out.fraction' 0.1 of 10 runs holds out 1 run"), std::string::npos) << m;
 }
 
 TEST(SurrogateStudy, ConstantQoiIsReportedWithoutIndices) {
@@ -318,6 +323,27 @@ TEST(SurrogateStudy, PredictionRefusesPointsOutsideTheTrainingSupport) {
   EXPECT_NE(m.find("x.csv:1: column 4 'x5' is not an input of the surrogate"), std::string::npos) << m;
   m = message_of([&] { surrogate_points(set, design("x1,x2,x3\n0.5,0,0\n")); });
   EXPECT_NE(m.find("no column for input 'x4'"), std::string::npos) << m;
+}
+
+// A lognormal's support starts at 0, but the runs never come near it: the
+// prediction support is the training runs' range, as for a normal.
+TEST(SurrogateStudy, HalfBoundedInputsArePredictedOnlyWhereTheyWereTrained) {
+  const std::string dir = rover::testing::temp_dir();
+  const SurrogateStudy s = load(R"({"type": "surrogate", "name": "p", "model": "linear",
+      "parameters": {"x1": {"distribution": "lognormal", "mean": 1, "sd": 0.2},
+                     "x2": {"distribution": "normal", "mean": 1, "sd": 0.1, "truncate": [0, null]}},
+      "design": {"samples": 30, "seed": 4}, "pce": {"max_degree": 1, "bootstrap": 0}})", dir);
+  const SurrogateStudyResult r = fit_in_process(s);
+  const SurrogateSet set = round_trip(s, r, dir + "/p.h5");
+  for (Eigen::Index j = 0; j < 2; ++j) {
+    EXPECT_EQ(set.inputs[static_cast<std::size_t>(j)].lower, r.training.x.col(j).minCoeff()) << j;
+    EXPECT_EQ(set.inputs[static_cast<std::size_t>(j)].upper, r.training.x.col(j).maxCoeff()) << j;
+  }
+  EXPECT_GT(set.inputs[0].lower, 0.4);  // 3 sd above the lognormal's end
+  const std::string m = message_of([&] {
+    surrogate_points(set, read_design_csv(rover::testing::write_file(dir + "/x.csv", "x1,x2,x3,x4\n1e-6,1,0,0\n")));
+  });
+  EXPECT_NE(m.find("x1 = 1e-06 lies outside the training support"), std::string::npos) << m;
 }
 
 }  // namespace
