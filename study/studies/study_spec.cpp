@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "core/number_text.hpp"
+#include "core/reference_miss.hpp"
 #include "core/rover_parameters.hpp"
 #include "io/checkpoint.hpp"
 #include "io/output_target.hpp"
@@ -589,18 +590,10 @@ std::vector<std::string> input_labels(const StudySpec& spec) {
 namespace {
 
 std::string reference_missed_warning(const QoiSpec& qoi, const std::vector<double>& values) {
-  const auto [low, high] = std::minmax_element(qoi.reference->value.begin(), qoi.reference->value.end());
-  const double span = *high - *low;
-  long long finite = 0;
-  for (const double v : values) {
-    if (!std::isfinite(v)) continue;
-    ++finite;
-    if (!(v > span)) return "";
-  }
-  if (finite == 0) return "";
-  return qoi.name + ": every run misses the reference " + qoi.reference->path + " by more than the " +
-         number_text(span) + " " + qoi_unit(qoi) + " its values span: are they in SI units (metres, not millimetres), and of the " +
-         "channel named?";
+  const double span = value_span(qoi.reference->value);
+  if (!every_rms_exceeds_span(values, span)) return "";
+  return qoi.name + ": " + reference_missed_text("every run misses", qoi.reference->path, span, qoi_unit(qoi),
+                                                 "channel named");
 }
 
 // Runs whose lowest B_l z is at their end (t_min the run's end, deflection
