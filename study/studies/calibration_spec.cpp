@@ -477,12 +477,18 @@ void read_fit_options(const io::JsonReader& r, const CalibrationOverrides& o, Ca
                  "'" + s.algorithm + "' needs gradients, which the simulated RMS does not have; "
                  "use a derivative-free algorithm (LN_BOBYQA, LN_SBPLX, LN_NELDERMEAD, GN_DIRECT_L, ...)");
   s.max_evaluations = o.max_evaluations ? *o.max_evaluations : configured_evaluations;
-  s.max_iterations = o.max_iterations ? *o.max_iterations : r.integer_or("max_iterations", 0);
-  if (s.max_iterations < 0) r.fail("max_iterations", "must be positive (or 0: 10 + 5 per parameter), got " + std::to_string(s.max_iterations));
-  if (s.max_evaluations <= 0) r.fail("max_evaluations", "must be positive, got " + std::to_string(s.max_evaluations));
+  const int configured_iterations = r.integer_or("max_iterations", 0);
+  s.max_iterations = o.max_iterations ? *o.max_iterations : configured_iterations;
+  if (s.max_iterations < 0)
+    fail_setting(r, o.max_iterations.has_value(), "--max-iterations", "max_iterations",
+                 "must be positive (or 0: 10 + 5 per parameter), got " + std::to_string(s.max_iterations));
+  if (s.max_evaluations <= 0)
+    fail_setting(r, o.max_evaluations.has_value(), "--max-evaluations", "max_evaluations",
+                 "must be positive, got " + std::to_string(s.max_evaluations));
   s.xtol_rel = r.has("xtol_rel") ? r.positive("xtol_rel") : 1e-3;
   s.starts = o.starts ? *o.starts : configured_starts;
-  if (s.starts <= 0) r.fail("starts", "must be positive, got " + std::to_string(s.starts));
+  if (s.starts <= 0)
+    fail_setting(r, o.starts.has_value(), "--starts", "starts", "must be positive, got " + std::to_string(s.starts));
   s.seed = static_cast<std::uint64_t>(r.integer_or("seed", 1));
   s.profile = r.boolean_or("profile", false) || o.profile;
   s.profile_points = r.integer_or("profile_points", s.profile_points);
