@@ -26,6 +26,9 @@ std::vector<double> parse_axis(const io::JsonReader& parent, const std::string& 
   if (count < 1) a.fail("count", "the grid needs at least one point");
   if (count > kMaxAxisPoints) a.fail("count", "more than 1e6 points on one axis");
   if (!(max >= min)) a.fail("max", "must not be below min (" + number_text(min) + ")");
+  if (count == 1 && max > min)
+    a.fail("count", "1 point runs min = " + number_text(min) + " only, and max = " + number_text(max) +
+                        " would be ignored: give count 2 or more, or max equal to min");
   if (count > 1 && !(max > min))
     a.fail("count", std::to_string(count) + " points between min = max = " + number_text(min) +
                         " would be identical runs: give count 1, or max above min");

@@ -174,7 +174,7 @@ class Workshop {
            {"scenario", quick_},
            {"reference", {{"simulate", {{"f", 1e4}, {"c_q", 0.14}}}}},
            {"f", {{"min", 1e3}, {"max", 1e4}, {"count", 2}, {"spacing", "log"}}},
-           {"c_q", {{"min", 0.1}, {"max", 0.2}, {"count", 1}}}};
+           {"c_q", {{"min", 0.14}, {"max", 0.14}, {"count", 1}}}};
     edit(j);
     return json_file("surface", j);
   }
