@@ -538,6 +538,15 @@ void Hdf5Writer::commit() {
 
 // ------------------------------------------------------------------ Hdf5Reader
 
+bool is_hdf5_file(const std::string& path) {
+  prepare_hdf5_library();
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error)) return false;
+  const bool hdf5 = H5Fis_hdf5(path.c_str()) > 0;
+  H5Eclear2(H5E_DEFAULT);
+  return hdf5;
+}
+
 Hdf5Reader::Hdf5Reader(const std::string& path) : path_(path) {
   prepare_hdf5_library();
   std::error_code error;

@@ -18,6 +18,7 @@
 
 #include "core/simulate.hpp"
 #include "io/csv.hpp"
+#include "io/hdf5_file.hpp"
 #include "study/model/distribution_json.hpp"
 #include "study/studies/report_number.hpp"
 
@@ -311,6 +312,9 @@ void read_datasets(const io::JsonReader& r, const std::string& path, const Calib
     d.sources = io::read_scenario_sources(scenario);
     (void)io::build_scenario(d.sources);  // the scenario's own checks, before any run
     // The checks `rover compare` makes (monotonic times, >= 3 rows, sane values).
+    if (io::is_hdf5_file(file))
+      throw io::ConfigError(file + ": an HDF5 file; a measured curve is read as CSV with columns t,z "
+                                   "(docs/configuration.md)");
     const io::MeasuredCurve curve = io::read_measured_curve(file);
     d.t = curve.t_s;
     d.z = curve.z_m;

@@ -2114,6 +2114,64 @@ TEST_F(Audit, UnitMistakesFlagsAndFailuresInRoversWords) {
                      j["c_q"] = {{"min", 0.1}, {"max", 0.2}, {"count", 2}};
                    })),
                    Want::kAllFailed, {"every run failed (first: time budget exceeded"}, {}, {}, {"(first: )"}});
+  // An HDF5 input cut short or damaged, in rover's words.
+  const std::string whole = simulated_curve(w().dir() + "/whole.h5");
+  const std::string bytes = file_bytes(whole);
+  const std::string cut = w().text_file("cut", bytes.substr(0, 3000), "h5");
+  std::string damaged_bytes = bytes;
+  damaged_bytes.replace(1000, 2000, std::string(2000, '\xff'));
+  const std::string damaged = w().text_file("damaged", damaged_bytes, "h5");
+  cases.push_back({"compare: an HDF5 file cut short", "compare " + cut + " " + whole, Want::kError,
+                   {cut + " is not a complete HDF5 file", "ends after 3000 of its"}, {}, {}, {"HDF5:", "eof"}});
+  cases.push_back({"compare: a damaged HDF5 file", "compare " + damaged + " " + whole, Want::kError,
+                   {damaged + " is not a readable HDF5 file"}, {}, {}, {"HDF5:"}});
+  cases.push_back({"calibrate --data an HDF5 file", study("calibrate", calibration) + " --data " + cut,
+                   Want::kError, {cut + ": an HDF5 file; a measured curve is read as CSV"}, {}, {}, {"columns:"}});
+  // Degenerate inputs: refused, naming the field.
+  cases.push_back({"surface: one point on an axis from 0.1 to 0.4", study("surface", w().surface([](Json& j) {
+                     j["c_q"] = {{"min", 0.1}, {"max", 0.4}, {"count", 1}};
+                   })),
+                   Want::kError, {"'c_q.count'", "max = 0.4 would be ignored"}});
+  const std::string late = w().drive_scenario(
+      {{"segments", {{{"start", 0.0}, {"mode", "parallel"}, {"speed", 0.1}},
+                     {{"start", 0.1}, {"mode", "parallel"}, {"speed", 0.2}}}}});
+  cases.push_back({"a drive segment after the scenario's end", simulate(late), Want::kError,
+                   {late, "'drive.segments[1].start'", "0.1 s", "duration 0.05 s"}});
+  const std::string two_samples = w().scenario([](Json& j) {
+    j["duration"] = 0.015;
+    j["output_rate"] = 100;
+  });
+  cases.push_back({"a scenario recording 2 samples", simulate(two_samples), Want::kError,
+                   {two_samples, "'duration'", "2 sample(s)", "at least 2 output periods (0.02 s)"}});
+  const std::string slow = w().json_file(
+      "candidates", Json{{"candidates", {{{"scenario", w().quick()}, {"rate_hz", 0.5}, {"noise_sd", 1e-4}}}}});
+  cases.push_back({"next experiment: a rate giving one sample",
+                   study("calibrate", calibration) + " --dry-run --next-experiment " + slow, Want::kError,
+                   {slow, "'candidates[0].rate_hz'", "0.5 Hz", "1 sample(s)", "at least 3"}});
+  // Integer flags read as the study files read counts.
+  const std::string mc = w().montecarlo([](Json&) {});
+  cases.push_back({"--samples 1e3", study("montecarlo", mc) + " --dry-run --samples 1e3", Want::kRuns, {"1000 runs"}});
+  cases.push_back({"--samples 2.5", study("montecarlo", mc) + " --dry-run --samples 2.5", Want::kError,
+                   {"--samples", "must be a whole number, got 2.5"}});
+  const std::string tiny_max_step = w().scenario([](Json& j) {
+    j["integrator"] = {{"method", "dopri5"}, {"max_step", 1e-15}};
+  });
+  cases.push_back({"max_step below min_step", simulate(tiny_max_step), Want::kError,
+                   {"'integrator.max_step'", "1e-15"}, {}, {}, {"integrator.min_step"}});
+  // A confidence the bootstrap resolves, printed with its digits.
+  auto pce = [&](double confidence, int resamples) {
+    return w().sensitivity([&](Json& j) {
+      j["method"] = "pce";
+      j.erase("bootstrap");
+      j["design"] = {{"type", "lhs"}, {"samples", 40}, {"seed", 1}};
+      j["confidence"] = confidence;
+      j["pce"] = {{"max_degree", 3}, {"bootstrap", resamples}};
+    });
+  };
+  cases.push_back({"PCE: confidence 0.999999 from 100 resamples", study("sensitivity", pce(0.999999, 100)),
+                   Want::kError, {"'confidence'", "0.999999", "'pce.bootstrap' 100", "at least 1000000 resamples"}});
+  cases.push_back({"PCE: confidence 0.996 printed as it is", study("sensitivity", pce(0.996, 300)), Want::kRuns,
+                   {"99.6 % bootstrap intervals"}});
   run_table(w().dir(), cases);
 }
 
