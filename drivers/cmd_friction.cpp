@@ -127,7 +127,7 @@ int run_friction(const FrictionOptions& o) {
                     {"peak_speed_mps", quality.peak_speed_mps},
                     {"acceptable", quality.acceptable}};
   if (!o.png.empty()) out["png"] = o.png;
-  try {  // a coefficient far beyond friction's scale (--mu-k 1e300) gives an infinite fit error
+  try {  // a fit error that overflows (no coefficient within the checked scale is known to)
     require_finite_output(out);
   } catch (const std::runtime_error& e) {
     throw CommandLineError({"no usable Makkar gammas for " + friction_values_text(p) + ": " + e.what() +

@@ -1101,7 +1101,7 @@ TEST_F(Audit, Flags) {
                                                             {"qdot", 1}}),
             {"'qdot'", "unknown key"});
   flag_case("eom --config a directory", "eom --state " + state + " --config " + w().dir(), {"--config", w().dir()});
-  flag_case("montecarlo --samples 1e3", study("montecarlo", mc) + " --samples 1e3", {"--samples", "1e3"});
+  flag_case("montecarlo --samples 1e-3", study("montecarlo", mc) + " --samples 1e-3", {"--samples", "1e-3", "whole number"});
   flag_case("montecarlo --seed beyond 2^64", study("montecarlo", mc) + " --seed 18446744073709551616",
             {"--seed", "18446744073709551616"});
   flag_case("montecarlo --checkpoint-every 0", study("montecarlo", mc) + " --checkpoint-every 0",
@@ -1873,7 +1873,7 @@ TEST_F(Audit, ThirdAuditRefusedUpFront) {
   // A rank variable set by hand (no job size beside it) does not silence rover.
   cases.push_back({"a lone rover with PMIX_RANK=1", "simulate --scenario " + dir + "/none.json", Want::kError,
                    {"--scenario", "none.json"}, {}, "PMIX_RANK=1 OMPI_COMM_WORLD_RANK=1"});
-  cases.push_back({"friction: mu_k of 1e300", "friction --mu-k 1e300", Want::kError, {"--mu-k 1e+300", "order 1"}});
+  cases.push_back({"friction: mu_k of 1e300", "friction --mu-k 1e300", Want::kError, {"--mu-k 1e+300", "+-10,"}});
   // Heights in millimetres are within the readers' bound, but no fit meets them.
   std::string millimetres = "t,z\n";
   for (int k = 0; k <= 25; ++k) millimetres += std::to_string(0.002 * k) + "," + std::to_string(281.0 - 2.0 * k) + "\n";
