@@ -20,9 +20,33 @@
 // A gravity beyond kMaxGravity_mps2 (ten Earths) or a body heavier than
 // kMaxBodyMass_kg (the rover's bodies weigh 0.08 .. 1.3 kg) is a unit
 // mistake: 981 cm/s^2, a mass in grams.
+// The rover file's other numbers have bounds about two orders of magnitude
+// beyond the paper's values (configs/rover.json), where only a unit mistake
+// lands (millimetres, kg mm^2, degrees, percent, mN m, mm/s):
+//   * lengths (geometry, centres of mass) within kMaxRoverLength_m: the
+//     rover is 0.4 m long and its wheels 8.5 cm in radius;
+//   * inertia tensor entries within kMaxBodyInertia_kgm2: the chassis's
+//     largest is 0.015 kg m^2;
+//   * the S-structure's stiffness k_q within kMaxSStructureStiffness_Nm_per_rad
+//     (paper 9.91 N m/rad);
+//   * the steering gains K_d and end-stop stiffness within
+//     kMaxSteeringStiffness_Nm_per_rad (paper 20 and 200 N m/rad), the
+//     steering and drive dampings D_d and K_w within kMaxDamping_Nms_per_rad
+//     (paper 0.2 and 0.3 N m s/rad);
+//   * the steering limit within kMaxSteeringLimit_rad, a full turn (paper
+//     1.7453 rad, which is 100 degrees);
+//   * the drive torque tau_max within kMaxDriveTorque_Nm (paper 4.1 N m);
+//   * the ground's stiffness k_g, damping c_g and exponent sigma within
+//     kMaxGroundStiffness, kMaxGroundDamping and kMaxContactExponent (paper
+//     1e6, 100, 1.8; at an exponent of 10 a millimetre's penetration pushes
+//     with 1e-22 N at the largest stiffness: no contact at all);
+//   * the friction coefficients mu_s, mu_k within kMaxFrictionCoefficient
+//     (paper 0.3, 0.2; real contacts stay below about 1.5) and the Stribeck
+//     speeds v_s, v_k within kMaxStribeckSpeed_mps (paper 0.55 and 2 mm/s).
 #pragma once
 
 #include <cmath>
+#include <numbers>
 #include <string>
 
 #include "core/number_text.hpp"
@@ -38,11 +62,23 @@ inline constexpr double kMaxDamping_Nms_per_rad = 1e3;
 inline constexpr double kMaxPreload_Nm = 1e3;
 inline constexpr double kMaxGravity_mps2 = 1e2;
 inline constexpr double kMaxBodyMass_kg = 1e2;
+inline constexpr double kMaxRoverLength_m = 10.0;
+inline constexpr double kMaxBodyInertia_kgm2 = 1.0;
+inline constexpr double kMaxSStructureStiffness_Nm_per_rad = 1e3;
+inline constexpr double kMaxSteeringStiffness_Nm_per_rad = 1e4;
+inline constexpr double kMaxSteeringLimit_rad = 2.0 * std::numbers::pi;
+inline constexpr double kMaxDriveTorque_Nm = 1e2;
+inline constexpr double kMaxGroundStiffness = 1e8;  // N/m^sigma
+inline constexpr double kMaxGroundDamping = 1e4;    // N s/m
+inline constexpr double kMaxContactExponent = 10.0;
+inline constexpr double kMaxFrictionCoefficient = 10.0;
+inline constexpr double kMaxStribeckSpeed_mps = 0.1;
 
 // Empty if |value| <= bound; otherwise "1e+308 m is beyond +-1e+06 m, <why>".
 inline std::string beyond_scale(double value, double bound, const std::string& unit, const std::string& why) {
   if (std::abs(value) <= bound) return "";
-  return number_text(value) + " " + unit + " is beyond +-" + number_text(bound) + " " + unit + ", " + why;
+  const std::string u = unit.empty() ? "" : " " + unit;  // none for a coefficient
+  return number_text(value) + u + " is beyond +-" + number_text(bound) + u + ", " + why;
 }
 
 inline const std::string kPositionScaleReason =
@@ -54,6 +90,23 @@ inline const std::string kGravityScaleReason =
     "far beyond any planet's surface gravity (Earth 9.81 m/s^2, Mars 3.71 m/s^2); a unit mistake?";
 inline const std::string kBodyMassScaleReason =
     "far beyond the rover's bodies (0.08 .. 1.3 kg); a unit mistake?";
+inline const std::string kLengthScaleReason =
+    "far beyond the rover's size (0.4 m long, wheels of 8.5 cm radius); a unit mistake (millimetres)?";
+inline const std::string kInertiaScaleReason =
+    "far beyond the rover's bodies (at most 0.015 kg m^2); a unit mistake (kg mm^2, g cm^2)?";
+inline const std::string kJointScaleReason =
+    "orders of magnitude beyond the rover's joints (paper: k_q 9.91 N m/rad, K_d 20 N m/rad, end stops "
+    "200 N m/rad, D_d 0.2 and K_w 0.3 N m s/rad); a unit mistake?";
+inline const std::string kSteeringLimitScaleReason =
+    "beyond a full turn of the steering (paper: 1.7453 rad); a unit mistake (degrees)?";
+inline const std::string kDriveTorqueScaleReason =
+    "far beyond the rover's wheel motors (paper: 4.1 N m); a unit mistake (mN m)?";
+inline const std::string kContactScaleReason =
+    "orders of magnitude beyond the paper's ground (k_g 1e6 N/m^sigma, c_g 100, sigma 1.8); a unit mistake?";
+inline const std::string kFrictionScaleReason =
+    "far beyond any contact's friction (paper: mu_s 0.3, mu_k 0.2); a unit mistake (percent)?";
+inline const std::string kStribeckScaleReason =
+    "far beyond the paper's stick-slip speeds (v_s 0.55 mm/s, v_k 2 mm/s); a unit mistake (mm/s)?";
 inline const std::string kDriveScaleReason =
     "far beyond what the rover drives (decimetres per second); a unit mistake?";
 

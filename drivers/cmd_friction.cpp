@@ -13,6 +13,7 @@
 #include <optional>
 
 #include "core/friction_synthesis.hpp"
+#include "core/model_scale.hpp"
 #include "drivers/command_registry.hpp"
 #include "drivers/options.hpp"
 #include "io/json_reader.hpp"
@@ -75,6 +76,17 @@ int run_friction(const FrictionOptions& o) {
   if (o.v_static_mps) checks.positive("--v-s", *o.v_static_mps);
   if (o.mu_kinetic) checks.non_negative("--mu-k", *o.mu_kinetic);
   if (o.v_kinetic_mps) checks.positive("--v-k", *o.v_kinetic_mps);
+  // And their scale (core/model_scale.hpp): beyond it, a unit mistake.
+  auto within = [&](const char* flag, const std::optional<double>& value, double bound, const char* unit,
+                    const std::string& why) {
+    if (!value || !std::isfinite(*value)) return;
+    if (const std::string problem = beyond_scale(*value, bound, unit, why); !problem.empty())
+      checks.add(std::string(flag) + " " + problem);
+  };
+  within("--mu-s", o.mu_static, kMaxFrictionCoefficient, "", kFrictionScaleReason);
+  within("--v-s", o.v_static_mps, kMaxStribeckSpeed_mps, "m/s", kStribeckScaleReason);
+  within("--mu-k", o.mu_kinetic, kMaxFrictionCoefficient, "", kFrictionScaleReason);
+  within("--v-k", o.v_kinetic_mps, kMaxStribeckSpeed_mps, "m/s", kStribeckScaleReason);
   checks.output_file("--png", o.png, /*regular_only=*/true);
   checks.distinct_files("--png", o.png, "--config", o.config);
   checks.throw_if_any();
@@ -115,7 +127,7 @@ int run_friction(const FrictionOptions& o) {
                     {"peak_speed_mps", quality.peak_speed_mps},
                     {"acceptable", quality.acceptable}};
   if (!o.png.empty()) out["png"] = o.png;
-  try {  // a coefficient far beyond friction's scale (--mu-k 1e300) gives an infinite fit error
+  try {  // a fit error that overflows (no coefficient within the checked scale is known to)
     require_finite_output(out);
   } catch (const std::runtime_error& e) {
     throw CommandLineError({"no usable Makkar gammas for " + friction_values_text(p) + ": " + e.what() +

@@ -5,7 +5,9 @@
 //     the same quantities (a negative preload is refused as rover.json
 //     refuses it); every bad flag is reported, not just the first;
 //   * seeds are read as JSON seeds are (io::exact_unsigned_integer): -1 or
-//     2^64 + 5 are errors, never 2^64 - 1 or 4;
+//     2^64 + 5 are errors, never 2^64 - 1 or 4; every other integer flag
+//     takes an integral number in exponent form too (--samples 1e3, as
+//     "samples": 1e3 in a study file; drivers/main.cpp);
 //   * an output path must be new or a writable regular file (a stream for
 //     text), and no file the command reads (io/input_files.hpp);
 //   * a default config path ("configs/rover.json") that does not exist from

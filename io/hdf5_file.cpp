@@ -84,12 +84,37 @@ Hdf5ErrorDetail hdf5_error_detail() {
   return detail;
 }
 
-// "<file>: <what>: <problem>", with the cause from HDF5's error stack: a full
-// disk said in plain words, else HDF5's innermost message.
+// An input HDF5 file that HDF5 cannot open or read: said in rover's words.
+std::string damaged_input(const std::string& file) {
+  return file + " is not a readable HDF5 file (damaged or incomplete: cut short while written or copied?)";
+}
+
+// An input HDF5 file that H5Fopen refused: a file cut short says how much of
+// it is there ("truncated file: eof = 3000, ..., stored_eof = 459784").
+std::string unopenable_input(const std::string& file, const Hdf5ErrorDetail& detail) {
+  const std::string& text = detail.innermost;
+  const std::size_t eof = text.find("eof = "), stored = text.find("stored_eof = ");
+  if (text.find("truncated file") == std::string::npos || eof == std::string::npos || stored == std::string::npos)
+    return damaged_input(file);
+  const std::string have = text.substr(eof + 6, text.find_first_not_of("0123456789", eof + 6) - eof - 6);
+  const std::string want = text.substr(stored + 13, text.find_first_not_of("0123456789", stored + 13) - stored - 13);
+  return file + " is not a complete HDF5 file: it ends after " + have + " of its " + want +
+         " bytes (cut short while written or copied?)";
+}
+
+// Whose file an HDF5 call failed on: one rover writes, or an input it reads.
+enum class Access { kWrite, kRead };
+
+// "<file>: <what>: <problem>", with the cause from HDF5's error stack. For a
+// file rover writes, a full disk is said in plain words, else HDF5's
+// innermost message is added; for an input, a failed call means the file is
+// damaged or incomplete, said in rover's words (HDF5's own text is no help).
 std::string error_message(const std::string& file, const std::string& what,
-                          const std::string& problem) {
+                          const std::string& problem, Access access = Access::kWrite) {
   std::string message = file + ": " + what + ": " + problem;
   const Hdf5ErrorDetail detail = hdf5_error_detail();
+  if (access == Access::kRead)
+    return detail.innermost.empty() && detail.system_error == 0 ? message : message + ": " + damaged_input(file);
   const int e = detail.system_error;
   if (e == ENOSPC || e == EFBIG || e == EDQUOT)
     message += ": " + std::string(std::strerror(e)) +
@@ -100,8 +125,8 @@ std::string error_message(const std::string& file, const std::string& what,
 }
 
 [[noreturn]] void fail(const std::string& file, const std::string& what,
-                       const std::string& problem) {
-  throw std::runtime_error(error_message(file, what, problem));
+                       const std::string& problem, Access access = Access::kWrite) {
+  throw std::runtime_error(error_message(file, what, problem, access));
 }
 
 std::string dataset_label(const std::string& name) { return "dataset '" + name + "'"; }
@@ -111,14 +136,15 @@ std::string attribute_label(const std::string& object, const std::string& name) 
 
 // Throws (naming file and object) if an HDF5 call returned a negative value.
 template <typename T>
-T check(T result, const std::string& file, const std::string& what, const std::string& problem) {
-  if (result < 0) fail(file, what, problem);
+T check(T result, const std::string& file, const std::string& what, const std::string& problem,
+        Access access = Access::kWrite) {
+  if (result < 0) fail(file, what, problem, access);
   return result;
 }
 
 Handle checked_handle(hid_t id, herr_t (*close)(hid_t), const std::string& file,
-                      const std::string& what, const std::string& problem) {
-  return Handle(check(id, file, what, problem), close);
+                      const std::string& what, const std::string& problem, Access access = Access::kWrite) {
+  return Handle(check(id, file, what, problem, access), close);
 }
 
 // "/a//b/c/" -> {"a", "b", "c"}
@@ -240,10 +266,10 @@ Handle variable_string_type(const std::string& file, const std::string& what) {
 }
 
 Handle open_object(hid_t file, const std::string& file_name, const std::string& object,
-                   const std::string& what) {
+                   const std::string& what, Access access) {
   if (!object_exists(file, object)) fail(file_name, what, "no such object '" + object + "'");
   return checked_handle(H5Oopen(file, object.c_str(), H5P_DEFAULT), H5Oclose, file_name, what,
-                        "cannot open '" + object + "'");
+                        "cannot open '" + object + "'", access);
 }
 
 // Creates attribute `name` on `object` (replacing an existing one) and writes it.
@@ -251,7 +277,7 @@ void write_attribute(hid_t file, const std::string& file_name, const std::string
                      const std::string& name, hid_t memory_type, hid_t file_type, hid_t space,
                      const void* data) {
   const std::string what = attribute_label(object, name);
-  const Handle target = open_object(file, file_name, object, what);
+  const Handle target = open_object(file, file_name, object, what, Access::kWrite);
   if (check(H5Aexists(target.get(), name.c_str()), file_name, what, "cannot look up") > 0)
     check(H5Adelete(target.get(), name.c_str()), file_name, what, "cannot replace");
   const Handle attribute = checked_handle(
@@ -264,7 +290,7 @@ void write_attribute(hid_t file, const std::string& file_name, const std::string
 // Number of elements of a dataspace.
 std::size_t element_count(hid_t space, const std::string& file, const std::string& what) {
   return static_cast<std::size_t>(
-      check(H5Sget_simple_extent_npoints(space), file, what, "cannot read the dataspace"));
+      check(H5Sget_simple_extent_npoints(space), file, what, "cannot read the dataspace", Access::kRead));
 }
 
 // Reads a whole string dataset or attribute of `type` with `count` elements.
@@ -272,15 +298,15 @@ std::size_t element_count(hid_t space, const std::string& file, const std::strin
 template <typename Read>
 std::vector<std::string> read_string_data(hid_t type, std::size_t count, const std::string& file,
                                           const std::string& what, Read read) {
-  if (H5Tget_class(type) != H5T_STRING) fail(file, what, "does not hold strings");
+  if (H5Tget_class(type) != H5T_STRING) fail(file, what, "does not hold strings", Access::kRead);
   std::vector<std::string> out;
   out.reserve(count);
   if (count == 0) return out;
-  const htri_t variable = check(H5Tis_variable_str(type), file, what, "cannot inspect the type");
+  const htri_t variable = check(H5Tis_variable_str(type), file, what, "cannot inspect the type", Access::kRead);
   if (variable > 0) {
     const Handle memory_type = variable_string_type(file, what);
     std::vector<char*> buffer(count, nullptr);
-    check(read(memory_type.get(), buffer.data()), file, what, "cannot read");
+    check(read(memory_type.get(), buffer.data()), file, what, "cannot read", Access::kRead);
     for (char* s : buffer) {
       out.emplace_back(s ? s : "");
       if (s) H5free_memory(s);
@@ -291,8 +317,8 @@ std::vector<std::string> read_string_data(hid_t type, std::size_t count, const s
   const H5T_str_t padding = H5Tget_strpad(type);
   std::vector<char> buffer(count * size);
   const Handle memory_type =
-      checked_handle(H5Tcopy(type), H5Tclose, file, what, "cannot copy type");
-  check(read(memory_type.get(), buffer.data()), file, what, "cannot read");
+      checked_handle(H5Tcopy(type), H5Tclose, file, what, "cannot copy type", Access::kRead);
+  check(read(memory_type.get(), buffer.data()), file, what, "cannot read", Access::kRead);
   for (std::size_t i = 0; i < count; ++i) {
     std::string s(buffer.data() + i * size, size);
     const char pad = padding == H5T_STR_SPACEPAD ? ' ' : '\0';
@@ -512,6 +538,15 @@ void Hdf5Writer::commit() {
 
 // ------------------------------------------------------------------ Hdf5Reader
 
+bool is_hdf5_file(const std::string& path) {
+  prepare_hdf5_library();
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error)) return false;
+  const bool hdf5 = H5Fis_hdf5(path.c_str()) > 0;
+  H5Eclear2(H5E_DEFAULT);
+  return hdf5;
+}
+
 Hdf5Reader::Hdf5Reader(const std::string& path) : path_(path) {
   prepare_hdf5_library();
   std::error_code error;
@@ -522,7 +557,7 @@ Hdf5Reader::Hdf5Reader(const std::string& path) : path_(path) {
     throw std::runtime_error(path_ + ": not an HDF5 file");
   }
   file_ = H5Fopen(path_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (file_ < 0) fail(path_, "file", "cannot open");
+  if (file_ < 0) throw std::runtime_error(unopenable_input(path_, hdf5_error_detail()));
 }
 
 Hdf5Reader::~Hdf5Reader() {
@@ -535,9 +570,9 @@ namespace {
 
 Handle open_dataset(hid_t file, const std::string& file_name, const std::string& name) {
   const std::string what = dataset_label(name);
-  if (!object_exists(file, name)) fail(file_name, what, "no such dataset");
+  if (!object_exists(file, name)) fail(file_name, what, "no such dataset", Access::kRead);
   return checked_handle(H5Dopen2(file, name.c_str(), H5P_DEFAULT), H5Dclose, file_name, what,
-                        "cannot open (not a dataset?)");
+                        "cannot open (not a dataset?)", Access::kRead);
 }
 
 // Reads a whole numeric dataset converted to `memory_type`.
@@ -547,30 +582,30 @@ std::vector<T> read_numbers(hid_t file, const std::string& file_name, const std:
   const std::string what = dataset_label(name);
   const Handle dataset = open_dataset(file, file_name, name);
   const Handle type =
-      checked_handle(H5Dget_type(dataset.get()), H5Tclose, file_name, what, "cannot read the type");
+      checked_handle(H5Dget_type(dataset.get()), H5Tclose, file_name, what, "cannot read the type", Access::kRead);
   const H5T_class_t type_class = H5Tget_class(type.get());
   if (type_class != H5T_INTEGER && !(allow_float && type_class == H5T_FLOAT))
     fail(file_name, what,
          allow_float ? "does not hold numbers"
                      : (type_class == H5T_FLOAT ? "holds floating-point values, not integers"
-                                                : "does not hold integers"));
+                                                : "does not hold integers"), Access::kRead);
   const Handle space = checked_handle(H5Dget_space(dataset.get()), H5Sclose, file_name, what,
-                                      "cannot read the dataspace");
+                                      "cannot read the dataspace", Access::kRead);
   std::vector<T> values(element_count(space.get(), file_name, what));
   if (!values.empty())
     check(H5Dread(dataset.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()),
-          file_name, what, "cannot read");
+          file_name, what, "cannot read", Access::kRead);
   return values;
 }
 
 Handle open_attribute(hid_t file, const std::string& file_name, const std::string& object,
                       const std::string& name) {
   const std::string what = attribute_label(object, name);
-  const Handle target = open_object(file, file_name, object, what);
-  if (check(H5Aexists(target.get(), name.c_str()), file_name, what, "cannot look up") <= 0)
-    fail(file_name, what, "no such attribute");
+  const Handle target = open_object(file, file_name, object, what, Access::kRead);
+  if (check(H5Aexists(target.get(), name.c_str()), file_name, what, "cannot look up", Access::kRead) <= 0)
+    fail(file_name, what, "no such attribute", Access::kRead);
   return checked_handle(H5Aopen(target.get(), name.c_str(), H5P_DEFAULT), H5Aclose, file_name, what,
-                        "cannot open");
+                        "cannot open", Access::kRead);
 }
 
 template <typename T>
@@ -580,14 +615,14 @@ std::vector<T> read_attribute_numbers(hid_t file, const std::string& file_name,
   const std::string what = attribute_label(object, name);
   const Handle attribute = open_attribute(file, file_name, object, name);
   const Handle type = checked_handle(H5Aget_type(attribute.get()), H5Tclose, file_name, what,
-                                     "cannot read the type");
+                                     "cannot read the type", Access::kRead);
   const H5T_class_t type_class = H5Tget_class(type.get());
-  if (type_class != H5T_INTEGER && type_class != H5T_FLOAT) fail(file_name, what, "is not numeric");
+  if (type_class != H5T_INTEGER && type_class != H5T_FLOAT) fail(file_name, what, "is not numeric", Access::kRead);
   const Handle space = checked_handle(H5Aget_space(attribute.get()), H5Sclose, file_name, what,
-                                      "cannot read the dataspace");
+                                      "cannot read the dataspace", Access::kRead);
   std::vector<T> values(element_count(space.get(), file_name, what));
   if (!values.empty())
-    check(H5Aread(attribute.get(), memory_type, values.data()), file_name, what, "cannot read");
+    check(H5Aread(attribute.get(), memory_type, values.data()), file_name, what, "cannot read", Access::kRead);
   return values;
 }
 
@@ -605,11 +640,11 @@ std::vector<std::size_t> Hdf5Reader::shape(const std::string& dataset) const {
   const std::string what = dataset_label(dataset);
   const Handle handle = open_dataset(file_, path_, dataset);
   const Handle space = checked_handle(H5Dget_space(handle.get()), H5Sclose, path_, what,
-                                      "cannot read the dataspace");
-  const int rank = check(H5Sget_simple_extent_ndims(space.get()), path_, what, "cannot read rank");
+                                      "cannot read the dataspace", Access::kRead);
+  const int rank = check(H5Sget_simple_extent_ndims(space.get()), path_, what, "cannot read rank", Access::kRead);
   std::vector<hsize_t> dims(static_cast<std::size_t>(rank));
   check(H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr), path_, what,
-        "cannot read dimensions");
+        "cannot read dimensions", Access::kRead);
   return {dims.begin(), dims.end()};
 }
 
@@ -637,9 +672,9 @@ std::vector<std::string> Hdf5Reader::read_strings(const std::string& dataset) co
   const std::string what = dataset_label(dataset);
   const Handle handle = open_dataset(file_, path_, dataset);
   const Handle type =
-      checked_handle(H5Dget_type(handle.get()), H5Tclose, path_, what, "cannot read the type");
+      checked_handle(H5Dget_type(handle.get()), H5Tclose, path_, what, "cannot read the type", Access::kRead);
   const Handle space = checked_handle(H5Dget_space(handle.get()), H5Sclose, path_, what,
-                                      "cannot read the dataspace");
+                                      "cannot read the dataspace", Access::kRead);
   return read_string_data(type.get(), element_count(space.get(), path_, what), path_, what,
                           [&](hid_t memory_type, void* buffer) {
                             return H5Dread(handle.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT,
@@ -674,9 +709,9 @@ std::string Hdf5Reader::attribute_string(const std::string& object, const std::s
   const std::string what = attribute_label(object, name);
   const Handle attribute = open_attribute(file_, path_, object, name);
   const Handle type =
-      checked_handle(H5Aget_type(attribute.get()), H5Tclose, path_, what, "cannot read the type");
+      checked_handle(H5Aget_type(attribute.get()), H5Tclose, path_, what, "cannot read the type", Access::kRead);
   const Handle space = checked_handle(H5Aget_space(attribute.get()), H5Sclose, path_, what,
-                                      "cannot read the dataspace");
+                                      "cannot read the dataspace", Access::kRead);
   return single(read_string_data(type.get(), element_count(space.get(), path_, what), path_, what,
                                  [&](hid_t memory_type, void* buffer) {
                                    return H5Aread(attribute.get(), memory_type, buffer);
@@ -686,20 +721,20 @@ std::string Hdf5Reader::attribute_string(const std::string& object, const std::s
 
 std::vector<std::string> Hdf5Reader::list(const std::string& group) const {
   const std::string what = "group '" + group + "'";
-  if (!object_exists(file_, group)) fail(path_, what, "no such group");
+  if (!object_exists(file_, group)) fail(path_, what, "no such group", Access::kRead);
   const Handle handle = checked_handle(H5Gopen2(file_, group.c_str(), H5P_DEFAULT), H5Gclose, path_,
-                                       what, "cannot open (not a group?)");
+                                       what, "cannot open (not a group?)", Access::kRead);
   H5G_info_t info{};
-  check(H5Gget_info(handle.get(), &info), path_, what, "cannot read group info");
+  check(H5Gget_info(handle.get(), &info), path_, what, "cannot read group info", Access::kRead);
   std::vector<std::string> names;
   for (hsize_t i = 0; i < info.nlinks; ++i) {
     const ssize_t length = check(H5Lget_name_by_idx(handle.get(), ".", H5_INDEX_NAME, H5_ITER_INC,
                                                     i, nullptr, 0, H5P_DEFAULT),
-                                 path_, what, "cannot read member names");
+                                 path_, what, "cannot read member names", Access::kRead);
     std::string name(static_cast<std::size_t>(length) + 1, '\0');
     check(H5Lget_name_by_idx(handle.get(), ".", H5_INDEX_NAME, H5_ITER_INC, i, name.data(),
                              name.size(), H5P_DEFAULT),
-          path_, what, "cannot read member names");
+          path_, what, "cannot read member names", Access::kRead);
     name.resize(static_cast<std::size_t>(length));
     names.push_back(std::move(name));
   }

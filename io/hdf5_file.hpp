@@ -112,6 +112,10 @@ class Hdf5Writer {
   std::map<std::string, RowDataset> row_datasets_;  // by normalised name ("/a/b")
 };
 
+// Whether `path` is an HDF5 file (its signature), for readers of text
+// formats that would otherwise show its bytes as column names.
+bool is_hdf5_file(const std::string& path);
+
 class Hdf5Reader {
  public:
   explicit Hdf5Reader(const std::string& path);  // throws if missing or not HDF5

@@ -1,5 +1,7 @@
 // See rover_config.hpp. Validation: masses and lengths positive, inertia
-// tensors symmetric positive definite, stiffnesses and dampings non-negative.
+// tensors symmetric positive definite, stiffnesses and dampings non-negative,
+// and every number within the scale of core/model_scale.hpp (beyond it, a
+// unit mistake).
 #include "io/rover_config.hpp"
 
 #include <cmath>
@@ -12,14 +14,33 @@
 namespace rover::io {
 namespace {
 
+// `value` read from `key`, refused beyond +-`bound` (a unit mistake, `why`).
+double within_scale(const JsonReader& r, const std::string& key, double value, double bound, const char* unit,
+                    const std::string& why) {
+  if (const std::string beyond = beyond_scale(value, bound, unit, why); !beyond.empty()) r.fail(key, beyond);
+  return value;
+}
+
+// A point or offset of the rover (m), each element within kMaxRoverLength_m.
+Vec3 rover_length_vec3(const JsonReader& r, const std::string& key) {
+  const Vec3 v = r.vec3(key);
+  for (int i = 0; i < 3; ++i)
+    if (const std::string beyond = beyond_scale(v(i), kMaxRoverLength_m, "m", kLengthScaleReason); !beyond.empty())
+      r.fail(key, "element " + std::to_string(i) + ": " + beyond);
+  return v;
+}
+
 RigidBodyParameters parse_body(const JsonReader& r) {
   RigidBodyParameters b;
-  b.mass_kg = r.positive("mass");
-  if (const std::string beyond = beyond_scale(b.mass_kg, kMaxBodyMass_kg, "kg", kBodyMassScaleReason); !beyond.empty())
-    r.fail("mass", beyond);
-  b.com_m = r.vec3("com");
+  b.mass_kg = within_scale(r, "mass", r.positive("mass"), kMaxBodyMass_kg, "kg", kBodyMassScaleReason);
+  b.com_m = rover_length_vec3(r, "com");
   b.inertia_kgm2 = r.mat3("inertia");
   const Mat3& I = b.inertia_kgm2;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (const std::string beyond = beyond_scale(I(i, j), kMaxBodyInertia_kgm2, "kg m^2", kInertiaScaleReason);
+          !beyond.empty())
+        r.fail("inertia", "entry [" + std::to_string(i) + "][" + std::to_string(j) + "]: " + beyond);
   if ((I - I.transpose()).cwiseAbs().maxCoeff() > 1e-12 * std::max(1.0, I.cwiseAbs().maxCoeff()))
     r.fail("inertia", "inertia tensor is not symmetric");
   const double smallest = Eigen::SelfAdjointEigenSolver<Mat3>(I, Eigen::EigenvaluesOnly).eigenvalues()(0);
@@ -42,24 +63,12 @@ std::array<double, N> non_negative_array(const JsonReader& r, const std::string&
 
 }  // namespace
 
-namespace {
-
-// `value` read from `key`, refused beyond the S-structure's scale `max`.
-double within_s_structure_scale(const JsonReader& r, const std::string& key, double value, double max,
-                                const char* unit) {
-  if (const std::string beyond = beyond_scale(value, max, unit, kSStructureScaleReason); !beyond.empty())
-    r.fail(key, beyond);
-  return value;
-}
-
-}  // namespace
-
 double read_sharpness_f(const JsonReader& r, const std::string& key) {
-  return within_s_structure_scale(r, key, r.positive(key), kMaxSharpness_per_rad, "1/rad");
+  return within_scale(r, key, r.positive(key), kMaxSharpness_per_rad, "1/rad", kSStructureScaleReason);
 }
 
 double read_damping_c_q(const JsonReader& r, const std::string& key) {
-  return within_s_structure_scale(r, key, r.non_negative(key), kMaxDamping_Nms_per_rad, "N m s/rad");
+  return within_scale(r, key, r.non_negative(key), kMaxDamping_Nms_per_rad, "N m s/rad", kSStructureScaleReason);
 }
 
 std::array<double, kNumSJoints> read_preloads(const JsonReader& r, const std::string& key) {
@@ -75,17 +84,16 @@ RoverParameters parse_rover_parameters(const Json& config, const std::string& fi
   const JsonReader top(config, file);
   RoverParameters p;
   top.string_or("description", "");
-  p.gravity_mps2 = top.non_negative("gravity");
-  if (const std::string beyond = beyond_scale(p.gravity_mps2, kMaxGravity_mps2, "m/s^2", kGravityScaleReason);
-      !beyond.empty())
-    top.fail("gravity", beyond);
+  p.gravity_mps2 = within_scale(top, "gravity", top.non_negative("gravity"), kMaxGravity_mps2, "m/s^2",
+                                kGravityScaleReason);
 
   const JsonReader g = top.child("geometry");
-  p.geometry.bogie_pivot_m = g.vec3("bogie_pivot");
-  p.geometry.hip_m = g.vec3("hip");
-  p.geometry.knee_m = g.vec3("knee");
-  p.geometry.wheel_centre_m = g.vec3("wheel_centre");
-  p.geometry.wheel_radius_m = g.positive("wheel_radius");
+  p.geometry.bogie_pivot_m = rover_length_vec3(g, "bogie_pivot");
+  p.geometry.hip_m = rover_length_vec3(g, "hip");
+  p.geometry.knee_m = rover_length_vec3(g, "knee");
+  p.geometry.wheel_centre_m = rover_length_vec3(g, "wheel_centre");
+  p.geometry.wheel_radius_m =
+      within_scale(g, "wheel_radius", g.positive("wheel_radius"), kMaxRoverLength_m, "m", kLengthScaleReason);
   for (const char* key : {"hip", "knee"})
     if (!(g.vec3(key).norm() > 0.0)) g.fail(key, "link length must be positive");
   g.finish();
@@ -100,7 +108,8 @@ RoverParameters parse_rover_parameters(const Json& config, const std::string& fi
 
   const JsonReader s = top.child("s_structure");
   p.s_structure.sharpness_f = read_sharpness_f(s, "f");
-  p.s_structure.stiffness_Nm_per_rad = s.non_negative("k_q");
+  p.s_structure.stiffness_Nm_per_rad = within_scale(s, "k_q", s.non_negative("k_q"),
+                                                    kMaxSStructureStiffness_Nm_per_rad, "N m/rad", kJointScaleReason);
   p.s_structure.damping_c_q = read_damping_c_q(s, "c_q");
   // preload_order documents the order of preload_mean and preload_sd (docs/model.md §5);
   // it cannot change it, so any other order is an error rather than a silent relabelling.
@@ -115,29 +124,42 @@ RoverParameters parse_rover_parameters(const Json& config, const std::string& fi
   s.finish();
 
   const JsonReader st = top.child("steering");
-  p.steering.stiffness_Nm_per_rad = st.non_negative("K_d");
-  p.steering.damping_Nms_per_rad = st.non_negative("D_d");
-  p.steering.limit_rad = st.positive("limit");
-  p.steering.end_stop_stiffness_Nm_per_rad = st.non_negative("end_stop_stiffness");
+  p.steering.stiffness_Nm_per_rad = within_scale(st, "K_d", st.non_negative("K_d"),
+                                                  kMaxSteeringStiffness_Nm_per_rad, "N m/rad", kJointScaleReason);
+  p.steering.damping_Nms_per_rad =
+      within_scale(st, "D_d", st.non_negative("D_d"), kMaxDamping_Nms_per_rad, "N m s/rad", kJointScaleReason);
+  p.steering.limit_rad =
+      within_scale(st, "limit", st.positive("limit"), kMaxSteeringLimit_rad, "rad", kSteeringLimitScaleReason);
+  p.steering.end_stop_stiffness_Nm_per_rad =
+      within_scale(st, "end_stop_stiffness", st.non_negative("end_stop_stiffness"),
+                   kMaxSteeringStiffness_Nm_per_rad, "N m/rad", kJointScaleReason);
   st.finish();
 
   const JsonReader d = top.child("drive");
-  p.drive.gain_Nms_per_rad = d.non_negative("K_w");
-  p.drive.max_torque_Nm = d.positive("tau_max");
+  p.drive.gain_Nms_per_rad =
+      within_scale(d, "K_w", d.non_negative("K_w"), kMaxDamping_Nms_per_rad, "N m s/rad", kJointScaleReason);
+  p.drive.max_torque_Nm =
+      within_scale(d, "tau_max", d.positive("tau_max"), kMaxDriveTorque_Nm, "N m", kDriveTorqueScaleReason);
   d.finish();
 
   const JsonReader c = top.child("contact");
-  p.contact.stiffness_k_g = c.positive("k_g");
-  p.contact.damping_c_g = c.non_negative("c_g");
-  p.contact.exponent_sigma = c.positive("sigma");
+  p.contact.stiffness_k_g =
+      within_scale(c, "k_g", c.positive("k_g"), kMaxGroundStiffness, "N/m^sigma", kContactScaleReason);
+  p.contact.damping_c_g = within_scale(c, "c_g", c.non_negative("c_g"), kMaxGroundDamping, "N s/m", kContactScaleReason);
+  p.contact.exponent_sigma =
+      within_scale(c, "sigma", c.positive("sigma"), kMaxContactExponent, "", kContactScaleReason);
   c.finish();
 
   const JsonReader f = top.child("friction");
   f.string_or("comment", "");
-  p.friction.mu_static = f.non_negative("mu_s");
-  p.friction.v_static_mps = f.positive("v_s");
-  p.friction.mu_kinetic = f.non_negative("mu_k");
-  p.friction.v_kinetic_mps = f.positive("v_k");
+  p.friction.mu_static =
+      within_scale(f, "mu_s", f.non_negative("mu_s"), kMaxFrictionCoefficient, "", kFrictionScaleReason);
+  p.friction.v_static_mps =
+      within_scale(f, "v_s", f.positive("v_s"), kMaxStribeckSpeed_mps, "m/s", kStribeckScaleReason);
+  p.friction.mu_kinetic =
+      within_scale(f, "mu_k", f.non_negative("mu_k"), kMaxFrictionCoefficient, "", kFrictionScaleReason);
+  p.friction.v_kinetic_mps =
+      within_scale(f, "v_k", f.positive("v_k"), kMaxStribeckSpeed_mps, "m/s", kStribeckScaleReason);
   if (!(p.friction.v_kinetic_mps > p.friction.v_static_mps))
     f.fail("v_k", "must be larger than v_s (" + number_text(p.friction.v_static_mps) + " m/s)");
   if (f.has("gammas")) {

@@ -17,6 +17,7 @@
 #include "core/kinematic_tree.hpp"
 #include "core/model_scale.hpp"
 #include "core/number_text.hpp"
+#include "io/csv.hpp"
 #include "io/model_config.hpp"
 #include "io/rover_config.hpp"
 #include "io/terrain_json.hpp"
@@ -170,6 +171,19 @@ DriveCommandSegment parse_drive_segment(const Json& json, const std::string& fil
   return segment;
 }
 
+// A drive segment that starts at or after the run's end would never act.
+void refuse_segments_after_the_end(const JsonReader& drive, const Scenario& s) {
+  for (std::size_t i = 0; i < s.drive.segments.size(); ++i) {
+    const double start = s.drive.segments[i].start_time_s;
+    if (start < s.duration_s) continue;
+    const JsonReader segment(drive.raw("segments")[i], drive.file(),
+                             drive.field("segments") + "[" + std::to_string(i) + "]");
+    segment.fail("start", number_text(start) + " s is not before the run's end (duration " +
+                              number_text(s.duration_s) + " s): the segment would never act; remove it or "
+                              "lengthen the duration");
+  }
+}
+
 // The speeds that match a drive command: the chassis moves with the body
 // velocity (turned by the yaw into the world frame), every wheel spins at its
 // commanded rate.
@@ -264,6 +278,18 @@ std::string resolve_relative(const std::string& config_path, const std::string& 
   return (std::filesystem::path(config_path).parent_path() / p).lexically_normal().string();
 }
 
+namespace {
+
+// The step the file gives that breaks min_step <= initial_step <= max_step:
+// a max_step of 1e-15 s below the default min_step is max_step's mistake.
+const char* misordered_step_key(const JsonReader& r, const IntegratorSettings& s) {
+  if (r.has("max_step") && !(s.max_step_s >= s.min_step_s && s.max_step_s >= s.initial_step_s)) return "max_step";
+  if (r.has("min_step") && !(s.min_step_s <= s.initial_step_s && s.min_step_s <= s.max_step_s)) return "min_step";
+  return "initial_step";
+}
+
+}  // namespace
+
 IntegratorSettings parse_integrator_settings(const JsonReader& r, IntegratorSettings s) {
   if (r.has("method")) {
     IntegratorMethod method = s.method;
@@ -295,8 +321,7 @@ IntegratorSettings parse_integrator_settings(const JsonReader& r, IntegratorSett
     const char* key = s.method == IntegratorMethod::kRungeKutta4                     ? "fixed_step"
                       : rtol_out                                                     ? "rtol"
                       : !(s.absolute_tolerance <= IntegratorSettings::kMaxAbsoluteTolerance) ? "atol"
-                      : !(s.min_step_s <= s.max_step_s)                              ? "min_step"
-                                                                                     : "initial_step";
+                                                                                     : misordered_step_key(r, s);
     r.fail(key, why);
   }
   // A fixed step below the adaptive methods' floor is a typo (1e-300), and its
@@ -434,16 +459,22 @@ ScenarioSetup build_scenario(const ScenarioSources& sources) {
     s.duration_s = distance / r.number("forward_speed");
   }
   s.output_rate_hz = r.has("output_rate") ? r.positive("output_rate") : 1000.0;
-  if (!(s.duration_s * s.output_rate_hz >= 1.0))
+  // A recorded curve needs the samples rover compare and calibrate read.
+  if (const double samples = recorded_sample_count(s.duration_s, s.output_rate_hz);
+      !(samples >= static_cast<double>(kMeasuredCurveMinRows)))
     r.fail(r.has("duration") ? "duration" : "travel_distance",
            "a run of " + number_text(s.duration_s) + " s at output_rate " + number_text(s.output_rate_hz) +
-               " Hz records only its initial state; the run must last at least one output period");
+               " Hz records " + number_text(samples) + " sample(s), fewer than the " +
+               std::to_string(kMeasuredCurveMinRows) + " of a curve rover compare and calibrate accept; the run " +
+               "must last at least " + std::to_string(kMeasuredCurveMinRows - 1) + " output periods (" +
+               number_text((kMeasuredCurveMinRows - 1) / s.output_rate_hz) + " s)");
   if (const std::string problem = recording_size_problem(
           recorded_sample_count(s.duration_s, s.output_rate_hz), kTrajectoryBytesPerSample);
       !problem.empty()) {
     r.fail(r.has("duration") ? "duration" : "travel_distance",
            problem + " at " + number_text(s.output_rate_hz) + " Hz; reduce duration or output_rate");
   }
+  if (has_drive) refuse_segments_after_the_end(r.child("drive"), s);
   if (r.has("integrator")) s.integrator = parse_integrator_settings(r.child("integrator"), s.integrator);
   if (r.has("wall_time_budget")) s.wall_time_budget_s = r.positive("wall_time_budget");
   if (std::string why; !scenario_is_valid(s, &why)) r.fail("integrator", why);

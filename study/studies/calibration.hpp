@@ -204,7 +204,7 @@ struct CalibrationOverrides {
 };
 
 // Throws io::ConfigError naming the file and the field on any bad value
-// (overrides are reported under their study-file key).
+// (an override's error names its flag instead).
 CalibrationStudy load_calibration_study(const std::string& path, const CalibrationOverrides& overrides = {});
 
 // Residuals z(t_d - offset) - z_d of a simulated curve (t, z) against the

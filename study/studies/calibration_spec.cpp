@@ -18,6 +18,7 @@
 
 #include "core/simulate.hpp"
 #include "io/csv.hpp"
+#include "io/hdf5_file.hpp"
 #include "study/model/distribution_json.hpp"
 #include "study/studies/report_number.hpp"
 
@@ -311,6 +312,9 @@ void read_datasets(const io::JsonReader& r, const std::string& path, const Calib
     d.sources = io::read_scenario_sources(scenario);
     (void)io::build_scenario(d.sources);  // the scenario's own checks, before any run
     // The checks `rover compare` makes (monotonic times, >= 3 rows, sane values).
+    if (io::is_hdf5_file(file))
+      throw io::ConfigError(file + ": an HDF5 file; a measured curve is read as CSV with columns t,z "
+                                   "(docs/configuration.md)");
     const io::MeasuredCurve curve = io::read_measured_curve(file);
     d.t = curve.t_s;
     d.z = curve.z_m;
@@ -419,7 +423,25 @@ void read_mcmc_settings(const io::JsonReader& r, CalibrationStudy& s) {
   }
 }
 
-// The posterior's sizes after the command line's overrides, checked.
+// A refused setting: blamed on `flag` when the command line gave it (it
+// overrides the study file), else on the study file's `field`.
+[[noreturn]] void fail_setting(const io::JsonReader& r, bool from_flag, const std::string& flag,
+                               const std::string& field, const std::string& problem) {
+  if (from_flag) throw io::ConfigError(flag + ": " + problem);
+  r.fail(field, problem);
+}
+
+// Where the burn-in and the steps came from, for the check that leaves at least
+// 4 steps: "--steps 2 with --discard 0", "--steps 2 (the burn-in by default 1)".
+std::string discard_flags(const CalibrationOverrides& o, const McmcSettings& m, long discard) {
+  if (o.discard && o.steps) return "--steps " + std::to_string(*o.steps) + " with --discard " + std::to_string(discard);
+  if (o.discard) return "--discard";
+  return "--steps " + std::to_string(m.steps) + " (" + (m.discard ? "'mcmc.discard' " : "the burn-in by default ") +
+         std::to_string(discard) + ")";
+}
+
+// The posterior's sizes after the command line's overrides, checked; an
+// override's error names its flag.
 void check_mcmc_sizes(const io::JsonReader& r, const CalibrationOverrides& o, CalibrationStudy& s) {
   if (o.walkers) s.mcmc.walkers = *o.walkers;
   if (o.steps) s.mcmc.steps = *o.steps;
@@ -431,14 +453,15 @@ void check_mcmc_sizes(const io::JsonReader& r, const CalibrationOverrides& o, Ca
       sampled_names += s.datasets.size() == 1 ? ", noise_sd" : ", noise_sd[" + std::to_string(k) + "]";
   const std::size_t sampled = s.fit.size() + (s.mcmc.sample_noise ? s.datasets.size() : 0);
   if (s.mcmc.walkers < 2 * static_cast<int>(sampled) || s.mcmc.walkers % 2 != 0)
-    r.fail("mcmc.walkers", "got " + std::to_string(s.mcmc.walkers) + "; must be even and at least " +
-                               std::to_string(2 * sampled) + ", twice the " + std::to_string(sampled) +
-                               " sampled parameters (" + sampled_names + ")");
+    fail_setting(r, o.walkers.has_value(), "--walkers", "mcmc.walkers",
+                 "got " + std::to_string(s.mcmc.walkers) + "; must be even and at least " + std::to_string(2 * sampled) +
+                     ", twice the " + std::to_string(sampled) + " sampled parameters (" + sampled_names + ")");
   if (s.mcmc.steps <= 0) r.fail("mcmc.steps", "must be positive, got " + std::to_string(s.mcmc.steps));
   const long discard = mcmc_discard(s.mcmc, s.mcmc.sampler);
   if (discard < 0 || s.mcmc.steps - discard < 4)
-    r.fail("mcmc.discard", "must be >= 0 and leave at least 4 of the " + std::to_string(s.mcmc.steps) +
-                               " steps, got " + std::to_string(discard));
+    fail_setting(r, o.discard || o.steps, discard_flags(o, s.mcmc, discard), "mcmc.discard",
+                 "the burn-in must be >= 0 and leave at least 4 of the " + std::to_string(s.mcmc.steps) +
+                     " steps, got " + std::to_string(discard));
 }
 
 // The fit's options: the first-search algorithm, budgets, profile.
@@ -448,19 +471,28 @@ void read_fit_options(const io::JsonReader& r, const CalibrationOverrides& o, Ca
   const int configured_evaluations = r.integer_or("max_evaluations", 40);
   const int configured_starts = r.integer_or("starts", 1);
   s.algorithm = !o.algorithm.empty() ? o.algorithm : configured_algorithm;
+  const bool algorithm_flag = !o.algorithm.empty();
   if (s.algorithm != kLeastSquaresAlgorithm && static_cast<int>(nlopt_algorithm_from_string(s.algorithm.c_str())) < 0)
-    r.fail("algorithm", "unknown algorithm '" + s.algorithm + "' (levenberg_marquardt, or an NLopt algorithm for a first search: "
-                        "LN_BOBYQA, LN_NELDERMEAD, GN_DIRECT_L, GN_CRS2_LM, ...)");
+    fail_setting(r, algorithm_flag, "--algorithm", "algorithm",
+                 "unknown algorithm '" + s.algorithm + "' (levenberg_marquardt, or an NLopt algorithm for a first search: "
+                 "LN_BOBYQA, LN_NELDERMEAD, GN_DIRECT_L, GN_CRS2_LM, ...)");
   if (s.algorithm.rfind("LD_", 0) == 0 || s.algorithm.rfind("GD_", 0) == 0)
-    r.fail("algorithm", "'" + s.algorithm + "' needs gradients, which the simulated RMS does not have; "
-                        "use a derivative-free algorithm (LN_BOBYQA, LN_SBPLX, LN_NELDERMEAD, GN_DIRECT_L, ...)");
+    fail_setting(r, algorithm_flag, "--algorithm", "algorithm",
+                 "'" + s.algorithm + "' needs gradients, which the simulated RMS does not have; "
+                 "use a derivative-free algorithm (LN_BOBYQA, LN_SBPLX, LN_NELDERMEAD, GN_DIRECT_L, ...)");
   s.max_evaluations = o.max_evaluations ? *o.max_evaluations : configured_evaluations;
-  s.max_iterations = o.max_iterations ? *o.max_iterations : r.integer_or("max_iterations", 0);
-  if (s.max_iterations < 0) r.fail("max_iterations", "must be positive (or 0: 10 + 5 per parameter), got " + std::to_string(s.max_iterations));
-  if (s.max_evaluations <= 0) r.fail("max_evaluations", "must be positive, got " + std::to_string(s.max_evaluations));
+  const int configured_iterations = r.integer_or("max_iterations", 0);
+  s.max_iterations = o.max_iterations ? *o.max_iterations : configured_iterations;
+  if (s.max_iterations < 0)
+    fail_setting(r, o.max_iterations.has_value(), "--max-iterations", "max_iterations",
+                 "must be positive (or 0: 10 + 5 per parameter), got " + std::to_string(s.max_iterations));
+  if (s.max_evaluations <= 0)
+    fail_setting(r, o.max_evaluations.has_value(), "--max-evaluations", "max_evaluations",
+                 "must be positive, got " + std::to_string(s.max_evaluations));
   s.xtol_rel = r.has("xtol_rel") ? r.positive("xtol_rel") : 1e-3;
   s.starts = o.starts ? *o.starts : configured_starts;
-  if (s.starts <= 0) r.fail("starts", "must be positive, got " + std::to_string(s.starts));
+  if (s.starts <= 0)
+    fail_setting(r, o.starts.has_value(), "--starts", "starts", "must be positive, got " + std::to_string(s.starts));
   s.seed = static_cast<std::uint64_t>(r.integer_or("seed", 1));
   s.profile = r.boolean_or("profile", false) || o.profile;
   s.profile_points = r.integer_or("profile_points", s.profile_points);

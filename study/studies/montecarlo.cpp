@@ -1,5 +1,6 @@
 // See montecarlo.hpp: the study's configuration, analysis and runs.
 #include "study/studies/montecarlo.hpp"
+#include "study/estimators/bootstrap_resolution.hpp"
 
 #include <cmath>
 
@@ -37,6 +38,10 @@ MonteCarloStudy load_montecarlo_study(const std::string& path) {
     if (s.bootstrap_resamples < kMinBootstrap || s.bootstrap_resamples > kMaxBootstrap)
       r.fail("bootstrap", "give 100 .. 100000 resamples");
   }
+  if (const std::string problem = bootstrap_resolution_problem(s.confidence, "'confidence'",
+                                                               s.bootstrap_resamples, "'bootstrap'");
+      !problem.empty())
+    r.fail("confidence", problem);
   if (s.spec.design.samples < kMinSamples)
     r.fail("design", "a Monte Carlo needs at least " + std::to_string(kMinSamples) + " samples for its sd and bands, got " +
                          std::to_string(s.spec.design.samples));

@@ -66,7 +66,7 @@ void write_montecarlo(const MonteCarloResult& result, io::Hdf5Writer& h5) {
 
 void report_montecarlo(const MonteCarloResult& result, std::ostream& out) {
   const StudyModel& model = *result.study.spec.model;
-  const int percent = static_cast<int>(100 * result.study.confidence);
+  const std::string percent = percent_digits(result.study.confidence);
   std::string last_note;
   for (std::size_t q = 0; q < result.summaries.size(); ++q) {
     const QoiSummary& s = result.summaries[q];

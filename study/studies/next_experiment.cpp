@@ -10,7 +10,10 @@
 
 #include <Eigen/Cholesky>
 
+#include "core/number_text.hpp"
+#include "io/csv.hpp"
 #include "io/json_reader.hpp"
+#include "io/scenario_config.hpp"
 #include "study/model/parameter_space.hpp"
 #include "study/runtime/calibration_mpi.hpp"
 #include "study/runtime/study_runner.hpp"
@@ -59,7 +62,16 @@ NextExperimentCandidate read_candidate(const io::JsonReader& c, const std::strin
     }
     set.finish();
   }
-  (void)io::build_scenario(out.sources);  // the scenario's own checks, with "set" applied
+  // The scenario's own checks, with "set" applied; then the data clock: a
+  // curve of fewer samples than rover compare and calibrate accept has no
+  // place in a ranking of curves.
+  const double duration_s = io::build_scenario(out.sources).scenario.duration_s;
+  if (const double samples = io::recorded_sample_count(duration_s, out.rate_hz);
+      samples < static_cast<double>(io::kMeasuredCurveMinRows))
+    c.fail("rate_hz", number(out.rate_hz, 6) + " Hz over the " + number(duration_s, 6) + " s of " +
+                          out.scenario_path + " gives " + number_text(samples) + " sample(s); a curve needs at least " +
+                          std::to_string(io::kMeasuredCurveMinRows) + " (as rover compare and calibrate): give at "
+                          "least " + number((io::kMeasuredCurveMinRows - 1) / duration_s, 6) + " Hz");
   return out;
 }
 

@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "io/plot.hpp"
+#include "study/estimators/bootstrap_resolution.hpp"
 #include "study/studies/report_format.hpp"
 #include "study/studies/study_output.hpp"
 
@@ -156,7 +157,7 @@ void print_qoi(std::ostream& out, const PceQoiResult& q, const std::vector<std::
       << q.runs_used << " runs, Q2_LOO " << fixed_text(q.expansion.validation.q2_loo, 4) << "; mean " << s.mean
       << ", variance " << s.variance;
   if (q.has_intervals)
-    out << "; " << static_cast<int>(std::lround(100 * confidence)) << " % bootstrap intervals, "
+    out << "; " << percent_digits(confidence) << " % bootstrap intervals, "
         << ci.resamples_used << " resamples";
   out << "), by total index:\n";
   std::vector<Eigen::Index> order(static_cast<std::size_t>(s.ST.size()));
@@ -218,11 +219,28 @@ void plot_pce_channel(const std::string& png, const PceChannelResult& channel, c
   plot_channel(png, channel, t, labels);
 }
 
+namespace {
+
+// A confidence the bootstrap's resamples cannot resolve is refused, naming both.
+void refuse_unresolved_confidence(const io::JsonReader& r, const PceSensitivityOptions& o,
+                                  const std::string& resamples_field) {
+  if (o.bootstrap <= 0) return;
+  if (const std::string problem =
+          bootstrap_resolution_problem(o.confidence, "'confidence'", o.bootstrap, resamples_field);
+      !problem.empty())
+    r.fail("confidence", problem);
+}
+
+}  // namespace
+
 PceSensitivityOptions parse_pce_options(const io::JsonReader& r, double confidence, std::uint64_t seed) {
   PceSensitivityOptions o;
   o.confidence = confidence;
   o.seed = seed;
-  if (!r.has("pce")) return o;
+  if (!r.has("pce")) {
+    refuse_unresolved_confidence(r, o, "'pce.bootstrap' (by default)");
+    return o;
+  }
   const io::JsonReader p = r.child("pce");
   o.settings.max_degree = p.integer_or("max_degree", o.settings.max_degree);
   if (o.settings.max_degree < 1 || o.settings.max_degree > kMaxPceDegree)
@@ -233,6 +251,7 @@ PceSensitivityOptions parse_pce_options(const io::JsonReader& r, double confiden
   if (o.bootstrap < 0 || (o.bootstrap > 0 && o.bootstrap < kMinPceBootstrap) || o.bootstrap > kMaxPceBootstrap)
     p.fail("bootstrap", "give 0 (no intervals) or " + std::to_string(kMinPceBootstrap) + " .. " +
                             std::to_string(kMaxPceBootstrap) + " resamples");
+  refuse_unresolved_confidence(r, o, "'pce.bootstrap'");
   o.settings.q2_threshold = p.number_or("q2_threshold", o.settings.q2_threshold);
   if (!(o.settings.q2_threshold > 0.0 && o.settings.q2_threshold <= 1.0)) p.fail("q2_threshold", "must lie in (0, 1]");
   p.finish();

@@ -36,6 +36,14 @@ inline std::string fixed_text(double x, int digits = 3) {
   return os.str();
 }
 
+// A confidence level as a percentage with the digits it has: 0.95 -> "95",
+// 0.999999 -> "99.9999" (never rounded to a level it is not).
+inline std::string percent_digits(double confidence) {
+  std::ostringstream os;
+  os << std::setprecision(10) << 100.0 * confidence;
+  return os.str();
+}
+
 // Lengths stored in metres, as shown: in millimetres.
 inline std::vector<double> in_millimetres(const std::vector<double>& metres) {
   const double factor = display_unit("m").factor;

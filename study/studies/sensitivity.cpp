@@ -1,5 +1,6 @@
 // See sensitivity.hpp: the study's configuration, design, runs and analysis.
 #include "study/studies/sensitivity.hpp"
+#include "study/estimators/bootstrap_resolution.hpp"
 #include "study/runtime/elapsed_time.hpp"
 
 #include <algorithm>
@@ -246,6 +247,10 @@ SensitivityStudy load_sensitivity_study(const std::string& path) {
     r.fail("bootstrap", "give 0 (no intervals) or 100 .. 100000 resamples");
   const double confidence = r.number_or("confidence", 0.95);
   if (!(confidence > 0.5 && confidence < 1.0)) r.fail("confidence", "must lie in (0.5, 1)");
+  if (s.method != SensitivityMethod::kPce && bootstrap > 0)
+    if (const std::string problem = bootstrap_resolution_problem(confidence, "'confidence'", bootstrap, "'bootstrap'");
+        !problem.empty())
+      r.fail("confidence", problem);
   s.max_failed_fraction = r.number_or("max_failed_fraction", 0.05);
   if (!(s.max_failed_fraction >= 0.0 && s.max_failed_fraction < 1.0))
     r.fail("max_failed_fraction", "must lie in [0, 1)");

@@ -73,7 +73,7 @@ void print_sobol(std::ostream& out, const std::string& qoi, const SobolIndices& 
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) { return s.ST[a] > s.ST[b]; });
   out << qoi << " (mean " << s.mean << ", variance " << s.variance << ", " << s.groups_used << " of "
-      << s.groups_total << " groups; " << static_cast<int>(100 * confidence) << " % intervals), by total index:\n";
+      << s.groups_total << " groups; " << percent_digits(confidence) << " % intervals), by total index:\n";
   for (Eigen::Index i : order)
     out << "  " << std::left << std::setw(kIndexLabelWidth) << labels[static_cast<std::size_t>(i)] << std::right << " S1 "
         << std::setw(6) << fixed_text(s.S1[i]) << " [" << fixed_text(s.S1_lower[i]) << ", " << fixed_text(s.S1_upper[i]) << "]   ST "

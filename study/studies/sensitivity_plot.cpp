@@ -23,7 +23,7 @@ void plot_sobol(const std::string& png, const std::string& qoi, const SobolIndic
                 const std::vector<std::string>& labels, double confidence) {
   io::BarPlot plot;
   plot.title = qoi + ": Sobol' indices (" + std::to_string(s.groups_used) + " groups), " +
-               std::to_string(static_cast<int>(100 * confidence)) + " % intervals";
+               percent_digits(confidence) + " % intervals";
   plot.y_label = "index";
   plot.categories = labels;
   plot.groups.push_back({"S1 (first order)", to_vector(s.S1), to_vector(s.S1_lower), to_vector(s.S1_upper)});

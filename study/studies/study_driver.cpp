@@ -98,9 +98,16 @@ std::optional<int> keep_earlier_result(const std::string& command, const std::st
   std::error_code error;
   if (counts.runs == 0 || counts.failed < counts.runs || !std::filesystem::exists(results_path, error))
     return std::nullopt;
+  // A study that checkpoints its runs (a Monte Carlo) still has them; a
+  // calibration's fit keeps none.
+  const std::string checkpoint = io::ResultCheckpoint::path_for(results_path);
+  const bool kept = std::filesystem::exists(checkpoint, error);
   std::cerr << "rover " << command << ": error: every run failed (first: " << counts.first_failure
-            << "); nothing was written, " << results_path << " is unchanged; the runs are kept in "
-            << io::ResultCheckpoint::path_for(results_path) << "\n";
+            << "); nothing was written, " << results_path << " is unchanged"
+            << (kept ? "; the runs are kept in " + checkpoint +
+                           ": the next run of this study needs --restart (discard them) or --resume (reuse them)"
+                     : std::string("; no run was kept"))
+            << "\n";
   return kEveryRunFailedStatus;
 }
 

@@ -125,8 +125,9 @@ void commit(const std::string& command, const std::string& results_path, io::Hdf
             const RunCounts& counts);
 
 // Rank 0, when every run failed and a file is already at results_path: the
-// earlier result is left as it was (the runs stay in the checkpoint); says
-// so and returns kEveryRunFailedStatus. std::nullopt otherwise.
+// earlier result is left as it was (the runs stay in the checkpoint, when the
+// study keeps one); says so and returns kEveryRunFailedStatus. std::nullopt
+// otherwise.
 std::optional<int> keep_earlier_result(const std::string& command, const std::string& results_path,
                                        const RunCounts& counts);
 

@@ -27,7 +27,7 @@ double normal_quantile_two_sided(double confidence) {
   return boost::math::quantile(boost::math::normal(), 0.5 + confidence / 2.0);
 }
 
-std::string percent_text(double confidence) { return std::to_string(static_cast<int>(100 * confidence)) + " %"; }
+std::string percent_text(double confidence) { return percent_digits(confidence) + " %"; }
 
 }  // namespace
 

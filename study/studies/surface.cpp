@@ -27,6 +27,9 @@ std::vector<double> parse_axis(const io::JsonReader& parent, const std::string& 
   if (count < 1) a.fail("count", "the grid needs at least one point");
   if (count > kMaxAxisPoints) a.fail("count", "more than 1e6 points on one axis");
   if (!(max >= min)) a.fail("max", "must not be below min (" + number_text(min) + ")");
+  if (count == 1 && max > min)
+    a.fail("count", "1 point runs min = " + number_text(min) + " only, and max = " + number_text(max) +
+                        " would be ignored: give count 2 or more, or max equal to min");
   if (count > 1 && !(max > min))
     a.fail("count", std::to_string(count) + " points between min = max = " + number_text(min) +
                         " would be identical runs: give count 1, or max above min");
@@ -130,15 +133,21 @@ class SurfaceCollector {
     k.rms = Eigen::VectorXd::Constant(kriging_x.rows(), nan);
     k.t_c = k.rms;
     k.status.assign(static_cast<std::size_t>(kriging_x.rows()), run_status::kError);
+    k.messages.assign(static_cast<std::size_t>(kriging_x.rows()), "");
   }
 
   void add(int i, const RunRecord& record) {
     ++r_.runs;
     r_.failed += record.ok() ? 0 : 1;
+    if (!record.ok() && (r_.first_failure_task < 0 || i < r_.first_failure_task)) {
+      r_.first_failure_task = i;
+      r_.first_failure = record.message;
+    }
     if (i >= kriging_first_) {
       SurfaceKriging& k = r_.kriging;
       const Eigen::Index row = i - kriging_first_;
       k.status[static_cast<std::size_t>(row)] = record.status;
+      k.messages[static_cast<std::size_t>(row)] = record.message;
       if (!record.ok()) return;
       k.rms(row) = record.qoi[0];
       k.t_c(row) = record.wall_time_s;
@@ -339,7 +348,7 @@ StudyProgram<SurfaceResult> surface_program(SurfaceStudy study) {
   p.fingerprint = study.fingerprint;
   p.inputs = study.files;
   p.banner = std::to_string(study.f.size()) + " x " + std::to_string(study.c_q.size()) + " grid" +
-             (study.kriging.enabled ? std::string(study.runs_grid() ? " (run and" : " (") + " kriged from " +
+             (study.kriging.enabled ? std::string(study.runs_grid() ? " (run and kriged" : " (kriged") + " from " +
                                           std::to_string(study.kriging.runs) + " Latin hypercube runs)"
                                     : std::string()) +
              " + " + std::to_string(study.sweep_f.size()) + " sweep runs of " + study.sources.scenario_path +
@@ -347,9 +356,10 @@ StudyProgram<SurfaceResult> surface_program(SurfaceStudy study) {
   p.run = [study](const StudyRuntime& runtime) { return run_surface(study, runtime); };
   p.write = write_surface;
   p.counts = [](const SurfaceResult& r) {
-    RunCounts c = count_runs(r.status, r.messages);  // the grid's; the counts include the sweep
+    RunCounts c;  // the grid's, the sweep's and the kriging design's runs
     c.runs = r.runs;
     c.failed = r.failed;
+    c.first_failure = r.first_failure;
     return c;
   };
   p.plot = plot_surface;

@@ -85,6 +85,10 @@ struct SurfaceResult {
   std::vector<double> sweep_t_c, sweep_rhs_evaluations;  // [sweep point]
   LinearFit regression;              // of the sweep's successful runs
   int runs = 0, failed = 0;
+  // The message of the failed run of the lowest task number (grid, sweep or
+  // kriging design): why the study failed when every run did.
+  std::string first_failure;
+  int first_failure_task = -1;
   SurfaceKriging kriging;            // when study.kriging.enabled
   // Not empty when every run's RMS exceeds the span of the reference's
   // heights (core/reference_miss.hpp): a reference in millimetres, say.

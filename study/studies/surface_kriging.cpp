@@ -198,6 +198,7 @@ void write_surface_kriging(const SurfaceKriging& k, io::Hdf5Writer& h5) {
   h5.write("/gp/design/rms", std::vector<double>(k.rms.begin(), k.rms.end()));
   h5.write("/gp/design/t_c", std::vector<double>(k.t_c.begin(), k.t_c.end()));
   h5.write("/gp/design/status", k.status);
+  h5.write("/gp/design/messages", k.messages);
   SurrogateSet set;
   set.kind = SurrogateKind::kGaussianProcess;
   for (const SurfaceKrigingMap& m : k.maps) {

@@ -82,6 +82,7 @@ struct SurfaceKriging {
   DesignMatrix x;                  // the design, runs x (f, c_q)
   Eigen::VectorXd rms, t_c;        // per run, NaN where it failed
   std::vector<int> status;
+  std::vector<std::string> messages;  // per run: why it failed, empty if it did not
   std::string check_source;        // "grid", the file, or empty
   std::vector<SurfaceKrigingMap> maps;  // rms, t_c
 };

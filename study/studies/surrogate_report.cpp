@@ -123,7 +123,7 @@ void report_qoi(std::ostream& out, const SurrogateQoiResult& q, const std::vecto
     return;
   }
   if (q.has_intervals)
-    out << "  Sobol' indices by total index, " << std::lround(100 * confidence) << " % bootstrap intervals ("
+    out << "  Sobol' indices by total index, " << percent_digits(confidence) << " % bootstrap intervals ("
         << q.intervals.resamples_used << " resamples):\n";
   report_indices(out, q, labels);
 }
@@ -165,7 +165,7 @@ void plot_predicted(const std::string& png, const SurrogateStudyResult& r, std::
 void plot_indices(const std::string& png, const SurrogateStudy& study, const SurrogateStudyResult& r,
                   std::ostream& log) {
   io::BarPlot plot;
-  plot.title = "Total Sobol' indices from the PCE, " + std::to_string(std::lround(100 * study.pce.confidence)) +
+  plot.title = "Total Sobol' indices from the PCE, " + percent_digits(study.pce.confidence) +
                " % bootstrap intervals" +
                (study.compare_file.empty() ? std::string()
                                             : ", beside those of " +

@@ -177,7 +177,7 @@ class Workshop {
            {"scenario", quick_},
            {"reference", {{"simulate", {{"f", 1e4}, {"c_q", 0.14}}}}},
            {"f", {{"min", 1e3}, {"max", 1e4}, {"count", 2}, {"spacing", "log"}}},
-           {"c_q", {{"min", 0.1}, {"max", 0.2}, {"count", 1}}}};
+           {"c_q", {{"min", 0.14}, {"max", 0.14}, {"count", 1}}}};
     edit(j);
     return json_file("surface", j);
   }
@@ -385,14 +385,14 @@ TEST_F(Audit, RoverFile) {
              {"'description'", "5"});
   rover_case("huge wheel inertia",
              [](Json& j) { j["bodies"]["wheel"]["inertia"] = {{1e300, 0, 0}, {0, 1e300, 0}, {0, 0, 1e300}}; },
-             Want::kRunsOrFails, {});
-  rover_case("friction law beyond synthesis",
+             Want::kError, {"'bodies.wheel.inertia'", "1e+300", "+-1 kg m^2"});
+  rover_case("friction far beyond synthesis",
              [](Json& j) {
-               j["friction"]["mu_s"] = 1e308;  // its gammas overflow a double
+               j["friction"]["mu_s"] = 1e308;  // its gammas would overflow a double
                j["friction"].erase("gammas");
                j["friction"].erase("gammas_fitted_to");
              },
-             Want::kError, {"'friction'", "mu_s 1e+308"});
+             Want::kError, {"'friction.mu_s'", "1e+308", "+-10,"});
   // Raw text: duplicate keys, a trailing comma, a NUL byte, empty, an array.
   const std::string shipped = [] {
     std::ifstream in(source_path("configs/rover.json"));
@@ -1079,7 +1079,7 @@ TEST_F(Audit, Flags) {
   flag_case("friction --png under /proc", "friction --png /proc/rover_audit/f.png", {"--png", "/proc/rover_audit/f.png"});
   flag_case("friction huge mu_s", "friction --mu-s 1e308", {"--mu-s", "1e+308"});
   flag_case("friction v_k below v_s", "friction --v-s 0.01 --v-k 0.001", {"v_k (0.001 m/s)", "v_s (0.01 m/s)", "--v-k"});
-  flag_case("friction --v-s above the config's v_k", "friction --v-s 0.5", {"v_k (0.002 m/s)", "v_s (0.5 m/s)", "--v-s"});
+  flag_case("friction --v-s above the config's v_k", "friction --v-s 0.005", {"v_k (0.002 m/s)", "v_s (0.005 m/s)", "--v-s"});
   flag_case("terrain spacing of 1 nm", "terrain obstacle --out " + w().out("json") + " --spacing 1e-9",
             {"--spacing", "1e-09"});
   flag_case("terrain --png over --out",
@@ -1104,7 +1104,7 @@ TEST_F(Audit, Flags) {
                                                             {"qdot", 1}}),
             {"'qdot'", "unknown key"});
   flag_case("eom --config a directory", "eom --state " + state + " --config " + w().dir(), {"--config", w().dir()});
-  flag_case("montecarlo --samples 1e3", study("montecarlo", mc) + " --samples 1e3", {"--samples", "1e3"});
+  flag_case("montecarlo --samples 1e-3", study("montecarlo", mc) + " --samples 1e-3", {"--samples", "1e-3", "whole number"});
   flag_case("montecarlo --seed beyond 2^64", study("montecarlo", mc) + " --seed 18446744073709551616",
             {"--seed", "18446744073709551616"});
   flag_case("montecarlo --checkpoint-every 0", study("montecarlo", mc) + " --checkpoint-every 0",
@@ -1126,7 +1126,7 @@ TEST_F(Audit, Flags) {
   flag_case("calibrate --walkers 0", study("calibrate", calibration) + " --method mcmc --walkers 0",
             {"--walkers", "got 0"});
   flag_case("calibrate --walkers 2 for 2 sampled parameters",
-            study("calibrate", calibration) + " --method mcmc --walkers 2", {"'mcmc.walkers'", "got 2", "at least 4"});
+            study("calibrate", calibration) + " --method mcmc --walkers 2", {"--walkers: got 2", "at least 4"});
   flag_case("calibrate --fit twice", study("calibrate", calibration) + " --fit c_q,c_q", {"c_q", "twice"});
   flag_case("calibrate --data a header only",
             study("calibrate", calibration) + " --data " + w().text_file("hdr", "t,z\n", "csv"), {"hdr"});
@@ -1876,7 +1876,7 @@ TEST_F(Audit, ThirdAuditRefusedUpFront) {
   // A rank variable set by hand (no job size beside it) does not silence rover.
   cases.push_back({"a lone rover with PMIX_RANK=1", "simulate --scenario " + dir + "/none.json", Want::kError,
                    {"--scenario", "none.json"}, {}, "PMIX_RANK=1 OMPI_COMM_WORLD_RANK=1"});
-  cases.push_back({"friction: mu_k of 1e300", "friction --mu-k 1e300", Want::kError, {"--mu-k 1e+300", "order 1"}});
+  cases.push_back({"friction: mu_k of 1e300", "friction --mu-k 1e300", Want::kError, {"--mu-k 1e+300", "+-10,"}});
   // Heights in millimetres are within the readers' bound, but no fit meets them.
   std::string millimetres = "t,z\n";
   for (int k = 0; k <= 25; ++k) millimetres += std::to_string(0.002 * k) + "," + std::to_string(281.0 - 2.0 * k) + "\n";
@@ -2117,6 +2117,140 @@ TEST_F(Audit, SuspectReferencesAndSurrogateValidityLimits) {
   cases.push_back({"--samples leaving one held-out run",
                    study("surrogate", w().json_file("held2", two_held_out)) + " --samples 10", Want::kError,
                    {"--samples 10", "held_out.fraction", "needs at least 2"}});
+  run_table(w().dir(), cases);
+}
+
+// Every number of the rover file within its scale (a unit mistake named),
+// a flag's error blamed on the flag, a study whose every run failed saying
+// why and what it kept, degenerate inputs refused, unreadable HDF5 files and
+// integer flags in rover's words, and confidences the resamples resolve.
+TEST_F(Audit, UnitMistakesFlagsAndFailuresInRoversWords) {
+  std::vector<Case> cases;
+  auto rover_case = [&](const std::string& id, const std::function<void(Json&)>& edit,
+                        std::vector<std::string> mentions) {
+    const std::string path = w().rover(edit);
+    mentions.insert(mentions.begin(), path);
+    mentions.push_back("a unit mistake");
+    cases.push_back({id, simulate(w().scenario_with_rover(path)), Want::kError, mentions});
+  };
+  rover_case("an inertia in kg mm^2",
+             [](Json& j) { j["bodies"]["chassis"]["inertia"] = {{6630, 0, -150}, {0, 11020, 0}, {-150, 0, 14610}}; },
+             {"'bodies.chassis.inertia'", "6630", "+-1 kg m^2"});
+  rover_case("a centre of mass 20 m away", [](Json& j) { j["bodies"]["module2"]["com"] = {0.1, 0.04, 20}; },
+             {"'bodies.module2.com'", "20 m", "+-10 m"});
+  rover_case("a wheel radius in millimetres", [](Json& j) { j["geometry"]["wheel_radius"] = 85; },
+             {"'geometry.wheel_radius'", "85 m", "+-10 m"});
+  rover_case("a hip in millimetres", [](Json& j) { j["geometry"]["hip"] = {107.8, 0, -26.5}; },
+             {"'geometry.hip'", "107.8 m", "+-10 m"});
+  rover_case("friction in percent", [](Json& j) { j["friction"]["mu_s"] = 30; }, {"'friction.mu_s'", "30", "+-10,"});
+  rover_case("a kinetic friction in percent", [](Json& j) { j["friction"]["mu_k"] = 20; },
+             {"'friction.mu_k'", "20", "+-10,"});
+  rover_case("Stribeck speeds in mm/s", [](Json& j) { j["friction"]["v_k"] = 2.0; },
+             {"'friction.v_k'", "2 m/s", "+-0.1 m/s"});
+  rover_case("a steering limit in degrees", [](Json& j) { j["steering"]["limit"] = 100; },
+             {"'steering.limit'", "100 rad", "+-6.28"});
+  rover_case("k_q a thousand times the paper's", [](Json& j) { j["s_structure"]["k_q"] = 9910; },
+             {"'s_structure.k_q'", "9910 N m/rad", "+-1000 N m/rad"});
+  rover_case("a steering gain beyond scale", [](Json& j) { j["steering"]["K_d"] = 2e4; },
+             {"'steering.K_d'", "20000 N m/rad", "+-10000 N m/rad"});
+  rover_case("a drive torque in mN m", [](Json& j) { j["drive"]["tau_max"] = 4100; },
+             {"'drive.tau_max'", "4100 N m", "+-100 N m"});
+  rover_case("a drive gain beyond scale", [](Json& j) { j["drive"]["K_w"] = 3000; },
+             {"'drive.K_w'", "3000 N m s/rad", "+-1000 N m s/rad"});
+  rover_case("a ground stiffness beyond scale", [](Json& j) { j["contact"]["k_g"] = 1e9; },
+             {"'contact.k_g'", "1000000000 N/m^sigma", "+-100000000"});
+  rover_case("a contact exponent of 180", [](Json& j) { j["contact"]["sigma"] = 180; },
+             {"'contact.sigma'", "180", "+-10,"});
+  cases.push_back({"rover friction: mu_s in percent", "friction --mu-s 30", Want::kError,
+                   {"--mu-s 30", "+-10,", "a unit mistake (percent)?"}});
+  cases.push_back({"a Morris study over sensible ranges of the rover's parameters",
+                   "sensitivity --dry-run --study " + source_path("configs/studies/morris_obstacle.json") +
+                       " --out " + w().out(),
+                   Want::kRuns, {"dry run"}});
+  // A flag's error names the flag, not the study file's field.
+  const std::string calibration = w().calibration([](Json&) {});
+  cases.push_back({"calibrate --walkers 2", study("calibrate", calibration) + " --dry-run --walkers 2", Want::kError,
+                   {"--walkers: got 2", "at least 4"}, {}, {}, {"mcmc.walkers"}});
+  cases.push_back({"calibrate --steps 2 --discard 0", study("calibrate", calibration) + " --dry-run --steps 2 --discard 0",
+                   Want::kError, {"--steps 2 with --discard 0", "at least 4 of the 2 steps"}, {}, {}, {"mcmc."}});
+  cases.push_back({"calibrate --steps 3", study("calibrate", calibration) + " --dry-run --steps 3", Want::kError,
+                   {"--steps 3", "at least 4 of the 3 steps"}, {}, {}, {"mcmc."}});
+  cases.push_back({"calibrate --algorithm with gradients", study("calibrate", calibration) + " --dry-run --algorithm LD_MMA",
+                   Want::kError, {"--algorithm: 'LD_MMA' needs gradients"}, {}, {}, {"field 'algorithm'"}});
+  // Every run failed: the reason is given, and a checkpoint named only if kept.
+  const std::string failing = w().scenario([](Json& j) { j["wall_time_budget"] = 1e-6; });
+  const std::string earlier = simulated_curve(w().dir() + "/earlier_fit.h5");
+  cases.push_back({"a calibration whose every run fails, over an earlier result",
+                   study_args("calibrate", w().calibration([&](Json& j) { j["scenario"] = failing; }), earlier),
+                   Want::kAllFailed, {"every run failed (first: ", "is unchanged", "no run was kept"},
+                   unchanged(earlier), {}, {".checkpoint"}});
+  cases.push_back({"a kriged surface whose every run fails",
+                   study("surface", w().surface([&](Json& j) {
+                     j["scenario"] = failing;
+                     j["surrogate"] = "gp";
+                     j["runs"] = 5;
+                     j["reference"] = {{"file", source_path("configs/data/drop_horizontal_synthetic.csv")}};
+                     j["c_q"] = {{"min", 0.1}, {"max", 0.2}, {"count", 2}};
+                   })),
+                   Want::kAllFailed, {"every run failed (first: time budget exceeded"}, {}, {}, {"(first: )"}});
+  // An HDF5 input cut short or damaged, in rover's words.
+  const std::string whole = simulated_curve(w().dir() + "/whole.h5");
+  const std::string bytes = file_bytes(whole);
+  const std::string cut = w().text_file("cut", bytes.substr(0, 3000), "h5");
+  std::string damaged_bytes = bytes;
+  damaged_bytes.replace(1000, 2000, std::string(2000, '\xff'));
+  const std::string damaged = w().text_file("damaged", damaged_bytes, "h5");
+  cases.push_back({"compare: an HDF5 file cut short", "compare " + cut + " " + whole, Want::kError,
+                   {cut + " is not a complete HDF5 file", "ends after 3000 of its"}, {}, {}, {"HDF5:", "eof"}});
+  cases.push_back({"compare: a damaged HDF5 file", "compare " + damaged + " " + whole, Want::kError,
+                   {damaged + " is not a readable HDF5 file"}, {}, {}, {"HDF5:"}});
+  cases.push_back({"calibrate --data an HDF5 file", study("calibrate", calibration) + " --data " + cut,
+                   Want::kError, {cut + ": an HDF5 file; a measured curve is read as CSV"}, {}, {}, {"columns:"}});
+  // Degenerate inputs: refused, naming the field.
+  cases.push_back({"surface: one point on an axis from 0.1 to 0.4", study("surface", w().surface([](Json& j) {
+                     j["c_q"] = {{"min", 0.1}, {"max", 0.4}, {"count", 1}};
+                   })),
+                   Want::kError, {"'c_q.count'", "max = 0.4 would be ignored"}});
+  const std::string late = w().drive_scenario(
+      {{"segments", {{{"start", 0.0}, {"mode", "parallel"}, {"speed", 0.1}},
+                     {{"start", 0.1}, {"mode", "parallel"}, {"speed", 0.2}}}}});
+  cases.push_back({"a drive segment after the scenario's end", simulate(late), Want::kError,
+                   {late, "'drive.segments[1].start'", "0.1 s", "duration 0.05 s"}});
+  const std::string two_samples = w().scenario([](Json& j) {
+    j["duration"] = 0.015;
+    j["output_rate"] = 100;
+  });
+  cases.push_back({"a scenario recording 2 samples", simulate(two_samples), Want::kError,
+                   {two_samples, "'duration'", "2 sample(s)", "at least 2 output periods (0.02 s)"}});
+  const std::string slow = w().json_file(
+      "candidates", Json{{"candidates", {{{"scenario", w().quick()}, {"rate_hz", 0.5}, {"noise_sd", 1e-4}}}}});
+  cases.push_back({"next experiment: a rate giving one sample",
+                   study("calibrate", calibration) + " --dry-run --next-experiment " + slow, Want::kError,
+                   {slow, "'candidates[0].rate_hz'", "0.5 Hz", "1 sample(s)", "at least 3"}});
+  // Integer flags read as the study files read counts.
+  const std::string mc = w().montecarlo([](Json&) {});
+  cases.push_back({"--samples 1e3", study("montecarlo", mc) + " --dry-run --samples 1e3", Want::kRuns, {"1000 runs"}});
+  cases.push_back({"--samples 2.5", study("montecarlo", mc) + " --dry-run --samples 2.5", Want::kError,
+                   {"--samples", "must be a whole number, got 2.5"}});
+  const std::string tiny_max_step = w().scenario([](Json& j) {
+    j["integrator"] = {{"method", "dopri5"}, {"max_step", 1e-15}};
+  });
+  cases.push_back({"max_step below min_step", simulate(tiny_max_step), Want::kError,
+                   {"'integrator.max_step'", "1e-15"}, {}, {}, {"integrator.min_step"}});
+  // A confidence the bootstrap resolves, printed with its digits.
+  auto pce = [&](double confidence, int resamples) {
+    return w().sensitivity([&](Json& j) {
+      j["method"] = "pce";
+      j.erase("bootstrap");
+      j["design"] = {{"type", "lhs"}, {"samples", 40}, {"seed", 1}};
+      j["confidence"] = confidence;
+      j["pce"] = {{"max_degree", 3}, {"bootstrap", resamples}};
+    });
+  };
+  cases.push_back({"PCE: confidence 0.999999 from 100 resamples", study("sensitivity", pce(0.999999, 100)),
+                   Want::kError, {"'confidence'", "0.999999", "'pce.bootstrap' 100", "at least 1000000 resamples"}});
+  cases.push_back({"PCE: confidence 0.996 printed as it is", study("sensitivity", pce(0.996, 300)), Want::kRuns,
+                   {"99.6 % bootstrap intervals"}});
   run_table(w().dir(), cases);
 }
 

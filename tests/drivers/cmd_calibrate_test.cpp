@@ -349,10 +349,10 @@ TEST(CmdCalibrate, BadInputIsRefusedNamingTheFieldOrFile) {
   const std::vector<Case> cases{
       {"--starts 0", "--starts must be from 1 to 100000, got 0"},
       {"--max-evaluations -1", "--max-evaluations must be from 1 to 100000000, got -1"},
-      {"--algorithm LD_MMA", "'algorithm'"},
+      {"--algorithm LD_MMA", "--algorithm: 'LD_MMA' needs gradients"},
       {"--data " + backwards, backwards},
       {"--data " + two_rows, two_rows},
-      {"--method mcmc --walkers 2", "'mcmc.walkers'"},
+      {"--method mcmc --walkers 2", "--walkers: got 2"},
       {"--fit c_q,stiffness", "--fit: unknown parameter 'stiffness'"},
   };
   for (const Case& c : cases) {

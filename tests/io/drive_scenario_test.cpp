@@ -31,12 +31,14 @@ std::string scenario_file(const std::string& name) {
 }
 
 // A scenario file on flat ground with the given "drive" block (and extra
-// top-level fields), in a fresh directory.
-std::string write_drive_scenario(const std::string& drive, const std::string& extra = "") {
+// top-level fields), lasting `duration_s` (every segment must start before
+// it), in a fresh directory.
+std::string write_drive_scenario(const std::string& drive, const std::string& extra = "",
+                                 double duration_s = 1.0) {
   const std::string path = testing::temp_dir() + "/drive.json";
-  std::ofstream(path) << R"({"rover": ")" << testing::source_path("configs/rover.json")
-                      << R"(", "duration": 1.0, "initial_ground_clearance": 0.001, )" << extra
-                      << R"("drive": )" << drive << "}";
+  std::ofstream(path) << R"({"rover": ")" << testing::source_path("configs/rover.json") << R"(", "duration": )"
+                      << duration_s << R"(, "initial_ground_clearance": 0.001, )" << extra << R"("drive": )"
+                      << drive << "}";
   return path;
 }
 
@@ -72,7 +74,7 @@ constexpr double kSettledAfter_s = 0.5;  // the drop from 1 mm is over by then
 TEST(DriveScenario, NaturalAndBodyFormsGiveTheSameSchedule) {
   const ScenarioSetup natural = load_scenario(write_drive_scenario(
       R"({"ramp_time": 0.2, "segments": [{"mode": "ackermann", "speed": 0.3, "radius": -1.5},
-          {"start": 1.0, "mode": "parallel", "speed": 0.2, "crab_angle": 0.5}]})"));
+          {"start": 1.0, "mode": "parallel", "speed": 0.2, "crab_angle": 0.5}]})", "", 2.0));
   // The same motions as body velocities: G on a -1.5 m radius at 0.3 m/s
   // (G is midway between the axles), then 0.2 m/s at 0.5 rad to the left.
   std::ostringstream crab;
@@ -80,7 +82,7 @@ TEST(DriveScenario, NaturalAndBodyFormsGiveTheSameSchedule) {
        << 0.2 * std::sin(0.5);
   const ScenarioSetup body = load_scenario(write_drive_scenario(
       R"({"ramp_time": 0.2, "segments": [{"mode": "ackermann", "forward": 0.3, "yaw_rate": -0.2},
-          {"start": 1.0, "mode": "parallel", )" + crab.str() + "}]}"));
+          {"start": 1.0, "mode": "parallel", )" + crab.str() + "}]}", "", 2.0));
   const DriveSchedule& a = natural.scenario.drive;
   const DriveSchedule& b = body.scenario.drive;
   ASSERT_EQ(a.segments.size(), 2u);
@@ -260,7 +262,7 @@ TEST(DriveScenario, ReadmeExampleParsesAsWritten) {
   EXPECT_EQ(drive.schedule.segments[4].mode, DriveMode::kInPlaceRotation);
   EXPECT_EQ(drive.schedule.segments[4].start_time_s, 4.0);
   // And in a whole scenario file.
-  const std::string path = write_drive_scenario(block.substr(block.find('{')));
+  const std::string path = write_drive_scenario(block.substr(block.find('{')), "", 5.0);
   EXPECT_NO_THROW(load_scenario(path));
 }
 

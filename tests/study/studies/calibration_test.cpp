@@ -207,9 +207,11 @@ TEST(Calibration, StudyFileChecksNameTheField) {
   expect_refused(write_file(dir, "a.json", study_text(good, R"(, "algorithm": "LD_LBFGS")")), "'algorithm'");
   expect_refused(write_file(dir, "b.json", study_text(good, R"(, "starts": 0)")), "'starts'");
   expect_refused(write_file(dir, "c.json", study_text(good, R"(, "max_evaluations": -1)")), "'max_evaluations'");
-  expect_refused(study, "'starts'", {.starts = 0});
-  expect_refused(study, "'max_evaluations'", {.max_evaluations = -1});
-  expect_refused(study, "'algorithm'", {.algorithm = "GD_STOGO"});
+  // An override's error names its flag, not the study file's field.
+  expect_refused(study, "--starts: must be positive, got 0", {.starts = 0});
+  expect_refused(study, "--max-evaluations: must be positive, got -1", {.max_evaluations = -1});
+  expect_refused(study, "--algorithm: 'GD_STOGO' needs gradients", {.algorithm = "GD_STOGO"});
+  expect_refused(study, "--walkers: got 2", {.method = "mcmc", .walkers = 2});
   expect_refused(write_file(dir, "d.json", study_text(good, R"(, "priors": {"c_q": {"distribution": "uniform", "min": 0.5, "max": 0.1}})")),
                  "'priors.c_q");
   expect_refused(write_file(dir, "e.json", study_text(good, R"(, "method": "mcmc", "mcmc": {"walkers": 2})")),
