@@ -118,6 +118,13 @@ std::vector<std::string> fit_names(const io::JsonReader& r, const CalibrationOve
   return names;
 }
 
+// A problem of the fitted names, blamed on --fit when it gave them, else on
+// the study's "fit".
+[[noreturn]] void fail_on_fit(const io::JsonReader& r, const CalibrationOverrides& o, const std::string& problem) {
+  if (!o.fit.empty()) throw io::ConfigError("--fit: " + problem);
+  r.fail("fit", problem);
+}
+
 // The canonical name of a fitted parameter; an unknown one is refused with
 // the nearest names, blamed on --fit or on the study's "fit".
 std::string canonical_fit_name(const io::JsonReader& r, const CalibrationOverrides& o,
@@ -126,10 +133,8 @@ std::string canonical_fit_name(const io::JsonReader& r, const CalibrationOverrid
   try {
     return space.canonical(name);
   } catch (const std::invalid_argument& e) {
-    if (!o.fit.empty()) throw io::ConfigError(std::string("--fit: ") + e.what());
-    r.fail("fit", e.what());
+    fail_on_fit(r, o, e.what());
   }
-  return "";
 }
 
 void read_fit_parameters(const io::JsonReader& r, const CalibrationOverrides& o, const ParameterSpace& space,
@@ -144,9 +149,9 @@ void read_fit_parameters(const io::JsonReader& r, const CalibrationOverrides& o,
     p.canonical = canonical_fit_name(r, o, space, name);
     for (const auto& q : s.fit)
       if (q.name == name || (!p.canonical.empty() && q.canonical == p.canonical))
-        r.fail("fit", "parameter '" + name + "' is listed twice");
+        fail_on_fit(r, o, "parameter '" + name + "' is listed twice");
     if (name == kTimeOffset && s.datasets.size() > 1)
-      r.fail("fit", "time_offset can be fitted for one curve only; with several each curve's offset is profiled");
+      fail_on_fit(r, o, "time_offset can be fitted for one curve only; with several each curve's offset is profiled");
     const auto b = bounds.fixed_numbers<2>(name);
     p.lower = b[0];
     p.upper = b[1];

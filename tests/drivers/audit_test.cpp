@@ -2446,6 +2446,9 @@ TEST_F(Audit, SixthAuditCases) {
                      j["parameters"]["c_q"] = {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.1 * (1 + 1e-15)}};
                    })),
                    Want::kError, {"'parameters.c_q", "narrower than 1e-12 of its size"}});
+  cases.push_back({"calibrate --fit naming a parameter twice",
+                   study("calibrate", w().calibration([](Json&) {})) + " --fit c_q,c_q --dry-run", Want::kError,
+                   {"--fit: parameter 'c_q' is listed twice"}, {}, {}, {"field 'fit'"}});
   // The shell holds descriptor 3 on a file; rover gets the shell's name for it.
   const std::string shells_file = w().text_file("shell", "", "csv");
   cases.push_back({"--csv at another process's descriptor of a file", simulate(w().quick()) + " --csv /proc/$$/fd/3",
