@@ -58,6 +58,12 @@ inline constexpr double kMinTerrainSpacing_m = 1e-6;
 inline constexpr double kMaxDriveSpeed_mps = 10.0;
 inline constexpr double kMaxYawRate_radps = 10.0;
 inline constexpr double kMaxSharpness_per_rad = 1e8;
+// Below this the transition of atan(f b) is wider than any joint angle: the
+// preload never acts (paper: f 1e2 .. 1e5 1/rad).
+inline constexpr double kMinSharpness_per_rad = 1.0;
+inline const std::string kSharpnessBelowScaleReason =
+    "the transition of atan(f b) is then wider than any joint angle and the preload never acts (paper: f 1e2 .. "
+    "1e5 1/rad); a unit mistake?";
 inline constexpr double kMaxDamping_Nms_per_rad = 1e3;
 inline constexpr double kMaxPreload_Nm = 1e3;
 inline constexpr double kMaxGravity_mps2 = 1e2;

@@ -241,10 +241,14 @@ inline void check_overrides(const InputOverrides& o, FlagChecks& checks) {
   if (o.f) checks.positive("--f", *o.f);
   if (o.c_q) checks.non_negative("--cq", *o.c_q);
   // The bounds of rover.json (core/model_scale.hpp).
-  if (o.f && std::isfinite(*o.f))
+  if (o.f && std::isfinite(*o.f)) {
     if (const std::string beyond = beyond_scale(*o.f, kMaxSharpness_per_rad, "1/rad", kSStructureScaleReason);
         !beyond.empty())
       checks.add("--f " + beyond);
+    if (*o.f > 0.0 && *o.f < kMinSharpness_per_rad)
+      checks.add("--f " + number_text(*o.f) + " 1/rad is below " + number_text(kMinSharpness_per_rad) + " 1/rad: " +
+                 kSharpnessBelowScaleReason);
+  }
   if (o.c_q && std::isfinite(*o.c_q))
     if (const std::string beyond = beyond_scale(*o.c_q, kMaxDamping_Nms_per_rad, "N m s/rad", kSStructureScaleReason);
         !beyond.empty())

@@ -64,7 +64,11 @@ std::array<double, N> non_negative_array(const JsonReader& r, const std::string&
 }  // namespace
 
 double read_sharpness_f(const JsonReader& r, const std::string& key) {
-  return within_scale(r, key, r.positive(key), kMaxSharpness_per_rad, "1/rad", kSStructureScaleReason);
+  const double f = within_scale(r, key, r.positive(key), kMaxSharpness_per_rad, "1/rad", kSStructureScaleReason);
+  if (f < kMinSharpness_per_rad)
+    r.fail(key, number_text(f) + " 1/rad is below " + number_text(kMinSharpness_per_rad) + " 1/rad: " +
+                    kSharpnessBelowScaleReason);
+  return f;
 }
 
 double read_damping_c_q(const JsonReader& r, const std::string& key) {

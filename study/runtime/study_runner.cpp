@@ -81,11 +81,17 @@ void stream_study_tasks(int task_count, const std::function<TaskResult(int)>& co
     checkpoint = std::make_unique<io::ResultCheckpoint>(options.results_path, options.fingerprint,
                                                         options.checkpoint);
     std::vector<TaskResult> done;
-    if (options.resume) {
+    std::error_code error;
+    // A link there is this directory entry, dangling or not (never followed).
+    const bool present = std::filesystem::exists(std::filesystem::symlink_status(checkpoint->path(), error));
+    if (options.resume && !present) {
+      std::cerr << options.label << ": --resume found no checkpoint " << checkpoint->path()
+                << "; every run is computed\n";
+    } else if (options.resume) {
       done = checkpoint->load();
       std::cerr << options.label << ": resuming, " << done.size() << " of " << task_count
                 << " runs already done (" << checkpoint->path() << ")\n";
-    } else if (std::filesystem::exists(checkpoint->path())) {
+    } else if (present) {
       // The drivers refuse a leftover checkpoint unless --restart discards it.
       std::cerr << options.label << ": starting afresh; the old checkpoint " << checkpoint->path()
                 << " is deleted\n";

@@ -164,39 +164,33 @@ void set_pce_runs(SensitivityStudy& study, int runs) {
   study.spec.fingerprint = extend_fingerprint(study.spec.fingerprint, "samples " + std::to_string(runs));
 }
 
-// The share of Morris trajectories that would visit a value the model
-// refuses. Input j takes the centred levels (k + 1/2) / p through its
-// quantile function, in pairs k and k + p/2 (the jump); a trajectory fails
-// with input j when its pair holds a refused level (every other input at its
-// configured value).
+// The share of Morris trajectories of this design that would draw a value
+// the model refuses: every run of every trajectory is set up (no
+// simulation), as the study itself would, and a trajectory fails with any of
+// its runs.
 double morris_refused_share(const SensitivityStudy& s) {
   if (!s.spec.rover) return 0.0;
-  const std::vector<UncertainInput>& inputs = s.spec.inputs;
-  std::vector<double> x;
-  for (const UncertainInput& in : inputs) x.push_back(in.distribution.quantile(0.5));
-  const int pairs = s.levels / 2;
-  double kept = 1.0;
-  for (std::size_t j = 0; j < inputs.size(); ++j) {
-    std::vector<bool> refused_pair(static_cast<std::size_t>(pairs), false);
-    for (int k = 0; k < s.levels; ++k) {
-      std::vector<double> at = x;
-      at[j] = inputs[j].distribution.quantile((k + 0.5) / s.levels);
+  const DesignMatrix x = sensitivity_design(s);
+  const Eigen::Index runs_per_trajectory = static_cast<Eigen::Index>(varied_count(s.spec)) + 1;
+  int failed = 0;
+  for (int t = 0; t < s.trajectories; ++t) {
+    for (Eigen::Index k = 0; k < runs_per_trajectory; ++k) {
+      const Eigen::RowVectorXd row = x.row(t * runs_per_trajectory + k);
       try {
-        (void)s.spec.rover->setup_at(at.data());
+        (void)s.spec.rover->setup_at(row.data());
       } catch (const std::exception&) {
-        refused_pair[static_cast<std::size_t>(k % pairs)] = true;
+        ++failed;
+        break;
       }
     }
-    const auto refused = std::count(refused_pair.begin(), refused_pair.end(), true);
-    kept *= 1.0 - static_cast<double>(refused) / pairs;
   }
-  return 1.0 - kept;
+  return static_cast<double>(failed) / s.trajectories;
 }
 
 // A PCE run fails with its sample, a share p in refused distribution tails;
 // a Sobol' pick-freeze group with either of its two independent draws
-// (matrices A and B), 1 - (1 - p)^2; a Morris trajectory with a refused
-// level (morris_refused_share). Beyond max_failed_fraction the study would be
+// (matrices A and B), 1 - (1 - p)^2; a Morris trajectory with any of its
+// few runs, each set up here (morris_refused_share). Beyond max_failed_fraction the study would be
 // refused after its runs: refused now.
 void refuse_failures_beyond_the_limit(const io::JsonReader& r, const SensitivityStudy& s) {
   const double p = s.spec.refused_share;
@@ -209,8 +203,7 @@ void refuse_failures_beyond_the_limit(const io::JsonReader& r, const Sensitivity
   } else if (s.method == SensitivityMethod::kMorris) {
     share = morris_refused_share(s);
     units = "trajectories";
-    why = "a level of " + std::to_string(s.levels) + " lies where the model refuses the input" +
-          (why.empty() ? "" : ": " + why);
+    why = "set up from this design's levels" + (why.empty() ? "" : ": " + why);
   }
   if (!(share > s.max_failed_fraction)) return;
   r.fail("max_failed_fraction", "is " + fixed_text(s.max_failed_fraction, 2) + ", but about " +
