@@ -62,8 +62,8 @@ struct Recursion {
   Subtrees sub;
   std::array<Vector6, kNumTreeNodes> motion;
   std::array<Vector6, kNumTreeNodes> U;
-  std::array<double, kNumTreeNodes> D{}, u{};
-  std::array<double, kNumTreeNodes> trunk_bias{};
+  std::array<double, kNumTreeNodes> D, u;     // written by pass 2 before pass 3 reads them
+  std::array<double, kNumTreeNodes> trunk_bias;  // written by add_trunk_node() for loaded trunk nodes
   TrunkMatrix A = TrunkMatrix::Zero();
 };
 

@@ -214,13 +214,17 @@ int for_each_region(const Terrain& terrain, const RimFrame& rim, const Vec3& spi
 
 }  // namespace
 
-WheelContacts find_wheel_contacts(const Terrain& terrain, const Vec3& wheel_centre_m,
-                                  const Vec3& spin_axis, double wheel_radius_m) {
-  WheelContacts out;
+namespace {
+
+// find_wheel_contacts() into `out` (see find_leg_wheel_contacts()).
+void find_contacts_into(const Terrain& terrain, const Vec3& wheel_centre_m, const Vec3& spin_axis,
+                        double wheel_radius_m, WheelContacts& out) {
+  out.count = 0;
   const RimFrame rim = rim_frame(wheel_centre_m, spin_axis, wheel_radius_m);
   auto depth_at = [&](double angle) { return vertical_depth(terrain, rim.point(angle)); };
   for_each_region(terrain, rim, spin_axis, [&](double sample_angle, double sample_depth, double lo, double hi) {
     ContactPoint& c = out.points[out.count++];
+    c = ContactPoint{};
     if (terrain.is_flat()) {  // the lowest rim point, exactly
       c.point_m = rim.point(0.0);
       c.normal = Vec3::UnitZ();
@@ -244,6 +248,14 @@ WheelContacts find_wheel_contacts(const Terrain& terrain, const Vec3& wheel_cent
     c.normal = terrain.normal(c.point_m.x(), c.point_m.y());
     c.penetration_m = c.depth_m * c.normal.z();
   });
+}
+
+}  // namespace
+
+WheelContacts find_wheel_contacts(const Terrain& terrain, const Vec3& wheel_centre_m,
+                                  const Vec3& spin_axis, double wheel_radius_m) {
+  WheelContacts out;
+  find_contacts_into(terrain, wheel_centre_m, spin_axis, wheel_radius_m, out);
   return out;
 }
 
@@ -255,8 +267,15 @@ int count_wheel_contact_regions(const Terrain& terrain, const Vec3& wheel_centre
 
 WheelContacts find_leg_wheel_contacts(const Terrain& terrain, const TreeKinematics& kin, int leg,
                                       double wheel_radius_m) {
+  WheelContacts out;
+  find_leg_wheel_contacts(terrain, kin, leg, wheel_radius_m, out);
+  return out;
+}
+
+void find_leg_wheel_contacts(const Terrain& terrain, const TreeKinematics& kin, int leg, double wheel_radius_m,
+                             WheelContacts& contacts) {
   const NodeKinematics& wheel = kin.nodes[node::wheel(leg)];
-  return find_wheel_contacts(terrain, wheel.origin, wheel.rotation.col(1), wheel_radius_m);
+  find_contacts_into(terrain, wheel.origin, wheel.rotation.col(1), wheel_radius_m, contacts);
 }
 
 Mat3 contact_point_turning(const Vec3& contact_point_m, const Vec3& wheel_centre_m,

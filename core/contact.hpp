@@ -59,6 +59,11 @@ int count_wheel_contact_regions(const Terrain& terrain, const Vec3& wheel_centre
 // find_wheel_contacts() for the wheel of `leg`, at its frame in `kin`.
 WheelContacts find_leg_wheel_contacts(const Terrain& terrain, const TreeKinematics& kin, int leg,
                                       double wheel_radius_m);
+// The same, written into `contacts` without a copy of the result: its count,
+// and each point it counts as a freshly found one (the points past the count
+// are left as they were).
+void find_leg_wheel_contacts(const Terrain& terrain, const TreeKinematics& kin, int leg, double wheel_radius_m,
+                             WheelContacts& contacts);
 
 // dP/dq (3 x 23) of a contact point P found by find_wheel_contacts(): the rim
 // point at a fixed angle from the lowest rim point, which moves with the

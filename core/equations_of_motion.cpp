@@ -10,7 +10,7 @@ namespace {
 void fill_wheel_contacts(const RoverModel& model, const TreeKinematics& kin,
                          std::array<WheelContacts, kNumLegs>& contacts) {
   for (int leg = 0; leg < kNumLegs; ++leg) {
-    contacts[leg] = find_leg_wheel_contacts(model.terrain, kin, leg, model.parameters.geometry.wheel_radius_m);
+    find_leg_wheel_contacts(model.terrain, kin, leg, model.parameters.geometry.wheel_radius_m, contacts[leg]);
     compute_contact_forces(kin, node::wheel(leg), model.parameters.contact,
                            model.parameters.friction, contacts[leg]);
   }

@@ -120,9 +120,8 @@ namespace {
 
 // Index a of the unit axis e_a, or -1 for any other axis.
 int elementary_axis(const Vec3& axis) {
-  for (int a = 0; a < 3; ++a)
-    if (axis[a] == 1.0 && axis[(a + 1) % 3] == 0.0 && axis[(a + 2) % 3] == 0.0) return a;
-  return -1;
+  const int a = axis.y() == 1.0 ? 1 : axis.z() == 1.0 ? 2 : axis.x() == 1.0 ? 0 : -1;
+  return a >= 0 && axis[(a + 1) % 3] == 0.0 && axis[(a + 2) % 3] == 0.0 ? a : -1;
 }
 
 // parent * (rotation by `angle` about e_a of the parent frame): turns the two

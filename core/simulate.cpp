@@ -96,10 +96,9 @@ class TrajectoryRecorder {
     out_.roll.push_back(q[coord::roll]);
     Eigen::Vector4d fn;
     for (int leg = 0; leg < kNumLegs; ++leg) {  // the contacts of stage 2 without their friction
-      WheelContacts contacts =
-          find_leg_wheel_contacts(model_.terrain, kin, leg, model_.parameters.geometry.wheel_radius_m);
-      compute_contact_normal_forces(kin, node::wheel(leg), model_.parameters.contact, contacts);
-      fn[leg] = contacts.total_normal_force_N();
+      find_leg_wheel_contacts(model_.terrain, kin, leg, model_.parameters.geometry.wheel_radius_m, contacts_);
+      compute_contact_normal_forces(kin, node::wheel(leg), model_.parameters.contact, contacts_);
+      fn[leg] = contacts_.total_normal_force_N();
     }
     fn_rows_.push_back(fn);
   }
@@ -118,7 +117,8 @@ class TrajectoryRecorder {
 
  private:
   const RoverModel& model_;
-  TreeKinematics kin_;  // at the sample being recorded
+  TreeKinematics kin_;     // at the sample being recorded
+  WheelContacts contacts_;  // of one wheel there
   Trajectory& out_;
   std::vector<Coordinates> q_rows_, u_rows_;
   std::vector<Eigen::Vector4d> fn_rows_;
