@@ -14,6 +14,10 @@
 namespace rover::io {
 namespace {
 
+// Relative slack for the triangle inequality of the principal moments: a
+// thin disk's rounded moments sit on it.
+constexpr double kInertiaTriangleTolerance = 1e-6;
+
 // `value` read from `key`, refused beyond +-`bound` (a unit mistake, `why`).
 double within_scale(const JsonReader& r, const std::string& key, double value, double bound, const char* unit,
                     const std::string& why) {
@@ -43,12 +47,18 @@ RigidBodyParameters parse_body(const JsonReader& r) {
         r.fail("inertia", "entry [" + std::to_string(i) + "][" + std::to_string(j) + "]: " + beyond);
   if ((I - I.transpose()).cwiseAbs().maxCoeff() > 1e-12 * std::max(1.0, I.cwiseAbs().maxCoeff()))
     r.fail("inertia", "inertia tensor is not symmetric");
-  const double smallest = Eigen::SelfAdjointEigenSolver<Mat3>(I, Eigen::EigenvaluesOnly).eigenvalues()(0);
-  if (!(smallest > 0.0)) {
+  const Vec3 moments = Eigen::SelfAdjointEigenSolver<Mat3>(I, Eigen::EigenvaluesOnly).eigenvalues();  // ascending
+  if (!(moments(0) > 0.0)) {
     std::ostringstream msg;
-    msg << "inertia tensor is not positive definite (smallest eigenvalue " << smallest << ")";
+    msg << "inertia tensor is not positive definite (smallest eigenvalue " << moments(0) << ")";
     r.fail("inertia", msg.str());
   }
+  // Every body's principal moments obey the triangle inequality (a thin disk
+  // is the equality): a largest one beyond the sum of the others is no body.
+  if (moments(2) > (moments(0) + moments(1)) * (1.0 + kInertiaTriangleTolerance))
+    r.fail("inertia", "principal moments " + number_text(moments(0)) + ", " + number_text(moments(1)) + ", " +
+                          number_text(moments(2)) + " kg m^2: the largest exceeds the sum of the other two, which "
+                          "no rigid body can have");
   r.finish();
   return b;
 }

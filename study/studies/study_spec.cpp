@@ -307,8 +307,8 @@ std::vector<QoiSpec> parse_qois(const io::JsonReader& r, const std::string& stud
           q.settling_band = o.positive("band");
           if (q.settling_band > kMaxSettlingBand_m)
             o.fail("band", number_text(q.settling_band) + " m is beyond " + number_text(kMaxSettlingBand_m) +
-                               " m, wider than the drop's whole travel: every run would settle at once (a band in "
-                               "millimetres?)");
+                               " m, wider than a drop test's travel of a few centimetres: every run would settle "
+                               "at once (a band in millimetres?)");
         }
         if (q.kind == QoiKind::kRmsVs) {
           auto ref = std::make_shared<ReferenceCurve>();

@@ -2480,6 +2480,10 @@ TEST_F(Audit, SeventhAuditCases) {
                    {"the old checkpoint", "is deleted", "wrote"}});
   cases.push_back({"--f 1e-300", simulate(w().quick()) + " --f 1e-300", Want::kError,
                    {"--f 1e-300 1/rad is below 1 1/rad", "a unit mistake?"}});
+  cases.push_back({"an inertia no body can have", simulate(w().scenario_with_rover(w().rover([](Json& j) {
+                     j["bodies"]["chassis"]["inertia"] = {{1e-3, 0, 0}, {0, 1e-3, 0}, {0, 0, 5e-3}};
+                   }))),
+                   Want::kError, {"'bodies.chassis.inertia'", "the largest exceeds the sum of the other two"}});
   cases.push_back({"a rover f of 1e-3", simulate(w().scenario_with_rover(w().rover([](Json& j) {
                      j["s_structure"]["f"] = 1e-3;
                    }))),
