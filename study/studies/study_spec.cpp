@@ -596,16 +596,29 @@ std::string reference_missed_warning(const QoiSpec& qoi, const std::vector<doubl
                                                  "channel named");
 }
 
+// How many of `values` are finite (runs that did not fail), and how many of
+// those `matches`.
+struct FiniteCount {
+  long long finite = 0, matching = 0;
+};
+template <class Predicate>
+FiniteCount count_finite_values(const std::vector<double>& values, Predicate matches) {
+  FiniteCount count;
+  for (const double v : values) {
+    if (!std::isfinite(v)) continue;
+    ++count.finite;
+    if (matches(v)) ++count.matching;
+  }
+  return count;
+}
+
 // Runs whose lowest B_l z is at their end (t_min the run's end, deflection
 // 0): the rover was still falling, no compression to describe.
 std::string still_falling_warning(const RoverStudyModel& model, const QoiSpec& qoi, const std::vector<double>& values) {
   const double end_s = model.nominal().scenario.duration_s;
-  long long finite = 0, falling = 0;
-  for (const double v : values) {
-    if (!std::isfinite(v)) continue;
-    ++finite;
-    if (qoi.kind == QoiKind::kTMin ? v >= end_s * (1.0 - kRunEndTolerance) : v == 0.0) ++falling;
-  }
+  const auto [finite, falling] = count_finite_values(values, [&](double v) {
+    return qoi.kind == QoiKind::kTMin ? v >= end_s * (1.0 - kRunEndTolerance) : v == 0.0;
+  });
   if (falling == 0) return "";
   return qoi.name + ": " + std::to_string(falling) + " of " + std::to_string(finite) +
          " runs reach their lowest B_l z at the run's end (still falling: did a wheel touch the ground?); their " +
@@ -614,12 +627,8 @@ std::string still_falling_warning(const RoverStudyModel& model, const QoiSpec& q
 
 std::string unsettled_warning(const RoverStudyModel& model, const QoiSpec& qoi, const std::vector<double>& values) {
   const double end_s = model.nominal().scenario.duration_s;
-  long long finite = 0, at_end = 0;
-  for (const double v : values) {
-    if (!std::isfinite(v)) continue;
-    ++finite;
-    if (!settled_before_end(v, end_s)) ++at_end;
-  }
+  const auto [finite, at_end] =
+      count_finite_values(values, [&](double v) { return !settled_before_end(v, end_s); });
   if (at_end == 0) return "";
   return qoi.name + ": " + std::to_string(at_end) + " of " + std::to_string(finite) +
          " runs had not settled within the run's " + number_text(end_s) + " s (B_l z stayed within the " +
