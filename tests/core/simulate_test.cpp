@@ -296,22 +296,27 @@ TEST(RunPaceWatch, ARunThatStopsAdvancingOrNeedsAboutItsBudget) {
 
 TEST(Simulate, ARunThatCannotFinishWithinItsBudgetStopsAfterSeconds) {
   // Driving at 1e8 m/s: dopri5 crawls through nanosecond steps (hours for the
-  // 1 s drop). It is stopped once the pace is known, not after the hour.
+  // 1 s drop). With a budget of one minute it is stopped once the pace is
+  // known, not after the minute. (The margin is wide: the run needs about a
+  // hundred budgets on any machine. Against the shipped one-hour budget it
+  // would need about two, which a faster machine may bring under the
+  // projection's margin, and then only the budget itself stops it.)
+  constexpr double kBudget_s = 60.0;
   io::ScenarioSetup setup = shipped("drop_horizontal");
+  setup.scenario.wall_time_budget_s = kBudget_s;
   const double wheel_rate = 1e8 / setup.model.parameters.geometry.wheel_radius_m;
   setup.scenario.initial_u[coord::x] = 1e8;
   for (int leg = 0; leg < kNumLegs; ++leg) {
     setup.scenario.wheel_speed_ref_radps[static_cast<std::size_t>(leg)] = wheel_rate;
     setup.scenario.initial_u[coord::spin(leg)] = wheel_rate;
   }
-  ASSERT_EQ(setup.scenario.wall_time_budget_s, 3600.0);
   const Trajectory tr = simulate(setup.model, setup.scenario, setup.inputs);
   EXPECT_EQ(tr.status, SimulationStatus::kTimeBudgetExceeded) << tr.message;
-  EXPECT_LT(tr.wall_time_s, 0.01 * setup.scenario.wall_time_budget_s);
+  EXPECT_LT(tr.wall_time_s, 0.5 * kBudget_s);
   EXPECT_GE(tr.wall_time_s, RunPaceWatch::kGraceWall_s);  // wall time >= compute time
   EXPECT_NE(tr.message.find("of computing the run reached t = "), std::string::npos) << tr.message;
   EXPECT_NE(tr.message.find("at this pace it needs ~"), std::string::npos) << tr.message;
-  EXPECT_NE(tr.message.find("beyond the wall-time budget of 1 h"), std::string::npos) << tr.message;
+  EXPECT_NE(tr.message.find("beyond the wall-time budget of 60 s"), std::string::npos) << tr.message;
   EXPECT_EQ(static_cast<std::size_t>(tr.q.rows()), tr.t.size());
 }
 
