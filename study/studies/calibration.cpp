@@ -30,6 +30,7 @@
 #include "study/studies/report_number.hpp"
 #include "study/model/distribution_json.hpp"
 #include "study/estimators/least_squares_uncertainty.hpp"
+#include "study/estimators/residual_correlation.hpp"
 #include "study/runtime/study_runner.hpp"
 
 namespace rover::study {
@@ -115,12 +116,13 @@ void fitted_curves(const CalibrationStudy& s, CalibrationFitResult& r) {
       continue;
     }
     for (double& t : curve.t_s) t += r.checked.fit.offsets[k];
+    const std::vector<double> residuals = shifted_residuals(curve.t_s, curve.z_m, s.datasets[k].t, s.datasets[k].z, 0.0);
     double curve_rss = 0.0;
-    for (double v : shifted_residuals(curve.t_s, curve.z_m, s.datasets[k].t, s.datasets[k].z, 0.0))
-      curve_rss += v * v;
+    for (double v : residuals) curve_rss += v * v;
     rss += curve_rss;
     points += s.datasets[k].t.size();
     r.curve_rms_m.push_back(std::sqrt(curve_rss / static_cast<double>(s.datasets[k].t.size())));
+    r.curve_residual_lag1.push_back(residual_correlation(residuals).lag1);
     r.fitted_curves.push_back(std::move(curve));
   }
   r.best_rms_m = std::sqrt(rss / static_cast<double>(points));
@@ -144,6 +146,28 @@ std::string fit_misses_the_data(const CalibrationStudy& s, const CalibrationFitR
          "of the channel named in the study?";
 }
 
+// Rank 0: why the best fit leaves structure in its residuals, or empty: a
+// curve's residuals are correlated from one data point to the next
+// (residual_correlation.hpp), so the model does not follow the curve, or the
+// noise is not independent; either way the intervals are too narrow.
+std::string fit_leaves_structure(const CalibrationStudy& s, const CalibrationFitResult& r) {
+  std::string structured;
+  for (std::size_t k = 0; k < s.datasets.size() && k < r.curve_residual_lag1.size(); ++k) {
+    ResidualCorrelation c;
+    c.points = s.datasets[k].t.size();
+    c.lag1 = r.curve_residual_lag1[k];
+    if (!c.model_leaves_structure()) continue;
+    structured += std::string(structured.empty() ? "" : "; ") + s.datasets[k].path + ": lag-1 autocorrelation " +
+                  format_number(c.lag1, 3) + ", independent noise stays below " +
+                  format_number(c.white_noise_bound(), 2) + "; intervals too narrow by about " +
+                  format_number(c.interval_narrowing(), 2) + "x";
+  }
+  if (structured.empty()) return "";
+  return "the residuals are correlated (" + structured + "): the model does not follow the data (data of " +
+         "another scenario or channel? a missing effect?) or the noise is filtered, and the intervals assume " +
+         "independent noise";
+}
+
 }  // namespace
 
 CalibrationFitResult run_calibration_fit(const CalibrationStudy& s, const StudyRunOptions& control,
@@ -165,8 +189,9 @@ CalibrationFitResult run_calibration_fit(const CalibrationStudy& s, const StudyR
   r.trusted = trusted[0] != 0.0;
   if (world_rank() == 0) {
     fitted_curves(s, r);
-    if (const std::string miss = fit_misses_the_data(s, r); !miss.empty()) {
-      r.not_valid_because = miss + (r.not_valid_because.empty() ? "" : "; " + r.not_valid_because);
+    for (const std::string& flaw : {fit_leaves_structure(s, r), fit_misses_the_data(s, r)}) {
+      if (flaw.empty()) continue;
+      r.not_valid_because = flaw + (r.not_valid_because.empty() ? "" : "; " + r.not_valid_because);
       r.trusted = false;
     }
   }

@@ -121,6 +121,7 @@ struct CalibrationFitResult {
   std::vector<CalibrationCurve> fitted_curves;  // each curve at the best fit, in data time
   double best_rms_m = 0.0;                      // pooled over the curves
   std::vector<double> curve_rms_m;              // each curve's own, in the order of the datasets
+  std::vector<double> curve_residual_lag1;      // each curve's residual lag-1 autocorrelation
   bool trusted = true;
   std::string not_valid_because;
 };

@@ -41,6 +41,10 @@ void write_best(const CalibrationFitResult& r, const CalibrationStudy& s, io::Hd
   h5.write("/best/names", fitted_names(s));
   h5.write("/best/time_offset", c.fit.offsets);
   h5.write("/best/rms", std::vector<double>{r.best_rms_m});
+  h5.write("/best/residual_lag1", r.curve_residual_lag1);
+  h5.attribute("/best/residual_lag1", "meaning",
+               std::string("lag-1 autocorrelation of each curve's residuals at the best fit; independent noise "
+                           "gives 0 +- 1/sqrt(points), a model that does not follow the curve near 1"));
   h5.attribute("/best", "converged", static_cast<long long>(c.fit.converged));
   h5.attribute("/best", "stop_reason", std::string(least_squares_stop_name(c.fit.stop)));
   h5.attribute("/best", "stop_message", c.fit.message);
@@ -179,7 +183,9 @@ void report_calibration_fit(const CalibrationFitResult& r, const CalibrationStud
   for (std::size_t k = 0; k < s.fit.size(); ++k) out << " " << s.fit[k].name << " = " << format_number(c.fit.values[k], 6);
   out << ", time offset" << (s.datasets.size() > 1 ? "s" : "");
   for (double o : c.fit.offsets) out << " " << format_number(o, 6);
-  out << " s\n";
+  out << " s; residual lag-1 autocorrelation";
+  for (double lag1 : r.curve_residual_lag1) out << " " << format_number(lag1, 2);
+  out << " (independent noise: near 0)\n";
   if (c.gn.ok) report_intervals(r, out);
   else out << "calibrate: WARNING: " << c.gn.message << "\n";
   report_profiles(r, out);
