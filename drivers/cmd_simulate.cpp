@@ -154,6 +154,8 @@ int run_simulate(const SimulateOptions& o) {
   };
   const Trajectory tr = simulate(setup.model, setup.scenario, inputs, observer);
   warn_if_chassis_below_ground(tr, setup.model.terrain);
+  if (const std::string note = no_wheel_touched_note(tr); !note.empty())
+    std::cerr << "simulate: warning: " << note << "\n";
   if (!tr.ok()) return record_failed_run(o, out, tr, setup, inputs);
   io::write_trajectory_hdf5(out, tr, setup, inputs);
   std::cerr << "simulate: ok; wall " << tr.wall_time_s << " s, " << tr.rhs_evaluations << " right-hand sides, "

@@ -118,6 +118,7 @@ RunRecord RoverStudyModel::run(const double* x) const {
     } catch (const std::exception& e) {
       record = failed_record(shape, run_status::kError, std::string("computing the QoIs: ") + e.what());
     }
+    if (record.ok()) record.message = no_wheel_touched_note(*tr);
     const auto T = static_cast<std::size_t>(shape.time_samples);
     record.curves.assign(channels_.size() * T, std::nan(""));
     for (std::size_t c = 0; c < channels_.size() && record.ok(); ++c) {

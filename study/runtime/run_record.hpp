@@ -33,7 +33,7 @@ struct RecordLayout {
 
 struct RunRecord {
   int status = run_status::kOk;
-  std::string message;
+  std::string message;  // why it failed; of a run that did not, a note the study reports (or empty)
   double wall_time_s = 0.0;      // of the simulation itself (the paper's t_c), set-up excluded
   double rhs_evaluations = 0.0;
   std::vector<double> qoi;     // qoi_count values (NaN unless ok)

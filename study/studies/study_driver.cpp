@@ -17,8 +17,11 @@ RunCounts count_runs(const std::vector<int>& status, const std::vector<std::stri
   RunCounts counts;
   counts.runs = static_cast<long long>(status.size());
   for (std::size_t i = 0; i < status.size(); ++i) {
-    if (status[i] == run_status::kOk) continue;
-    if (counts.failed++ == 0) counts.first_failure = messages[i];
+    if (status[i] != run_status::kOk) {
+      if (counts.failed++ == 0) counts.first_failure = messages[i];
+    } else if (i < messages.size() && !messages[i].empty()) {
+      if (counts.noted++ == 0) counts.first_note = messages[i];
+    }
   }
   return counts;
 }
@@ -91,6 +94,9 @@ void commit(const std::string& command, const std::string& results_path, io::Hdf
   std::cerr << command << ": ";
   if (counts.runs > 0) std::cerr << counts.runs << " runs (" << counts.failed << " failed), ";
   std::cerr << "wrote " << results_path << "\n";
+  if (counts.noted > 0)
+    std::cerr << command << ": WARNING: " << counts.noted << " of " << counts.runs << " runs finished, but "
+              << counts.first_note << (counts.noted > 1 ? " (the first of them)" : "") << "\n";
 }
 
 std::optional<int> keep_earlier_result(const std::string& command, const std::string& results_path,

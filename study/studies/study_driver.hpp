@@ -41,15 +41,18 @@
 
 namespace rover::study {
 
-// How many runs a study did and how many of them failed.
+// How many runs a study did, how many of them failed and how many finished
+// with a note (a run in which no wheel touched the ground).
 struct RunCounts {
   long long runs = 0;
   long long failed = 0;
   std::string first_failure;  // the message of the first failed run
+  long long noted = 0;
+  std::string first_note;     // the note of the first run that finished with one
 };
 
-// The counts of runs of these statuses (run_status::kOk: done), with the
-// message of the first that failed.
+// The counts of runs of these statuses (run_status::kOk: done) and messages,
+// with the message of the first that failed and the first note.
 RunCounts count_runs(const std::vector<int>& status, const std::vector<std::string>& messages);
 
 // The bytes a study holds on rank 0 (`what` says what they are).

@@ -18,6 +18,8 @@ namespace {
 constexpr int kMaxAxisPoints = 1'000'000;
 constexpr double kMaxGridPoints = 1e6;
 constexpr double kMaxReferenceHeightM = 1e3;
+// Neighbouring grid values closer than this (relative) are one value to the model.
+constexpr double kMinRelativeSpacing = 1e-12;
 const std::vector<std::string> kSurfaceInputs{"s_structure.f", "s_structure.c_q"};
 
 std::vector<double> parse_axis(const io::JsonReader& parent, const std::string& key, bool* log_spacing = nullptr) {
@@ -38,6 +40,12 @@ std::vector<double> parse_axis(const io::JsonReader& parent, const std::string& 
   if (spacing == "log") v = log_grid(min, max, count);
   else if (spacing == "linear") v = linear_grid(min, max, count);
   else a.fail("spacing", "must be 'linear' or 'log'");
+  for (std::size_t i = 1; i < v.size(); ++i)
+    if (!(v[i] - v[i - 1] > kMinRelativeSpacing * v[i]))
+      a.fail("count", std::to_string(count) + " points between " + number_text(min) + " and " + number_text(max) +
+                          " lie closer than " + number_text(kMinRelativeSpacing) + " of their size (" +
+                          number_text(v[i - 1]) + " and " + number_text(v[i]) +
+                          "): their runs would differ by rounding only; widen the axis or give fewer points");
   if (log_spacing != nullptr) *log_spacing = spacing == "log";
   a.finish();
   return v;
@@ -356,8 +364,8 @@ StudyProgram<SurfaceResult> surface_program(SurfaceStudy study) {
   p.run = [study](const StudyRuntime& runtime) { return run_surface(study, runtime); };
   p.write = write_surface;
   p.counts = [](const SurfaceResult& r) {
-    RunCounts c;  // the grid's, the sweep's and the kriging design's runs
-    c.runs = r.runs;
+    RunCounts c = count_runs(r.status, r.messages);  // the grid's notes
+    c.runs = r.runs;  // the grid's, the sweep's and the kriging design's runs
     c.failed = r.failed;
     c.first_failure = r.first_failure;
     return c;
