@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <set>
 #include <stdexcept>
 #include <string>
 
@@ -13,6 +14,34 @@
 #include "study/estimators/band_statistics.hpp"
 
 namespace rover::study {
+
+namespace {
+
+// The grid points a trajectory visits from `start`, moving the inputs in
+// `order`, as one sequence, or the reversed visit if that sorts first: a
+// trajectory and its reverse (which starts where it ends and moves the
+// inputs back in the opposite order) give the same elementary effects.
+std::vector<int> path_key(std::vector<int> grid, const std::vector<int>& order, int half) {
+  const std::size_t d = grid.size();
+  std::vector<int> forward(grid);
+  for (const int i : order) {
+    grid[static_cast<std::size_t>(i)] += grid[static_cast<std::size_t>(i)] < half ? half : -half;
+    forward.insert(forward.end(), grid.begin(), grid.end());
+  }
+  std::vector<int> backward;
+  for (std::size_t k = forward.size(); k > 0; k -= d) backward.insert(backward.end(), forward.begin() + (k - d), forward.begin() + k);
+  return std::min(forward, backward);
+}
+
+}  // namespace
+
+double distinct_morris_trajectories(int dimensions, int levels) {
+  // levels^d starts times d! orders (the start sets every jump's direction),
+  // each path counted once for its two directions.
+  double count = 0.5;
+  for (int i = 1; i <= dimensions && count < kManyTrajectories; ++i) count *= static_cast<double>(levels) * i;
+  return std::min(count, kManyTrajectories);
+}
 
 MorrisDesign morris_design(int dimensions, int trajectories, int levels, std::uint64_t seed) {
   if (dimensions < 1 || trajectories < 1)
@@ -30,20 +59,28 @@ MorrisDesign morris_design(int dimensions, int trajectories, int levels, std::ui
   design.points.resize(static_cast<Eigen::Index>(trajectories) * (d + 1), d);
   design.changed_input.reserve(static_cast<std::size_t>(trajectories) * d);
   design.step.reserve(static_cast<std::size_t>(trajectories) * d);
+  if (const double distinct = distinct_morris_trajectories(dimensions, levels); trajectories > distinct)
+    throw std::invalid_argument("morris_design: " + std::to_string(trajectories) + " trajectories, but " +
+                                std::to_string(dimensions) + " input(s) on " + std::to_string(levels) +
+                                " levels have only " + std::to_string(static_cast<long long>(distinct)) +
+                                " distinct ones; ask for fewer, or for more levels");
   boost::random::mt19937_64 engine(seed);
   boost::random::uniform_int_distribution<int> level(0, levels - 1);
   std::vector<int> grid(static_cast<std::size_t>(d)), order(static_cast<std::size_t>(d));
+  std::set<std::vector<int>> drawn;  // each trajectory's path: none repeats
   const auto unit = [levels](int k) { return (k + 0.5) / levels; };
   for (int t = 0; t < trajectories; ++t) {
     const Eigen::Index first = static_cast<Eigen::Index>(t) * (d + 1);
-    for (int i = 0; i < d; ++i) {
-      grid[i] = level(engine);
-      design.points(first, i) = unit(grid[i]);
-    }
-    // Random order of the inputs (Fisher-Yates).
-    std::iota(order.begin(), order.end(), 0);
-    for (int i = d - 1; i > 0; --i)
-      std::swap(order[i], order[boost::random::uniform_int_distribution<int>(0, i)(engine)]);
+    std::vector<int> key;
+    do {
+      for (int i = 0; i < d; ++i) grid[i] = level(engine);
+      // Random order of the inputs (Fisher-Yates).
+      std::iota(order.begin(), order.end(), 0);
+      for (int i = d - 1; i > 0; --i)
+        std::swap(order[i], order[boost::random::uniform_int_distribution<int>(0, i)(engine)]);
+      key = path_key(grid, order, half);
+    } while (!drawn.insert(key).second);
+    for (int i = 0; i < d; ++i) design.points(first, i) = unit(grid[i]);
     for (int k = 0; k < d; ++k) {
       const int i = order[k];
       const int jump = grid[i] < half ? half : -half;

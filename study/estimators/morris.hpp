@@ -27,7 +27,15 @@ struct MorrisDesign {
   std::vector<double> step;        // r d entries: signed jump in unit coordinates
   int trajectories = 0, dimensions = 0, levels = 0;
 };
-// Throws std::invalid_argument unless dimensions >= 1, trajectories >= 1 and levels is even, >= 2.
+// How many distinct trajectories `dimensions` inputs on `levels` levels have
+// (levels^d starts times d! orders, halved: a trajectory and its reverse
+// visit the same points and give the same elementary effects), capped at
+// kManyTrajectories.
+inline constexpr double kManyTrajectories = 1e15;
+double distinct_morris_trajectories(int dimensions, int levels);
+// No trajectory repeats another or another's reverse. Throws std::invalid_argument unless
+// dimensions >= 1, trajectories >= 1 and levels is even, >= 2, and for more
+// trajectories than there are distinct ones.
 MorrisDesign morris_design(int dimensions, int trajectories, int levels, std::uint64_t seed);
 
 struct MorrisOptions {

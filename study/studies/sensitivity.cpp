@@ -12,6 +12,7 @@
 #include <numeric>
 #include <sstream>
 
+#include "core/number_text.hpp"
 #include "study/runtime/study_runner.hpp"
 #include "study/studies/report_format.hpp"
 #include "study/studies/study_output.hpp"
@@ -278,6 +279,11 @@ SensitivityStudy load_sensitivity_study(const std::string& path) {
     if (s.trajectories < 2 || s.trajectories > 100000) d.fail("trajectories", "must be from 2 to 100000");
     s.levels = d.has("levels") ? d.integer("levels") : 4;
     if (s.levels < 2 || s.levels % 2 != 0) d.fail("levels", "must be an even number >= 2");
+    if (const double distinct = distinct_morris_trajectories(d_inputs, s.levels); s.trajectories > distinct)
+      d.fail("trajectories", std::to_string(s.trajectories) + " trajectories, but " + std::to_string(d_inputs) +
+                                 " input(s) on " + std::to_string(s.levels) + " levels have only " +
+                                 number_text(distinct) + " distinct ones (a repeated trajectory adds no " +
+                                 "information); ask for fewer, or for more \"levels\"");
     s.spec.design.samples = s.trajectories * (d_inputs + 1);
     s.morris.bootstrap_resamples = bootstrap;
     s.morris.confidence = confidence;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <set>
 #include <stdexcept>
@@ -63,6 +64,43 @@ TEST(Morris, TrajectoriesMoveEachInputOnceByHalfTheCubeOnTheCentredGrid) {
   EXPECT_NE(morris_design(d, r, p, 4).points, design.points);
   EXPECT_THROW(morris_design(d, r, 5, 3), std::invalid_argument);
   EXPECT_THROW(morris_design(0, r, 4, 3), std::invalid_argument);
+}
+
+// The distinct sets of elementary-effect steps among a design's
+// trajectories: each step as (input, its two points in sorted order).
+std::set<std::set<std::vector<double>>> distinct_step_sets(const MorrisDesign& design) {
+  std::set<std::set<std::vector<double>>> seen;
+  const int d = design.dimensions;
+  for (int t = 0; t < design.trajectories; ++t) {
+    std::set<std::vector<double>> steps;
+    for (int k = 0; k < d; ++k) {
+      const auto a = design.points.row(t * (d + 1) + k), b = design.points.row(t * (d + 1) + k + 1);
+      std::vector<double> before(a.begin(), a.end()), after(b.begin(), b.end());
+      if (after < before) std::swap(before, after);
+      std::vector<double> step{static_cast<double>(design.changed_input[static_cast<std::size_t>(t * d + k)])};
+      step.insert(step.end(), before.begin(), before.end());
+      step.insert(step.end(), after.begin(), after.end());
+      steps.insert(step);
+    }
+    seen.insert(steps);
+  }
+  return seen;
+}
+
+TEST(Morris, NoTrajectoryRepeatsAnotherOrItsReverse) {
+  // Two inputs on two levels: 2^2 starts times 2 orders, halved = 4 paths;
+  // one input on four levels: the paths 0-2 and 1-3.
+  EXPECT_EQ(distinct_morris_trajectories(2, 2), 4.0);
+  EXPECT_EQ(distinct_morris_trajectories(1, 4), 2.0);
+  EXPECT_EQ(distinct_morris_trajectories(3, 4), 64.0 * 6.0 / 2.0);
+  EXPECT_EQ(distinct_morris_trajectories(40, 8), kManyTrajectories);
+  for (std::uint64_t seed = 0; seed < 20; ++seed) {
+    EXPECT_EQ(distinct_step_sets(morris_design(2, 4, 2, seed)).size(), 4u) << seed;
+    EXPECT_EQ(distinct_step_sets(morris_design(1, 2, 4, seed)).size(), 2u) << seed;
+    // 16 paths exist: a repeat among 6 draws is likely without the rule.
+    EXPECT_EQ(distinct_step_sets(morris_design(2, 6, 4, seed)).size(), 6u) << seed;
+  }
+  EXPECT_THROW(morris_design(2, 5, 2, 1), std::invalid_argument);
 }
 
 TEST(Morris, LinearModelEffectsAreExactAndUnscattered) {
