@@ -247,6 +247,8 @@ void write_evaluate(const EvaluateResult& result, io::Hdf5Writer& h5) {
   if (!study.request.channel_names.empty()) h5.write("/t", study.model->time_s());
   h5.attribute("/", "study", "evaluate");
   h5.attribute("/", "scenario_file", study.request.scenario_path);
+  h5.attribute("/", "scenario_json", study.model->sources().scenario.dump());
+  h5.attribute("/", "rover_json", study.model->sources().rover.dump());
   h5.attribute("/", "design_file", study.request.design_path);
   h5.attribute("/", "fingerprint", study.fingerprint);
   h5.attribute("/", "project_version", ROVER_VERSION);

@@ -79,6 +79,8 @@ void write_study_provenance(io::Hdf5Writer& h5, const StudySpec& spec, const std
     h5.attribute("/", "scenario_file", setup.scenario_path);
     h5.attribute("/", "rover_file", setup.rover_path);
     h5.attribute("/", "terrain_file", setup.terrain_path);
+    h5.attribute("/", "scenario_json", spec.rover->sources().scenario.dump());
+    h5.attribute("/", "rover_json", spec.rover->sources().rover.dump());
   } else {
     h5.attribute("/", "model", spec.model->describe());
   }

@@ -92,6 +92,10 @@ void check_held_out_runs(const io::JsonReader& r, const SurrogateStudy& s) {
   if (!r.has("held_out")) return;
   const io::JsonReader h = r.child("held_out");
   if (!s.held_out_file.empty()) {
+    std::error_code error;
+    if (!s.training_file.empty() && std::filesystem::equivalent(s.held_out_file, s.training_file, error))
+      h.fail("file", s.held_out_file + " is the training file " + s.training_file +
+                         ": a held-out Q2 needs runs the surrogate was not fitted to");
     Eigen::Index runs = kMinHeldOutRuns;
     try {
       const io::Hdf5Reader h5(s.held_out_file);

@@ -237,6 +237,8 @@ SurrogateStudyResult run_surrogate_study(const SurrogateStudy& study, const Stud
     held_out = runs.slice(runs.runs() - count, count);
     runs = runs.slice(0, runs.runs() - count);
   }
+  if (const std::string shared = shared_runs(runs, held_out); !shared.empty())
+    throw io::ConfigError(study.spec.path + ": field 'held_out.file': " + shared);
   SurrogateStudyResult result = fit_surrogate_study(study, runs, held_out);
   read_compared(study, result);
   result.results_path = out;

@@ -75,7 +75,56 @@ void check_support(const FileErrors& errors, const TrainingRuns& runs, const Sur
   }
 }
 
+// Where two configs differ, ignoring what only names or places them: "field
+// 'duration' (0.1 against 0.3)", or empty when they are the same.
+std::string first_difference(const io::Json& file, const io::Json& study) {
+  io::Json a = file, b = study;
+  for (const char* key : {"name", "description", "rover", "terrain"}) {
+    if (a.is_object()) a.erase(key);
+    if (b.is_object()) b.erase(key);
+  }
+  const io::Json patch = io::Json::diff(b, a);
+  if (patch.empty()) return "";
+  const std::string where = patch[0].value("path", std::string("/"));
+  const io::Json::json_pointer pointer(where);
+  auto value = [&](const io::Json& j) { return j.contains(pointer) ? j.at(pointer).dump() : std::string("absent"); };
+  return "field '" + (where.size() > 1 ? where.substr(1) : where) + "' (" + value(a) + " against " + value(b) + ")";
+}
+
+// The runs of a file were made on the study's scenario and rover: the
+// scenario and rover configs the file records (/ scenario_json, rover_json)
+// equal the study's, up to names, descriptions and file paths.
+void check_scenario(const FileErrors& errors, const io::Hdf5Reader& h5, const SurrogateStudy& study) {
+  if (!study.spec.rover) return;
+  const io::ScenarioSources& sources = study.spec.rover->sources();
+  const std::pair<const char*, const io::Json*> configs[] = {{"scenario", &sources.scenario},
+                                                             {"rover", &sources.rover}};
+  for (const auto& [what, config] : configs) {
+    const std::string attribute = std::string(what) + "_json";
+    if (!h5.has_attribute("/", attribute)) continue;  // a file of an analytic model, or of an older version
+    const io::Json recorded = io::Json::parse(h5.attribute_string("/", attribute), nullptr, /*allow_exceptions=*/false);
+    if (const std::string difference = first_difference(recorded, *config); !difference.empty())
+      errors.fail(std::string("were made on another ") + what + " than the study's " +
+                  (what == std::string("scenario") ? sources.scenario_path : sources.rover_path) + ": " + difference +
+                  "; name the " + what + " file the runs were made on");
+  }
+}
+
 }  // namespace
+
+std::string shared_runs(const TrainingRuns& training, const TrainingRuns& held_out) {
+  long long shared = 0;
+  std::string first;
+  for (Eigen::Index i = 0; i < held_out.x.rows(); ++i)
+    for (Eigen::Index j = 0; j < training.x.rows(); ++j) {
+      if (held_out.x.row(i) != training.x.row(j)) continue;
+      if (shared++ == 0) first = "held-out run " + std::to_string(i) + " is training run " + std::to_string(j);
+      break;
+    }
+  if (shared == 0) return "";
+  return std::to_string(shared) + " of the " + std::to_string(held_out.runs()) + " held-out runs (" + held_out.source +
+         ") are training runs too (" + first + "): a held-out Q2 needs runs the surrogate was not fitted to";
+}
 
 int TrainingRuns::failed_runs() const {
   return static_cast<int>(std::count_if(status.begin(), status.end(), [](int s) { return s != run_status::kOk; }));
@@ -125,6 +174,7 @@ TrainingRuns read_result_runs(const std::string& path, const SurrogateStudy& stu
   for (Eigen::Index i = 0; i < runs.x.rows(); ++i)
     if (runs.status[static_cast<std::size_t>(i)] != run_status::kOk) runs.y.row(i).setConstant(std::nan(""));
   check_support(errors, runs, study);
+  check_scenario(errors, h5, study);
   return runs;
 }
 

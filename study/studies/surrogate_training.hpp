@@ -34,6 +34,10 @@ struct TrainingRuns {
   TrainingRuns slice(int first, int count) const;
 };
 
+// Empty unless held-out runs repeat training runs (equal inputs); then how
+// many, and the first pair.
+std::string shared_runs(const TrainingRuns& training, const TrainingRuns& held_out);
+
 // Reads the runs of a result file for the study's inputs and QoIs. Columns
 // are matched by parameter name (/inputs/names) in any order; `role` says
 // what the file is for in messages ("training", "held-out"). Throws
