@@ -63,15 +63,21 @@ class FlagChecks {
   void add(std::string problem) { problems_.push_back(std::move(problem)); }
 
   void finite(const std::string& flag, double value) {
-    if (!std::isfinite(value)) add(flag + " must be a finite number, got " + number_text(value));
+    if (!std::isfinite(value)) add(flag + " must be a finite number, got " + typed(value));
   }
   void positive(const std::string& flag, double value) {
     if (!(std::isfinite(value) && value > 0.0))
-      add(flag + " must be a positive finite number, got " + number_text(value));
+      add(flag + " must be a positive finite number, got " + typed(value));
   }
   void non_negative(const std::string& flag, double value) {
     if (!(std::isfinite(value) && value >= 0.0))
-      add(flag + " must be a finite number >= 0, got " + number_text(value));
+      add(flag + " must be a finite number >= 0, got " + typed(value));
+  }
+  // A number as the user may have typed it: one beyond the largest double
+  // (1e400) reads as infinite.
+  static std::string typed(double value) {
+    if (!std::isinf(value)) return number_text(value);
+    return std::string(value > 0 ? "" : "-") + "inf (a number beyond 1.8e308, the largest a double holds, reads as inf)";
   }
   // An output file: nothing, or a writable regular file, at `path` (for a
   // text output also a device, a pipe or standard output; never a link, a

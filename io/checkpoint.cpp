@@ -138,6 +138,13 @@ class Descriptor {
 
 }  // namespace
 
+bool ResultCheckpoint::is_checkpoint_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char magic[sizeof kMagic] = {};
+  in.read(magic, sizeof magic);
+  return in.gcount() == sizeof magic && std::equal(magic, magic + sizeof magic, kMagic);
+}
+
 ResultCheckpoint::ResultCheckpoint(const std::string& results_path, std::string fingerprint,
                                    CheckpointPolicy policy)
     : path_(path_for(results_path)),

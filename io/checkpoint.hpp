@@ -69,6 +69,8 @@ class ResultCheckpoint {
     return results_path + ".checkpoint";
   }
   const std::string& path() const { return path_; }
+  // Whether the file at `path` begins as a checkpoint (its 8-byte signature).
+  static bool is_checkpoint_file(const std::string& path);
 
   // Reads the checkpoint file if there is one: returns its records sorted by
   // index (the last record of an index counts), none if there is no file,

@@ -160,6 +160,12 @@ const char* distribution_name(DistributionKind kind) {
   return "unknown";
 }
 
+double Distribution::truncation_mass() const {
+  if (kind == DistributionKind::kNormal) return standardised(a, b, lower, upper).mass;
+  if (kind == DistributionKind::kLognormal) return standardised_log(*this).mass;
+  return 1.0;
+}
+
 double Distribution::support_lower() const {
   switch (kind) {
     case DistributionKind::kFixed:

@@ -52,6 +52,9 @@ struct Distribution {
   double log_pdf(double x) const;
   double mean() const;
   double sd() const;  // standard deviation
+  // The probability of [lower, upper] under the untruncated distribution (1
+  // for the kinds that are never truncated).
+  double truncation_mass() const;
   double support_lower() const;  // may be -inf
   double support_upper() const;  // may be +inf
 

@@ -206,6 +206,25 @@ void warn_of_refused_tails(const RoverStudyModel& model, const std::vector<Uncer
   spec.refused_share = 1.0 - kept_share;
 }
 
+// A truncation that keeps less than this of a distribution's probability
+// (beyond about 5 sd) makes of it another distribution, crowded against the
+// bound: a mistyped mean or bound, more likely than a wish.
+constexpr double kFarTruncationMass = 1e-6;
+
+// Warns (spec.warnings) of truncations far in a distribution's tail.
+void warn_of_far_truncations(const std::vector<UncertainInput>& inputs, StudySpec& spec) {
+  for (const UncertainInput& in : inputs) {
+    const Distribution& d = in.distribution;
+    const double mass = d.truncation_mass();
+    if (!(mass < kFarTruncationMass)) continue;
+    spec.warnings.push_back("'" + in.label + "': its truncation keeps " + format_number(mass, kShareDigits) +
+                            " of the untruncated distribution's probability: the samples of " + d.describe() +
+                            " crowd against a bound (from " + format_number(d.quantile(0.0 + 1e-12), 6) + " to " +
+                            format_number(d.quantile(1.0 - 1e-12), 6) + "), nothing like the distribution " +
+                            "without it; is the truncation or the mean mistyped?");
+  }
+}
+
 std::vector<UncertainInput> parse_rover_parameters_block(const io::JsonReader& r,
                                                          const io::ScenarioSources& sources) {
   std::vector<UncertainInput> inputs;
@@ -544,6 +563,7 @@ StudySpec parse_study_spec(const io::JsonReader& r, const std::vector<std::strin
     s.rover = rover;
     s.model = rover;
   }
+  warn_of_far_truncations(s.inputs, s);
   if (design_key == DesignKey::kByCaller) {
     // the caller reads "design"
   } else if (r.has("design")) {

@@ -1321,11 +1321,12 @@ TEST_F(Audit, CsvIntoAPipe) {
 TEST_F(Audit, LeftoverCheckpoints) {
   std::vector<Case> cases;
   const std::string dir = w().dir();
-  // The checkpoint of an interrupted study: its content does not matter here
-  // (a checkpoint of another configuration is refused by --resume).
+  // The checkpoint of an interrupted study: past its signature its content
+  // does not matter here (a checkpoint of another configuration is refused
+  // by --resume).
   auto interrupted = [&](const std::string& name) {
     const std::string out = dir + "/" + name;
-    write_file(out + ".checkpoint", "finished runs\n");
+    write_file(out + ".checkpoint", "ROVERCKP finished runs\n");
     return out;
   };
   const std::string mc = w().montecarlo([](Json&) {});
@@ -1359,6 +1360,11 @@ TEST_F(Audit, LeftoverCheckpoints) {
   });
   cases.push_back({"montecarlo whose every run fails", study_args("montecarlo", failing, earlier), Want::kAllFailed,
                    {"every run failed", earlier + " is unchanged"}, unchanged(earlier)});
+  const std::string foreign = dir + "/foreign.h5";
+  write_file(foreign + ".checkpoint", "not a checkpoint\n");
+  cases.push_back({"montecarlo beside a file that is no checkpoint", study_args("montecarlo", mc, foreign),
+                   Want::kError, {foreign + ".checkpoint is no checkpoint of rover", "--restart removes it"},
+                   unchanged(foreign + ".checkpoint"), {}, {"finished runs of an interrupted study"}});
   run_table(dir, cases);
 }
 
@@ -2490,6 +2496,107 @@ TEST_F(Audit, SeventhAuditCases) {
                    Want::kError, {"'s_structure.f'", "0.001 1/rad is below 1 1/rad"}});
   cases.push_back({"--resume without a checkpoint", study("montecarlo", w().montecarlo([](Json&) {})) + " --resume",
                    Want::kRuns, {"--resume found no checkpoint"}, {}, {}, {"resuming, 0 of"}});
+  run_table(w().dir(), cases);
+}
+
+// A fit that does not follow its data, runs in which no wheel touches, and
+// surrogates validated on their own training runs or on another scenario's.
+TEST_F(Audit, MisfitsUntouchedGroundAndBorrowedRuns) {
+  std::vector<Case> cases;
+  // Both synthetic drops' first 150 rows (0.3 s at 500 Hz) against a 0.3 s
+  // horizontal drop: the skewed drop's curve is not the horizontal one's.
+  auto first_rows = [&](const std::string& shipped, const std::string& stem) {
+    std::ifstream in(source_path(shipped));
+    std::string text;
+    int rows = 0;
+    for (std::string line; std::getline(in, line) && rows < 151;) {
+      text += line + "\n";
+      rows += line.starts_with("#") ? 0 : 1;
+    }
+    return w().text_file(stem, text, "csv");
+  };
+  const std::string horizontal_0_3s = w().scenario([](Json& j) { j["duration"] = 0.3; });
+  auto fit_to = [&](const std::string& data) {
+    return study("calibrate", w().calibration([&](Json& j) {
+      j["scenario"] = horizontal_0_3s;
+      j["data"] = data;
+      j["max_evaluations"] = 40;
+    }));
+  };
+  cases.push_back({"a fit to the skewed drop's data on the horizontal drop",
+                   fit_to(first_rows("configs/data/drop_skewed_synthetic.csv", "skewed")), Want::kAllFailed,
+                   {"NOT VALID", "the residuals are correlated", "lag-1 autocorrelation 0.9"}});
+  cases.push_back({"a fit to the horizontal drop's own data",
+                   fit_to(first_rows("configs/data/drop_horizontal_synthetic.csv", "horizontal")), Want::kRuns,
+                   {"residual lag-1 autocorrelation"}, {}, {}, {"NOT VALID"}});
+  const std::string gravity_0 = w().text_file("gravity_0", "gravity\n0\n", "csv");
+  cases.push_back({"evaluate without gravity",
+                   "evaluate --no-plot --scenario " + horizontal_0_3s + " --design " + gravity_0 + " --out " +
+                       w().out("csv") + " --qoi B_l_z_min,max_wheel_load",
+                   Want::kRuns, {"WARNING: 1 of 1 runs finished, but no wheel touched the ground within the run's 0.3 s"}});
+  const std::string z_in_mm = w().scenario([](Json& j) { j["initial_q"]["z"] = 281; });
+  cases.push_back({"simulate a drop height in millimetres", simulate(z_in_mm), Want::kRuns,
+                   {"warning: no wheel touched the ground", "a drop height in millimetres"}});
+  cases.push_back({"a Monte Carlo of max_wheel_load on a drop too short to land",
+                   study("montecarlo", w().montecarlo([](Json& j) { j["qoi"] = {"max_wheel_load"}; })), Want::kRuns,
+                   {"WARNING: 2 of 2 runs finished, but no wheel touched the ground"}});
+  cases.push_back({"a drop that lands", simulate(horizontal_0_3s), Want::kRuns, {"simulate: ok"}, {}, {},
+                   {"no wheel touched"}});
+  // Surrogates trained on the runs of a Monte Carlo of c_q on the quick drop.
+  const Json parameters = {{"c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.3}}}};
+  auto runs_of = [&](const std::string& scenario, int samples) {
+    const std::string out = w().out();
+    std::string log;
+    EXPECT_EQ(run_command(rover_binary() + " " + study_args("montecarlo", w().montecarlo([&](Json& j) {
+                j["scenario"] = scenario;
+                j["parameters"] = parameters;
+                j["design"] = {{"type", "latin_hypercube"}, {"samples", samples}, {"seed", samples}};
+                j["qoi"] = {"B_l_z_min"};
+              }), out), &log), 0) << log;
+    return out;
+  };
+  const std::string trained = runs_of(w().quick(), 12);
+  auto surrogate = [&](const std::string& scenario, const std::string& held_out) {
+    Json j{{"type", "surrogate"}, {"name", "gp"}, {"surrogate", "gp"}, {"scenario", scenario},
+           {"training", {{"file", trained}}}, {"parameters", parameters}, {"qoi", {"B_l_z_min"}}};
+    if (!held_out.empty()) j["held_out"] = {{"file", held_out}};
+    return study("surrogate", w().json_file("surrogate", j));
+  };
+  cases.push_back({"held-out runs in the training file itself", surrogate(w().quick(), trained), Want::kError,
+                   {"'held_out.file'", "is the training file"}});
+  cases.push_back({"held-out runs in a copy of the training file", surrogate(w().quick(), w().copy_of(trained)),
+                   Want::kError, {"'held_out.file'", "12 of the 12 held-out runs", "are training runs too"}});
+  const std::string shorter = w().scenario([](Json& j) { j["duration"] = 0.04; });
+  cases.push_back({"held-out runs of another scenario", surrogate(w().quick(), runs_of(shorter, 4)), Want::kError,
+                   {"held-out runs: were made on another scenario", "field 'duration' (0.04 against 0.05)"}});
+  cases.push_back({"training runs of another scenario", surrogate(shorter, ""), Want::kError,
+                   {"training runs: were made on another scenario", "field 'duration' (0.05 against 0.04)"}});
+  // Designs that say nothing new: repeated Morris paths, a surface axis
+  // narrower than a double resolves, a truncation far in a tail.
+  cases.push_back({"more Morris trajectories than distinct paths", study("sensitivity", w().sensitivity([](Json& j) {
+                     j["method"] = "morris";
+                     j["design"] = {{"trajectories", 25}, {"levels", 2}, {"seed", 1}};  // Ishigami's 3 inputs
+                   })),
+                   Want::kError, {"'design.trajectories'", "have only 24 distinct ones"}});
+  cases.push_back({"a surface axis narrower than a double resolves", study("surface", w().surface([](Json& j) {
+                     j["f"] = {{"min", 1000.0}, {"max", 1000.0 * (1 + 1e-15)}, {"count", 3}};
+                   })),
+                   Want::kError, {"'f.count'", "closer than 1e-12 of their size"}});
+  cases.push_back({"a normal truncated 36 sd above its mean",
+                   study("montecarlo", w().montecarlo([](Json& j) {
+                     j["parameters"]["c_q"] = {{"distribution", "normal"}, {"mean", 0.14}, {"sd", 0.01},
+                                               {"truncate", {0.5, nullptr}}};
+                   })) + " --dry-run",
+                   Want::kRuns, {"warning: 'c_q': its truncation keeps 4.18e-284", "mistyped"}});
+  cases.push_back({"--f 1e400", simulate(w().quick()) + " --f 1e400", Want::kError,
+                   {"--f must be a positive finite number, got inf (a number beyond 1.8e308"}});
+  const std::string linked = w().dir() + "/linked_rover.h5";
+  const std::string rover_copy = w().copy_of(source_path("configs/rover.json"));
+  fs::create_hard_link(rover_copy, linked + ".checkpoint");
+  cases.push_back({"a hard link of an input at <out>.checkpoint",
+                   study_args("montecarlo", w().montecarlo([](Json&) {}), linked), Want::kError,
+                   {"is one of several names of a file (a hard link)"}, unchanged(rover_copy),
+                   {}, {"finished runs of an interrupted study"}});
   run_table(w().dir(), cases);
 }
 
