@@ -16,6 +16,7 @@
 
 #include "drivers/options.hpp"
 #include "io/checkpoint.hpp"
+#include "io/output_lock.hpp"
 #include "io/input_files.hpp"
 #include "study/runtime/mpi_session.hpp"
 #include "study/runtime/study_runner.hpp"
@@ -83,6 +84,12 @@ inline void check_leftover_checkpoint(FlagChecks& checks, const std::string& res
     checks.add("--resume and --restart exclude each other: --resume continues <out>.checkpoint, --restart "
                "discards it");
   if (results_path.empty()) return;
+  // A running study's checkpoint is not leftover: neither --resume nor --restart may touch it.
+  if (io::OutputLock::held_elsewhere(results_path)) {
+    checks.add("another rover process is writing " + results_path + " now (it holds " +
+               io::OutputLock::path_for(results_path) + "): wait for it to finish, or give another --out");
+    return;
+  }
   const std::string checkpoint = io::ResultCheckpoint::path_for(results_path);
   std::error_code error;
   const std::filesystem::file_status there = std::filesystem::symlink_status(checkpoint, error);

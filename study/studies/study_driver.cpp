@@ -1,5 +1,6 @@
 // See study_driver.hpp.
 #include "study/studies/study_driver.hpp"
+#include "study/runtime/calibration_mpi.hpp"
 
 #include <filesystem>
 #include <stdexcept>
@@ -124,6 +125,22 @@ int exit_status(const std::string& command, const std::string& results_path, con
   std::cerr << "rover " << command << ": error: every run failed (first: " << counts.first_failure
             << "); the results are in " << results_path << "\n";
   return kEveryRunFailedStatus;
+}
+
+std::unique_ptr<io::OutputLock> lock_output(const std::string& results_path) {
+  std::unique_ptr<io::OutputLock> lock;
+  std::string refusal;
+  if (world_rank() == 0) {
+    try {
+      lock = std::make_unique<io::OutputLock>(results_path);
+    } catch (const std::runtime_error& e) {
+      refusal = e.what();
+    }
+  }
+  std::vector<double> refused{refusal.empty() ? 0.0 : 1.0};
+  broadcast_from_rank0(refused);
+  if (refused[0] != 0.0) throw std::invalid_argument(refusal.empty() ? "the result is locked (rank 0 says why)" : refusal);
+  return lock;
 }
 
 void report_dry_run(const std::string& command, const std::string& results_path) {

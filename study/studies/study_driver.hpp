@@ -36,6 +36,7 @@
 
 #include "io/hdf5_file.hpp"
 #include "io/input_files.hpp"
+#include "io/output_lock.hpp"
 #include "io/output_target.hpp"
 #include "study/runtime/study_runner.hpp"
 
@@ -152,6 +153,11 @@ int interrupted(const std::string& command, const StudyInterrupted& e);
 // are kept, if anywhere, and how to continue.
 void stop_if_interrupted(const StudyRunOptions& options);
 
+// Collective: rank 0 takes the lock of the result (io/output_lock.hpp) and
+// keeps it in the returned object (null elsewhere). Throws
+// std::invalid_argument on every rank if another process holds it.
+std::unique_ptr<io::OutputLock> lock_output(const std::string& results_path);
+
 // Rank 0: says that a dry run checked everything and ran nothing.
 void report_dry_run(const std::string& command, const std::string& results_path);
 
@@ -175,6 +181,7 @@ int drive_study(const StudyProgram<Result>& study, const StudyRunOptions& option
     return 0;
   }
   if (world_rank() == 0) io::create_parent_directories(out);  // not for a dry run or a refusal
+  const std::unique_ptr<io::OutputLock> lock = driver_detail::lock_output(out);
   const bool csv = driver_detail::is_csv_path(out);
   std::unique_ptr<io::Hdf5Writer> h5;
   if (world_rank() == 0 && !csv) h5 = std::make_unique<io::Hdf5Writer>(out);

@@ -36,6 +36,7 @@
 
 #include "io/hdf5_file.hpp"
 #include "io/json_reader.hpp"
+#include "io/output_lock.hpp"
 #include "test_support.hpp"
 
 namespace rover {
@@ -2597,6 +2598,21 @@ TEST_F(Audit, MisfitsUntouchedGroundAndBorrowedRuns) {
                    study_args("montecarlo", w().montecarlo([](Json&) {}), linked), Want::kError,
                    {"is one of several names of a file (a hard link)"}, unchanged(rover_copy),
                    {}, {"finished runs of an interrupted study"}});
+  run_table(w().dir(), cases);
+}
+
+// One writer per result: while a process holds the lock of an --out (here
+// the test itself), a study aimed there is refused with or without --resume
+// or --restart, and the running study's checkpoint is left alone.
+TEST_F(Audit, EighthAuditStudyCases) {
+  std::vector<Case> cases;
+  const std::string running = w().dir() + "/running.h5";
+  write_file(running + ".checkpoint", "ROVERCKP the running study's runs\n");
+  const io::OutputLock lock(running);
+  for (const std::string flag : {"", " --resume", " --restart", " --dry-run"})
+    cases.push_back({"a study aimed at a result being written" + flag,
+                     study_args("montecarlo", w().montecarlo([](Json&) {}), running) + flag, Want::kError,
+                     {"another rover process is writing " + running}, unchanged(running + ".checkpoint")});
   run_table(w().dir(), cases);
 }
 

@@ -1,0 +1,34 @@
+// One writer per result: a study holds an advisory lock (flock) on
+// `<out>.lock` from its start to its end, so a second rover process aimed at
+// the same --out (the same study started twice, or --resume / --restart of a
+// study that is still running) is refused before it touches the result, its
+// checkpoint or its temporary file. The lock dies with its process (a crash
+// or a kill leaves no stale lock, only a file the next holder reuses); the
+// holder removes the file when it is done. See docs/reliability.md.
+#pragma once
+
+#include <string>
+
+namespace rover::io {
+
+class OutputLock {
+ public:
+  static std::string path_for(const std::string& results_path) { return results_path + ".lock"; }
+
+  // Takes the lock of `results_path`. Throws std::runtime_error naming the
+  // result if another process holds it, or if the lock file cannot be made.
+  explicit OutputLock(const std::string& results_path);
+  ~OutputLock();
+  OutputLock(const OutputLock&) = delete;
+  OutputLock& operator=(const OutputLock&) = delete;
+
+  // Whether another process holds the lock of `results_path` now (a probe:
+  // nothing is kept, and no lock file is made).
+  static bool held_elsewhere(const std::string& results_path);
+
+ private:
+  std::string path_;
+  int fd_ = -1;
+};
+
+}  // namespace rover::io
