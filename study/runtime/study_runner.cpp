@@ -144,4 +144,9 @@ void remove_checkpoint(const std::string& results_path) {
   std::filesystem::remove(io::ResultCheckpoint::path_for(results_path), ignored);
 }
 
+GaussianProcessSettings interruptible(GaussianProcessSettings settings) {
+  settings.stop = &InterruptGuard::flag();
+  return settings;
+}
+
 }  // namespace rover::study

@@ -11,6 +11,7 @@
 
 #include "io/checkpoint.hpp"
 #include "study/runtime/task_farm.hpp"
+#include "study/surrogate/gaussian_process.hpp"
 
 namespace rover::study {
 
@@ -68,6 +69,11 @@ class InterruptGuard {
   InterruptGuard& operator=(const InterruptGuard&) = delete;
   static const std::atomic<bool>& flag();
 };
+
+// `settings` whose likelihood maximisation stops when a signal arrives
+// (InterruptGuard::flag()): a kriging fit of thousands of runs ends within an
+// evaluation, not after its starts.
+GaussianProcessSettings interruptible(GaussianProcessSettings settings);
 
 // Collective: every rank calls it. Runs compute(i) for every i in
 // [0, task_count) that the checkpoint does not hold (all, without --resume),

@@ -10,6 +10,7 @@
 #include "io/scenario_config.hpp"
 #include "study/design/design.hpp"
 #include "study/runtime/run_record.hpp"
+#include "study/runtime/study_runner.hpp"
 #include "study/studies/surrogate_file.hpp"
 
 namespace rover::study {
@@ -56,7 +57,7 @@ SurfaceKrigingMap fit_map(const SurfaceKrigingSpec& spec, const SurfaceKriging& 
   }
   if (log_scale) v = v.array().log();
   try {
-    m.model = fit_gaussian_process_surrogate(x, v, spec.inputs, spec.gp, log_scale ? "log_" + name : name);
+    m.model = fit_gaussian_process_surrogate(x, v, spec.inputs, interruptible(spec.gp), log_scale ? "log_" + name : name);
     m.fitted = true;
   } catch (const std::invalid_argument& e) {
     m.undefined_reason = e.what();

@@ -61,7 +61,7 @@ void fit_pce(const SurrogateStudy& study, const QoiRuns& runs, SurrogateQoiResul
 
 void fit_gp(const SurrogateStudy& study, const QoiRuns& runs, SurrogateQoiResult& r) {
   try {
-    r.model = fit_gaussian_process_surrogate(runs.x, runs.y, study.distributions(), study.gp, r.name);
+    r.model = fit_gaussian_process_surrogate(runs.x, runs.y, study.distributions(), interruptible(study.gp), r.name);
     r.fitted = true;
   } catch (const std::invalid_argument& e) {
     r.undefined_reason = e.what();

@@ -139,6 +139,8 @@ struct Problem {
   const Eigen::MatrixXd* f;
   double nugget;  // when it is not estimated
   bool estimate_nugget;
+  const std::atomic<bool>* stop;  // GaussianProcessSettings::stop
+  bool stopped() const { return stop != nullptr && stop->load(); }
 };
 
 // d f / d log l_k = tr((R^-1 - w w^T / sigma^2) dR/dlog l_k), w = R^-1 (y - F beta)
@@ -169,6 +171,7 @@ Eigen::VectorXd objective_gradient(const Eigen::MatrixXd& a, const DesignMatrix&
 
 double objective(const std::vector<double>& theta, std::vector<double>& gradient, void* data) {
   const Problem& pr = *static_cast<const Problem*>(data);
+  if (pr.stopped()) throw nlopt::forced_stop();
   const Eigen::Index d = pr.u->cols();
   Eigen::VectorXd ls(d);
   for (Eigen::Index i = 0; i < d; ++i) ls(i) = std::exp(theta[static_cast<std::size_t>(i)]);
@@ -228,7 +231,7 @@ std::vector<double> maximise_likelihood(const Problem& pr, int dims, const Gauss
   std::vector<double> best;
   double best_value = kFailedObjective;
   const ThetaBounds bounds = theta_bounds(dims, s);
-  for (int start = 0; start < s.starts; ++start) {
+  for (int start = 0; start < s.starts && !pr.stopped(); ++start) {
     nlopt::opt opt(s.optimizer == GaussianProcessOptimizer::kLbfgs ? nlopt::LD_LBFGS : nlopt::LN_BOBYQA,
                    static_cast<unsigned>(bounds.lower.size()));
     opt.set_lower_bounds(bounds.lower);
@@ -242,6 +245,7 @@ std::vector<double> maximise_likelihood(const Problem& pr, int dims, const Gauss
     try {
       opt.optimize(theta, value);
     } catch (const std::exception&) {  // roundoff_limited, forced stop: keep the last point
+      if (pr.stopped()) return theta;
       std::vector<double> no_gradient;
       value = objective(theta, no_gradient, const_cast<Problem*>(&pr));
     }
@@ -250,7 +254,7 @@ std::vector<double> maximise_likelihood(const Problem& pr, int dims, const Gauss
       best = theta;
     }
   }
-  return best;
+  return best.empty() ? start_point(0, dims, s) : best;  // stopped before the first start
 }
 
 }  // namespace
@@ -282,7 +286,7 @@ GaussianProcess fit_gaussian_process(const DesignMatrix& x, const Eigen::VectorX
     if (!(gp.input_scale(j) > 0.0)) gp.input_scale(j) = 1.0;  // an input held constant
   gp.scaled_inputs = (x.rowwise() - gp.input_offset).array().rowwise() / gp.input_scale.array();
   const Eigen::MatrixXd f = trend_matrix(gp.scaled_inputs, s.trend);
-  const Problem problem{&gp.scaled_inputs, &y, &f, s.nugget, s.estimate_nugget};
+  const Problem problem{&gp.scaled_inputs, &y, &f, s.nugget, s.estimate_nugget, s.stop};
   gp.nugget = s.nugget;
   if (s.fixed_length_scales.size() > 0) {
     gp.length_scales = s.fixed_length_scales;

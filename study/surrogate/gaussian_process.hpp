@@ -26,6 +26,7 @@
 //   Q = R^-1 - R^-1 F (F^T R^-1 F)^-1 F^T R^-1,  e_i = (Q y)_i / Q_ii,  s_i^2 = sigma^2 / Q_ii.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <string>
 
@@ -60,6 +61,10 @@ struct GaussianProcessSettings {
   // then the fixed one).
   Eigen::VectorXd fixed_length_scales;
   double q2_threshold = kDefaultQ2Threshold;
+  // When set and true (a signal arrived), the likelihood's maximisation stops
+  // at its next evaluation and the fit returns at once; its result is
+  // incomplete, for a caller that discards it.
+  const std::atomic<bool>* stop = nullptr;
 };
 
 struct GaussianProcess {

@@ -3,6 +3,7 @@
 // function, the estimated nugget's calibration on noisy data, Dubrule's closed-form leave-one-out against refits, refused input.
 #include "study/surrogate/gaussian_process.hpp"
 
+#include <atomic>
 #include <cmath>
 #include <functional>
 #include <stdexcept>
@@ -38,6 +39,21 @@ Eigen::VectorXd outputs(const DesignMatrix& u) {
   Eigen::VectorXd y(u.rows());
   for (Eigen::Index r = 0; r < u.rows(); ++r) y(r) = smooth(u(r, 0), u(r, 1));
   return y;
+}
+
+TEST(GaussianProcess, AStopRequestEndsTheLikelihoodSearchAtOnce) {
+  const DesignMatrix u = latin_hypercube(25, 2, 3);
+  const Eigen::VectorXd y = outputs(u);
+  GaussianProcessSettings s;
+  const GaussianProcess searched = fit_gaussian_process(physical(u), y, s, "smooth");
+  std::atomic<bool> stop{true};
+  s.stop = &stop;
+  const GaussianProcess stopped = fit_gaussian_process(physical(u), y, s, "smooth");
+  // Stopped before its first evaluation, the fit keeps the first start's
+  // length-scales: a likelihood below the searched one, but a usable model.
+  EXPECT_GT(stopped.neg_log_likelihood, searched.neg_log_likelihood + 1.0);
+  EXPECT_TRUE(stopped.length_scales.allFinite());
+  EXPECT_TRUE(stopped.weights.allFinite());
 }
 
 TEST(GaussianProcess, InterpolatesItsTrainingRunsWithZeroVariance) {
