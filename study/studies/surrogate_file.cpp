@@ -233,6 +233,9 @@ SurrogateSet read_surrogate_set(const std::string& path) {
     else m.gp = read_gp(h5, g, name);
     set.models.push_back(std::move(m));
   }
+  if (set.models.empty())
+    throw io::ConfigError(path + ": holds no fitted model (no QoI of its study got a surrogate; its "
+                          "`rover surrogate --study` said why): nothing to predict");
   return set;
 }
 

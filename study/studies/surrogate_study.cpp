@@ -145,6 +145,10 @@ std::vector<std::string> study_warnings(const SurrogateStudy& study, const Surro
     if (!c.defined) w.push_back(c.name + ": indices along time undefined: " + c.undefined_reason);
     else if (!c.curves.warning.empty()) w.push_back(c.curves.warning);
   }
+  if (const long long repeats = repeated_runs(r.training); repeats > 0)
+    w.push_back(std::to_string(repeats) + " of " + std::to_string(r.training.runs()) + " training runs repeat " +
+                "the inputs of another: leave-one-out Q2 leaves one copy out while the others stay in the fit, " +
+                "so it overstates the accuracy; drop the repeats, or judge by held-out runs");
   for (const TrainingRuns* runs : {&r.training, &r.held_out})
     if (runs->failed_runs() > 0)
       w.push_back(std::to_string(runs->failed_runs()) + " of " + std::to_string(runs->runs()) +
@@ -270,6 +274,12 @@ StudyProgram<SurrogateStudyResult> surrogate_program(SurrogateStudy study) {
     return count_runs(status, messages);
   };
   p.report = [s](const SurrogateStudyResult& r, std::ostream& out) { report_surrogate_study(out, *s, r); };
+  // A QoI without a surrogate (its reason is among the warnings) is a result not to use as it is.
+  p.verdict = [](const SurrogateStudyResult& r) {
+    return std::all_of(r.qoi.begin(), r.qoi.end(), [](const SurrogateQoiResult& q) { return q.fitted; })
+               ? 0
+               : kSomeQoiUnfittedStatus;
+  };
   p.plot = [s](const SurrogateStudyResult& r, const std::string&, PlotSelection) {
     plot_surrogate_study(*s, r, std::cerr);
   };

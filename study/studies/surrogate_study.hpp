@@ -29,6 +29,9 @@
 
 namespace rover::study {
 
+// The exit status of a surrogate study in which a QoI got no surrogate.
+inline constexpr int kSomeQoiUnfittedStatus = 2;
+
 struct SurrogateQoiResult {
   std::string name;
   int runs_used = 0;              // successful training runs

@@ -126,6 +126,19 @@ std::string shared_runs(const TrainingRuns& training, const TrainingRuns& held_o
          ") are training runs too (" + first + "): a held-out Q2 needs runs the surrogate was not fitted to";
 }
 
+long long repeated_runs(const TrainingRuns& runs) {
+  std::vector<Eigen::Index> order(static_cast<std::size_t>(runs.runs()));
+  std::iota(order.begin(), order.end(), Eigen::Index{0});
+  const auto row = [&](Eigen::Index i) {
+    const auto r = runs.x.row(i);
+    return std::vector<double>(r.begin(), r.end());
+  };
+  std::sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) { return row(a) < row(b); });
+  long long repeats = 0;
+  for (std::size_t k = 1; k < order.size(); ++k) repeats += runs.x.row(order[k]) == runs.x.row(order[k - 1]) ? 1 : 0;
+  return repeats;
+}
+
 int TrainingRuns::failed_runs() const {
   return static_cast<int>(std::count_if(status.begin(), status.end(), [](int s) { return s != run_status::kOk; }));
 }

@@ -34,6 +34,9 @@ struct TrainingRuns {
   TrainingRuns slice(int first, int count) const;
 };
 
+// How many runs have the inputs of an earlier run (in sorted order).
+long long repeated_runs(const TrainingRuns& runs);
+
 // Empty unless held-out runs repeat training runs (equal inputs); then how
 // many, and the first pair.
 std::string shared_runs(const TrainingRuns& training, const TrainingRuns& held_out);

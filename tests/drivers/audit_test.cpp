@@ -2613,7 +2613,33 @@ TEST_F(Audit, EighthAuditStudyCases) {
     cases.push_back({"a study aimed at a result being written" + flag,
                      study_args("montecarlo", w().montecarlo([](Json&) {}), running) + flag, Want::kError,
                      {"another rover process is writing " + running}, unchanged(running + ".checkpoint")});
+  // Training runs that repeat: an evaluate of 4 (c_q, f) rows, each listed three times.
+  std::string rows = "c_q,f\n";
+  for (int copy = 0; copy < 3; ++copy) rows += "0.12,1500\n0.16,3000\n0.2,6000\n0.28,9000\n";
+  const std::string repeated = w().out();
+  const std::string landing = w().scenario([](Json& j) { j["duration"] = 0.3; });
+  std::string log;
+  ASSERT_EQ(run_command(rover_binary() + " evaluate --no-plot --scenario " + landing + " --design " +
+                            w().text_file("repeated", rows, "csv") + " --qoi B_l_z_min --out " + repeated, &log), 0)
+      << log;
+  auto gp_on_repeats = [&](const Json& gp) {
+    const Json j{{"type", "surrogate"}, {"name", "gp"}, {"surrogate", "gp"}, {"scenario", landing},
+                 {"training", {{"file", repeated}}}, {"gp", gp}, {"qoi", {"B_l_z_min"}},
+                 {"parameters", {{"c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.3}}},
+                                 {"f", {{"distribution", "log_uniform"}, {"min", 1e3}, {"max", 1e4}}}}}};
+    return w().json_file("gp", j);
+  };
+  cases.push_back({"a surrogate trained on repeated runs", study("surrogate", gp_on_repeats(Json::object())),
+                   Want::kRuns, {"8 of 12 training runs repeat the inputs of another", "overstates the accuracy"}});
+  const std::string unfitted = w().out();
+  cases.push_back({"a surrogate study that fits no model",
+                   study_args("surrogate", gp_on_repeats({{"nugget", 0.0}}), unfitted), Want::kAllFailed,
+                   {"B_l_z_min: no surrogate"}});
   run_table(w().dir(), cases);
+  const std::string point = w().text_file("point", "c_q,f\n0.2,2000\n", "csv");
+  ASSERT_EQ(run_command(rover_binary() + " surrogate --predict " + unfitted + " --design " + point + " --csv " +
+                            w().out("csv"), &log), 1) << log;
+  EXPECT_NE(log.find("holds no fitted model"), std::string::npos) << log;
 }
 
 }  // namespace
