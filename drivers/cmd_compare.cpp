@@ -6,11 +6,13 @@
 #include <algorithm>
 #include <iomanip>
 #include <iostream>
+#include <tuple>
 
 #include "core/metrics.hpp"
 #include "core/reference_miss.hpp"
 #include "drivers/command_registry.hpp"
 #include "drivers/options.hpp"
+#include "io/csv.hpp"
 #include "io/json_reader.hpp"
 #include "io/trajectory_io.hpp"
 
@@ -75,6 +77,22 @@ void warn_if_reference_missed(const CompareOptions& o, double rms, const io::Cur
             << "\n";
 }
 
+// Each curve has at least kMeasuredCurveMinRows samples inside the two
+// curves' common time interval: an RMS over one common sample (a curve in
+// milliseconds against one in seconds) says nothing.
+void check_common_samples(const CompareOptions& o, const io::Curve& a, const io::Curve& b) {
+  const double lo = std::max(a.t.front(), b.t.front()), hi = std::min(a.t.back(), b.t.back());
+  for (const auto& [name, path, curve] : {std::tuple{"A", &o.first, &a}, std::tuple{"B", &o.second, &b}}) {
+    const auto inside = std::count_if(curve->t.begin(), curve->t.end(), [&](double t) { return t >= lo && t <= hi; });
+    if (inside >= static_cast<std::ptrdiff_t>(io::kMeasuredCurveMinRows)) continue;
+    throw std::invalid_argument("only " + std::to_string(inside) + " of curve " + name + "'s samples ('" + *path +
+                                "') lie in the curves' common time interval [" + number_text(lo) + ", " +
+                                number_text(hi) + "] s (A " + span_text(a) + ", B " + span_text(b) +
+                                " on A's clock); an RMS needs at least " + std::to_string(io::kMeasuredCurveMinRows) +
+                                ": are its times in milliseconds, or --time-offset wrong?");
+  }
+}
+
 int run_compare(const CompareOptions& o) {
   FlagChecks checks;
   checks.finite("--rest-time", o.rest_time_s);
@@ -87,6 +105,7 @@ int run_compare(const CompareOptions& o) {
     throw std::invalid_argument("curve A " + span_text(a) + " and curve B " + span_text(b) +
                                 " (on A's clock, --time-offset " + number_text(o.time_offset_s) +
                                 " s) have no common time interval: give the offset of A's t = 0 on B's clock");
+  check_common_samples(o, a, b);
   check_rest_time(o.rest_time_s, o.rest_time_given, a, b);
   check_reference_divisors(o, b);
   io::Json out;

@@ -92,4 +92,11 @@ inline constexpr double kMinSettledShare = 0.05;
 inline constexpr double kMaxSettlingBand_m = 0.05;
 bool settled_before_end(double settling_time_s, double duration_s);
 
+// Empty, or why the QoI's value of this trajectory is not what its name says:
+// at_rest of a run whose B_l z had not settled at its end (by the default
+// settling band, settled_before_end), rebound_peak of a run whose highest
+// point after the compression is its last sample (the rebound had not
+// peaked). The studies report such notes with the run.
+std::string qoi_note(const QoiSpec& spec, const Trajectory& trajectory);
+
 }  // namespace rover::study

@@ -104,6 +104,19 @@ std::optional<Trajectory> RoverStudyModel::simulate_at(const double* x, RunRecor
   return std::nullopt;
 }
 
+namespace {
+
+// The notes of a finished run, "; "-separated: no wheel touched the ground,
+// and QoIs whose value is not what their name says (qoi_note).
+std::string run_notes(const Trajectory& tr, const std::vector<QoiSpec>& qois) {
+  std::string notes = no_wheel_touched_note(tr);
+  for (const QoiSpec& q : qois)
+    if (const std::string note = qoi_note(q, tr); !note.empty()) notes += (notes.empty() ? "" : "; ") + note;
+  return notes;
+}
+
+}  // namespace
+
 RunRecord RoverStudyModel::run(const double* x) const {
   const RecordLayout shape = layout();
   RunRecord record;
@@ -118,7 +131,7 @@ RunRecord RoverStudyModel::run(const double* x) const {
     } catch (const std::exception& e) {
       record = failed_record(shape, run_status::kError, std::string("computing the QoIs: ") + e.what());
     }
-    if (record.ok()) record.message = no_wheel_touched_note(*tr);
+    if (record.ok()) record.message = run_notes(*tr, qois_);
     const auto T = static_cast<std::size_t>(shape.time_samples);
     record.curves.assign(channels_.size() * T, std::nan(""));
     for (std::size_t c = 0; c < channels_.size() && record.ok(); ++c) {

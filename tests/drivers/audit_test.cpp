@@ -2635,6 +2635,26 @@ TEST_F(Audit, EighthAuditStudyCases) {
   cases.push_back({"a surrogate study that fits no model",
                    study_args("surrogate", gp_on_repeats({{"nugget", 0.0}}), unfitted), Want::kAllFailed,
                    {"B_l_z_min: no surrogate"}});
+  // QoIs whose value is not what their name says: a 0.12 s drop ends mid-compression.
+  const std::string cut = w().scenario([](Json& j) { j["duration"] = 0.12; });
+  cases.push_back({"at_rest and rebound_peak of a run that ends mid-compression",
+                   "evaluate --no-plot --scenario " + cut + " --design " + w().text_file("c_q", "c_q\n0.2\n", "csv") +
+                       " --qoi at_rest,rebound_peak --out " + w().out("csv"),
+                   Want::kRuns, {"at_rest is no rest height", "rebound_peak is the run's last sample"}});
+  cases.push_back({"at_rest of a drop that settles", "evaluate --no-plot --scenario " + source_path("configs/scenarios/drop_horizontal.json") +
+                       " --design " + w().text_file("c_q", "c_q\n0.2\n", "csv") + " --qoi at_rest,rebound_peak --out " + w().out("csv"),
+                   Want::kRuns, {"1 runs (0 failed)"}, {}, {}, {"no rest height", "had not peaked"}});
+  // compare against a curve whose times are in milliseconds: one common sample.
+  std::string milliseconds;
+  std::istringstream measured(measured_text("\n", 150));
+  for (std::string line; std::getline(measured, line);) {
+    const std::size_t comma = line.find(',');
+    if (line.starts_with("t,")) milliseconds += line + "\n";
+    else milliseconds += std::to_string(1000.0 * std::stod(line.substr(0, comma))) + line.substr(comma) + "\n";
+  }
+  const std::string ms = w().text_file("times_ms", milliseconds, "csv");
+  cases.push_back({"compare against a curve in milliseconds", "compare " + ms + " " + simulated_curve(w().dir() + "/run03.h5"),
+                   Want::kError, {"only 1 of curve A's samples", "milliseconds"}});
   run_table(w().dir(), cases);
   const std::string point = w().text_file("point", "c_q,f\n0.2,2000\n", "csv");
   ASSERT_EQ(run_command(rover_binary() + " surrogate --predict " + unfitted + " --design " + point + " --csv " +
