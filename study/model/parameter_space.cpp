@@ -41,9 +41,15 @@ const std::vector<std::string>& optional_scenario_keys() {
   return keys;
 }
 
+// Keys that set the runs' common time grid (every run of a study is recorded
+// on one: the duration, or the travel distance that gives it).
+bool time_grid_key(const std::string& path) {
+  return path == "duration" || path == "output_rate" || path == "travel_distance";
+}
+
 bool excluded_scenario_key(const std::string& path) {
-  return path == "duration" || path == "output_rate" || path.rfind("integrator", 0) == 0 ||
-         path.rfind("inputs", 0) == 0 || path.rfind("drive", 0) == 0;
+  return time_grid_key(path) || path.rfind("integrator", 0) == 0 || path.rfind("inputs", 0) == 0 ||
+         path.rfind("drive", 0) == 0;
 }
 
 // Every number in a JSON tree, as dotted paths with [i] for array elements.
@@ -180,6 +186,10 @@ std::string ParameterSpace::canonical(const std::string& name) const {
   const auto table = alias_table();
   const std::string target = table.count(name) ? table.at(name) : name;
   if (std::binary_search(names_.begin(), names_.end(), target)) return target;
+  if (target.rfind(kScenarioPrefix, 0) == 0 && time_grid_key(target.substr(std::string(kScenarioPrefix).size())))
+    throw std::invalid_argument("parameter '" + name + "' sets the length or rate of the runs, which every run of " +
+                                "a study shares (one time grid for the curves and bands): it cannot vary; run " +
+                                "a study per value instead");
   std::vector<std::string> all = names_;
   for (const auto& [alias, t] : table) all.push_back(alias);
   std::sort(all.begin(), all.end(), [&](const std::string& a, const std::string& b) {
