@@ -127,7 +127,11 @@ double nested_rhat(const Eigen::MatrixXd& full_chain, int superchains) {
 }
 
 ChainDiagnostics diagnose_chain(const std::vector<Eigen::MatrixXd>& samples, long accepted_moves,
-                                int discard_steps) {
+                                int discard_steps, const std::vector<std::string>& names) {
+  const auto label = [&](Eigen::Index q) {
+    return static_cast<std::size_t>(q) < names.size() ? names[static_cast<std::size_t>(q)]
+                                                      : "parameter " + std::to_string(q);
+  };
   if (samples.empty()) throw std::invalid_argument("diagnose_chain: no parameters");
   const Eigen::Index steps = samples.front().rows(), walkers = samples.front().cols();
   for (const auto& s : samples)
@@ -157,16 +161,16 @@ ChainDiagnostics diagnose_chain(const std::vector<Eigen::MatrixXd>& samples, lon
     d.split_rhat[q] = split_rhat(chain);
     d.nested_rhat[q] = walkers >= 2 * kSuperchains ? nested_rhat(chain, kSuperchains) : d.split_rhat[q];
     if (std::isnan(tau)) {
-      warning << "parameter " << q << " never moves; ";
+      warning << label(q) << " never moves; ";
       d.chain_too_short = true;
     } else {
       max_tau = std::max(max_tau, tau);
     }
     if (d.nested_rhat[q] > 1.1)
-      warning << "parameter " << q << ": nested R-hat " << d.nested_rhat[q]
+      warning << label(q) << ": nested R-hat " << d.nested_rhat[q]
               << " > 1.1, the walkers disagree (not converged or several modes); ";
     else if (d.nested_rhat[q] > 1.01)
-      warning << "parameter " << q << ": nested R-hat " << d.nested_rhat[q] << " > 1.01; ";
+      warning << label(q) << ": nested R-hat " << d.nested_rhat[q] << " > 1.01; ";
   }
   if (static_cast<double>(kept) < 50.0 * max_tau) {
     d.chain_too_short = true;

@@ -60,7 +60,8 @@ struct ChainDiagnostics {
 // accepted_moves: accepted proposals over ALL the steps in `samples`, so the
 // acceptance fraction is accepted_moves / (steps * walkers) before discarding.
 // The first `discard_steps` steps (burn-in) are left out of everything else.
+// `names` (one per parameter, or empty: "parameter q") label the warning.
 ChainDiagnostics diagnose_chain(const std::vector<Eigen::MatrixXd>& samples, long accepted_moves,
-                                int discard_steps = 0);
+                                int discard_steps = 0, const std::vector<std::string>& names = {});
 
 }  // namespace rover::study

@@ -543,7 +543,8 @@ CalibrationPosterior run_calibration_mcmc(const CalibrationStudy& s, const Study
     for (std::size_t k = 0; k < space.size(); ++k)
       posterior.samples.push_back(chain.samples[k].unaryExpr([&](double u) { return space.natural(k, u); }));
     posterior.log_posterior = std::move(chain.log_posterior);
-    posterior.diagnostics = diagnose_chain(chain.samples, chain.accepted_moves, static_cast<int>(posterior.discard));
+    posterior.diagnostics =
+        diagnose_chain(chain.samples, chain.accepted_moves, static_cast<int>(posterior.discard), space.names);
     posterior.summary = summarise(posterior.samples, posterior.log_posterior, posterior.discard);
   }
   const PredictiveRuns runs = run_predictive(s, predictive_draws(posterior, s.mcmc.predictive_draws, space.size()), control);

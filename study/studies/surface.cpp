@@ -66,8 +66,9 @@ void refuse_points_the_model_refuses(const io::JsonReader& r, const SurfaceStudy
   };
   for (double f : {s.f.front(), s.f.back()}) try_point("f", f, s.c_q.front());
   for (double c_q : {s.c_q.front(), s.c_q.back()}) try_point("c_q", s.f.front(), c_q);
-  if (!s.sweep_f.empty())
-    for (double f : {s.sweep_f.front(), s.sweep_f.back()}) try_point("sweep.f", f, s.sweep_c_q);
+  if (s.sweep_f.empty()) return;
+  try_point("sweep.c_q", s.f.front(), s.sweep_c_q);  // at an f the grid's check took
+  for (double f : {s.sweep_f.front(), s.sweep_f.back()}) try_point("sweep.f", f, s.sweep_c_q);
 }
 
 // The reference curve: the study's file, or the run at its (f, c_q).

@@ -102,7 +102,9 @@ TEST(DiagnoseChain, DiscardedBurnInIsLeftOut) {
   const ChainDiagnostics with_burn_in = diagnose_chain({chain}, 0, 0);
   EXPECT_GT(with_burn_in.split_rhat[0], 1.1);
   EXPECT_GT(with_burn_in.nested_rhat[0], 1.1);
-  EXPECT_NE(with_burn_in.warning.find("R-hat"), std::string::npos);
+  EXPECT_NE(with_burn_in.warning.find("parameter 0: nested R-hat"), std::string::npos) << with_burn_in.warning;
+  const ChainDiagnostics named = diagnose_chain({chain}, 0, 0, {"c_q"});
+  EXPECT_NE(named.warning.find("c_q: nested R-hat"), std::string::npos) << named.warning;
   const ChainDiagnostics without = diagnose_chain({chain}, 0, 200);
   EXPECT_LT(without.split_rhat[0], 1.01);
   // Sokal's window on 1000 iid steps: tau ~ 1 (the data-dependent window biases it slightly low).
