@@ -110,9 +110,10 @@ void fitted_curves(const CalibrationStudy& s, CalibrationFitResult& r) {
   std::size_t points = 0;
   for (std::size_t k = 0; k < s.datasets.size(); ++k) {
     CalibrationCurve curve = simulate_calibration_curve(r.checked.study, k, r.checked.fit.values);
-    if (!curve.ok) {  // the best point failed too (every run failed): no curve, no RMS
+    if (!curve.ok) {  // no curve, no RMS: fit_failed_curves() says so
       r.fitted_curves.push_back(std::move(curve));
-      rss = std::numeric_limits<double>::quiet_NaN();
+      r.curve_rms_m.push_back(std::numeric_limits<double>::quiet_NaN());
+      r.curve_residual_lag1.push_back(std::numeric_limits<double>::quiet_NaN());
       continue;
     }
     for (double& t : curve.t_s) t += r.checked.fit.offsets[k];
@@ -125,7 +126,19 @@ void fitted_curves(const CalibrationStudy& s, CalibrationFitResult& r) {
     r.curve_residual_lag1.push_back(residual_correlation(residuals).lag1);
     r.fitted_curves.push_back(std::move(curve));
   }
-  r.best_rms_m = std::sqrt(rss / static_cast<double>(points));
+  r.best_rms_m = points > 0 ? std::sqrt(rss / static_cast<double>(points)) : std::numeric_limits<double>::quiet_NaN();
+}
+
+// Rank 0: the curves whose run at the best fit failed, with the data file,
+// the scenario and the run's message; empty when every curve ran.
+std::string fit_failed_curves(const CalibrationStudy& s, const CalibrationFitResult& r) {
+  std::string failed;
+  for (std::size_t k = 0; k < s.datasets.size() && k < r.fitted_curves.size(); ++k) {
+    if (r.fitted_curves[k].ok) continue;
+    failed += std::string(failed.empty() ? "" : "; ") + "curve " + std::to_string(k + 1) + " (" + s.datasets[k].path +
+              " on " + s.datasets[k].scenario_path + "): " + r.fitted_curves[k].message;
+  }
+  return failed.empty() ? "" : "the run of the best fit failed for " + failed + "; the best RMS is of the other curves";
 }
 
 // Rank 0: why the best fit does not describe the data at all, or empty: its
@@ -189,7 +202,7 @@ CalibrationFitResult run_calibration_fit(const CalibrationStudy& s, const StudyR
   r.trusted = trusted[0] != 0.0;
   if (world_rank() == 0) {
     fitted_curves(s, r);
-    for (const std::string& flaw : {fit_leaves_structure(s, r), fit_misses_the_data(s, r)}) {
+    for (const std::string& flaw : {fit_leaves_structure(s, r), fit_misses_the_data(s, r), fit_failed_curves(s, r)}) {
       if (flaw.empty()) continue;
       r.not_valid_because = flaw + (r.not_valid_because.empty() ? "" : "; " + r.not_valid_because);
       r.trusted = false;
