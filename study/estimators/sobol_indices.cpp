@@ -436,4 +436,10 @@ SobolIndicesAlongTime estimate_sobol_indices_along_time(const PickFreezeLayout& 
   return result;
 }
 
+long long undefined_time_count(const SobolIndicesAlongTime& indices) {
+  long long count = 0;
+  for (Eigen::Index k = 0; k < indices.S1.cols(); ++k) count += indices.S1.col(k).allFinite() ? 0 : 1;
+  return count;
+}
+
 }  // namespace rover::study

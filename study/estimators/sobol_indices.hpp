@@ -87,6 +87,8 @@ struct SobolIndicesAlongTime {
   Eigen::VectorXd variance, aggregated_S1, aggregated_ST;
   int groups_used = 0;
 };
+// The times at which the indices are undefined (NaN: no variance there).
+long long undefined_time_count(const SobolIndicesAlongTime& indices);
 SobolIndicesAlongTime estimate_sobol_indices_along_time(const PickFreezeLayout& layout,
                                                         const Eigen::MatrixXd& Y,
                                                         SobolEstimator estimator);

@@ -384,10 +384,14 @@ SensitivityResult analyse_sensitivity(const SensitivityStudy& study, const Desig
         for (int k = 0; k < layout.time_samples; ++k) Y(i, k) = curve[k];
       }
       out.sobol_t.push_back(estimate_sobol_indices_along_time(study.layout, Y, study.sobol.estimator));
+      const std::string& channel = model.channel_names()[static_cast<std::size_t>(c)];
       if (!out.sobol_t.back().aggregated_ST.allFinite()) {
-        const std::string& channel = model.channel_names()[static_cast<std::size_t>(c)];
         out.undefined.push_back({channel, "the channel does not vary over the runs: its variance along time is zero"});
         out.warnings.push_back(channel + ": indices along time undefined: " + out.undefined.back().reason);
+      } else if (const long long flat = undefined_time_count(out.sobol_t.back()); flat > 0) {
+        out.warnings.push_back(channel + ": indices along time undefined (NaN) at " + std::to_string(flat) + " of " +
+                               std::to_string(layout.time_samples) + " times, where every run has the same value " +
+                               "(before a contact, say); attribute undefined_times of /indices_t/" + channel + "/S1");
       }
     }
   return out;

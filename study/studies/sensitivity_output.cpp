@@ -52,6 +52,9 @@ void write_sobol_t(io::Hdf5Writer& h5, const std::string& channel, const SobolIn
   h5.write("/indices_t/" + channel + "/S1", s.S1);
   h5.write("/indices_t/" + channel + "/ST", s.ST);
   h5.write("/indices_t/" + channel + "/variance", to_vector(s.variance));
+  h5.attribute("/indices_t/" + channel + "/S1", "undefined_times", undefined_time_count(s));
+  h5.attribute("/indices_t/" + channel + "/S1", "undefined_meaning",
+               std::string("times at which S1 and ST are NaN: every run has the same value there (variance 0)"));
   h5.write("/aggregated/" + channel + "/S1", to_vector(s.aggregated_S1));
   h5.write("/aggregated/" + channel + "/ST", to_vector(s.aggregated_ST));
 }
