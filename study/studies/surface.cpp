@@ -243,7 +243,7 @@ void krige(const SurfaceStudy& study, SurfaceResult& result) {
     check_surface_kriging(result.rms, result.t_c, "the grid's runs", result.kriging);
   } else if (!study.kriging.check_file.empty()) {
     Eigen::MatrixXd rms, t_c;
-    read_surface_check(study.kriging.check_file, study.f, study.c_q, rms, t_c);
+    read_surface_check(study.kriging.check_file, study.f, study.c_q, study.runs_key, rms, t_c);
     check_surface_kriging(rms, t_c, study.kriging.check_file, result.kriging);
   }
 }
@@ -297,14 +297,6 @@ SurfaceStudy load_surface_study(const std::string& path) {
   s.c_q = parse_axis(r, "c_q", &c_q_log);
   s.kriging = parse_surface_kriging(r, path, s.f.front(), s.f.back(), f_log, s.c_q.front(), s.c_q.back(), c_q_log);
   if (!s.kriging.check_file.empty()) s.files.add(s.kriging.check_file, "'check.file' in " + path);
-  if (!s.kriging.check_file.empty()) {  // refused before any run, not after
-    Eigen::MatrixXd rms, t_c;
-    try {
-      read_surface_check(s.kriging.check_file, s.f, s.c_q, rms, t_c);
-    } catch (const std::exception& e) {
-      r.fail("check", e.what());
-    }
-  }
   if (static_cast<double>(s.f.size()) * static_cast<double>(s.c_q.size()) > kMaxGridPoints)
     r.fail("f", "the grid would have more than 1e6 points");
   if (r.has("sweep")) {
@@ -314,6 +306,16 @@ SurfaceStudy load_surface_study(const std::string& path) {
     sw.finish();
   }
   const std::string reference_text = parse_reference(r.child("reference"), nominal.inputs, nominal.scenario.duration_s, s);
+  s.runs_key = io::config_fingerprint(file_text(scenario) + file_text(s.sources.rover_path) +
+                                      file_text(s.sources.terrain_path) + reference_text);
+  if (!s.kriging.check_file.empty()) {  // refused before any run, not after
+    Eigen::MatrixXd rms, t_c;
+    try {
+      read_surface_check(s.kriging.check_file, s.f, s.c_q, s.runs_key, rms, t_c);
+    } catch (const std::exception& e) {
+      r.fail("check", e.what());
+    }
+  }
   r.finish();
   refuse_points_the_model_refuses(r, s);
   s.fingerprint = io::config_fingerprint(file_text(path) + file_text(scenario) + file_text(s.sources.rover_path) +

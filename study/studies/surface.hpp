@@ -59,6 +59,10 @@ struct SurfaceStudy {
   bool simulate_reference = false;
   double reference_f = 0.0, reference_c_q = 0.0;
   std::string reference_description;
+  // What a grid's rms values depend on besides (f, c_q): the scenario, rover
+  // and terrain files and the reference with its offset (a fingerprint;
+  // the root attribute runs_key of the result).
+  std::string runs_key;
   SurfaceKrigingSpec kriging;        // enabled: the grid is predicted, not (only) run
 
   // The grid is run: no kriging, or kriging checked against the grid.

@@ -178,7 +178,7 @@ void check_surface_kriging(const Eigen::MatrixXd& rms, const Eigen::MatrixXd& t_
 }
 
 void read_surface_check(const std::string& path, const std::vector<double>& f, const std::vector<double>& c_q,
-                        Eigen::MatrixXd& rms, Eigen::MatrixXd& t_c) {
+                        const std::string& runs_key, Eigen::MatrixXd& rms, Eigen::MatrixXd& t_c) {
   const auto fail = [&](const std::string& what) { throw io::ConfigError(path + ": check: " + what); };
   if (!std::filesystem::is_regular_file(path)) fail("no such surface result file");
   const io::Hdf5Reader h5(path);
@@ -186,6 +186,10 @@ void read_surface_check(const std::string& path, const std::vector<double>& f, c
     if (!h5.exists(name)) fail(std::string("no ") + name + ": not a result of `rover surface`");
   if (!same_axis(h5.read_doubles("/f"), f) || !same_axis(h5.read_doubles("/c_q"), c_q))
     fail("its grid (/f, /c_q) differs from the study's \"f\" and \"c_q\" axes");
+  if (h5.has_attribute("/", "runs_key") && h5.attribute_string("/", "runs_key") != runs_key)
+    fail("its runs were made against another reference (file or time_offset), scenario, rover or terrain than "
+         "this study's (its runs_key " + h5.attribute_string("/", "runs_key") + ", this study's " + runs_key +
+         "); make the grid with this study's \"reference\" and scenario");
   rms = h5.read_matrix("/rms");
   t_c = h5.read_matrix("/t_c");
   if (rms.rows() != static_cast<Eigen::Index>(f.size()) || rms.cols() != static_cast<Eigen::Index>(c_q.size()) ||

@@ -96,9 +96,10 @@ void check_surface_kriging(const Eigen::MatrixXd& rms, const Eigen::MatrixXd& t_
                            SurfaceKriging& k);
 
 // The grid values of a surface result file; throws io::ConfigError naming the
-// file when it holds no /f, /c_q, /rms, /t_c, or its grid differs from f, c_q.
+// file when it holds no /f, /c_q, /rms, /t_c, its grid differs from f, c_q, or
+// its runs_key (SurfaceStudy::runs_key) differs from `runs_key`.
 void read_surface_check(const std::string& path, const std::vector<double>& f, const std::vector<double>& c_q,
-                        Eigen::MatrixXd& rms, Eigen::MatrixXd& t_c);
+                        const std::string& runs_key, Eigen::MatrixXd& rms, Eigen::MatrixXd& t_c);
 
 // /gp/design/{f, c_q, rms, t_c, status}, /gp/<qoi>/{mean, sd, lower, upper}
 // (attribute log_scale) and, with a

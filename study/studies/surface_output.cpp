@@ -31,6 +31,7 @@ void write_surface(const SurfaceResult& r, io::Hdf5Writer& h5) {
   write_base_provenance(h5, "surface", study.name, study.path, &r.integrator, study.fingerprint);
   h5.attribute("/", "scenario", r.scenario_name);
   h5.attribute("/", "reference", study.reference_description);
+  h5.attribute("/", "runs_key", study.runs_key);
   h5.attribute("/", "t_c_meaning", "wall time of one simulate() call on one core, seconds");
   h5.attribute("/", "failed_runs", static_cast<long long>(r.failed));
   if (!r.reference_warning.empty()) h5.attribute("/", "reference_warning", r.reference_warning);

@@ -2655,6 +2655,24 @@ TEST_F(Audit, EighthAuditStudyCases) {
   const std::string ms = w().text_file("times_ms", milliseconds, "csv");
   cases.push_back({"compare against a curve in milliseconds", "compare " + ms + " " + simulated_curve(w().dir() + "/run03.h5"),
                    Want::kError, {"only 1 of curve A's samples", "milliseconds"}});
+  // A kriged surface checked against a grid made against another reference.
+  const std::string grid = w().out();
+  ASSERT_EQ(run_command(rover_binary() + " " + study_args("surface", w().surface([](Json& j) {
+              j["c_q"] = {{"min", 0.1}, {"max", 0.2}, {"count", 2}};
+            }), grid), &log), 0) << log;
+  auto kriged_against_grid = [&](double reference_f) {
+    return study("surface", w().surface([&](Json& j) {
+      j["reference"] = {{"simulate", {{"f", reference_f}, {"c_q", 0.14}}}};
+      j["c_q"] = {{"min", 0.1}, {"max", 0.2}, {"count", 2}};
+      j["surrogate"] = "gp";
+      j["runs"] = 5;
+      j["check"] = {{"file", grid}};
+    }));
+  };
+  cases.push_back({"a surface checked against a grid of another reference", kriged_against_grid(2e3), Want::kError,
+                   {"'check'", "its runs were made against another reference"}});
+  cases.push_back({"a surface checked against its own grid", kriged_against_grid(1e4), Want::kRuns,
+                   {"against " + grid}});
   run_table(w().dir(), cases);
   const std::string point = w().text_file("point", "c_q,f\n0.2,2000\n", "csv");
   ASSERT_EQ(run_command(rover_binary() + " surrogate --predict " + unfitted + " --design " + point + " --csv " +
