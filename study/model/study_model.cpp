@@ -12,6 +12,17 @@ namespace {
 
 const char* const kFrictionKeys[4] = {"mu_s", "v_s", "mu_k", "v_k"};
 
+
+// Why a run's friction is not the law its parameters ask for, or empty: the
+// Makkar gammas miss their fit quality bar (as `simulate` warns).
+std::string friction_note(const FrictionParameters& friction) {
+  const FrictionFitQuality fit = friction_fit_quality(friction.gammas, friction);
+  if (fit.acceptable) return "";
+  return "the friction law misses its parameters (Makkar fit RMS " + number_text(fit.rms) + ", peak mu " +
+         number_text(fit.peak_mu) + " against mu_s " + number_text(friction.mu_static) +
+         "): mu_k above mu_s, or extreme Stribeck speeds? see `rover friction`";
+}
+
 }  // namespace
 
 RoverStudyModel::RoverStudyModel(io::ScenarioSources sources, std::vector<std::string> input_names,
@@ -91,10 +102,11 @@ io::ScenarioSetup RoverStudyModel::setup_at(const double* x) const {
   return setup;
 }
 
-std::optional<Trajectory> RoverStudyModel::simulate_at(const double* x, RunRecord* failure) const {
+std::optional<Trajectory> RoverStudyModel::simulate_at(const double* x, RunRecord* failure, std::string* note) const {
   const RecordLayout shape = layout();
   try {
     const io::ScenarioSetup setup = setup_at(x);
+    if (note != nullptr && varies_friction_) *note = friction_note(setup.model.parameters.friction);
     return simulate(setup.model, setup.scenario, setup.inputs);
   } catch (const io::ConfigError& e) {
     *failure = failed_record(shape, run_status::kRejectedInput, e.what());
@@ -106,10 +118,12 @@ std::optional<Trajectory> RoverStudyModel::simulate_at(const double* x, RunRecor
 
 namespace {
 
-// The notes of a finished run, "; "-separated: no wheel touched the ground,
-// and QoIs whose value is not what their name says (qoi_note).
-std::string run_notes(const Trajectory& tr, const std::vector<QoiSpec>& qois) {
-  std::string notes = no_wheel_touched_note(tr);
+// The notes of a finished run, "; "-separated: its setup's (`setup_note`),
+// no wheel touched the ground, and QoIs whose value is not what their name
+// says (qoi_note).
+std::string run_notes(const std::string& setup_note, const Trajectory& tr, const std::vector<QoiSpec>& qois) {
+  std::string notes = setup_note;
+  if (const std::string note = no_wheel_touched_note(tr); !note.empty()) notes += (notes.empty() ? "" : "; ") + note;
   for (const QoiSpec& q : qois)
     if (const std::string note = qoi_note(q, tr); !note.empty()) notes += (notes.empty() ? "" : "; ") + note;
   return notes;
@@ -120,7 +134,8 @@ std::string run_notes(const Trajectory& tr, const std::vector<QoiSpec>& qois) {
 RunRecord RoverStudyModel::run(const double* x) const {
   const RecordLayout shape = layout();
   RunRecord record;
-  std::optional<Trajectory> tr = simulate_at(x, &record);
+  std::string setup_note;
+  std::optional<Trajectory> tr = simulate_at(x, &record, &setup_note);
   if (!tr) return record;
   if (!tr->ok()) {
     record = failed_record(shape, static_cast<int>(tr->status), tr->message);
@@ -131,7 +146,7 @@ RunRecord RoverStudyModel::run(const double* x) const {
     } catch (const std::exception& e) {
       record = failed_record(shape, run_status::kError, std::string("computing the QoIs: ") + e.what());
     }
-    if (record.ok()) record.message = run_notes(*tr, qois_);
+    if (record.ok()) record.message = run_notes(setup_note, *tr, qois_);
     const auto T = static_cast<std::size_t>(shape.time_samples);
     record.curves.assign(channels_.size() * T, std::nan(""));
     for (std::size_t c = 0; c < channels_.size() && record.ok(); ++c) {

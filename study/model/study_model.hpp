@@ -57,8 +57,10 @@ class RoverStudyModel final : public StudyModel {
   RunRecord run(const double* inputs) const override;
   // The setup a point builds (throws io::ConfigError for a rejected point).
   io::ScenarioSetup setup_at(const double* inputs) const;
-  // The trajectory of a point, or a failed record (status, message) in `failure`.
-  std::optional<Trajectory> simulate_at(const double* inputs, RunRecord* failure) const;
+  // The trajectory of a point, or a failed record (status, message) in
+  // `failure`. `note` (if given) receives what to say of the point's setup:
+  // friction gammas that miss their fit quality bar (mu_k above mu_s, say).
+  std::optional<Trajectory> simulate_at(const double* inputs, RunRecord* failure, std::string* note = nullptr) const;
 
   const std::vector<std::string>& input_names() const override { return input_names_; }
   const std::vector<std::string>& qoi_names() const override { return qoi_names_; }

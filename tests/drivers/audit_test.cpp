@@ -2655,6 +2655,11 @@ TEST_F(Audit, EighthAuditStudyCases) {
   const std::string ms = w().text_file("times_ms", milliseconds, "csv");
   cases.push_back({"compare against a curve in milliseconds", "compare " + ms + " " + simulated_curve(w().dir() + "/run03.h5"),
                    Want::kError, {"only 1 of curve A's samples", "milliseconds"}});
+  cases.push_back({"a Monte Carlo of mu_k reaching above mu_s", study("montecarlo", w().montecarlo([](Json& j) {
+                     j["parameters"] = {{"friction.mu_k", {{"distribution", "uniform"}, {"min", 0.45}, {"max", 0.6}}}};
+                     j["qoi"] = {"B_l_z_min"};
+                   })),
+                   Want::kRuns, {"WARNING: 2 of 2 runs finished, but the friction law misses its parameters", "mu_k above mu_s"}});
   // A kriged surface checked against a grid made against another reference.
   const std::string grid = w().out();
   ASSERT_EQ(run_command(rover_binary() + " " + study_args("surface", w().surface([](Json& j) {
