@@ -165,19 +165,16 @@ struct Linearization {
   Coordinates spring_frequency_radps;
 };
 
-Linearization linearize(const OdeSystem& system, const StepPoint& e, IntegrationReport& report) {
+// Written into `lin` (every field), which the caller keeps from step to step.
+void linearize(const OdeSystem& system, const StepPoint& e, IntegrationReport& report, Linearization& lin) {
   ++report.rhs_evaluations;  // the Jacobian assembly, counted as one evaluation
-  const StiffForceJacobian jac =
-      stiff_force_jacobian(system.model, e.dynamics, e.inputs, e.x.head<kNumCoordinates>(),
-                           e.x.tail<kNumCoordinates>());
-  Linearization lin;
+  Coordinates spring_diagonal;
+  stiff_force_jacobian(system.model, e.dynamics, e.inputs, e.x.head<kNumCoordinates>(), e.x.tail<kNumCoordinates>(),
+                       lin.system.d_force_d_speed, lin.system.d_force_d_position, spring_diagonal);
   lin.system.mass = e.dynamics.mass_matrix;
   lin.system.force = e.dynamics.forcing;
-  lin.system.d_force_d_speed = jac.d_speed;
-  lin.system.d_force_d_position = jac.d_position;
   lin.spring_frequency_radps =
-      ((-jac.spring_d_position_diagonal).cwiseMax(0.0).array() / e.dynamics.mass_matrix.diagonal().array()).sqrt().matrix();
-  return lin;
+      ((-spring_diagonal).cwiseMax(0.0).array() / e.dynamics.mass_matrix.diagonal().array()).sqrt().matrix();
 }
 
 // Cubic Hermite interpolation between two step ends, at t in [a.t, b.t].
@@ -385,8 +382,9 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
   const StateVector absolute_tolerance = absolute_tolerances(start->dynamics.kinematics, settings);
   double h = std::clamp(settings.initial_step_s, settings.min_step_s, settings.max_step_s);
   std::size_t next = 1;
+  Linearization lin;
   while (next < request.sample_count) {
-    Linearization lin = linearize(system, *start, report);
+    linearize(system, *start, report, lin);
     // K's diagonal at the step start; each try stiffens its S-joint entries
     // over its own h (stiffen_s_joints_over_step), from this.
     const Coordinates start_stiffness = lin.system.d_force_d_position.diagonal();
