@@ -26,6 +26,12 @@ void body_inertia_at_reference(double mass, const BodyKinematics& body, const Ve
 }  // namespace
 
 CoordinateMatrix mass_matrix(const KinematicTree& tree, const TreeKinematics& kin) {
+  CoordinateMatrix M;
+  mass_matrix(tree, kin, M);
+  return M;
+}
+
+void mass_matrix(const KinematicTree& tree, const TreeKinematics& kin, CoordinateMatrix& M) {
   // Composite inertias of every subtree: a node's own body first; its
   // children (later nodes) add theirs before the node is reached below.
   std::array<SpatialInertia, kNumTreeNodes> composite;
@@ -42,7 +48,7 @@ CoordinateMatrix mass_matrix(const KinematicTree& tree, const TreeKinematics& ki
     }
   }
 
-  CoordinateMatrix M = CoordinateMatrix::Zero();
+  M.setZero();
   for (int i = kNumTreeNodes - 1; i >= 0; --i) {
     const SpatialInertia& c = composite[i];  // complete: every descendant comes after i
     const NodeKinematics& n = kin.nodes[i];
@@ -68,7 +74,6 @@ CoordinateMatrix mass_matrix(const KinematicTree& tree, const TreeKinematics& ki
       composite[parent].rotational += c.rotational;
     }
   }
-  return M;
 }
 
 Coordinates gravity_and_inertia_forces(const KinematicTree& tree, const TreeKinematics& kin,

@@ -42,6 +42,8 @@ inline Mat3 inertia_about_offset(double mass_kg, const Mat3& inertia_com, const 
 
 // M(q): sum over bodies of m J_v^T J_v + J_w^T I J_w (symmetric positive definite).
 CoordinateMatrix mass_matrix(const KinematicTree& tree, const TreeKinematics& kin);
+// The same, written into M (every entry) without a copy.
+void mass_matrix(const KinematicTree& tree, const TreeKinematics& kin, CoordinateMatrix& M);
 
 // The wrench of gravity minus one body's inertia force and torque at
 // du/dt = 0 (paper eq. 4): `force` on the body, `moment` about the reference

@@ -47,7 +47,7 @@ void compute_contacts(const RoverModel& model, DynamicsWorkspace& workspace) {
 }
 
 void compute_mass_matrix(const RoverModel& model, DynamicsWorkspace& workspace) {
-  workspace.mass_matrix = mass_matrix(model.tree, workspace.kinematics);
+  mass_matrix(model.tree, workspace.kinematics, workspace.mass_matrix);
 }
 
 void compute_forcing(const RoverModel& model, DynamicsWorkspace& workspace,

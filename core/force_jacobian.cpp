@@ -71,13 +71,22 @@ JointForceDerivatives joint_force_derivatives(const RoverParameters& p, const Mo
 StiffForceJacobian stiff_force_jacobian(const RoverModel& model, const DynamicsWorkspace& workspace,
                                         const ModelInputs& inputs, const Coordinates& q,
                                         const Coordinates& u) {
+  StiffForceJacobian jac;
+  stiff_force_jacobian(model, workspace, inputs, q, u, jac.d_speed, jac.d_position, jac.spring_d_position_diagonal);
+  return jac;
+}
+
+void stiff_force_jacobian(const RoverModel& model, const DynamicsWorkspace& workspace, const ModelInputs& inputs,
+                          const Coordinates& q, const Coordinates& u, CoordinateMatrix& d_speed,
+                          CoordinateMatrix& d_position, Coordinates& spring_d_position_diagonal) {
   const TreeKinematics& kin = workspace.kinematics;
   const std::array<WheelContacts, kNumLegs>& contacts = workspace.contacts;
-  StiffForceJacobian jac;
   const JointForceDerivatives joints = joint_force_derivatives(model.parameters, inputs, q, u);
-  jac.d_speed.diagonal() = joints.d_speed;
-  jac.d_position.diagonal() = joints.d_position;
-  jac.spring_d_position_diagonal = joints.d_position;
+  d_speed.setZero();
+  d_position.setZero();
+  d_speed.diagonal() = joints.d_speed;
+  d_position.diagonal() = joints.d_position;
+  spring_d_position_diagonal = joints.d_position;
   using Columns = Eigen::Matrix<double, 3, kNumCoordinates>;
   // A wheel's J_P and dv_P/dq have non-zero columns only for the coordinates
   // on its path to the root (one node per coordinate there): every product is
@@ -104,11 +113,11 @@ StiffForceJacobian stiff_force_jacobian(const RoverModel& model, const DynamicsW
       for (int a = 0; a < path_length; ++a) compact.row(a) = full.col(path_coordinate[a]).transpose();
       return compact;
     };
-    const auto add_on_path = [&](const PathBlock& d_speed, const PathBlock& d_position) {
+    const auto add_on_path = [&](const PathBlock& d_speed_on_path, const PathBlock& d_position_on_path) {
       for (int b = 0; b < path_length; ++b)
         for (int a = 0; a < path_length; ++a) {
-          jac.d_speed(path_coordinate[a], path_coordinate[b]) += d_speed(a, b);
-          jac.d_position(path_coordinate[a], path_coordinate[b]) += d_position(a, b);
+          d_speed(path_coordinate[a], path_coordinate[b]) += d_speed_on_path(a, b);
+          d_position(path_coordinate[a], path_coordinate[b]) += d_position_on_path(a, b);
         }
     };
     const PathRows centre_jacobian_t = on_path_transposed(point_jacobian(model.tree, kin, node, wheel.origin));
@@ -139,10 +148,9 @@ StiffForceJacobian stiff_force_jacobian(const RoverModel& model, const DynamicsW
                                dp_dq_t.lazyProduct(d.d_force_d_penetration.transpose());
       add_on_path(J_t.lazyProduct(D_J_t.transpose()), J_t.lazyProduct(df_dq_t.transpose()));
       const PathVector spring_diagonal = J_t.lazyProduct(d.d_force_d_penetration).cwiseProduct(dp_dq_t);
-      for (int a = 0; a < path_length; ++a) jac.spring_d_position_diagonal[path_coordinate[a]] += spring_diagonal[a];
+      for (int a = 0; a < path_length; ++a) spring_d_position_diagonal[path_coordinate[a]] += spring_diagonal[a];
     }
   }
-  return jac;
 }
 
 }  // namespace rover

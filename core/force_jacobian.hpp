@@ -77,4 +77,10 @@ StiffForceJacobian stiff_force_jacobian(const RoverModel& model, const DynamicsW
                                         const ModelInputs& inputs, const Coordinates& q,
                                         const Coordinates& u);
 
+// The same, written into the caller's matrices (overwritten, every entry)
+// without a copy: D into d_speed, K into d_position.
+void stiff_force_jacobian(const RoverModel& model, const DynamicsWorkspace& workspace, const ModelInputs& inputs,
+                          const Coordinates& q, const Coordinates& u, CoordinateMatrix& d_speed,
+                          CoordinateMatrix& d_position, Coordinates& spring_d_position_diagonal);
+
 }  // namespace rover

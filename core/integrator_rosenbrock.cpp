@@ -69,7 +69,6 @@
 #include <limits>
 #include <string>
 #include <utility>
-#include <vector>
 
 #include <Eigen/Cholesky>
 
@@ -109,10 +108,17 @@ ContactCounts contact_regions(const std::array<WheelContacts, kNumLegs>& contact
 // (`kinematics` is scratch). A wheel that already had as many regions as it
 // can have (one on a flat plane) is not looked at, nor is the tree when no
 // wheel is left.
+int most_regions_per_wheel(const RoverModel& model) { return model.terrain.is_flat() ? 1 : kMaxContactsPerWheel; }
+
+bool every_wheel_has_most_regions(const RoverModel& model, const ContactCounts& seen) {
+  const int most = most_regions_per_wheel(model);
+  return std::all_of(seen.begin(), seen.end(), [&](int n) { return n >= most; });
+}
+
 bool has_unseen_region(const RoverModel& model, const StateVector& x, const ContactCounts& seen,
                        TreeKinematics& kinematics) {
-  const int most = model.terrain.is_flat() ? 1 : kMaxContactsPerWheel;
-  if (std::all_of(seen.begin(), seen.end(), [&](int n) { return n >= most; })) return false;
+  const int most = most_regions_per_wheel(model);
+  if (every_wheel_has_most_regions(model, seen)) return false;
   forward_pose_and_velocity(model.tree, x.head<kNumCoordinates>(), x.tail<kNumCoordinates>(), kinematics);
   for (int leg = 0; leg < kNumLegs; ++leg) {
     if (seen[leg] >= most) continue;
@@ -165,19 +171,16 @@ struct Linearization {
   Coordinates spring_frequency_radps;
 };
 
-Linearization linearize(const OdeSystem& system, const StepPoint& e, IntegrationReport& report) {
+// Written into `lin` (every field), which the caller keeps from step to step.
+void linearize(const OdeSystem& system, const StepPoint& e, IntegrationReport& report, Linearization& lin) {
   ++report.rhs_evaluations;  // the Jacobian assembly, counted as one evaluation
-  const StiffForceJacobian jac =
-      stiff_force_jacobian(system.model, e.dynamics, e.inputs, e.x.head<kNumCoordinates>(),
-                           e.x.tail<kNumCoordinates>());
-  Linearization lin;
+  Coordinates spring_diagonal;
+  stiff_force_jacobian(system.model, e.dynamics, e.inputs, e.x.head<kNumCoordinates>(), e.x.tail<kNumCoordinates>(),
+                       lin.system.d_force_d_speed, lin.system.d_force_d_position, spring_diagonal);
   lin.system.mass = e.dynamics.mass_matrix;
   lin.system.force = e.dynamics.forcing;
-  lin.system.d_force_d_speed = jac.d_speed;
-  lin.system.d_force_d_position = jac.d_position;
   lin.spring_frequency_radps =
-      ((-jac.spring_d_position_diagonal).cwiseMax(0.0).array() / e.dynamics.mass_matrix.diagonal().array()).sqrt().matrix();
-  return lin;
+      ((-spring_diagonal).cwiseMax(0.0).array() / e.dynamics.mass_matrix.diagonal().array()).sqrt().matrix();
 }
 
 // Cubic Hermite interpolation between two step ends, at t in [a.t, b.t].
@@ -278,31 +281,36 @@ double friction_speed_scale(double slip_speed_mps, const FrictionParameters& fri
   return friction.mu_static / std::max(along, across);
 }
 
-std::vector<SlipRows> slip_rows(const RoverModel& model, const StepPoint& e) {
-  std::vector<SlipRows> rows;
+// The rows of every pushing contact of a step start, in a fixed-size array
+// (no allocation per step).
+struct SlipRowSet {
+  std::array<SlipRows, kNumLegs * kMaxContactsPerWheel> rows;
+  int count = 0;
+};
+
+void slip_rows(const RoverModel& model, const StepPoint& e, SlipRowSet& out) {
   const std::array<WheelContacts, kNumLegs>& contacts = e.dynamics.contacts;
-  std::size_t count = 0;
-  for (const WheelContacts& wheel : contacts) count += static_cast<std::size_t>(wheel.count);
-  rows.reserve(count);
+  out.count = 0;
   for (int leg = 0; leg < kNumLegs; ++leg)
     for (int k = 0; k < contacts[leg].count; ++k) {
       const ContactPoint& c = contacts[leg].points[k];
       if (!(c.normal_force_N > 0.0)) continue;
       const Mat3 tangent = Mat3::Identity() - c.normal * c.normal.transpose();
       const double slip = c.slip_velocity_mps.norm();
-      rows.push_back({tangent * point_jacobian(model.tree, e.dynamics.kinematics, node::wheel(leg), c.point_m),
-                      slip, friction_speed_scale(slip, model.parameters.friction)});
+      out.rows[static_cast<std::size_t>(out.count++)] = {
+          tangent * point_jacobian(model.tree, e.dynamics.kinematics, node::wheel(leg), c.point_m), slip,
+          friction_speed_scale(slip, model.parameters.friction)};
     }
-  return rows;
 }
 
-double slip_error_norm(const std::vector<SlipRows>& rows, const Coordinates& speed_error,
-                       const IntegratorSettings& settings) {
+double slip_error_norm(const SlipRowSet& slips, const Coordinates& speed_error, const IntegratorSettings& settings) {
   double norm = 0.0;
-  for (const SlipRows& r : rows)
+  for (int i = 0; i < slips.count; ++i) {
+    const SlipRows& r = slips.rows[static_cast<std::size_t>(i)];
     norm = std::max(norm, (r.tangential_jacobian * speed_error).norm() /
                               (kSlipTolerance * r.friction_speed_scale_mps +
                                settings.relative_tolerance * r.slip_speed_mps));
+  }
   return std::isfinite(norm) ? norm : std::numeric_limits<double>::infinity();
 }
 
@@ -385,15 +393,17 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
   const StateVector absolute_tolerance = absolute_tolerances(start->dynamics.kinematics, settings);
   double h = std::clamp(settings.initial_step_s, settings.min_step_s, settings.max_step_s);
   std::size_t next = 1;
+  Linearization lin;
+  SlipRowSet slips;
   while (next < request.sample_count) {
-    Linearization lin = linearize(system, *start, report);
+    linearize(system, *start, report, lin);
     // K's diagonal at the step start; each try stiffens its S-joint entries
     // over its own h (stiffen_s_joints_over_step), from this.
     const Coordinates start_stiffness = lin.system.d_force_d_position.diagonal();
     const Coordinates q0 = start->x.head<kNumCoordinates>(), u0 = start->x.tail<kNumCoordinates>();
     const ContactCounts start_contacts = active_contacts(start->dynamics.contacts);
     const ContactCounts start_regions = contact_regions(start->dynamics.contacts);
-    const std::vector<SlipRows> slips = slip_rows(system.model, *start);
+    slip_rows(system.model, *start, slips);
     const WheelSpinRows spins = wheel_spin_rows(system.model.tree, start->dynamics.kinematics);
     // Try steps until one passes the error test and misses no touchdown.
     double error = 0.0, t1 = 0.0;
@@ -436,7 +446,7 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
         keep_maximum(seen_regions, contact_regions(end->dynamics.contacts));
         bool missed = has_more(active_contacts(end->dynamics.contacts), seen);
         for (const double s : kLookInside) {
-          if (missed) break;
+          if (missed || every_wheel_has_most_regions(system.model, seen_regions)) break;  // nothing to interpolate for
           missed = has_unseen_region(system.model, hermite(*start, *end, start->t + s * (t1 - start->t)),
                                      seen_regions, stage.dynamics.kinematics);
         }

@@ -6,6 +6,8 @@
 
 #include <Eigen/Geometry>
 
+#include "core/sine_cosine.hpp"
+
 namespace rover {
 namespace {
 
@@ -127,22 +129,22 @@ int elementary_axis(const Vec3& axis) {
 // parent * (rotation by `angle` about e_a of the parent frame): turns the two
 // other columns of the parent in their plane.
 template <int a>
-void rotate_about_unit_axis(const Mat3& parent, double angle, Mat3& r) {
+void rotate_about_unit_axis(const Mat3& parent, double cos_angle, double sin_angle, Mat3& r) {
   constexpr int b = (a + 1) % 3, c = (a + 2) % 3;
-  const double cos_angle = std::cos(angle), sin_angle = std::sin(angle);
   r.col(a) = parent.col(a);
   r.col(b) = cos_angle * parent.col(b) + sin_angle * parent.col(c);
   r.col(c) = cos_angle * parent.col(c) - sin_angle * parent.col(b);
 }
 
-// parent * (rotation by `angle` about the unit `axis`); `elementary` is
-// elementary_axis(axis). The tree's rotations are all elementary; any other
-// axis goes through Eigen::AngleAxis.
-void rotate_about(const Mat3& parent, const Vec3& axis, int elementary, double angle, Mat3& r) {
+// parent * (rotation by `angle` about the unit `axis`), with the angle's
+// cosine and sine; `elementary` is elementary_axis(axis). The tree's rotations
+// are all elementary; any other axis goes through Eigen::AngleAxis.
+void rotate_about(const Mat3& parent, const Vec3& axis, int elementary, double angle, double cos_angle,
+                  double sin_angle, Mat3& r) {
   switch (elementary) {
-    case 0: return rotate_about_unit_axis<0>(parent, angle, r);
-    case 1: return rotate_about_unit_axis<1>(parent, angle, r);
-    case 2: return rotate_about_unit_axis<2>(parent, angle, r);
+    case 0: return rotate_about_unit_axis<0>(parent, cos_angle, sin_angle, r);
+    case 1: return rotate_about_unit_axis<1>(parent, cos_angle, sin_angle, r);
+    case 2: return rotate_about_unit_axis<2>(parent, cos_angle, sin_angle, r);
     default: r = parent * Eigen::AngleAxisd(angle, axis).toRotationMatrix();
   }
 }
@@ -168,10 +170,16 @@ template <bool kPoseAndVelocityOnly>
 void node_kinematics(const KinematicTree& tree, const Coordinates& q, const Coordinates& u,
                      TreeKinematics& kin) {
   constexpr bool kFull = !kPoseAndVelocityOnly;
+  // Every node's displacement, and its sine and cosine at once (a
+  // prismatic node's are not used).
+  std::array<double, kNumTreeNodes> displacements;
+  for (int i = 0; i < kNumTreeNodes; ++i) displacements[i] = tree.nodes[i].sign * q[tree.nodes[i].coordinate];
+  SinesCosines<kNumTreeNodes> trig;
+  sines_and_cosines(displacements, trig);
   for (int i = 0; i < kNumTreeNodes; ++i) {
     const TreeNode& node = tree.nodes[i];
     NodeKinematics& k = kin.nodes[i];
-    const double displacement = node.sign * q[node.coordinate];
+    const double displacement = displacements[i];
     const double rate = node.sign * u[node.coordinate];
     const int elementary = elementary_axis(node.axis);
     const bool revolute = node.type == JointType::kRevolute;
@@ -184,7 +192,7 @@ void node_kinematics(const KinematicTree& tree, const Coordinates& q, const Coor
         k.accel_bias.setZero();
       }
       if (revolute) {
-        rotate_about(Mat3::Identity(), node.axis, elementary, displacement, k.rotation);
+        rotate_about(Mat3::Identity(), node.axis, elementary, displacement, trig.cos[i], trig.sin[i], k.rotation);
         k.omega = k.axis * rate;
         k.velocity.setZero();
       } else {
@@ -204,7 +212,7 @@ void node_kinematics(const KinematicTree& tree, const Coordinates& q, const Coor
       const bool at_parent_origin = (node.offset_m.array() == 0.0).all();
       if (revolute) {
         const Vec3 spin = k.axis * rate;
-        rotate_about(parent.rotation, node.axis, elementary, displacement, k.rotation);
+        rotate_about(parent.rotation, node.axis, elementary, displacement, trig.cos[i], trig.sin[i], k.rotation);
         k.omega = parent.omega + spin;
         if constexpr (kFull) k.alpha_bias = parent.alpha_bias + parent.omega.cross(spin);
         if (at_parent_origin) {
