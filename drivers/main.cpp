@@ -30,6 +30,7 @@
 
 #include "drivers/command_line_errors.hpp"
 #include "drivers/command_registry.hpp"
+#include "drivers/launcher.hpp"
 #include "drivers/options.hpp"
 #include "io/json_reader.hpp"
 #include "study/runtime/study_runner.hpp"
@@ -109,28 +110,6 @@ void reject_empty_values(const CLI::App& app) {
   FlagChecks checks;
   collect_empty_values(app, checks);
   checks.throw_if_any();
-}
-
-// The number of processes the launcher started with this one (mpirun or
-// srun set it for each process: Open MPI, MPICH, PMIx), or 1 when run alone.
-// SLURM_NTASKS is not asked: a batch script running rover directly has it too.
-int launcher_size() {
-  int size = 1;
-  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE"})
-    if (const char* value = std::getenv(name); value != nullptr) size = std::max(size, std::atoi(value));
-  return size;
-}
-
-// This process's rank under mpirun (Open MPI, PMIx and MPICH name it in the
-// environment), or 0 when run alone. A rank variable without a job size above
-// 1 beside it (one set by hand, say) is no job: the messages stay printed.
-int launcher_rank() {
-  bool in_a_job = launcher_size() > 1;
-  if (const char* value = std::getenv("SLURM_NTASKS"); value != nullptr && std::atoi(value) > 1) in_a_job = true;
-  if (!in_a_job) return 0;
-  for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"})
-    if (const char* value = std::getenv(name); value != nullptr && *value != '\0') return std::atoi(value);
-  return 0;
 }
 
 // Prints `lines` on stderr in one write, so that the messages of several
@@ -234,6 +213,12 @@ int main(int argc, char** argv) {
     report_input_problem({unknown_subcommand_message(argv[1], registry), "Run 'rover --help' for the list."});
     return 1;
   }
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  if (const std::vector<std::string> lines = typed_word_error_lines(args, app, typed_subcommands(app, argc, argv));
+      !lines.empty()) {
+    report_input_problem(lines);
+    return 1;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {
@@ -241,15 +226,14 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // Every refused command line exits 1, as a refused config file does
     // (CLI11's own codes, 101-115, are not documented), in rover's words.
-    report_input_problem(command_line_error_lines(e, app, typed_subcommands(app, argc, argv)));
+    report_input_problem(command_line_error_lines(e, app, typed_subcommands(app, argc, argv), args));
     return 1;
   }
   for (auto& [sub, run] : runners) {
     if (!sub->parsed()) continue;
     if (const int size = launcher_size(); size > 1 && processes[sub] == Processes::kOne) {
-      report_input_problem({"rover " + sub->get_name() + ": error: runs on one process, but mpirun started " +
-                            std::to_string(size) + " (every one would write the same outputs): run it without " +
-                            "mpirun; only " + shared_among_processes + " share their runs among processes"});
+      report_input_problem({"rover " + sub->get_name() + ": error: " + one_process_refusal(size) + "; only " +
+                            shared_among_processes + " share their runs among processes"});
       return 1;
     }
     return run_subcommand(*sub, run);
