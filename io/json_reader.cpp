@@ -244,7 +244,7 @@ std::string JsonReader::misspelling_note(const std::string& key) const {
     }
   }
   if (nearest.empty()) return "";
-  return " (the object has '" + nearest + "', which no field here is called: a misspelling of '" + key + "'?)";
+  return " (the object has '" + nearest + "', not a field name: a misspelling of '" + key + "'?)";
 }
 
 bool JsonReader::has(const std::string& key) const {

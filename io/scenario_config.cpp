@@ -137,7 +137,7 @@ void refuse_runs_beside_the_grid(const JsonReader& r, const ScenarioSetup& setup
                           number_text(grid->origin_y_m) + " .. " + number_text(y_end) +
                           " m), and moves at most " + number_text(travel) + " m in the run (" + number_text(speed) +
                           " m/s for " + number_text(s.duration_s) +
-                          " s): it never reaches the grid; a position in millimetres?");
+                          " s): it never reaches the grid; a position in millimetres, or too short a run?");
 }
 
 // ---- "drive": a time-varying driving command ----------------------
