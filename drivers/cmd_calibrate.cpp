@@ -76,7 +76,8 @@ void refuse_flags_that_do_not_apply(const CalibrateOptions& o, const study::Cali
     checks.add("--profile: profile likelihoods follow a least-squares fit, and " + method +
                " samples the posterior instead, computing none: drop --profile or give --method optimize");
   if (!posterior) {
-    const std::string why = ranking ? "--next-experiment ranks after a least-squares fit" : method + " fits by least squares";
+    const std::string why =
+        ranking ? "--next-experiment ranks after a least-squares fit" : method + " fits by least squares";
     if (v.walkers) checks.add("--walkers " + std::to_string(*v.walkers) + " applies to --method mcmc only; " + why);
     if (v.steps) checks.add("--steps " + std::to_string(*v.steps) + " applies to --method mcmc only; " + why);
     if (v.discard) checks.add("--discard " + std::to_string(*v.discard) + " applies to --method mcmc only; " + why);

@@ -218,12 +218,13 @@ constexpr LookAlikeDash kLookAlikeDashes[] = {
     {"\xE2\x88\x92", "a minus sign (U+2212)"},     {"\xE2\x80\x90", "a Unicode hyphen (U+2010)"},
     {"\xE2\x80\x91", "a non-breaking hyphen (U+2011)"}, {"\xE2\x80\x92", "a figure dash (U+2012)"}};
 
-// "'\u2014scenario' starts with an em dash (U+2014) ...: type '--scenario'", or empty.
+// "'<em dash>scenario' starts with an em dash (U+2014) ...: type '--scenario'", or empty.
 std::string look_alike_dash_text(const std::string& word, const CLI::App* sub) {
   for (const LookAlikeDash& dash : kLookAlikeDashes) {
     if (!starts_with(word, std::string(dash.bytes))) continue;
     std::string rest = word.substr(dash.bytes.size());
-    while (starts_with(rest, "-") || starts_with(rest, std::string(dash.bytes))) rest.erase(0, starts_with(rest, "-") ? 1 : dash.bytes.size());
+    while (starts_with(rest, "-") || starts_with(rest, std::string(dash.bytes)))  // "<dash><dash>scenario"
+      rest.erase(0, starts_with(rest, "-") ? 1 : dash.bytes.size());
     const std::string option = "--" + rest.substr(0, rest.find('='));
     std::string text = "'" + word + "' starts with " + dash.name + ", not with ASCII hyphens (copied from a document?)";
     if (find_option(sub, option) != nullptr) return text + ": type '--" + rest + "'";

@@ -31,7 +31,7 @@ std::vector<std::string> command_line_error_lines(const CLI::ParseError& error, 
 // The lines to print for words of `args` that CLI11 would misread, checked
 // before parsing (empty if none): "--seed=" with nothing after the '=' (CLI11
 // would take the next word as its value), a word starting with a dash that is
-// not '-' ("\u2014scenario", pasted from a document).
+// not '-' (an em dash before "scenario", pasted from a document).
 std::vector<std::string> typed_word_error_lines(const std::vector<std::string>& args, const CLI::App& app,
                                                 const std::string& command);
 

@@ -131,13 +131,13 @@ void refuse_runs_beside_the_grid(const JsonReader& r, const ScenarioSetup& setup
   const double speed = fastest_horizontal_speed(s, setup.model.parameters.geometry.wheel_radius_m);
   const double travel = speed * s.duration_s;
   if (!(gap > travel)) return;
-  r.fail(r.has("initial_q") ? "initial_q" : "terrain", "the rover starts at x = " + number_text(x) + " m, y = " + number_text(y) + " m, " +
-                          number_text(gap) + " m from the terrain grid of " + setup.terrain_path + " (x " +
-                          number_text(grid->origin_x_m) + " .. " + number_text(x_end) + " m, y " +
-                          number_text(grid->origin_y_m) + " .. " + number_text(y_end) +
-                          " m), and moves at most " + number_text(travel) + " m in the run (" + number_text(speed) +
-                          " m/s for " + number_text(s.duration_s) +
-                          " s): it never reaches the grid; a position in millimetres, or too short a run?");
+  const char* field = r.has("initial_q") ? "initial_q" : "terrain";
+  r.fail(field, "the rover starts at x = " + number_text(x) + " m, y = " + number_text(y) + " m, " + number_text(gap) +
+                    " m from the terrain grid of " + setup.terrain_path + " (x " + number_text(grid->origin_x_m) +
+                    " .. " + number_text(x_end) + " m, y " + number_text(grid->origin_y_m) + " .. " +
+                    number_text(y_end) + " m), and moves at most " + number_text(travel) + " m in the run (" +
+                    number_text(speed) + " m/s for " + number_text(s.duration_s) +
+                    " s): it never reaches the grid; a position in millimetres, or too short a run?");
 }
 
 // ---- "drive": a time-varying driving command ----------------------
