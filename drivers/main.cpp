@@ -63,15 +63,28 @@ std::string unknown_subcommand_message(const std::string& typed,
   return message + " (subcommands: " + list + ")";
 }
 
+// Whether `word` is the name of one of `app`'s options ("--no-plot").
+bool is_option_name(const CLI::App& app, const std::string& word) {
+  if (!word.starts_with("--")) return false;
+  for (const CLI::Option* option : app.get_options())
+    for (const std::string& name : option->get_lnames())
+      if (word == "--" + name) return true;
+  return false;
+}
+
 // An option given an empty value (`--f ""`, typically an unset shell
 // variable) is an error, never the option's default: CLI11 reads an empty
-// value into an optional number as "not given".
+// value into an optional number as "not given". So is an option whose value
+// is the next option (`--out --no-plot`: CLI11 takes "--no-plot" as the file).
 void collect_empty_values(const CLI::App& app, FlagChecks& checks) {
   for (const CLI::Option* option : app.get_options()) {
     if (option->count() == 0 || option->get_expected_max() == 0) continue;  // not given, or a flag
     for (const std::string& value : option->results())
       if (value.find_first_not_of(" \t") == std::string::npos)
         checks.add(option->get_name() + " was given an empty value");
+      else if (is_option_name(app, value))
+        checks.add(option->get_name() + " was given no value: the word after it, '" + value +
+                   "', is an option of its own");
   }
   for (const CLI::App* sub : app.get_subcommands()) collect_empty_values(*sub, checks);
 }

@@ -2416,6 +2416,11 @@ TEST_F(Audit, EighthAuditDriverCases) {
   cases.push_back({"--seed= with nothing after '='",
                    "montecarlo --study " + w().montecarlo([](Json&) {}) + " --out " + w().out() + " --seed= --dry-run",
                    Want::kError, {"--seed was given an empty value", "'--seed='"}, {}, {}, {"'--dry-run'"}});
+  cases.push_back({"--out followed by another option", "simulate --scenario " + q + " --out --no-plot", Want::kError,
+                   {"--out was given no value", "'--no-plot', is an option"}, nothing_at(dir + "/--no-plot")});
+  cases.push_back({"--seed followed by another option",
+                   "montecarlo --study " + w().montecarlo([](Json&) {}) + " --out " + w().out() + " --seed --dry-run",
+                   Want::kError, {"--seed was given no value", "'--dry-run', is an option"}});
   cases.push_back({"an em dash for --", "simulate --no-plot \xE2\x80\x94scenario " + q + " --out " + w().out(),
                    Want::kError, {"starts with an em dash (U+2014)", "type '--scenario'"}});
   cases.push_back({"terrain obstacle --foot-x 1e7", "terrain obstacle --out " + dir + "/far.json --foot-x 1e7",
