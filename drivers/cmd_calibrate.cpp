@@ -57,6 +57,34 @@ io::InputFiles calibration_inputs(const CalibrateOptions& o, const study::Calibr
   return inputs;
 }
 
+// Flags the chosen program would not use are refused, never dropped:
+// --next-experiment ranks after a least-squares fit (no posterior), a
+// posterior (mcmc) computes no profile, and the sampler's sizes apply to
+// mcmc only.
+void refuse_flags_that_do_not_apply(const CalibrateOptions& o, const study::CalibrationStudy& s) {
+  FlagChecks checks;
+  const study::CalibrationOverrides& v = o.overrides;
+  const bool ranking = !o.next_experiment.empty();
+  const bool posterior = !ranking && s.method == study::CalibrationMethod::mcmc;
+  const std::string method = v.method.empty() ? std::string("the study's \"method\" (") +
+                                                    (posterior ? "mcmc" : "optimize") + ", " + o.study_path + ")"
+                                              : "--method " + v.method;
+  if (ranking && v.method == "mcmc")
+    checks.add("--next-experiment ranks the candidates after a least-squares fit and samples no posterior: it "
+               "does not go with --method mcmc; drop one of them");
+  if (v.profile && posterior)
+    checks.add("--profile: profile likelihoods follow a least-squares fit, and " + method +
+               " samples the posterior instead, computing none: drop --profile or give --method optimize");
+  if (!posterior) {
+    const std::string why =
+        ranking ? "--next-experiment ranks after a least-squares fit" : method + " fits by least squares";
+    if (v.walkers) checks.add("--walkers " + std::to_string(*v.walkers) + " applies to --method mcmc only; " + why);
+    if (v.steps) checks.add("--steps " + std::to_string(*v.steps) + " applies to --method mcmc only; " + why);
+    if (v.discard) checks.add("--discard " + std::to_string(*v.discard) + " applies to --method mcmc only; " + why);
+  }
+  checks.throw_if_any();
+}
+
 study::CalibrationStudy load_study(const CalibrateOptions& o) {
   check_flag_inputs(o);
   study::CalibrationOverrides overrides = o.overrides;
@@ -74,6 +102,7 @@ int run_calibrate_command(const CLI::App& app, CalibrateOptions o) {
   }
   return run_study_session(app, o.run, o.study_path, [&](const study::StudyRunOptions& options) {
     study::CalibrationStudy s = load_study(o);
+    refuse_flags_that_do_not_apply(o, s);
     const io::InputFiles inputs = calibration_inputs(o, s);
     auto drive = [&](auto program) {
       program.inputs = inputs;

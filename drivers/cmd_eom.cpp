@@ -2,6 +2,7 @@
 // the world positions of B_l, B_r, G and the wheel centres and the contacts.
 // A state at which any printed number is not finite (NaN or an overflow) is
 // an error naming the quantity, not JSON null.
+#include <cmath>
 #include <iostream>
 
 #include "core/equations_of_motion.hpp"
@@ -9,6 +10,7 @@
 #include "drivers/options.hpp"
 #include "io/json_reader.hpp"
 #include "io/model_config.hpp"
+#include "io/scenario_config.hpp"
 
 namespace rover::cli {
 namespace {
@@ -22,6 +24,30 @@ io::Json vec_json(const Eigen::Ref<const Eigen::VectorXd>& v) {
 Coordinates read_coordinates(const io::JsonReader& r, const std::string& key) {
   const auto values = r.fixed_numbers<kNumCoordinates>(key);
   return Eigen::Map<const Coordinates>(values.data());
+}
+
+// A state within the rover's scale (core/model_scale.hpp), as a scenario's
+// initial state and references are: the position of G, the speeds and the
+// wheel speed and steering references.
+void check_state_scale(const io::JsonReader& state, const RoverModel& model, const Coordinates& q,
+                       const Coordinates& u, const ModelInputs& inputs) {
+  for (const int index : {coord::x, coord::y, coord::z})
+    if (const std::string p = beyond_scale(q[index], kMaxCoordinate_m, "m", kPositionScaleReason); !p.empty())
+      state.fail("q", "entry " + std::to_string(index) + " (" + kCoordinateNames[index] + ") = " + p);
+  const double radius = model.parameters.geometry.wheel_radius_m;
+  for (int index = 0; index < kNumCoordinates; ++index)
+    if (const std::string p = io::speed_beyond_scale(index, u[index], radius); !p.empty())
+      state.fail("u", "entry " + std::to_string(index) + " (" + kCoordinateNames[index] + ") = " + p);
+  if (!state.has("params")) return;
+  const io::JsonReader params = state.child("params");
+  const double limit = model.parameters.steering.limit_rad;
+  for (int leg = 0; leg < kNumLegs; ++leg) {
+    if (const std::string p = io::rate_beyond_scale(inputs.wheel_speed_ref_radps[leg], radius); !p.empty())
+      params.fail("w_ref", "element " + std::to_string(leg) + ": " + p);
+    if (!(std::abs(inputs.steer_ref_rad[leg]) <= limit))
+      params.fail("d_ref", "element " + std::to_string(leg) + " (" + number_text(inputs.steer_ref_rad[leg]) +
+                               " rad) is beyond the steering end-stop +-" + number_text(limit) + " rad");
+  }
 }
 
 struct EomOptions {
@@ -41,6 +67,7 @@ int run_eom(const EomOptions& o) {
   ModelInputs inputs = nominal_inputs(model.parameters);
   if (state.has("params")) inputs = io::parse_model_inputs(state.child("params"), inputs);
   state.finish();
+  check_state_scale(state, model, q, u, inputs);
 
   DynamicsWorkspace eom;
   compute_dynamics(model, eom, inputs, q, u);

@@ -12,6 +12,7 @@
 
 #include "core/friction_synthesis.hpp"
 #include "drivers/command_registry.hpp"
+#include "drivers/interruptible_simulation.hpp"
 #include "drivers/options.hpp"
 #include "io/trajectory_io.hpp"
 
@@ -108,7 +109,7 @@ void check_outputs_over_inputs(const SimulateOptions& o, const io::ScenarioSetup
 int record_failed_run(const SimulateOptions& o, const std::string& out, const Trajectory& tr,
                       const io::ScenarioSetup& setup, const ModelInputs& inputs) {
   std::cerr << "simulate: the run failed: " << tr.message << "\n";
-  if (std::filesystem::exists(out)) {
+  if (std::error_code error; std::filesystem::exists(out, error)) {
     std::cerr << "simulate: the earlier result " << out << " was kept and nothing was written (give a new "
               << "--out to keep the failed run's record)\n";
     return 2;
@@ -152,7 +153,7 @@ int run_simulate(const SimulateOptions& o) {
   observer.progress = [&](double t) {
     std::cerr << "  t = " << t << " / " << setup.scenario.duration_s << " s\n";
   };
-  const Trajectory tr = simulate(setup.model, setup.scenario, inputs, observer);
+  const Trajectory tr = simulate_interruptibly(setup.model, setup.scenario, inputs, observer);
   warn_if_chassis_below_ground(tr, setup.model.terrain);
   if (const std::string note = no_wheel_touched_note(tr); !note.empty())
     std::cerr << "simulate: warning: " << note << "\n";

@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "drivers/command_registry.hpp"
+#include "drivers/launcher.hpp"
 #include "drivers/study_options.hpp"
 #include "io/csv.hpp"
 #include "study/studies/surrogate_prediction.hpp"
@@ -34,6 +35,10 @@ study::StudyProgram<study::SurrogateStudyResult> load(const SurrogateOptions& o)
 
 int predict(const SurrogateOptions& o) {
   FlagChecks checks;
+  // One table to write: the other subcommands that run on one process are
+  // refused under mpirun before they start (drivers/main.cpp).
+  if (const int size = launcher_size(); size > 1)
+    checks.add("--predict " + one_process_refusal(size) + " (--study shares its runs among processes)");
   if (o.design_path.empty() || o.csv_path.empty()) checks.add("--predict needs --design X.csv and --csv Y.csv");
   if (o.samples) checks.add("--samples applies to --study, not to --predict");
   checks.output_file("--csv", o.csv_path);

@@ -16,6 +16,7 @@
 
 #include "core/metrics.hpp"
 #include "drivers/command_registry.hpp"
+#include "drivers/interruptible_simulation.hpp"
 #include "drivers/options.hpp"
 #include "io/csv.hpp"
 #include "io/scenario_config.hpp"
@@ -125,7 +126,7 @@ int run_synthesize(const SynthesizeOptions& o) {
     setup.scenario.integrator = default_integrator_settings(integrator_from_name(o.integrator));
   check_data_clock(o, setup.scenario.duration_s, scenario_path);
   const ModelInputs in = apply_overrides(o.overrides, setup.inputs);
-  const Trajectory tr = simulate(setup.model, setup.scenario, in);
+  const Trajectory tr = simulate_interruptibly(setup.model, setup.scenario, in);
   if (!tr.ok()) throw std::runtime_error("the simulation failed: " + tr.message);
   const std::vector<double> clean = study::channel_values(tr, channel.channel);
   boost::random::mt19937_64 engine(seed);

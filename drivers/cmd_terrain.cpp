@@ -1,12 +1,14 @@
 // `rover terrain`: generates terrain files reproducibly. `rover terrain obstacle`
 // writes the trapezoid obstacle of docs/model.md §7 as a height grid
 // (core/obstacle.hpp) in the "grid" format of io/terrain_json.hpp.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <memory>
 #include <numbers>
 #include <sstream>
+#include <utility>
 
 #include "core/obstacle.hpp"
 #include "drivers/command_registry.hpp"
@@ -46,6 +48,41 @@ void plot_obstacle(const HeightGrid& grid, const std::string& png) {
   }
 }
 
+// A length flag within the scale every terrain reader accepts (core/model_scale.hpp).
+void within_position_scale(FlagChecks& checks, const std::string& flag, double value) {
+  if (!std::isfinite(value)) return;  // said by finite()
+  if (const std::string p = beyond_scale(value, kMaxCoordinate_m, "m", kPositionScaleReason); !p.empty())
+    checks.add(flag + " " + p + "; the terrain readers refuse such a grid");
+}
+
+// The grid must hold the obstacle's shape: every ramp and the top span at
+// least one spacing, so that a node lies on each (a coarser grid turns the
+// trapezoid into a tent of the wrong height).
+void require_resolved(const TrapezoidObstacle& obstacle, const ObstacleOptions& o) {
+  const double ramp = obstacle.ramp_length_m();
+  const bool top = obstacle.top_length_m > 0.0;
+  const double finest = top ? std::min(ramp, obstacle.top_length_m) : ramp;
+  if (o.spacing_m <= finest * (1.0 + 1e-9)) return;
+  throw CommandLineError({"--spacing " + number_text(o.spacing_m) + " m does not resolve the obstacle: its ramps are " +
+                          number_text(ramp) + " m long (--height " + number_text(obstacle.height_m) +
+                          " m at --ramp-angle-deg " + number_text(o.ramp_angle_deg) + ")" +
+                          (top ? " and its top " + number_text(obstacle.top_length_m) + " m (--top-length)" : "") +
+                          ", so no grid node would lie on " + (ramp <= finest ? "a ramp" : "the top") +
+                          "; give a spacing of at most " + number_text(finest) + " m"});
+}
+
+// The far edges of the grid within the scale the readers accept.
+void require_readable_extent(const HeightGrid& grid) {
+  FlagChecks checks;
+  const double x_end = grid.node_x(grid.nx - 1), y_end = grid.node_y(grid.ny - 1);
+  for (const auto& [what, value] : {std::pair<const char*, double>{"x", grid.origin_x_m}, {"x", x_end},
+                                    {"y", grid.origin_y_m}, {"y", y_end}})
+    if (const std::string p = beyond_scale(value, kMaxCoordinate_m, "m", kPositionScaleReason); !p.empty())
+      checks.add(std::string("the grid's ") + what + " edge (--foot-x or --y-min/--y-max with the ramps, " +
+                 "--top-length and --margin) at " + p + "; the terrain readers refuse such a grid");
+  checks.throw_if_any();
+}
+
 int run_obstacle(const ObstacleOptions& o) {
   // Each flag by name (core/obstacle checks the same ranges by field name).
   FlagChecks checks;
@@ -61,12 +98,20 @@ int run_obstacle(const ObstacleOptions& o) {
   checks.non_negative("--top-length", o.obstacle.top_length_m);
   checks.finite("--y-min", o.obstacle.y_min_m);
   checks.finite("--y-max", o.obstacle.y_max_m);
+  within_position_scale(checks, "--foot-x", o.obstacle.foot_x_m);
+  within_position_scale(checks, "--y-min", o.obstacle.y_min_m);
+  within_position_scale(checks, "--y-max", o.obstacle.y_max_m);
+  within_position_scale(checks, "--height", o.obstacle.height_m);
+  if (o.spacing_m > 0.0 && o.spacing_m < kMinTerrainSpacing_m)
+    checks.add("--spacing " + number_text(o.spacing_m) + " m is below " + number_text(kMinTerrainSpacing_m) +
+               " m (the wheel radius is centimetres: metres expected); the terrain readers refuse such a grid");
   if (!(o.obstacle.y_min_m < o.obstacle.y_max_m))
     checks.add("--y-min (" + number_text(o.obstacle.y_min_m) + ") must be below --y-max (" +
                number_text(o.obstacle.y_max_m) + ")");
   checks.throw_if_any();
   TrapezoidObstacle obstacle = o.obstacle;
   obstacle.ramp_angle_rad = o.ramp_angle_deg * std::numbers::pi / 180.0;
+  require_resolved(obstacle, o);
   HeightGrid grid;
   try {
     grid = trapezoid_obstacle_grid(obstacle, o.spacing_m, o.margin_m);
@@ -77,6 +122,8 @@ int run_obstacle(const ObstacleOptions& o) {
                             ", --y-min " + number_text(obstacle.y_min_m) + ", --y-max " +
                             number_text(obstacle.y_max_m) + ": " + e.what()});
   }
+
+  require_readable_extent(grid);
 
   std::ostringstream description;
   description << "Trapezoid obstacle of docs/model.md §7 (obstacle negotiation): foot at x = "

@@ -8,23 +8,6 @@
 namespace rover::cli {
 namespace {
 
-// Optimal string alignment distance: insertions, deletions, substitutions and
-// transpositions of adjacent characters, each costing 1.
-std::size_t edit_distance(std::string_view a, std::string_view b) {
-  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
-  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
-  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t substitution = a[i - 1] == b[j - 1] ? 0 : 1;
-      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + substitution});
-      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
-        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
-    }
-  }
-  return d[a.size()][b.size()];
-}
-
 bool starts_with(const std::string& text, const std::string& prefix) { return text.rfind(prefix, 0) == 0; }
 
 // `text` after `prefix`, if it starts so.
@@ -99,8 +82,9 @@ std::string positional_rule(const CLI::App* sub) {
   return "it takes " + std::to_string(count) + " argument" + (count == 1 ? "" : "s") + "," + names + ", and options";
 }
 
-// Arguments CLI11 found no place for.
-std::string extras_text(const std::string& list, const CLI::App* sub) {
+// Arguments CLI11 found no place for; `after_end_of_options` when '--' was
+// typed (every word after it is an argument, also one spelt as an option).
+std::string extras_text(const std::string& list, const CLI::App* sub, bool after_end_of_options) {
   std::istringstream words(list);
   std::string text;
   bool after_unknown_option = false;  // the next word is taken as its value
@@ -113,8 +97,14 @@ std::string extras_text(const std::string& list, const CLI::App* sub) {
     if (!text.empty()) text += "; ";
     if (starts_with(word, "-")) {
       const std::string flag = word.substr(0, word.find('='));
+      const std::vector<std::string> known = option_names(sub);
+      if (after_end_of_options && std::find(known.begin(), known.end(), flag) != known.end()) {
+        text += "'" + flag + "' follows '--', which ends the options (every word after it is taken as an argument): "
+                "put '" + flag + "' before the '--', or remove the '--'";
+        continue;
+      }
       text += "unknown option '" + flag + "'";
-      if (const std::string near = nearest_name(flag, option_names(sub)); !near.empty())
+      if (const std::string near = nearest_name(flag, known); !near.empty())
         text += "; did you mean '" + near + "'?";
     } else {
       text += "unexpected argument '" + word + "' (" + positional_rule(sub) + ")";
@@ -172,7 +162,14 @@ std::string mismatch_text(const std::string& what, const CLI::App* sub) {
     name = name_and_message(what).first;
   }
   if (name.empty()) return what;
-  return where(name) + " needs a value: " + accepted(find_option(sub, name));
+  const CLI::Option* option = find_option(sub, name);
+  if (after(what, name + ": At Most ", &rest) && option != nullptr) {  // "--f 1e4 --f 2e4"
+    std::string values;
+    for (const std::string& value : option->results()) values += (values.empty() ? "'" : ", '") + value + "'";
+    return where(name) + " was given " + std::to_string(option->results().size()) + " times (" + values +
+           "); give it once: " + accepted(option);
+  }
+  return where(name) + " needs a value: " + accepted(option);
 }
 
 std::string required_text(const std::string& what, const CLI::App* sub) {
@@ -189,25 +186,9 @@ std::string required_text(const std::string& what, const CLI::App* sub) {
   return what;
 }
 
-}  // namespace
-
-std::string nearest_name(std::string_view typed, const std::vector<std::string>& known) {
-  std::string nearest;
-  std::size_t best = std::string::npos;
-  for (const std::string& name : known) {
-    const std::size_t distance = edit_distance(typed, name);
-    if (distance < best) {
-      best = distance;
-      nearest = name;
-    }
-  }
-  if (nearest.empty() || best > std::max<std::size_t>(2, nearest.size() / 3)) return "";
-  return nearest;
-}
-
-std::vector<std::string> command_line_error_lines(const CLI::ParseError& error, const CLI::App& app,
-                                                  const std::string& command) {
-  const CLI::App* sub = &app;  // the innermost subcommand `command` names ("terrain obstacle")
+// The innermost subcommand `command` names ("terrain obstacle") below `app`.
+const CLI::App* innermost(const CLI::App& app, const std::string& command) {
+  const CLI::App* sub = &app;
   std::istringstream names(command);
   for (std::string name; names >> name;)
     for (const CLI::App* candidate : subcommands(sub))
@@ -215,6 +196,64 @@ std::vector<std::string> command_line_error_lines(const CLI::ParseError& error, 
         sub = candidate;
         break;
       }
+  return sub;
+}
+
+std::vector<std::string> error_lines(const std::string& command, const std::vector<std::string>& problems) {
+  const std::string program = command.empty() ? "rover" : "rover " + command;
+  std::vector<std::string> lines;
+  for (const std::string& problem : problems) lines.push_back(program + ": error: " + problem);
+  lines.push_back("Run '" + program + " --help' for the options.");
+  return lines;
+}
+
+// A dash other than '-' that documents and word processors put where a
+// command line has hyphens: its UTF-8 bytes and its name.
+struct LookAlikeDash {
+  std::string_view bytes;
+  const char* name;
+};
+constexpr LookAlikeDash kLookAlikeDashes[] = {
+    {"\xE2\x80\x94", "an em dash (U+2014)"},       {"\xE2\x80\x93", "an en dash (U+2013)"},
+    {"\xE2\x88\x92", "a minus sign (U+2212)"},     {"\xE2\x80\x90", "a Unicode hyphen (U+2010)"},
+    {"\xE2\x80\x91", "a non-breaking hyphen (U+2011)"}, {"\xE2\x80\x92", "a figure dash (U+2012)"}};
+
+// "'<em dash>scenario' starts with an em dash (U+2014) ...: type '--scenario'", or empty.
+std::string look_alike_dash_text(const std::string& word, const CLI::App* sub) {
+  for (const LookAlikeDash& dash : kLookAlikeDashes) {
+    if (!starts_with(word, std::string(dash.bytes))) continue;
+    std::string rest = word.substr(dash.bytes.size());
+    while (starts_with(rest, "-") || starts_with(rest, std::string(dash.bytes)))  // "<dash><dash>scenario"
+      rest.erase(0, starts_with(rest, "-") ? 1 : dash.bytes.size());
+    const std::string option = "--" + rest.substr(0, rest.find('='));
+    std::string text = "'" + word + "' starts with " + dash.name + ", not with ASCII hyphens (copied from a document?)";
+    if (find_option(sub, option) != nullptr) return text + ": type '--" + rest + "'";
+    return text + ": type it with '-'";
+  }
+  return "";
+}
+
+}  // namespace
+
+std::vector<std::string> typed_word_error_lines(const std::vector<std::string>& args, const CLI::App& app,
+                                                const std::string& command) {
+  const CLI::App* sub = innermost(app, command);
+  std::vector<std::string> problems;
+  for (const std::string& arg : args) {
+    if (arg == "--") break;
+    if (starts_with(arg, "--") && arg.size() > 3 && arg.find('=') == arg.size() - 1)
+      problems.push_back(arg.substr(0, arg.size() - 1) + " was given an empty value (nothing follows the '=' of '" +
+                         arg + "')");
+    if (std::string text = look_alike_dash_text(arg, sub); !text.empty()) problems.push_back(std::move(text));
+  }
+  if (problems.empty()) return {};
+  return error_lines(command, problems);
+}
+
+std::vector<std::string> command_line_error_lines(const CLI::ParseError& error, const CLI::App& app,
+                                                  const std::string& command, const std::vector<std::string>& args) {
+  const CLI::App* sub = innermost(app, command);
+  const bool end_of_options = std::find(args.begin(), args.end(), "--") != args.end();
   const std::string what = error.what();
   std::string text;
   // An unknown option is the first thing to fix (CLI11 may report a required
@@ -227,9 +266,9 @@ std::vector<std::string> command_line_error_lines(const CLI::ParseError& error, 
     std::vector<std::string> extras{std::istream_iterator<std::string>(words), std::istream_iterator<std::string>()};
     std::string in_order;
     for (auto it = extras.rbegin(); it != extras.rend(); ++it) in_order += (in_order.empty() ? "" : " ") + *it;
-    text = extras_text(in_order, sub);
+    text = extras_text(in_order, sub, end_of_options);
   } else if (!unparsed.empty() && starts_with(unparsed, "-")) {
-    text = extras_text(unparsed, sub);
+    text = extras_text(unparsed, sub, end_of_options);
   } else if (dynamic_cast<const CLI::ValidationError*>(&error)) {
     text = validation_text(what);
   } else if (dynamic_cast<const CLI::ConversionError*>(&error)) {
@@ -248,8 +287,7 @@ std::vector<std::string> command_line_error_lines(const CLI::ParseError& error, 
   } else {
     text = what;
   }
-  const std::string program = command.empty() ? "rover" : "rover " + command;
-  return {program + ": error: " + text, "Run '" + program + " --help' for the options."};
+  return error_lines(command, {text});
 }
 
 }  // namespace rover::cli

@@ -30,6 +30,7 @@
 
 #include "drivers/command_line_errors.hpp"
 #include "drivers/command_registry.hpp"
+#include "drivers/launcher.hpp"
 #include "drivers/options.hpp"
 #include "io/json_reader.hpp"
 #include "study/runtime/study_runner.hpp"
@@ -62,15 +63,28 @@ std::string unknown_subcommand_message(const std::string& typed,
   return message + " (subcommands: " + list + ")";
 }
 
+// Whether `word` is the name of one of `app`'s options ("--no-plot").
+bool is_option_name(const CLI::App& app, const std::string& word) {
+  if (!word.starts_with("--")) return false;
+  for (const CLI::Option* option : app.get_options())
+    for (const std::string& name : option->get_lnames())
+      if (word == "--" + name) return true;
+  return false;
+}
+
 // An option given an empty value (`--f ""`, typically an unset shell
 // variable) is an error, never the option's default: CLI11 reads an empty
-// value into an optional number as "not given".
+// value into an optional number as "not given". So is an option whose value
+// is the next option (`--out --no-plot`: CLI11 takes "--no-plot" as the file).
 void collect_empty_values(const CLI::App& app, FlagChecks& checks) {
   for (const CLI::Option* option : app.get_options()) {
     if (option->count() == 0 || option->get_expected_max() == 0) continue;  // not given, or a flag
     for (const std::string& value : option->results())
       if (value.find_first_not_of(" \t") == std::string::npos)
         checks.add(option->get_name() + " was given an empty value");
+      else if (is_option_name(app, value))
+        checks.add(option->get_name() + " was given no value: the word after it, '" + value +
+                   "', is an option of its own");
   }
   for (const CLI::App* sub : app.get_subcommands()) collect_empty_values(*sub, checks);
 }
@@ -109,28 +123,6 @@ void reject_empty_values(const CLI::App& app) {
   FlagChecks checks;
   collect_empty_values(app, checks);
   checks.throw_if_any();
-}
-
-// The number of processes the launcher started with this one (mpirun or
-// srun set it for each process: Open MPI, MPICH, PMIx), or 1 when run alone.
-// SLURM_NTASKS is not asked: a batch script running rover directly has it too.
-int launcher_size() {
-  int size = 1;
-  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE"})
-    if (const char* value = std::getenv(name); value != nullptr) size = std::max(size, std::atoi(value));
-  return size;
-}
-
-// This process's rank under mpirun (Open MPI, PMIx and MPICH name it in the
-// environment), or 0 when run alone. A rank variable without a job size above
-// 1 beside it (one set by hand, say) is no job: the messages stay printed.
-int launcher_rank() {
-  bool in_a_job = launcher_size() > 1;
-  if (const char* value = std::getenv("SLURM_NTASKS"); value != nullptr && std::atoi(value) > 1) in_a_job = true;
-  if (!in_a_job) return 0;
-  for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"})
-    if (const char* value = std::getenv(name); value != nullptr && *value != '\0') return std::atoi(value);
-  return 0;
 }
 
 // Prints `lines` on stderr in one write, so that the messages of several
@@ -234,6 +226,12 @@ int main(int argc, char** argv) {
     report_input_problem({unknown_subcommand_message(argv[1], registry), "Run 'rover --help' for the list."});
     return 1;
   }
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  if (const std::vector<std::string> lines = typed_word_error_lines(args, app, typed_subcommands(app, argc, argv));
+      !lines.empty()) {
+    report_input_problem(lines);
+    return 1;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {
@@ -241,15 +239,14 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // Every refused command line exits 1, as a refused config file does
     // (CLI11's own codes, 101-115, are not documented), in rover's words.
-    report_input_problem(command_line_error_lines(e, app, typed_subcommands(app, argc, argv)));
+    report_input_problem(command_line_error_lines(e, app, typed_subcommands(app, argc, argv), args));
     return 1;
   }
   for (auto& [sub, run] : runners) {
     if (!sub->parsed()) continue;
     if (const int size = launcher_size(); size > 1 && processes[sub] == Processes::kOne) {
-      report_input_problem({"rover " + sub->get_name() + ": error: runs on one process, but mpirun started " +
-                            std::to_string(size) + " (every one would write the same outputs): run it without " +
-                            "mpirun; only " + shared_among_processes + " share their runs among processes"});
+      report_input_problem({"rover " + sub->get_name() + ": error: " + one_process_refusal(size) + "; only " +
+                            shared_among_processes + " share their runs among processes"});
       return 1;
     }
     return run_subcommand(*sub, run);

@@ -283,8 +283,8 @@ inline constexpr const char* kDefaultRoverConfig = "configs/rover.json";
 // std::invalid_argument saying how to pass the file when neither exists.
 inline std::string resolve_default_path(const std::string& relative, const std::string& flag) {
   namespace fs = std::filesystem;
-  if (fs::exists(relative)) return relative;
   std::error_code error;
+  if (fs::exists(relative, error)) return relative;
   const fs::path executable = fs::read_symlink("/proc/self/exe", error);
   if (!error) {
     constexpr int kLevelsAbove = 4;  // build/drivers/rover and deeper build trees

@@ -146,10 +146,8 @@ std::string CsvTable::where(std::size_t row) const {
 }
 
 CsvTable read_csv(const std::string& path, const std::vector<std::string>& required_columns) {
-  std::error_code status_error;
-  const std::filesystem::file_status status = std::filesystem::status(path, status_error);
-  if (std::filesystem::is_directory(status)) throw ConfigError(path + ": is a directory, not a CSV file");
-  if (!std::filesystem::exists(status)) throw ConfigError(path + ": no such file");
+  if (const std::string problem = input_path_problem(path, "a CSV file"); !problem.empty())
+    throw ConfigError(path + ": " + problem);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw ConfigError(path + ": cannot open file");
   CsvTable table;

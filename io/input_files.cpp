@@ -6,6 +6,7 @@
 #include <fstream>
 #include <iterator>
 #include <system_error>
+#include <utility>
 
 #include "io/json_reader.hpp"
 #include "io/scenario_config.hpp"
@@ -109,6 +110,28 @@ const InputFiles::File* InputFiles::named_like(const std::string& directory, con
   return nullptr;
 }
 
+namespace {
+
+// An entry of `dir` that a rename beside an output <stem><ext> would replace
+// (a plot <stem>.png or <stem>_*.png, or <stem><ext>.*) and that is an input
+// under another name (a hard or symbolic link: same device and inode), with
+// that input; {"", nullptr} if none.
+std::pair<std::string, const InputFiles::File*> input_beside(const InputFiles& inputs, const std::string& dir,
+                                                            const std::string& stem, const std::string& name) {
+  std::error_code error;
+  for (fs::directory_iterator it(dir.empty() ? fs::path(".") : fs::path(dir), error), end; !error && it != end;
+       it.increment(error)) {
+    const std::string entry = it->path().filename().string();
+    const bool plot = entry.ends_with(".png") && (entry == stem + ".png" || entry.starts_with(stem + "_"));
+    if (!plot && !entry.starts_with(name + ".")) continue;
+    const std::string path = (fs::path(dir) / entry).string();
+    if (const InputFiles::File* input = inputs.same_file_as(path)) return {path, input};
+  }
+  return {"", nullptr};
+}
+
+}  // namespace
+
 std::vector<std::string> outputs_over_inputs(const std::string& flag, const std::string& output,
                                              const InputFiles& inputs, bool beside) {
   std::vector<std::string> problems;
@@ -128,10 +151,16 @@ std::vector<std::string> outputs_over_inputs(const std::string& flag, const std:
   const fs::path out(output);
   const std::string dir = out.parent_path().string(), name = out.filename().string();
   const std::string stem = name.substr(0, name.size() - out.extension().string().size());
-  if (const InputFiles::File* input = inputs.named_like(dir, stem, ".png"))
-    destroys(": a plot written beside it (" + (fs::path(dir) / stem).string() + "*.png) would replace", *input);
-  else if (const InputFiles::File* next_to = inputs.named_like(dir, name + ".", ""))
+  const std::string plots = (fs::path(dir) / stem).string() + "*.png";
+  if (const InputFiles::File* input = inputs.named_like(dir, stem, ".png")) {
+    destroys(": a plot written beside it (" + plots + ") would replace", *input);
+  } else if (const InputFiles::File* next_to = inputs.named_like(dir, name + ".", "")) {
     destroys(": its checkpoint or temporary file (" + output + ".*) would replace", *next_to);
+  } else if (const auto [entry, input] = input_beside(inputs, dir, stem, name); input != nullptr) {
+    destroys(": " + entry + (entry.ends_with(".png") ? ", a plot written beside it (" + plots + ")," :
+                                                      ", its checkpoint or temporary file (" + output + ".*),") +
+                 " is a link to", *input);
+  }
   return problems;
 }
 

@@ -12,6 +12,8 @@
 #include <utility>
 #include <vector>
 
+#include "io/nearest_name.hpp"
+
 namespace rover::io {
 namespace {
 
@@ -166,12 +168,21 @@ Json parse_json_text(const std::string& text, const std::string& source) {
   return std::move(builder.result());
 }
 
-Json read_json_file(const std::string& path) {
+std::string input_path_problem(const std::string& path, const std::string& kind) {
   namespace fs = std::filesystem;
   std::error_code error;
   const fs::file_status status = fs::status(path, error);
-  if (fs::is_directory(status)) throw ConfigError(path + ": is a directory, not a JSON file");
-  if (!fs::exists(status)) throw ConfigError(path + ": no such file");
+  if (fs::is_directory(status)) return "is a directory, not " + kind;
+  if (error && error != std::errc::no_such_file_or_directory && error != std::errc::not_a_directory)
+    return "cannot be reached (" + error.message() +
+           (error == std::errc::too_many_symbolic_link_levels ? ": a symbolic link that leads back to itself?)" : ")");
+  if (!fs::exists(status)) return "no such file";
+  return "";
+}
+
+Json read_json_file(const std::string& path) {
+  if (const std::string problem = input_path_problem(path, "a JSON file"); !problem.empty())
+    throw ConfigError(path + ": " + problem);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw ConfigError(path + ": cannot open file");
   std::string text;
@@ -213,7 +224,27 @@ std::string JsonReader::field(const std::string& key) const {
 void JsonReader::fail(const std::string& key, const std::string& problem) const {
   std::string value;
   if (object_.contains(key)) value = " (value " + shortened_dump(object_.at(key)) + ")";
-  throw ConfigError(file_ + ": field '" + field(key) + "'" + value + ": " + problem);
+  throw ConfigError(file_ + ": field '" + field(key) + "'" + value + ": " + problem +
+                    (object_.contains(key) ? "" : misspelling_note(key)));
+}
+
+std::string JsonReader::misspelling_note(const std::string& key) const {
+  // Short keys ("min", "max", "f") are near each other: only one edit, and
+  // none for a key of one or two characters.
+  constexpr std::size_t kShortKey = 4, kMinKey = 3;
+  if (key.size() < kMinKey) return "";
+  const std::size_t max_edits = key.size() <= kShortKey ? 1 : 2;
+  std::string nearest;
+  std::size_t best = max_edits + 1;
+  for (auto it = object_.begin(); it != object_.end(); ++it) {
+    if (used_.count(it.key())) continue;  // a key read as itself
+    if (const std::size_t distance = edit_distance(it.key(), key); distance < best) {
+      best = distance;
+      nearest = it.key();
+    }
+  }
+  if (nearest.empty()) return "";
+  return " (the object has '" + nearest + "', not a field name: a misspelling of '" + key + "'?)";
 }
 
 bool JsonReader::has(const std::string& key) const {

@@ -39,6 +39,11 @@ class ConfigError : public std::runtime_error {
 // the field ("path: field 'bodies.wheel.mass': key given twice ...").
 Json read_json_file(const std::string& path);
 
+// Why `path` names no file to read, or empty: "no such file", "is a
+// directory, not <kind>" ("a JSON file"), "cannot be reached (Too many levels
+// of symbolic links: a link that leads back to itself?)".
+std::string input_path_problem(const std::string& path, const std::string& kind);
+
 // The same for JSON text; `source` names it in messages (a file name).
 Json parse_json_text(const std::string& text, const std::string& source);
 
@@ -94,6 +99,9 @@ class JsonReader {
   // Throws if the object holds a key that no accessor asked for.
   void finish() const;
 
+  // Throws ConfigError "<file>: field '<path.key>' (value ...): <problem>";
+  // for a key the object lacks, naming a key of the object that is one or
+  // two edits from it ("distribuion" for "distribution"), if any.
   [[noreturn]] void fail(const std::string& key, const std::string& problem) const;
   std::string field(const std::string& key) const;  // "path.key"
   const Json& raw(const std::string& key) const;
@@ -101,6 +109,9 @@ class JsonReader {
   const Json& raw_object() const { return object_; }
 
  private:
+  // " (the object has 'distribuion', ...: a misspelling of 'distribution'?)", or empty.
+  std::string misspelling_note(const std::string& key) const;
+
   const Json& object_;
   std::string file_, path_;
   mutable std::set<std::string> used_;

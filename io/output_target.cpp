@@ -20,6 +20,9 @@ namespace fs = std::filesystem;
 
 // Linux follows at most 40 links in a path.
 constexpr int kMaxLinkHops = 40;
+// The read, write and execute bits of owner, group and others (no set-id or
+// sticky bit is carried over to a replacement).
+constexpr mode_t kPermissionBits = 0777;
 
 // /dev/stdout, /dev/fd/N, /proc/self/fd/N and the like: a name of an open
 // descriptor, whose "link" is no file to replace.
@@ -135,17 +138,38 @@ int own_descriptor(const std::string& path) {
   return number_after(name, "/proc/" + std::to_string(::getpid()) + "/fd/");
 }
 
+namespace {
+
+// Why no file can be made beside `output` in its existing directory (a
+// read-only file system, /proc, /sys; permissions alone do not tell), found
+// by making one under a name of this process and removing it; empty when one can.
+std::string creation_refusal(const std::string& output) {
+  const std::string probe = output + ".probe-" + std::to_string(::getpid());
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
+  if (fd < 0) {
+    if (errno == EEXIST) return "";
+    const fs::path dir = fs::path(output).parent_path();
+    return "no file can be created in '" + (dir.empty() ? std::string(".") : dir.string()) + "' (" +
+           std::strerror(errno) + ")";
+  }
+  ::close(fd);
+  ::unlink(probe.c_str());
+  return "";
+}
+
+}  // namespace
+
 std::string parent_directory_refusal(const std::string& output) {
   std::error_code error;
   fs::path dir = fs::path(output).parent_path();
-  if (dir.empty()) return "";
+  if (dir.empty()) return creation_refusal(output);
   fs::path existing = dir;
   while (!existing.empty() && !fs::exists(existing, error)) existing = existing.parent_path();
   if (existing.empty()) existing = ".";
   if (!fs::is_directory(existing, error))
     return "cannot create the directory '" + dir.string() + "' ('" + existing.string() +
            "' is a file, not a directory)";
-  if (existing == dir) return "";
+  if (existing == dir) return creation_refusal(output);
   // Whether the first missing directory can be made is found by making it
   // and removing it again (permissions alone do not tell: root, /proc).
   fs::path first = dir;
@@ -174,6 +198,16 @@ void create_temporary(const std::string& temporary, const std::string& output) {
   if (fd < 0)
     throw std::runtime_error(output + ": cannot create the temporary file '" + temporary + "': " +
                              std::strerror(errno));
+  // The file it will replace keeps its permissions (a private 0600 stays
+  // private); a new output gets 0644 less the umask.
+  struct stat replaced {};
+  if (::stat(output.c_str(), &replaced) == 0 && S_ISREG(replaced.st_mode) &&
+      ::fchmod(fd, replaced.st_mode & kPermissionBits) != 0) {
+    const int error_number = errno;
+    ::close(fd);
+    throw std::runtime_error(output + ": cannot give the temporary file '" + temporary + "' the permissions of " +
+                             output + ": " + std::strerror(error_number));
+  }
   ::close(fd);
 }
 

@@ -55,7 +55,10 @@ OutputMode require_output(const std::string& path, OutputFormat format);
 
 // Why the directory of `output` could not be made, or empty when it exists
 // or can be: its nearest existing ancestor is a directory this process may
-// write in. Makes nothing (a refused command or a dry run leaves no folder).
+// write in; when it exists, a file can be created in it (found by making
+// and removing "<output>.probe-<pid>": a read-only file system, /proc or
+// /sys refuse it). Leaves nothing (a refused command or a dry run leaves no
+// folder).
 std::string parent_directory_refusal(const std::string& output);
 
 // Makes the missing directories above `output` (a command calls it when its
@@ -67,7 +70,9 @@ void create_parent_directories(const std::string& output);
 // file of this process before the writer opens it: whatever stands there (a
 // crashed run's leftover, a symbolic link) is removed, never followed or
 // written through, and the file is created exclusively (O_EXCL). Throws
-// std::runtime_error naming `output` and `temporary` when it cannot.
+// std::runtime_error naming `output` and `temporary` when it cannot. When
+// `output` is a regular file already, the temporary file gets its permission
+// bits, so that the renamed output keeps them (0600 stays 0600).
 void create_temporary(const std::string& temporary, const std::string& output);
 
 // The plots written beside a result file `output` are <stem>.png and

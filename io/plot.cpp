@@ -300,11 +300,13 @@ void render(const std::string& png_path,
   std::error_code error;
   const auto size = fs::file_size(partial.path(), error);
   if (error || size == 0) throw PlotError("plot: gnuplot wrote nothing for " + png_path + ": " + log);
-  // The temporary file was created private (0600); a plot is for everyone to read.
-  fs::permissions(partial.path(),
-                  fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read |
-                      fs::perms::others_read,
-                  error);
+  // The temporary file was created private (0600); a new plot is for everyone
+  // to read, one that replaces a plot keeps that file's permissions.
+  const fs::file_status replaced = fs::status(png_path, error);
+  const fs::perms perms = fs::is_regular_file(replaced) ? replaced.permissions() & fs::perms::all
+                                                        : fs::perms::owner_read | fs::perms::owner_write |
+                                                              fs::perms::group_read | fs::perms::others_read;
+  fs::permissions(partial.path(), perms, error);
   fs::rename(partial.path(), png_path, error);
   if (error)
     throw PlotError("plot: cannot rename '" + partial.path() + "' to " + png_path + ": " +

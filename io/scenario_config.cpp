@@ -55,6 +55,28 @@ void check_initial_position(const JsonReader& r, const Coordinates& q) {
   }
 }
 
+// The speeds of initial_u (also those a drive or forward_speed set) and the
+// rates of wheel_speed_ref within the rover's scale.
+void check_initial_speeds(const JsonReader& r, const Scenario& s, double wheel_radius_m) {
+  for (int index = 0; index < kNumCoordinates; ++index)
+    if (const std::string p = speed_beyond_scale(index, s.initial_u[index], wheel_radius_m); !p.empty())
+      r.fail(r.has("initial_u") ? "initial_u" : "drive", std::string(kCoordinateNames[index]) + " = " + p);
+  if (!r.has("wheel_speed_ref")) return;
+  for (int leg = 0; leg < kNumLegs; ++leg)
+    if (const std::string p = rate_beyond_scale(s.wheel_speed_ref_radps[leg], wheel_radius_m); !p.empty())
+      r.fail("wheel_speed_ref", "element " + std::to_string(leg) + ": " + p);
+}
+
+// A drive's ramp_time longer than the run: no segment after the first would
+// reach its command within it (a time in milliseconds typed as seconds).
+void refuse_ramp_beyond_the_end(const JsonReader& drive, const Scenario& s) {
+  const double ramp = s.drive.options.ramp_time_s;
+  if (s.drive.segments.size() < 2 || ramp <= s.duration_s) return;
+  drive.fail("ramp_time", number_text(ramp) + " s is longer than the run (duration " + number_text(s.duration_s) +
+                              " s): no segment after the first would reach its command within the run; give the "
+                              "ramp in seconds, at most the duration");
+}
+
 // Lowest wheel-bottom height below the chassis origin at the given pose.
 double lowest_wheel_bottom(const RoverModel& model, const Coordinates& q) {
   Coordinates level = q;
@@ -68,6 +90,54 @@ double lowest_wheel_bottom(const RoverModel& model, const Coordinates& q) {
     lowest = std::min(lowest, w.origin.z() - R * std::sqrt(std::max(0.0, 1.0 - s.z() * s.z())));
   }
   return lowest;
+}
+
+// The fastest the rover's chassis can move over the run: its initial
+// horizontal speed, its wheel speed references at the rim and every drive
+// segment's body velocity.
+double fastest_horizontal_speed(const Scenario& s, double wheel_radius_m) {
+  double v = std::hypot(s.initial_u[coord::x], s.initial_u[coord::y]);
+  for (int leg = 0; leg < kNumLegs; ++leg) v = std::max(v, std::abs(s.wheel_speed_ref_radps[leg]) * wheel_radius_m);
+  for (const DriveCommandSegment& segment : s.drive.segments)
+    v = std::max(v, std::hypot(segment.command.forward_mps, segment.command.lateral_mps));
+  return v;
+}
+
+// How far the wheels reach horizontally from G at pose `q`: the farthest
+// wheel centre plus the wheel radius.
+double wheel_reach_m(const RoverModel& model, const Coordinates& q) {
+  const TreeKinematics kin = forward_kinematics(model.tree, q, Coordinates::Zero());
+  double reach = 0.0;
+  for (int leg = 0; leg < kNumLegs; ++leg) {
+    const Vec3& w = kin.nodes[node::wheel(leg)].origin;
+    reach = std::max(reach, std::hypot(w.x() - q[coord::x], w.y() - q[coord::y]));
+  }
+  return reach + model.parameters.geometry.wheel_radius_m;
+}
+
+// A terrain grid the rover cannot reach within the run (it starts farther
+// from the grid than its speeds carry it in the duration): the run would be
+// on the grid's flat extension, its obstacle never met; a position in
+// millimetres typed as metres.
+void refuse_runs_beside_the_grid(const JsonReader& r, const ScenarioSetup& setup) {
+  const HeightGrid* grid = setup.model.terrain.grid();
+  if (grid == nullptr) return;
+  const Scenario& s = setup.scenario;
+  const double x = s.initial_q[coord::x], y = s.initial_q[coord::y];
+  const double x_end = grid->node_x(grid->nx - 1), y_end = grid->node_y(grid->ny - 1);
+  const double dx = std::max({0.0, grid->origin_x_m - x, x - x_end});
+  const double dy = std::max({0.0, grid->origin_y_m - y, y - y_end});
+  const double gap = std::hypot(dx, dy) - wheel_reach_m(setup.model, s.initial_q);
+  const double speed = fastest_horizontal_speed(s, setup.model.parameters.geometry.wheel_radius_m);
+  const double travel = speed * s.duration_s;
+  if (!(gap > travel)) return;
+  const char* field = r.has("initial_q") ? "initial_q" : "terrain";
+  r.fail(field, "the rover starts at x = " + number_text(x) + " m, y = " + number_text(y) + " m, " + number_text(gap) +
+                    " m from the terrain grid of " + setup.terrain_path + " (x " + number_text(grid->origin_x_m) +
+                    " .. " + number_text(x_end) + " m, y " + number_text(grid->origin_y_m) + " .. " +
+                    number_text(y_end) + " m), and moves at most " + number_text(travel) + " m in the run (" +
+                    number_text(speed) + " m/s for " + number_text(s.duration_s) +
+                    " s): it never reaches the grid; a position in millimetres, or too short a run?");
 }
 
 // ---- "drive": a time-varying driving command ----------------------
@@ -199,6 +269,20 @@ Coordinates commanded_speeds(const BodyVelocityCommand& v, const WheelCommands& 
 }
 
 }  // namespace
+
+double max_rate_radps(double wheel_radius_m) { return kMaxDriveSpeed_mps / wheel_radius_m; }
+
+std::string rate_beyond_scale(double rate_radps, double wheel_radius_m) {
+  return beyond_scale(rate_radps, max_rate_radps(wheel_radius_m), "rad/s",
+                      "the rate that moves a wheel rim at " + number_text(kMaxDriveSpeed_mps) +
+                          " m/s (wheel radius " + number_text(wheel_radius_m) + " m), " + kDriveScaleReason);
+}
+
+std::string speed_beyond_scale(int index, double value, double wheel_radius_m) {
+  if (index == coord::x || index == coord::y || index == coord::z)
+    return beyond_scale(value, kMaxDriveSpeed_mps, "m/s", kDriveScaleReason);
+  return rate_beyond_scale(value, wheel_radius_m);
+}
 
 DriveConfig parse_drive(const JsonReader& r, const DriveKinematics& kinematics) {
   DriveConfig config;
@@ -350,8 +434,10 @@ ScenarioSources read_scenario_sources(const std::string& path) {
     const std::string name = r.string(key);
     if (name.empty()) r.fail(key, "expected the path of a JSON file");
     const std::string resolved = resolve_relative(path, name);
-    if (!std::filesystem::exists(resolved)) r.fail(key, "file not found: " + resolved);
-    if (std::filesystem::is_directory(resolved)) r.fail(key, "is a directory: " + resolved);
+    if (const std::string problem = input_path_problem(resolved, "a JSON file"); problem == "no such file")
+      r.fail(key, "file not found: " + resolved);
+    else if (!problem.empty())
+      r.fail(key, resolved + " " + problem);
     return resolved;
   };
   sources.rover_path = referenced_file("rover");
@@ -435,6 +521,7 @@ ScenarioSetup build_scenario(const ScenarioSources& sources) {
   }
   check_initial_position(r, s.initial_q);
   if (r.has("wheel_speed_ref")) s.wheel_speed_ref_radps = r.fixed_numbers<kNumLegs>("wheel_speed_ref");
+  check_initial_speeds(r, s, R);
   if (r.has("steer_ref")) {
     s.steer_ref_rad = r.fixed_numbers<kNumLegs>("steer_ref");
     // Beyond the end-stop the servo would push into it for the whole run: an
@@ -474,7 +561,11 @@ ScenarioSetup build_scenario(const ScenarioSources& sources) {
     r.fail(r.has("duration") ? "duration" : "travel_distance",
            problem + " at " + number_text(s.output_rate_hz) + " Hz; reduce duration or output_rate");
   }
-  if (has_drive) refuse_segments_after_the_end(r.child("drive"), s);
+  if (has_drive) {
+    refuse_segments_after_the_end(r.child("drive"), s);
+    refuse_ramp_beyond_the_end(r.child("drive"), s);
+  }
+  refuse_runs_beside_the_grid(r, setup);
   if (r.has("integrator")) s.integrator = parse_integrator_settings(r.child("integrator"), s.integrator);
   if (r.has("wall_time_budget")) s.wall_time_budget_s = r.positive("wall_time_budget");
   if (std::string why; !scenario_is_valid(s, &why)) r.fail("integrator", why);

@@ -440,7 +440,8 @@ TEST_F(Audit, ScenarioFile) {
                 Want::kError, {"'initial_q'", "0.281"});
   scenario_case("initial_q.z as a string", [](Json& j) { j["initial_q"]["z"] = "high"; }, Want::kError,
                 {"'initial_q.z'", "high"});
-  scenario_case("fast initial speed", [](Json& j) { j["initial_u"] = {{"x", 50.0}}; }, Want::kRunsOrFails, {});
+  scenario_case("fast initial speed", [](Json& j) { j["initial_u"] = {{"x", 50.0}}; }, Want::kError,
+                {"'initial_u'", "50 m/s is beyond +-10 m/s"});
   scenario_case("initial yaw of 1e10 rad", [](Json& j) { j["initial_q"]["theta"] = 1e10; }, Want::kRuns, {});
   scenario_case("3 wheel speeds", [](Json& j) { j["wheel_speed_ref"] = {1.0, 1.0, 1.0}; }, Want::kError,
                 {"'wheel_speed_ref'", "expected 4 numbers, got 3"});
@@ -2296,7 +2297,7 @@ TEST_F(Audit, UnitMistakesTailsAndSpecialOutputs) {
   Json state{{"q", std::vector<double>(23, 0.0)}, {"u", std::vector<double>(23, 1e300)}};
   state["q"][2] = 0.281;
   cases.push_back({"eom at an overflowing state", "eom --state " + w().json_file("state", state), Want::kError,
-                   {"at the state of", "fields q and u"}});
+                   {"field 'u'", "1e+300 m/s is beyond +-10 m/s"}});
   std::string flat = "t,z\n";
   for (int i = 0; i <= 20; ++i) flat += std::to_string(0.05 * i) + ",0.2\n";
   cases.push_back({"compare against a reference that never rebounds",
@@ -2395,6 +2396,131 @@ TEST_F(Audit, FifthAuditCases) {
                                 : std::string();
                    }});
   run_table(w().dir(), cases);
+}
+
+// Flags named as typed, terrains no reader takes, unscaled states and speeds,
+// a prediction under mpirun, permissions and unwritable folders, misspelt
+// keys, looping links, SIGTERM, calibrate flags that do not apply, an
+// unreachable grid and a hard link of an input at a plot's path.
+TEST_F(Audit, EighthAuditDriverCases) {
+  std::vector<Case> cases;
+  const std::string dir = w().dir();
+  const std::string q = w().quick();
+  const std::string sim = "simulate --no-plot --scenario " + q;
+  auto nothing_at = [](const std::string& path) {
+    return [=] { return fs::exists(path) ? path + " was written" : std::string(); };
+  };
+  cases.push_back({"a flag given twice", sim + " --out " + w().out() + " --f 1e4 --f 2e4", Want::kError,
+                   {"--f was given 2 times ('1e4', '2e4')", "give it once"}, {}, {}, {"needs a value"}});
+  cases.push_back({"--out after '--'", sim + " -- --out " + w().out(), Want::kError,
+                   {"'--out' follows '--'"}, {}, {}, {"did you mean '--out'"}});
+  cases.push_back({"--seed= with nothing after '='",
+                   "montecarlo --study " + w().montecarlo([](Json&) {}) + " --out " + w().out() + " --seed= --dry-run",
+                   Want::kError, {"--seed was given an empty value", "'--seed='"}, {}, {}, {"'--dry-run'"}});
+  cases.push_back({"--out followed by another option", "simulate --scenario " + q + " --out --no-plot", Want::kError,
+                   {"--out was given no value", "'--no-plot', is an option"}, nothing_at(dir + "/--no-plot")});
+  cases.push_back({"--seed followed by another option",
+                   "montecarlo --study " + w().montecarlo([](Json&) {}) + " --out " + w().out() + " --seed --dry-run",
+                   Want::kError, {"--seed was given no value", "'--dry-run', is an option"}});
+  cases.push_back({"an em dash for --", "simulate --no-plot \xE2\x80\x94scenario " + q + " --out " + w().out(),
+                   Want::kError, {"starts with an em dash (U+2014)", "type '--scenario'"}});
+  cases.push_back({"terrain obstacle --foot-x 1e7", "terrain obstacle --out " + dir + "/far.json --foot-x 1e7",
+                   Want::kError, {"--foot-x 10000000 m is beyond +-1000000 m", "terrain readers refuse"},
+                   nothing_at(dir + "/far.json")});
+  cases.push_back({"terrain obstacle --spacing 0.5", "terrain obstacle --out " + dir + "/tent.json --spacing 0.5",
+                   Want::kError, {"--spacing 0.5 m does not resolve the obstacle", "at most 0.2747"},
+                   nothing_at(dir + "/tent.json")});
+  std::vector<double> far(23, 0.0);
+  far[0] = 1e7;
+  far[2] = 0.3;
+  cases.push_back({"eom: a state 1e7 m away",
+                   "eom --state " + w().json_file("state", Json{{"q", far}, {"u", std::vector<double>(23, 0.0)}}),
+                   Want::kError, {"field 'q'", "entry 0 (x) = 10000000 m is beyond"}});
+  std::vector<double> level(23, 0.0);
+  level[2] = 0.3;
+  cases.push_back({"eom: a wheel speed reference of 1e6 rad/s",
+                   "eom --state " + w().json_file("state", Json{{"q", level},
+                                                                {"u", std::vector<double>(23, 0.0)},
+                                                                {"params", {{"w_ref", {1e6, 0, 0, 0}}}}}),
+                   Want::kError, {"field 'params.w_ref'", "1000000 rad/s is beyond"}});
+  cases.push_back({"surrogate --predict under mpirun",
+                   "surrogate --predict " + q + " --design " + w().text_file("design", "c_q\n0.1\n", "csv") +
+                       " --csv " + dir + "/predicted.csv",
+                   Want::kError, {"--predict runs on one process", "mpirun started 2"},
+                   nothing_at(dir + "/predicted.csv"), "OMPI_COMM_WORLD_SIZE=2 OMPI_COMM_WORLD_RANK=0"});
+  const std::string private_csv = w().text_file("private", "t\n", "csv");
+  fs::permissions(private_csv, fs::perms::owner_read | fs::perms::owner_write);
+  cases.push_back({"a 0600 CSV replaced", sim + " --out " + w().out() + " --csv " + private_csv, Want::kRuns, {},
+                   [private_csv] {
+                     const fs::perms mode = fs::status(private_csv).permissions();
+                     return mode == (fs::perms::owner_read | fs::perms::owner_write)
+                                ? std::string()
+                                : private_csv + " lost its 0600 permissions";
+                   }});
+  const std::string kept_out = dir + "/not_written.h5";
+  cases.push_back({"--csv where no file can be created", sim + " --out " + kept_out + " --csv /sys/rover_audit.csv",
+                   Want::kError, {"--csv '/sys/rover_audit.csv'", "no file can be created in '/sys'"},
+                   nothing_at(kept_out)});
+  cases.push_back({"synthesize --out where no file can be created",
+                   "synthesize --scenario " + q + " --out /sys/rover_audit.csv", Want::kError,
+                   {"--out '/sys/rover_audit.csv'", "no file can be created in '/sys'"}});
+  cases.push_back({"a misspelt distribution key", study("montecarlo", w().montecarlo([](Json& j) {
+                     j["parameters"]["c_q"] = {{"distribuion", "uniform"}, {"min", 0.1}, {"max", 0.2}};
+                   })) + " --dry-run",
+                   Want::kError, {"'parameters.c_q.distribution'", "'distribuion'", "misspelling of 'distribution'"}});
+  cases.push_back({"a misspelt duration", simulate(w().scenario([](Json& j) {
+                     j["duraton"] = j["duration"];
+                     j.erase("duration");
+                   })),
+                   Want::kError, {"'duraton'", "misspelling of 'duration'"}});
+  cases.push_back({"initial_u z of -1000 m/s", simulate(w().scenario([](Json& j) { j["initial_u"] = {{"z", -1000}}; })),
+                   Want::kError, {"'initial_u'", "z = -1000 m/s is beyond +-10 m/s"}});
+  cases.push_back({"initial_u phi of 1e6 rad/s",
+                   simulate(w().scenario([](Json& j) { j["initial_u"] = {{"phi", 1e6}}; })), Want::kError,
+                   {"'initial_u'", "phi = 1000000 rad/s is beyond"}});
+  cases.push_back({"wheel_speed_ref of 1e4 rad/s",
+                   simulate(w().scenario([](Json& j) { j["wheel_speed_ref"] = {1e4, 0, 0, 0}; })), Want::kError,
+                   {"'wheel_speed_ref'", "10000 rad/s is beyond", "wheel radius 0.085 m"}});
+  cases.push_back({"a drive ramp of 300 s in a 0.05 s run",
+                   simulate(w().drive_scenario(Json{{"ramp_time", 300},
+                                                    {"segments", {{{"start", 0}, {"mode", "car"}, {"speed", 0.0}},
+                                                                  {{"start", 0.01}, {"mode", "car"}, {"speed", 0.3}}}}})),
+                   Want::kError, {"'drive.ramp_time'", "300 s is longer than the run"}});
+  cases.push_back({"an obstacle run that never reaches the grid", simulate(w().scenario([](Json& j) {
+                     j["terrain"] = source_path("configs/terrains/obstacle.json");
+                     j["forward_speed"] = 1;
+                     j["initial_q"]["x"] = 1360;
+                   })),
+                   Want::kError, {"'initial_q'", "the rover starts at x = 1360 m", "never reaches the grid"}});
+  fs::create_symlink("loop.json", dir + "/loop.json");
+  cases.push_back({"a terrain through a looping link", simulate(w().scenario_with_terrain(dir + "/loop.json")),
+                   Want::kError, {"field 'terrain'", "Too many levels of symbolic links"}, {}, {}, {"filesystem error"}});
+  const std::string long_run = w().scenario([](Json& j) {
+    j["duration"] = 20;
+    j["integrator"] = {{"method", "rk4"}};
+  });
+  // An outer timeout sends SIGTERM after 2 s (the inner one passes it on);
+  // the status is echoed, as run_table takes 0, 1 or 2 only.
+  cases.push_back({"SIGTERM during simulate",
+                   "simulate --no-plot --scenario " + long_run + " --out " + dir + "/term.h5 2>&1; echo exit status $?",
+                   Want::kRuns, {"rover simulate: interrupted", "nothing written", "exit status 130"},
+                   nothing_at(dir + "/term.h5"), "timeout -s TERM --preserve-status 2"});
+  const std::string calibration = w().calibration([](Json&) {});
+  const std::string candidates = w().json_file("candidates", Json::object());
+  cases.push_back({"calibrate --method mcmc --next-experiment",
+                   study("calibrate", calibration) + " --method mcmc --next-experiment " + candidates + " --dry-run",
+                   Want::kError, {"--next-experiment", "does not go with --method mcmc"}});
+  cases.push_back({"calibrate --method mcmc --profile",
+                   study("calibrate", calibration) + " --method mcmc --profile --dry-run", Want::kError,
+                   {"--profile: profile likelihoods follow a least-squares fit"}});
+  cases.push_back({"calibrate --walkers without mcmc", study("calibrate", calibration) + " --walkers 8 --dry-run",
+                   Want::kError, {"--walkers 8 applies to --method mcmc only"}});
+  const std::string plot_out = dir + "/hp.h5";
+  fs::create_hard_link(q, dir + "/hp_summary.png");
+  cases.push_back({"a hard link of an input at a plot's path",
+                   "montecarlo --study " + w().montecarlo([](Json&) {}) + " --out " + plot_out, Want::kError,
+                   {"hp_summary.png", "a plot written beside it"}, all_of({unchanged(q), nothing_at(plot_out)})});
+  run_table(dir, cases);
 }
 
 // A descriptor open for reading, group failures beyond max_failed_fraction,
