@@ -11,13 +11,15 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
 #include "drivers/options.hpp"
 #include "io/checkpoint.hpp"
-#include "io/output_lock.hpp"
 #include "io/input_files.hpp"
+#include "io/output_lock.hpp"
+#include "study/runtime/calibration_mpi.hpp"
 #include "study/runtime/mpi_session.hpp"
 #include "study/runtime/study_runner.hpp"
 #include "study/studies/evaluate.hpp"
@@ -85,7 +87,10 @@ inline void check_leftover_checkpoint(FlagChecks& checks, const std::string& res
                "discards it");
   if (results_path.empty()) return;
   // A running study's checkpoint is not leftover: neither --resume nor --restart may touch it.
-  if (io::OutputLock::held_elsewhere(results_path)) {
+  // Rank 0 probes (the other ranks would see rank 0's own lock once it runs) and tells every rank.
+  std::vector<double> held{study::world_rank() == 0 && io::OutputLock::held_elsewhere(results_path) ? 1.0 : 0.0};
+  study::broadcast_from_rank0(held);
+  if (held[0] != 0.0) {
     checks.add("another rover process is writing " + results_path + " now (it holds " +
                io::OutputLock::path_for(results_path) + "): wait for it to finish, or give another --out");
     return;

@@ -172,14 +172,14 @@ TEST(CmdCalibrate, IntegrationCheckTightensTheIntegratorUntilTheShiftIsSmall) {
   EXPECT_GT(upper[1], 8000) << log;
 }
 
-// A drop made at f = 3e4 (the S-joints' atan nearly saturated) sampled at
+// A drop made at f = 5e4 (the S-joints' atan nearly saturated) sampled at
 // 400 Hz with 0.16 mm noise: the objective is far from quadratic, and the
 // profile probe flags the Gauss-Newton intervals as not valid (exit 2),
 // naming the parameter, while the precise drop above passes.
 TEST(CmdCalibrate, ProfileProbeFlagsAnObjectiveFlatterThanItsIntervals) {
   const std::string dir = rover::testing::temp_dir();
   const std::string study =
-      reference_drop_study(dir, "--cq 0.16 --f 30000 --noise 1.6e-4 --offset 0.03 --rate 400 --seed 3");
+      reference_drop_study(dir, "--cq 0.16 --f 50000 --noise 1.6e-4 --offset 0.03 --rate 400 --seed 3");
   std::string log;
   EXPECT_EQ(run_command(mpiexec() + " -np 2 " + rover_binary() + " calibrate --study " + study + " --no-plot --out " +
                             dir + "/flat.h5", &log),
