@@ -86,6 +86,14 @@ class FlagChecks {
   // `regular_only`, a device or a pipe is refused too (HDF5 must seek).
   void output_file(const std::string& flag, const std::string& path, bool regular_only = false) {
     if (path.empty()) return;
+    // The files a study keeps beside its result (io/checkpoint.hpp, io/output_lock.hpp).
+    for (const std::string suffix : {".checkpoint", ".lock"})
+      if (path.ends_with(suffix)) {
+        add(flag + " '" + path + "' ends in " + suffix + ", the name of a study's " +
+            (suffix == ".lock" ? "lock" : "checkpoint (its finished runs)") +
+            " beside its result, which a study reads, replaces and removes: give another name");
+        return;
+      }
     const io::OutputTarget target =
         io::inspect_output(path, regular_only ? io::OutputFormat::kSeekable : io::OutputFormat::kText);
     if (!target.refusal.empty()) {

@@ -14,7 +14,8 @@ namespace rover::io {
 namespace {
 
 // A lock file is never followed through a link, and holds no data.
-constexpr int kOpenFlags = O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW;
+// Never blocking: a FIFO at the lock's name must not hold the study.
+constexpr int kOpenFlags = O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK;
 constexpr mode_t kLockMode = 0644;
 
 std::string held_message(const std::string& results_path) {
@@ -42,22 +43,29 @@ bool is_lock_file(int fd) {
 OutputLock::OutputLock(const std::string& results_path) : path_(path_for(results_path)) {
   for (;;) {
     fd_ = ::open(path_.c_str(), kOpenFlags, kLockMode);
+    if (fd_ < 0 && errno == ELOOP)
+      throw std::runtime_error(path_ + " is a symbolic link, which no lock file of rover is: move it, or give "
+                               "another --out");
     if (fd_ < 0)
       throw std::runtime_error("cannot make the lock file " + path_ + " beside the result: " + std::strerror(errno));
+    struct stat opened {};
+    if (fstat(fd_, &opened) == 0 && opened.st_nlink == 0) {
+      ::close(fd_);  // its holder is removing it: make a new one
+      continue;
+    }
+    if (!is_lock_file(fd_)) {
+      ::close(fd_);
+      fd_ = -1;
+      throw std::runtime_error(path_ + " is in the way of the result's lock: it is no empty regular file with one "
+                               "name, which a lock file of rover always is; move it, or give another --out");
+    }
     if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
       ::close(fd_);
       fd_ = -1;
       throw std::runtime_error(held_message(results_path));
     }
-    if (!still_named(fd_, path_)) {
-      ::close(fd_);  // the previous holder removed it: lock the new one
-      continue;
-    }
-    if (is_lock_file(fd_)) return;
-    ::close(fd_);
-    fd_ = -1;
-    throw std::runtime_error(path_ + " is in the way of the result's lock: it holds data or has other names, "
-                             "which a lock file of rover never does; move it, or give another --out");
+    if (still_named(fd_, path_)) return;
+    ::close(fd_);  // the previous holder removed it: lock the new one
   }
 }
 
@@ -68,7 +76,7 @@ OutputLock::~OutputLock() {
 }
 
 bool OutputLock::held_elsewhere(const std::string& results_path) {
-  const int fd = ::open(path_for(results_path).c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
+  const int fd = ::open(path_for(results_path).c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK);
   if (fd < 0) return false;
   const bool held = ::flock(fd, LOCK_SH | LOCK_NB) != 0 && errno == EWOULDBLOCK;
   ::close(fd);

@@ -16,6 +16,7 @@
 // Every case stays well under a second of computing: 0.05 s drops with the
 // stiff integrator, two-sample studies, analytic models.
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <sys/un.h>
 #include <unistd.h>
 
@@ -2739,6 +2740,22 @@ TEST_F(Audit, EighthAuditStudyCases) {
     cases.push_back({"a study aimed at a result being written" + flag,
                      study_args("montecarlo", w().montecarlo([](Json&) {}), running) + flag, Want::kError,
                      {"another rover process is writing " + running}, unchanged(running + ".checkpoint")});
+  // Commands that are no study, aimed at a running study's files.
+  cases.push_back({"simulate --csv at a study's checkpoint", simulate(w().quick()) + " --csv " + running + ".checkpoint",
+                   Want::kError, {"ends in .checkpoint"}, unchanged(running + ".checkpoint")});
+  const std::string leftover = w().dir() + "/leftover.h5";
+  write_file(leftover + ".checkpoint", "ROVERCKP an interrupted study's runs\n");
+  cases.push_back({"synthesize --out at an interrupted study's checkpoint",
+                   "synthesize --scenario " + w().quick() + " --out " + leftover + ".checkpoint", Want::kError,
+                   {"ends in .checkpoint"}, unchanged(leftover + ".checkpoint")});
+  // What stands at <out>.lock: a FIFO (never opened blocking) and a link.
+  const std::string fifo_out = w().dir() + "/fifo.h5", link_out = w().dir() + "/link.h5";
+  ASSERT_EQ(::mkfifo((fifo_out + ".lock").c_str(), 0644), 0);
+  fs::create_symlink(w().dir() + "/elsewhere", link_out + ".lock");
+  cases.push_back({"a FIFO at <out>.lock", study_args("montecarlo", w().montecarlo([](Json&) {}), fifo_out),
+                   Want::kError, {"is in the way of the result's lock"}});
+  cases.push_back({"a symbolic link at <out>.lock", study_args("montecarlo", w().montecarlo([](Json&) {}), link_out),
+                   Want::kError, {"is a symbolic link, which no lock file of rover is"}});
   // Training runs that repeat: an evaluate of 4 (c_q, f) rows, each listed three times.
   std::string rows = "c_q,f\n";
   for (int copy = 0; copy < 3; ++copy) rows += "0.12,1500\n0.16,3000\n0.2,6000\n0.28,9000\n";
