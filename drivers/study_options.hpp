@@ -91,8 +91,7 @@ inline void check_leftover_checkpoint(FlagChecks& checks, const std::string& res
   std::vector<double> held{study::world_rank() == 0 && io::OutputLock::held_elsewhere(results_path) ? 1.0 : 0.0};
   study::broadcast_from_rank0(held);
   if (held[0] != 0.0) {
-    checks.add("another rover process is writing " + results_path + " now (it holds " +
-               io::OutputLock::path_for(results_path) + "): wait for it to finish, or give another --out");
+    checks.add(io::OutputLock::held_message(results_path));
     return;
   }
   const std::string checkpoint = io::ResultCheckpoint::path_for(results_path);

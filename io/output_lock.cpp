@@ -18,11 +18,6 @@ namespace {
 constexpr int kOpenFlags = O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK;
 constexpr mode_t kLockMode = 0644;
 
-std::string held_message(const std::string& results_path) {
-  return "another rover process is writing " + results_path + " now (it holds " + OutputLock::path_for(results_path) +
-         "): wait for it to finish, or give another --out";
-}
-
 // Whether `fd` is still the file at `path` (another holder may have removed
 // and re-made it between our open and our lock).
 bool still_named(int fd, const std::string& path) {
@@ -62,7 +57,7 @@ OutputLock::OutputLock(const std::string& results_path) : path_(path_for(results
     if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
       ::close(fd_);
       fd_ = -1;
-      throw std::runtime_error(held_message(results_path));
+      throw std::runtime_error(OutputLock::held_message(results_path));
     }
     if (still_named(fd_, path_)) return;
     ::close(fd_);  // the previous holder removed it: lock the new one
@@ -73,6 +68,11 @@ OutputLock::~OutputLock() {
   if (fd_ < 0) return;
   if (is_lock_file(fd_)) ::unlink(path_.c_str());  // while still held: the next process makes a new file
   ::close(fd_);
+}
+
+std::string OutputLock::held_message(const std::string& results_path) {
+  return "another rover process is writing " + results_path + " now (it holds " + path_for(results_path) +
+         "): wait for it to finish, or give another --out";
 }
 
 bool OutputLock::held_elsewhere(const std::string& results_path) {

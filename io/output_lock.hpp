@@ -25,6 +25,8 @@ class OutputLock {
   // Whether another process holds the lock of `results_path` now (a probe:
   // nothing is kept, and no lock file is made).
   static bool held_elsewhere(const std::string& results_path);
+  // "another rover process is writing <result> now ...": the refusal when it is.
+  static std::string held_message(const std::string& results_path);
 
  private:
   std::string path_;

@@ -129,11 +129,10 @@ std::string shared_runs(const TrainingRuns& training, const TrainingRuns& held_o
 long long repeated_runs(const TrainingRuns& runs) {
   std::vector<Eigen::Index> order(static_cast<std::size_t>(runs.runs()));
   std::iota(order.begin(), order.end(), Eigen::Index{0});
-  const auto row = [&](Eigen::Index i) {
-    const auto r = runs.x.row(i);
-    return std::vector<double>(r.begin(), r.end());
-  };
-  std::sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) { return row(a) < row(b); });
+  std::sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) {
+    const auto ra = runs.x.row(a), rb = runs.x.row(b);
+    return std::lexicographical_compare(ra.begin(), ra.end(), rb.begin(), rb.end());
+  });
   long long repeats = 0;
   for (std::size_t k = 1; k < order.size(); ++k) repeats += runs.x.row(order[k]) == runs.x.row(order[k - 1]) ? 1 : 0;
   return repeats;
