@@ -6,6 +6,7 @@
 #include <mpi.h>
 
 #include <csignal>
+#include <ctime>
 
 #include "io/checkpoint.hpp"
 #include "study/runtime/ordered_sink.hpp"
@@ -41,14 +42,31 @@ namespace {
 // The one piece of process-wide state: a signal handler can only reach a
 // static. Set by SIGINT/SIGTERM while an InterruptGuard is alive.
 std::atomic<bool> g_interrupted{false};
+std::atomic<long long> g_first_signal_ns{0};  // CLOCK_MONOTONIC time of the signal that set the flag
 using Handler = void (*)(int);
 Handler g_previous_int = SIG_DFL, g_previous_term = SIG_DFL;
 int g_guard_depth = 0;  // guards alive; only the outermost installs and restores the handlers
 
+long long monotonic_ns() {  // clock_gettime is async-signal-safe
+  constexpr long long kNanosecondsPerSecond = 1'000'000'000;
+  timespec now{};
+  clock_gettime(CLOCK_MONOTONIC, &now);
+  return static_cast<long long>(now.tv_sec) * kNanosecondsPerSecond + now.tv_nsec;
+}
+
 extern "C" void on_interrupt(int signal_number) {
-  g_interrupted.store(true);
-  // A second signal of the same kind kills as usual.
-  std::signal(signal_number, signal_number == SIGINT ? g_previous_int : g_previous_term);
+  const long long now_ns = monotonic_ns();
+  if (!g_interrupted.exchange(true)) {
+    g_first_signal_ns.store(now_ns);
+    return;
+  }
+  constexpr double kNanosecondsPerSecond = 1e9;
+  const auto since_first_ns = static_cast<double>(now_ns - g_first_signal_ns.load());
+  if (since_first_ns < InterruptGuard::kSignalRepeatWindow_s * kNanosecondsPerSecond) return;
+  // A later second signal kills as it would have without the guard.
+  const Handler previous = signal_number == SIGINT ? g_previous_int : g_previous_term;
+  std::signal(signal_number, previous == SIG_ERR ? SIG_DFL : previous);
+  std::raise(signal_number);
 }
 
 }  // namespace

@@ -59,10 +59,13 @@ class StudyInterrupted : public std::runtime_error {
 
 // While alive, SIGINT and SIGTERM set a flag that makes the running study stop
 // handing out work instead of killing the process (the finished runs are kept).
-// A second signal kills as usual. Guards nest: an inner one (a study run
+// A second signal kills as usual, unless it comes within kSignalRepeatWindow_s
+// of the first: `timeout`, batch systems and process groups often deliver one
+// request twice, and that is still the one request to stop. Guards nest: an inner one (a study run
 // inside the study driver's) keeps the outer one's flag and handlers.
 class InterruptGuard {
  public:
+  static constexpr double kSignalRepeatWindow_s = 1.0;
   InterruptGuard();
   ~InterruptGuard();
   InterruptGuard(const InterruptGuard&) = delete;

@@ -1,7 +1,11 @@
-// Checkpoint and resume of the study runner (study/runtime/study_runner.cpp), single process.
+// Checkpoint and resume of the study runner (study/runtime/study_runner.cpp),
+// single process, and the interrupt guard's handling of repeated signals.
 #include "study/runtime/study_runner.hpp"
 
+#include <chrono>
+#include <csignal>
 #include <filesystem>
+#include <thread>
 
 #include <gtest/gtest.h>
 
@@ -78,6 +82,34 @@ TEST(StudyRunner, WithoutResumeEverythingIsComputedAgain) {
   options.progress_interval_s = 0;
   run_study_tasks(3, [&](int i) { ++calls; return TaskResult{i, 0, "", {}}; }, options);
   EXPECT_EQ(calls, 3);
+}
+
+// `timeout` and batch systems send one stop request to the process and to its
+// group: the same signal twice at once is one request, not a kill.
+TEST(InterruptGuard, ASignalRepeatedAtOnceIsOneRequestToStop) {
+  EXPECT_EXIT(
+      {
+        const InterruptGuard guard;
+        std::raise(SIGTERM);
+        std::raise(SIGTERM);
+        std::exit(InterruptGuard::flag().load() ? 0 : 1);
+      },
+      ::testing::ExitedWithCode(0), "");
+}
+
+// A user who signals again after the window means it: the process dies of
+// the signal as it would without the guard.
+TEST(InterruptGuard, ASecondSignalAfterTheWindowKills) {
+  EXPECT_EXIT(
+      {
+        const InterruptGuard guard;
+        std::raise(SIGINT);
+        std::this_thread::sleep_for(
+            std::chrono::duration<double>(1.2 * InterruptGuard::kSignalRepeatWindow_s));
+        std::raise(SIGINT);
+        std::exit(0);
+      },
+      ::testing::KilledBySignal(SIGINT), "");
 }
 
 }  // namespace
