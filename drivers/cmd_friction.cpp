@@ -15,6 +15,7 @@
 #include "core/friction_synthesis.hpp"
 #include "core/model_scale.hpp"
 #include "drivers/command_registry.hpp"
+#include "drivers/held_outputs.hpp"
 #include "drivers/options.hpp"
 #include "io/json_reader.hpp"
 #include "io/plot.hpp"
@@ -133,6 +134,8 @@ int run_friction(const FrictionOptions& o) {
     throw CommandLineError({"no usable Makkar gammas for " + friction_values_text(p) + ": " + e.what() +
                             "; friction coefficients are of order 1"});
   }
+  HeldOutputs held;  // no other process writes the plot while this one does
+  held.hold("--png", o.png);
   std::cout << out.dump(2) << "\n";
   if (!from_config) std::cerr << "synthesized the gammas in " << seconds << " s\n";
   if (!quality.acceptable)

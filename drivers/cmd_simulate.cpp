@@ -12,6 +12,7 @@
 
 #include "core/friction_synthesis.hpp"
 #include "drivers/command_registry.hpp"
+#include "drivers/held_outputs.hpp"
 #include "drivers/interruptible_simulation.hpp"
 #include "drivers/options.hpp"
 #include "io/trajectory_io.hpp"
@@ -143,8 +144,9 @@ int run_simulate(const SimulateOptions& o) {
               << friction.mu_static << " within " << 100 * kFrictionMaxPeakError
               << " %); check `rover friction` for these mu_s, v_s, mu_k, v_k (recorded as "
                  "friction_fit_acceptable = 0 in the file)\n";
-  io::create_parent_directories(out);  // the run begins: its folders are made
-  if (!o.csv.empty()) io::create_parent_directories(o.csv);
+  HeldOutputs held;  // the run begins: its folders are made, and no other process writes its outputs
+  held.hold(out_flag, out);
+  held.hold("--csv", o.csv);
 
   std::cerr << "simulate: " << setup.scenario.name << ", " << setup.scenario.duration_s << " s, "
             << integrator_name(setup.scenario.integrator.method) << ", f = " << inputs.sharpness_f

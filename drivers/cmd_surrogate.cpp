@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "drivers/command_registry.hpp"
+#include "drivers/held_outputs.hpp"
 #include "drivers/launcher.hpp"
 #include "drivers/study_options.hpp"
 #include "io/csv.hpp"
@@ -50,7 +51,8 @@ int predict(const SurrogateOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   const study::PredictionTable table = study::predict_surrogate_set(set, x);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  io::create_parent_directories(o.csv_path);
+  HeldOutputs held;
+  held.hold("--csv", o.csv_path);
   io::write_csv(o.csv_path, table.header, table.columns);
   std::cerr << "surrogate: " << x.rows() << " points of " << set.models.size() << " " << study::surrogate_kind_name(set.kind)
             << " model(s) in " << 1e6 * seconds / static_cast<double>(x.rows()) << " us per point; wrote "

@@ -16,6 +16,7 @@
 
 #include "core/metrics.hpp"
 #include "drivers/command_registry.hpp"
+#include "drivers/held_outputs.hpp"
 #include "drivers/interruptible_simulation.hpp"
 #include "drivers/options.hpp"
 #include "io/csv.hpp"
@@ -148,7 +149,8 @@ int run_synthesize(const SynthesizeOptions& o) {
                               " m that rover compare and calibrate accept; give a noise sd in metres, far below "
                               "that; nothing was written"});
   const std::string comment = provenance_comment(o, scenario_path, in, setup.scenario.integrator, channel, seed);
-  io::create_parent_directories(o.out);
+  HeldOutputs held;
+  held.hold("--out", o.out);
   io::write_csv(o.out, {"t", "z"}, {t, z}, comment);
   std::cerr << "synthesize: wrote " << t.size() << " points of " << channel.name << " to " << o.out << "\n";
   return 0;

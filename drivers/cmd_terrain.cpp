@@ -12,6 +12,7 @@
 
 #include "core/obstacle.hpp"
 #include "drivers/command_registry.hpp"
+#include "drivers/held_outputs.hpp"
 #include "drivers/options.hpp"
 #include "io/plot.hpp"
 #include "io/terrain_json.hpp"
@@ -145,8 +146,9 @@ int run_obstacle(const ObstacleOptions& o) {
         {"y_max_m", obstacle.y_max_m},
         {"spacing_m", o.spacing_m},
         {"margin_m", o.margin_m}}}};
-  io::create_parent_directories(o.out);
-  if (!o.png.empty()) io::create_parent_directories(o.png);
+  HeldOutputs held;
+  held.hold("--out", o.out);
+  held.hold("--png", o.png);
   io::save_terrain_grid(grid, o.out, provenance);
 
   std::cout << "wrote " << o.out << ": " << grid.nx << " x " << grid.ny << " grid, spacing "

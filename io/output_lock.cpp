@@ -35,12 +35,12 @@ bool is_lock_file(int fd) {
 
 }  // namespace
 
-OutputLock::OutputLock(const std::string& results_path) : path_(path_for(results_path)) {
+OutputLock::OutputLock(const std::string& results_path, const std::string& flag) : path_(path_for(results_path)) {
   for (;;) {
     fd_ = ::open(path_.c_str(), kOpenFlags, kLockMode);
     if (fd_ < 0 && errno == ELOOP)
       throw std::runtime_error(path_ + " is a symbolic link, which no lock file of rover is: move it, or give "
-                               "another --out");
+                               "another " + flag);
     if (fd_ < 0)
       throw std::runtime_error("cannot make the lock file " + path_ + " beside the result: " + std::strerror(errno));
     struct stat opened {};
@@ -52,12 +52,12 @@ OutputLock::OutputLock(const std::string& results_path) : path_(path_for(results
       ::close(fd_);
       fd_ = -1;
       throw std::runtime_error(path_ + " is in the way of the result's lock: it is no empty regular file with one "
-                               "name, which a lock file of rover always is; move it, or give another --out");
+                               "name, which a lock file of rover always is; move it, or give another " + flag);
     }
     if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
       ::close(fd_);
       fd_ = -1;
-      throw std::runtime_error(OutputLock::held_message(results_path));
+      throw std::runtime_error(OutputLock::held_message(results_path, flag));
     }
     if (still_named(fd_, path_)) return;
     ::close(fd_);  // the previous holder removed it: lock the new one
@@ -70,9 +70,9 @@ OutputLock::~OutputLock() {
   ::close(fd_);
 }
 
-std::string OutputLock::held_message(const std::string& results_path) {
+std::string OutputLock::held_message(const std::string& results_path, const std::string& flag) {
   return "another rover process is writing " + results_path + " now (it holds " + path_for(results_path) +
-         "): wait for it to finish, or give another --out";
+         "): wait for it to finish, or give another " + flag;
 }
 
 bool OutputLock::held_elsewhere(const std::string& results_path) {

@@ -239,6 +239,11 @@ std::function<std::string()> unchanged(const std::string& path) {
   };
 }
 
+// An aftermath: nothing was written at `path`.
+std::function<std::string()> absent_file(const std::string& path) {
+  return [=] { return fs::exists(fs::symlink_status(path)) ? path + " was written" : std::string(); };
+}
+
 // An aftermath: `link` is still a symbolic link to `target`.
 std::function<std::string()> still_a_link(const std::string& link, const std::string& target) {
   return [=] {
@@ -2826,6 +2831,36 @@ TEST_F(Audit, EighthAuditStudyCases) {
   ASSERT_EQ(run_command(rover_binary() + " surrogate --predict " + unfitted + " --design " + point + " --csv " +
                             w().out("csv"), &log), 1) << log;
   EXPECT_NE(log.find("holds no fitted model"), std::string::npos) << log;
+}
+
+// One writer per file for the commands that are no study: while another
+// process holds the lock of a file (here the test, as a running study or
+// command would), simulate, synthesize, terrain and friction refuse to write
+// it, naming the flag, and leave it alone; once the lock is gone they write.
+TEST_F(Audit, OneProcessWritersTakeTheLock) {
+  std::vector<Case> cases;
+  const std::string dir = w().dir();
+  const std::string study_out = dir + "/running.h5", csv = dir + "/written.csv", json = dir + "/grid.json",
+                    png = dir + "/mu.png";
+  write_file(study_out, "the running study's earlier result\n");
+  const io::OutputLock study_lock(study_out), csv_lock(csv), json_lock(json), png_lock(png);
+  cases.push_back({"simulate --out at a running study's result",
+                   "simulate --no-plot --scenario " + w().quick() + " --out " + study_out, Want::kError,
+                   {"--out '" + study_out + "'", "another rover process is writing"}, unchanged(study_out)});
+  cases.push_back({"simulate --csv at a running study's result", simulate(w().quick()) + " --csv " + study_out,
+                   Want::kError, {"--csv '" + study_out + "'", "give another --csv"}, unchanged(study_out)});
+  cases.push_back({"synthesize --out at a file being written",
+                   "synthesize --scenario " + w().quick() + " --out " + csv, Want::kError,
+                   {"--out '" + csv + "'", "another rover process is writing"}, absent_file(csv)});
+  cases.push_back({"terrain obstacle --out at a file being written", "terrain obstacle --out " + json,
+                   Want::kError, {"--out '" + json + "'", "another rover process is writing"}, absent_file(json)});
+  cases.push_back({"friction --png at a file being written", "friction --png " + png, Want::kError,
+                   {"--png '" + png + "'", "another rover process is writing"}, absent_file(png)});
+  cases.push_back({"synthesize beside the locks", "synthesize --scenario " + w().quick() + " --out " + dir +
+                       "/free.csv", Want::kRuns, {}, [=] {
+                     return fs::exists(dir + "/free.csv.lock") ? "its lock file was left behind" : std::string();
+                   }});
+  run_table(dir, cases);
 }
 
 }  // namespace
