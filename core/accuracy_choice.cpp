@@ -2,6 +2,7 @@
 // frontier points (docs/model.md §9), cheapest first.
 #include "core/accuracy_choice.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <stdexcept>
@@ -66,6 +67,15 @@ IntegratorChoice integrator_for_accuracy(double accuracy_m) {
   most.description += " (the most accurate measured setting, " + number_text(most.measured_error_m) +
                       " m; " + number_text(accuracy_m) + " m asked)";
   return most;
+}
+
+std::optional<double> expected_error_m(const IntegratorSettings& settings) {
+  std::optional<double> error_m;
+  for (const FrontierPoint& p : kMeasuredFrontier)
+    if (p.method == settings.method && settings.relative_tolerance <= p.relative_tolerance &&
+        settings.absolute_tolerance <= p.absolute_tolerance)
+      error_m = std::min(error_m.value_or(p.worst_rms_error_m), p.worst_rms_error_m);
+  return error_m;
 }
 
 }  // namespace rover

@@ -5,6 +5,7 @@
 // worst scenario is within the accuracy asked.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "core/scenario.hpp"
@@ -28,5 +29,12 @@ inline constexpr double kMostAccuracy_m = 1e-12;
 // std::invalid_argument, naming the value and the range, unless
 // kMostAccuracy_m < accuracy_m < kLeastAccuracy_m (NaN included).
 IntegratorChoice integrator_for_accuracy(double accuracy_m);
+
+// The measured error to expect of `settings`: the worst RMS error of the
+// most accurate frontier setting of the same method that `settings` is at
+// least as tight as (rtol and atol no larger). nullopt where no such setting
+// was measured: tolerances looser than every measured one, or a method the
+// frontier does not hold (fixed-step rk4).
+std::optional<double> expected_error_m(const IntegratorSettings& settings);
 
 }  // namespace rover

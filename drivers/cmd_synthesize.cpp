@@ -6,7 +6,9 @@
 // comment header records all of them. Every bad flag is reported before the
 // simulation, and a sample count whose file would be absurdly large is
 // refused with its size.
+#include <algorithm>
 #include <cmath>
+#include <optional>
 #include <iostream>
 #include <sstream>
 #include <stdexcept>
@@ -14,6 +16,7 @@
 #include <boost/random/mersenne_twister.hpp>
 #include <boost/random/normal_distribution.hpp>
 
+#include "core/accuracy_choice.hpp"
 #include "core/metrics.hpp"
 #include "drivers/command_registry.hpp"
 #include "drivers/held_outputs.hpp"
@@ -31,6 +34,12 @@ constexpr const char* kDefaultScenario = "configs/scenarios/drop_horizontal.json
 constexpr double kBytesPerLine = 50.0;
 // A synthetic curve beyond 1 GB (2e7 points, 1 MHz over 20 s) is a mistake.
 constexpr double kMaxCurveBytes = 1e9;
+// Synthetic data are the truth a fit is meant to recover: their integration
+// error stays below this share of the noise sd (a tenth: it then moves a
+// fitted parameter by a small part of its standard error), and below
+// kNoiseFreeAccuracy_m for a curve without noise.
+constexpr double kIntegrationErrorPerNoiseSd = 0.1;
+constexpr double kNoiseFreeAccuracy_m = 1e-7;
 
 struct SynthesizeOptions {
   std::string scenario = kDefaultScenario;
@@ -75,6 +84,24 @@ void check_data_clock(const SynthesizeOptions& o, double duration_s, const std::
                             number_text(duration_s) + " s of " + scenario_path +
                             ", so a release after it leaves no data point after the release; give an offset "
                             "of at most " + number_text(duration_s) + " s"});
+}
+
+// The integrator that makes the data: the one asked for if its measured
+// error (core/accuracy_choice.hpp) is within the accuracy the noise asks,
+// else the cheapest measured setting that is, said on stderr.
+IntegratorSettings data_integrator(const IntegratorSettings& asked, const std::string& asked_by, double noise_m) {
+  const double accuracy_m = std::clamp(noise_m > 0.0 ? kIntegrationErrorPerNoiseSd * noise_m : kNoiseFreeAccuracy_m,
+                                       2.0 * kMostAccuracy_m, 0.5 * kLeastAccuracy_m);
+  const std::optional<double> expected = expected_error_m(asked);
+  if (expected && *expected <= accuracy_m) return asked;
+  const IntegratorChoice chosen = integrator_for_accuracy(accuracy_m);
+  std::cerr << "synthesize: " << asked_by << " (" << integrator_name(asked.method) << ", rtol "
+            << asked.relative_tolerance << ", atol " << asked.absolute_tolerance << ") "
+            << (expected ? "errs by up to " + number_text(*expected) + " m" : std::string("has no measured error"))
+            << "; the data need an integration error below " << number_text(accuracy_m) << " m ("
+            << (noise_m > 0.0 ? "a tenth of the noise sd" : "noise-free data")
+            << "), so they are made with " << chosen.description << "\n";
+  return chosen.settings;
 }
 
 // The CSV's header comment: what made the curve, so it is never taken for
@@ -125,6 +152,8 @@ int run_synthesize(const SynthesizeOptions& o) {
   // A different method comes with its own default tolerances, as in `rover simulate`.
   if (!o.integrator.empty())
     setup.scenario.integrator = default_integrator_settings(integrator_from_name(o.integrator));
+  setup.scenario.integrator = data_integrator(
+      setup.scenario.integrator, o.integrator.empty() ? "the scenario's integrator" : "--integrator", o.noise_m);
   check_data_clock(o, setup.scenario.duration_s, scenario_path);
   const ModelInputs in = apply_overrides(o.overrides, setup.inputs);
   const Trajectory tr = simulate_interruptibly(setup.model, setup.scenario, in);

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -54,6 +55,31 @@ TEST(AccuracyChoice, BeyondTheFrontierSaysSo) {
   const IntegratorChoice c = integrator_for_accuracy(2e-12);
   EXPECT_GT(c.measured_error_m, 2e-12);
   EXPECT_NE(c.description.find("most accurate"), std::string::npos) << c.description;
+}
+
+TEST(AccuracyChoice, ExpectedErrorFollowsTheTolerances) {
+  // Every chosen setting is expected to meet the accuracy it was chosen for;
+  // tightening both tolerances never raises the expected error.
+  for (const double accuracy_m : {5e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9}) {
+    IntegratorSettings s = integrator_for_accuracy(accuracy_m).settings;
+    const std::optional<double> chosen = expected_error_m(s);
+    ASSERT_TRUE(chosen.has_value()) << accuracy_m;
+    EXPECT_LE(*chosen, accuracy_m);
+    s.relative_tolerance /= 10.0;
+    s.absolute_tolerance /= 10.0;
+    EXPECT_LE(expected_error_m(s).value_or(0.0), *chosen) << accuracy_m;
+  }
+  // The defaults: the reference within a nanometre, the stiff method within
+  // the studies' 0.05 mm.
+  EXPECT_LE(expected_error_m(default_integrator_settings(IntegratorMethod::kDormandPrince45)).value(), 1e-9);
+  const double stiff = expected_error_m(default_integrator_settings(IntegratorMethod::kRosenbrockW)).value();
+  EXPECT_GT(stiff, 1e-6);
+  EXPECT_LE(stiff, 5e-5);
+  // Nothing measured: looser than the loosest setting, or a fixed step.
+  IntegratorSettings loose = default_integrator_settings(IntegratorMethod::kRosenbrockW);
+  loose.relative_tolerance = 1e-2;
+  EXPECT_FALSE(expected_error_m(loose).has_value());
+  EXPECT_FALSE(expected_error_m(default_integrator_settings(IntegratorMethod::kRungeKutta4)).has_value());
 }
 
 TEST(AccuracyChoice, RefusesAccuraciesOutsideTheRange) {

@@ -2863,5 +2863,24 @@ TEST_F(Audit, OneProcessWritersTakeTheLock) {
   run_table(dir, cases);
 }
 
+// Synthetic data are a known truth: their integration error stays below a
+// tenth of their noise (else a fit recovers the integrator's error, not the
+// parameters), whatever integrator was asked for; the header says which ran.
+TEST_F(Audit, SyntheticDataOutrunTheirNoise) {
+  std::vector<Case> cases;
+  const std::string fine = w().out("csv"), coarse = w().out("csv");
+  auto header_lacks = [](const std::string& path, const std::string& text) {
+    return [=] { return file_bytes(path).find(text) == std::string::npos ? std::string() : path + " says " + text; };
+  };
+  cases.push_back({"the stiff default against 0.01 mm of noise",
+                   "synthesize --scenario " + w().quick() + " --integrator rosenbrock --noise 1e-5 --out " + fine,
+                   Want::kRuns, {"errs by up to", "below 1e-06 m (a tenth of the noise sd)", "so they are made with"},
+                   header_lacks(fine, "atol 0.0002")});
+  cases.push_back({"the stiff default against 1 mm of noise",
+                   "synthesize --scenario " + w().quick() + " --integrator rosenbrock --noise 1e-3 --out " + coarse,
+                   Want::kRuns, {"wrote"}, header_lacks(coarse, "atol 1e-"), {}, {"so they are made with"}});
+  run_table(w().dir(), cases);
+}
+
 }  // namespace
 }  // namespace rover
