@@ -94,30 +94,54 @@ std::string first_difference(const io::Json& file, const io::Json& study) {
 // The runs of a file were made on the study's scenario and rover: the
 // scenario and rover configs the file records (/ scenario_json, rover_json)
 // equal the study's, up to names, descriptions and file paths.
-void check_scenario(const FileErrors& errors, const io::Hdf5Reader& h5, const SurrogateStudy& study) {
-  if (!study.spec.rover) return;
+void check_scenario(const FileErrors& errors, const io::Hdf5Reader& h5, const SurrogateStudy& study,
+                    TrainingRuns& runs) {
+  if (!study.spec.rover) return;  // an analytic model: no scenario
   const io::ScenarioSources& sources = study.spec.rover->sources();
   const std::pair<const char*, const io::Json*> configs[] = {{"scenario", &sources.scenario},
                                                              {"rover", &sources.rover}};
+  std::vector<std::string> unrecorded;
   for (const auto& [what, config] : configs) {
     const std::string attribute = std::string(what) + "_json";
-    if (!h5.has_attribute("/", attribute)) continue;  // a file of an analytic model, or of an older version
+    if (!h5.has_attribute("/", attribute)) {  // a file of an analytic model, or of an earlier version
+      unrecorded.push_back(what);
+      continue;
+    }
     const io::Json recorded = io::Json::parse(h5.attribute_string("/", attribute), nullptr, /*allow_exceptions=*/false);
     if (const std::string difference = first_difference(recorded, *config); !difference.empty())
       errors.fail(std::string("were made on another ") + what + " than the study's " +
                   (what == std::string("scenario") ? sources.scenario_path : sources.rover_path) + ": " + difference +
                   "; name the " + what + " file the runs were made on");
   }
+  if (unrecorded.empty()) return;
+  const std::string which = unrecorded.size() == 1 ? unrecorded[0] : "scenario and rover";
+  runs.unchecked_provenance = errors.path + " records no " + which + " config (" +
+                              (unrecorded.size() == 1 ? "/" + which + "_json" : "/scenario_json, /rover_json") +
+                              "; a file of an earlier version or of an analytic model): its runs cannot be checked "
+                              "against the study's " + which + "; make sure they were made on them";
+}
+
+// Per input, the distance within which two runs are one (kSameRunRelativeDistance).
+Eigen::RowVectorXd same_run_distances(const DesignMatrix& x) {
+  if (x.rows() == 0) return Eigen::RowVectorXd::Zero(x.cols());
+  const Eigen::RowVectorXd span = x.colwise().maxCoeff() - x.colwise().minCoeff();
+  const Eigen::RowVectorXd magnitude = x.cwiseAbs().colwise().maxCoeff();
+  return kSameRunRelativeDistance * (span.array() > 0.0).select(span, magnitude);
+}
+
+bool same_run(const auto& a, const auto& b, const Eigen::RowVectorXd& distance) {
+  return ((a - b).cwiseAbs().array() <= distance.array()).all();
 }
 
 }  // namespace
 
 std::string shared_runs(const TrainingRuns& training, const TrainingRuns& held_out) {
+  const Eigen::RowVectorXd distance = same_run_distances(training.x);
   long long shared = 0;
   std::string first;
   for (Eigen::Index i = 0; i < held_out.x.rows(); ++i)
     for (Eigen::Index j = 0; j < training.x.rows(); ++j) {
-      if (held_out.x.row(i) != training.x.row(j)) continue;
+      if (!same_run(held_out.x.row(i), training.x.row(j), distance)) continue;
       if (shared++ == 0) first = "held-out run " + std::to_string(i) + " is training run " + std::to_string(j);
       break;
     }
@@ -133,8 +157,10 @@ long long repeated_runs(const TrainingRuns& runs) {
     const auto ra = runs.x.row(a), rb = runs.x.row(b);
     return std::lexicographical_compare(ra.begin(), ra.end(), rb.begin(), rb.end());
   });
+  const Eigen::RowVectorXd distance = same_run_distances(runs.x);
   long long repeats = 0;
-  for (std::size_t k = 1; k < order.size(); ++k) repeats += runs.x.row(order[k]) == runs.x.row(order[k - 1]) ? 1 : 0;
+  for (std::size_t k = 1; k < order.size(); ++k)
+    repeats += same_run(runs.x.row(order[k]), runs.x.row(order[k - 1]), distance) ? 1 : 0;
   return repeats;
 }
 
@@ -149,6 +175,7 @@ TrainingRuns TrainingRuns::slice(int first, int count) const {
   out.y = y.middleRows(first, count);
   out.status.assign(status.begin() + first, status.begin() + first + count);
   out.messages.assign(messages.begin() + first, messages.begin() + first + count);
+  out.unchecked_provenance = unchecked_provenance;
   for (const Eigen::MatrixXd& c : curves) out.curves.push_back(c.middleRows(first, count));
   return out;
 }
@@ -186,7 +213,7 @@ TrainingRuns read_result_runs(const std::string& path, const SurrogateStudy& stu
   for (Eigen::Index i = 0; i < runs.x.rows(); ++i)
     if (runs.status[static_cast<std::size_t>(i)] != run_status::kOk) runs.y.row(i).setConstant(std::nan(""));
   check_support(errors, runs, study);
-  check_scenario(errors, h5, study);
+  check_scenario(errors, h5, study, runs);
   return runs;
 }
 

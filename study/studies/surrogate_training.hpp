@@ -27,6 +27,9 @@ struct TrainingRuns {
   // Per channel of the study: runs x time samples, NaN where a run failed
   // (a design's runs only).
   std::vector<Eigen::MatrixXd> curves;
+  // Non-empty when the file records no scenario or rover config (a file of
+  // an earlier version): why its runs could not be checked against the study's.
+  std::string unchecked_provenance;
 
   int runs() const { return static_cast<int>(x.rows()); }
   int failed_runs() const;
@@ -34,11 +37,17 @@ struct TrainingRuns {
   TrainingRuns slice(int first, int count) const;
 };
 
-// How many runs have the inputs of an earlier run (in sorted order).
+// Two runs are one run when every input differs by at most this share of
+// its span over the training runs (of its magnitude where it does not vary):
+// a surrogate cannot tell them apart, so a copy validates nothing.
+inline constexpr double kSameRunRelativeDistance = 1e-6;
+
+// How many runs have the inputs of an earlier run (in sorted order), equal
+// within kSameRunRelativeDistance.
 long long repeated_runs(const TrainingRuns& runs);
 
-// Empty unless held-out runs repeat training runs (equal inputs); then how
-// many, and the first pair.
+// Empty unless held-out runs repeat training runs (inputs equal within
+// kSameRunRelativeDistance); then how many, and the first pair.
 std::string shared_runs(const TrainingRuns& training, const TrainingRuns& held_out);
 
 // Reads the runs of a result file for the study's inputs and QoIs. Columns

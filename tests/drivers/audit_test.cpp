@@ -2882,5 +2882,53 @@ TEST_F(Audit, SyntheticDataOutrunTheirNoise) {
   run_table(w().dir(), cases);
 }
 
+// A copy of the runs of result `from` (inputs times `input_factor`, QoI
+// B_l_z_min, statuses) at `to`, with the scenario and rover configs the
+// result records or, as a file of an earlier version, without them.
+void copy_runs(const std::string& from, const std::string& to, double input_factor, bool with_configs) {
+  const io::Hdf5Reader in(from);
+  io::Hdf5Writer out(to);
+  out.write("/inputs/names", in.read_strings("/inputs/names"));
+  out.write("/inputs/values", Eigen::MatrixXd(input_factor * in.read_matrix("/inputs/values")));
+  out.write("/qoi/B_l_z_min", in.read_doubles("/qoi/B_l_z_min"));
+  out.write("/samples/status", in.read_ints("/samples/status"));
+  for (const char* config : {"scenario_json", "rover_json"})
+    if (with_configs) out.attribute("/", config, in.attribute_string("/", config));
+  out.commit();
+}
+
+// Surrogates on runs whose origin or novelty cannot be shown: a training
+// file that records no scenario is named in a warning; held-out runs a
+// rounding away from training runs are training runs.
+TEST_F(Audit, SurrogateRunsOfUnknownOriginOrNoNovelty) {
+  std::vector<Case> cases;
+  const Json parameters = {{"c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.3}}}};
+  const std::string landing = w().scenario([](Json& j) { j["duration"] = 0.3; });
+  const std::string trained = w().out();
+  std::string log;
+  ASSERT_EQ(run_command(rover_binary() + " " + study_args("montecarlo", w().montecarlo([&](Json& j) {
+              j["scenario"] = landing;
+              j["parameters"] = parameters;
+              j["design"] = {{"type", "latin_hypercube"}, {"samples", 8}, {"seed", 3}};
+              j["qoi"] = {"B_l_z_min"};
+            }), trained), &log), 0) << log;
+  auto surrogate = [&](const std::string& training, const std::string& held_out) {
+    Json j{{"type", "surrogate"}, {"name", "gp"}, {"surrogate", "gp"}, {"scenario", landing},
+           {"training", {{"file", training}}}, {"parameters", parameters}, {"qoi", {"B_l_z_min"}}};
+    if (!held_out.empty()) j["held_out"] = {{"file", held_out}};
+    return study("surrogate", w().json_file("surrogate", j));
+  };
+  const std::string older = w().out(), nudged = w().out();
+  copy_runs(trained, older, 1.0, /*with_configs=*/false);
+  copy_runs(trained, nudged, 1.0 + 1e-9, /*with_configs=*/true);
+  cases.push_back({"training runs that record no scenario", surrogate(older, ""), Want::kRuns,
+                   {"warning: training runs: " + older + " records no scenario and rover config", "cannot be checked"}});
+  cases.push_back({"training runs that record their scenario", surrogate(trained, ""), Want::kRuns, {}, {}, {},
+                   {"records no"}});
+  cases.push_back({"held-out runs at the training inputs times 1 + 1e-9", surrogate(trained, nudged), Want::kError,
+                   {"'held_out.file'", "8 of the 8 held-out runs", "are training runs too"}});
+  run_table(w().dir(), cases);
+}
+
 }  // namespace
 }  // namespace rover
