@@ -69,8 +69,10 @@ void write_base_provenance(io::Hdf5Writer& h5, const std::string& type, const st
   h5.attribute("/", "project_version", ROVER_VERSION);
 }
 
-void write_study_provenance(io::Hdf5Writer& h5, const StudySpec& spec, const std::string& fingerprint) {
-  const IntegratorSettings* integrator = spec.rover ? &spec.rover->nominal().scenario.integrator : nullptr;
+void write_study_provenance(io::Hdf5Writer& h5, const StudySpec& spec, const std::string& fingerprint,
+                            const IntegratorSettings* runs_integrator) {
+  const IntegratorSettings* integrator =
+      runs_integrator != nullptr ? runs_integrator : spec.rover ? &spec.rover->nominal().scenario.integrator : nullptr;
   write_base_provenance(h5, spec.type, spec.name, spec.path, integrator, fingerprint);
   h5.attribute("/", "description", spec.description);
   if (spec.rover) {

@@ -33,7 +33,10 @@ void write_base_provenance(io::Hdf5Writer& h5, const std::string& type, const st
 
 // Root attributes: study (type), name, description, study_file, study_json,
 // scenario / model, integrator, rtol, atol, ranks, fingerprint, project_version.
-void write_study_provenance(io::Hdf5Writer& h5, const StudySpec& spec, const std::string& fingerprint);
+// `runs_integrator`, when given, is recorded instead of the spec's: the
+// integrator that made runs the study read from a file.
+void write_study_provenance(io::Hdf5Writer& h5, const StudySpec& spec, const std::string& fingerprint,
+                            const IntegratorSettings* runs_integrator = nullptr);
 
 // /inputs/names (d), /inputs/labels (d), /inputs/distributions (d, described)
 // and /inputs/values (N x d).

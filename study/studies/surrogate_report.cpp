@@ -206,7 +206,8 @@ void plot_band(const std::string& png, const PceChannelResult& c, const std::vec
 }  // namespace
 
 void write_surrogate_study(io::Hdf5Writer& h5, const SurrogateStudy& study, const SurrogateStudyResult& r) {
-  write_study_provenance(h5, study.spec, study.spec.fingerprint);
+  write_study_provenance(h5, study.spec, study.spec.fingerprint,
+                         r.training.integrator ? &*r.training.integrator : nullptr);
   write_study_inputs(h5, study.spec, r.training.x);
   write_runs(h5, "", study, r.training);
   if (r.held_out.runs() > 0) {

@@ -149,6 +149,8 @@ std::vector<std::string> study_warnings(const SurrogateStudy& study, const Surro
     w.push_back(std::to_string(repeats) + " of " + std::to_string(r.training.runs()) + " training runs repeat " +
                 "the inputs of another: leave-one-out Q2 leaves one copy out while the others stay in the fit, " +
                 "so it overstates the accuracy; drop the repeats, or judge by held-out runs");
+  if (const std::string mismatch = integrator_mismatch(study, r.training, r.held_out); !mismatch.empty())
+    w.push_back(mismatch);
   if (!r.training.unchecked_provenance.empty()) w.push_back("training runs: " + r.training.unchecked_provenance);
   if (!r.held_out.unchecked_provenance.empty() && r.held_out.source != r.training.source)
     w.push_back("held-out runs: " + r.held_out.unchecked_provenance);

@@ -121,6 +121,30 @@ void check_scenario(const FileErrors& errors, const io::Hdf5Reader& h5, const Su
                               "against the study's " + which + "; make sure they were made on them";
 }
 
+// The integrator a result records (/ integrator, rtol, atol), if it does.
+std::optional<IntegratorSettings> recorded_integrator(const io::Hdf5Reader& h5) {
+  if (!h5.has_attribute("/", "integrator") || !h5.has_attribute("/", "rtol") || !h5.has_attribute("/", "atol"))
+    return std::nullopt;
+  try {
+    IntegratorSettings s = default_integrator_settings(integrator_from_name(h5.attribute_string("/", "integrator")));
+    s.relative_tolerance = h5.attribute_double("/", "rtol");
+    s.absolute_tolerance = h5.attribute_double("/", "atol");
+    return s;
+  } catch (const std::invalid_argument&) {  // a method of no version of rover: nothing to compare
+    return std::nullopt;
+  }
+}
+
+std::string integrator_text(const IntegratorSettings& s) {
+  return std::string(integrator_name(s.method)) + " (rtol " + number_text(s.relative_tolerance) + ", atol " +
+         number_text(s.absolute_tolerance) + ")";
+}
+
+bool same_integrator(const IntegratorSettings& a, const IntegratorSettings& b) {
+  return a.method == b.method && a.relative_tolerance == b.relative_tolerance &&
+         a.absolute_tolerance == b.absolute_tolerance;
+}
+
 // Per input, the distance within which two runs are one (kSameRunRelativeDistance).
 Eigen::RowVectorXd same_run_distances(const DesignMatrix& x) {
   if (x.rows() == 0) return Eigen::RowVectorXd::Zero(x.cols());
@@ -134,6 +158,22 @@ bool same_run(const auto& a, const auto& b, const Eigen::RowVectorXd& distance) 
 }
 
 }  // namespace
+
+std::string integrator_mismatch(const SurrogateStudy& study, const TrainingRuns& training,
+                                const TrainingRuns& held_out) {
+  if (!study.spec.rover) return "";
+  const IntegratorSettings& own = study.spec.rover->nominal().scenario.integrator;
+  const IntegratorSettings& trained_with = training.integrator.value_or(own);
+  std::string text;
+  if (!same_integrator(trained_with, own))
+    text = "the training runs were made with " + integrator_text(trained_with) + ", not the study's " +
+           integrator_text(own) + ": the surrogate stands for the training runs' integrator, and the result records it";
+  if (held_out.integrator && !same_integrator(*held_out.integrator, trained_with))
+    text += std::string(text.empty() ? "" : "; ") + "the held-out runs were made with " +
+            integrator_text(*held_out.integrator) + ", the training runs with " + integrator_text(trained_with) +
+            ": the held-out Q2 includes the difference of the two integrators";
+  return text;
+}
 
 std::string shared_runs(const TrainingRuns& training, const TrainingRuns& held_out) {
   const Eigen::RowVectorXd distance = same_run_distances(training.x);
@@ -176,6 +216,7 @@ TrainingRuns TrainingRuns::slice(int first, int count) const {
   out.status.assign(status.begin() + first, status.begin() + first + count);
   out.messages.assign(messages.begin() + first, messages.begin() + first + count);
   out.unchecked_provenance = unchecked_provenance;
+  out.integrator = integrator;
   for (const Eigen::MatrixXd& c : curves) out.curves.push_back(c.middleRows(first, count));
   return out;
 }
@@ -214,6 +255,7 @@ TrainingRuns read_result_runs(const std::string& path, const SurrogateStudy& stu
     if (runs.status[static_cast<std::size_t>(i)] != run_status::kOk) runs.y.row(i).setConstant(std::nan(""));
   check_support(errors, runs, study);
   check_scenario(errors, h5, study, runs);
+  runs.integrator = recorded_integrator(h5);
   return runs;
 }
 

@@ -7,6 +7,7 @@
 // leaves them out.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,9 @@ struct TrainingRuns {
   // Non-empty when the file records no scenario or rover config (a file of
   // an earlier version): why its runs could not be checked against the study's.
   std::string unchecked_provenance;
+  // The integrator the file records its runs were made with (none for a
+  // design's runs, which use the study's).
+  std::optional<IntegratorSettings> integrator;
 
   int runs() const { return static_cast<int>(x.rows()); }
   int failed_runs() const;
@@ -41,6 +45,11 @@ struct TrainingRuns {
 // its span over the training runs (of its magnitude where it does not vary):
 // a surrogate cannot tell them apart, so a copy validates nothing.
 inline constexpr double kSameRunRelativeDistance = 1e-6;
+
+// Empty unless runs of a file were made with another integrator than the
+// study's or than the training runs': then what differs and what it means.
+std::string integrator_mismatch(const SurrogateStudy& study, const TrainingRuns& training,
+                                const TrainingRuns& held_out);
 
 // How many runs have the inputs of an earlier run (in sorted order), equal
 // within kSameRunRelativeDistance.

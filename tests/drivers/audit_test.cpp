@@ -2912,6 +2912,14 @@ TEST_F(Audit, SurrogateRunsOfUnknownOriginOrNoNovelty) {
               j["design"] = {{"type", "latin_hypercube"}, {"samples", 8}, {"seed", 3}};
               j["qoi"] = {"B_l_z_min"};
             }), trained), &log), 0) << log;
+  const std::string dopri_runs = w().out();
+  ASSERT_EQ(run_command(rover_binary() + " " + study_args("montecarlo", w().montecarlo([&](Json& j) {
+              j["scenario"] = landing;
+              j["integrator"] = {{"method", "dopri5"}};
+              j["parameters"] = parameters;
+              j["design"] = {{"type", "latin_hypercube"}, {"samples", 4}, {"seed", 5}};
+              j["qoi"] = {"B_l_z_min"};
+            }), dopri_runs), &log), 0) << log;
   auto surrogate = [&](const std::string& training, const std::string& held_out) {
     Json j{{"type", "surrogate"}, {"name", "gp"}, {"surrogate", "gp"}, {"scenario", landing},
            {"training", {{"file", training}}}, {"parameters", parameters}, {"qoi", {"B_l_z_min"}}};
@@ -2927,6 +2935,21 @@ TEST_F(Audit, SurrogateRunsOfUnknownOriginOrNoNovelty) {
                    {"records no"}});
   cases.push_back({"held-out runs at the training inputs times 1 + 1e-9", surrogate(trained, nudged), Want::kError,
                    {"'held_out.file'", "8 of the 8 held-out runs", "are training runs too"}});
+  // Training runs of one integrator under a study that names another: the
+  // result records the integrator that made the runs, and says so.
+  const std::string labelled = w().out();
+  cases.push_back({"training runs of rosenbrock under a study saying dopri5",
+                   study_args("surrogate", w().json_file("surrogate", Json{
+                       {"type", "surrogate"}, {"name", "gp"}, {"surrogate", "gp"}, {"scenario", landing},
+                       {"integrator", {{"method", "dopri5"}}}, {"training", {{"file", trained}}},
+                       {"parameters", parameters}, {"qoi", {"B_l_z_min"}}}), labelled),
+                   Want::kRuns, {"the training runs were made with rosenbrock", "not the study's dopri5"}, [=] {
+                     const std::string made_with = io::Hdf5Reader(trained).attribute_string("/", "integrator");
+                     const std::string recorded = io::Hdf5Reader(labelled).attribute_string("/", "integrator");
+                     return recorded == made_with ? std::string() : "the result records " + recorded;
+                   }});
+  cases.push_back({"held-out runs of dopri5 beside training runs of rosenbrock", surrogate(trained, dopri_runs),
+                   Want::kRuns, {"the held-out runs were made with dopri5", "the held-out Q2 includes"}});
   run_table(w().dir(), cases);
 }
 
