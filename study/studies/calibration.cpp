@@ -31,6 +31,7 @@
 #include "study/model/distribution_json.hpp"
 #include "study/estimators/least_squares_uncertainty.hpp"
 #include "study/estimators/residual_correlation.hpp"
+#include "study/studies/calibration_lack_of_fit.hpp"
 #include "study/runtime/study_runner.hpp"
 
 namespace rover::study {
@@ -159,28 +160,6 @@ std::string fit_misses_the_data(const CalibrationStudy& s, const CalibrationFitR
          "of the channel named in the study?";
 }
 
-// Rank 0: why the best fit leaves structure in its residuals, or empty: a
-// curve's residuals are correlated from one data point to the next
-// (residual_correlation.hpp), so the model does not follow the curve, or the
-// noise is not independent; either way the intervals are too narrow.
-std::string fit_leaves_structure(const CalibrationStudy& s, const CalibrationFitResult& r) {
-  std::string structured;
-  for (std::size_t k = 0; k < s.datasets.size() && k < r.curve_residual_lag1.size(); ++k) {
-    ResidualCorrelation c;
-    c.points = s.datasets[k].t.size();
-    c.lag1 = r.curve_residual_lag1[k];
-    if (!c.model_leaves_structure()) continue;
-    structured += std::string(structured.empty() ? "" : "; ") + s.datasets[k].path + ": lag-1 autocorrelation " +
-                  format_number(c.lag1, 3) + ", independent noise stays below " +
-                  format_number(c.white_noise_bound(), 2) + "; intervals too narrow by about " +
-                  format_number(c.interval_narrowing(), 2) + "x";
-  }
-  if (structured.empty()) return "";
-  return "the residuals are correlated (" + structured + "): the model does not follow the data (data of " +
-         "another scenario or channel? a missing effect?) or the noise is filtered, and the intervals assume " +
-         "independent noise";
-}
-
 }  // namespace
 
 CalibrationFitResult run_calibration_fit(const CalibrationStudy& s, const StudyRunOptions& control,
@@ -202,7 +181,7 @@ CalibrationFitResult run_calibration_fit(const CalibrationStudy& s, const StudyR
   r.trusted = trusted[0] != 0.0;
   if (world_rank() == 0) {
     fitted_curves(s, r);
-    for (const std::string& flaw : {fit_leaves_structure(s, r), fit_misses_the_data(s, r), fit_failed_curves(s, r)}) {
+    for (const std::string& flaw : {residual_structure_reason(s, r.curve_residual_lag1), fit_misses_the_data(s, r), fit_failed_curves(s, r)}) {
       if (flaw.empty()) continue;
       r.not_valid_because = flaw + (r.not_valid_because.empty() ? "" : "; " + r.not_valid_because);
       r.trusted = false;

@@ -1,4 +1,5 @@
 // See calibration_mcmc.hpp.
+#include "study/studies/calibration_lack_of_fit.hpp"
 #include "study/studies/calibration_mcmc.hpp"
 
 #include <algorithm>
@@ -258,7 +259,7 @@ bool target_met(const ChainDiagnostics& d, const McmcSettings& m, std::string* p
   const double ess = d.effective_sample_size.size() ? d.effective_sample_size.minCoeff() : 0.0;
   const double rhat = d.nested_rhat.size() ? d.nested_rhat.maxCoeff() : INFINITY;
   *progress = "smallest effective sample size " + format_number(ess, 3) + " (target " + format_number(m.target_ess, 3) +
-              "), largest nested R-hat " + format_number(rhat, 4) + " (target < " + format_number(m.max_rhat, 4) + ")";
+              "), largest nested R-hat " + format_number(rhat, 5) + " (target < " + format_number(m.max_rhat, 5) + ")";
   return ess >= m.target_ess && rhat < m.max_rhat;
 }
 
@@ -551,6 +552,12 @@ CalibrationPosterior run_calibration_mcmc(const CalibrationStudy& s, const Study
   if (world_rank() != 0) return posterior;
   posterior.predictive_draws = static_cast<int>(runs.model.size());
   posterior.predictive = predictive_bands(s, runs, s.mcmc.seed);
+  const std::vector<double> map(posterior.summary.map.begin(),
+                                posterior.summary.map.begin() + static_cast<std::ptrdiff_t>(s.fit.size()));
+  LackOfFit lack = lack_of_fit_at(s, map, s.mcmc.sample_noise ? 0.0 : s.mcmc.known_noise_sd_m);
+  posterior.residual_lag1 = std::move(lack.residual_lag1);
+  posterior.residual_rms_m = std::move(lack.residual_rms_m);
+  posterior.lack_of_fit = std::move(lack.reason);
   return posterior;
 }
 

@@ -23,7 +23,9 @@
 // The chains run until every parameter's effective sample size and nested
 // R-hat meet the study's target (McmcSettings), printing their progress; a
 // chain that ends at its step limit without meeting them is written with
-// /diagnostics mixed = 0 and the program exits with status 2.
+// /diagnostics mixed = 0 and the program exits with status 2. So is a
+// posterior whose MAP leaves correlated residuals, or residuals far above a
+// given noise sd (calibration_lack_of_fit.hpp): /diagnostics lack_of_fit.
 //
 // Parallel: all ranks step the sampler in lockstep (its proposals depend only
 // on the state and the seed); the proposals of a step are evaluated in ONE
@@ -98,6 +100,14 @@ struct CalibrationPosterior {
   int predictive_draws = 0;                // draws that ran
   bool mixed = true;                       // the target was met (or none was set)
   std::string not_mixed_because;
+  // At the MAP (calibration_lack_of_fit.hpp): per curve, the residuals' lag-1
+  // autocorrelation and RMS, and why the model does not describe the data
+  // (empty when it does).
+  std::vector<double> residual_lag1, residual_rms_m;
+  std::string lack_of_fit;
+
+  // Mixed, and describing the data: a posterior to use.
+  bool valid() const { return mixed && lack_of_fit.empty(); }
 };
 
 // Where a posterior starts: the converged fit (values in the order of

@@ -34,6 +34,9 @@ void write_diagnostics(const CalibrationPosterior& posterior, const McmcSettings
   h5.attribute("/diagnostics", "warning", d.warning);
   h5.attribute("/diagnostics", "mixed", static_cast<long long>(posterior.mixed));
   h5.attribute("/diagnostics", "not_mixed_because", posterior.not_mixed_because);
+  h5.write("/diagnostics/residual_lag1", posterior.residual_lag1);
+  h5.write("/diagnostics/residual_rms", posterior.residual_rms_m);
+  h5.attribute("/diagnostics", "lack_of_fit", posterior.lack_of_fit);
   h5.attribute("/diagnostics", "target_ess", m.target_ess);
   h5.attribute("/diagnostics", "max_rhat", m.max_rhat);
 }
@@ -95,6 +98,9 @@ void report_calibration_posterior(const CalibrationPosterior& posterior, const C
   if (!posterior.mixed)
     out << "calibrate: WARNING: the posterior is NOT VALID: " << posterior.not_mixed_because
         << " (written with /diagnostics mixed = 0; exit status 2)\n";
+  if (!posterior.lack_of_fit.empty())
+    out << "calibrate: WARNING: the posterior is NOT VALID: " << posterior.lack_of_fit
+        << " (written with /diagnostics lack_of_fit; exit status 2)\n";
   out << "calibrate: posterior from the " << posterior.sampler << " sampler, " << posterior.chains << " chains x "
       << posterior.steps << " steps (first " << posterior.discard << " discarded); time offset "
       << (s.offset_fitted() ? "sampled" : "profiled (best offset for each proposal)") << "\n";
@@ -105,10 +111,14 @@ void report_calibration_posterior(const CalibrationPosterior& posterior, const C
     out << "  " << posterior.names[k] << " = " << format_number(m.mean[k], 6) << " +- " << format_number(m.sd[k], 3)
         << " (sd); 95 % [" << format_number(m.q025[k], 6) << ", " << format_number(m.q975[k], 6) << "]; MAP "
         << format_number(m.map[k], 6) << "; tau " << format_number(d.autocorrelation_time[i], 3) << ", ESS "
-        << format_number(d.effective_sample_size[i], 3) << ", nested R-hat " << format_number(d.nested_rhat[i], 4)
+        << format_number(d.effective_sample_size[i], 3) << ", nested R-hat " << format_number(d.nested_rhat[i], 5)
         << "\n";
   }
-  out << "calibrate: acceptance " << format_number(d.acceptance_fraction, 3) << "\n";
+  out << "calibrate: acceptance " << format_number(d.acceptance_fraction, 3) << "; at the MAP, residual RMS";
+  for (double rms : posterior.residual_rms_m) out << " " << format_number(rms, 4) << " m";
+  out << ", residual lag-1 autocorrelation";
+  for (double lag1 : posterior.residual_lag1) out << " " << format_number(lag1, 2);
+  out << " (independent noise: near 0)\n";
   // With a target met the warning's rule of thumb (50 autocorrelation times) is moot.
   if (!d.warning.empty() && (!posterior.mixed || s.mcmc.target_ess <= 0)) out << "calibrate: WARNING: " << d.warning << "\n";
 }

@@ -137,7 +137,7 @@ StudyProgram<CalibrationPosteriorResult> calibration_posterior_program(Calibrati
   p.plot = [](const CalibrationPosteriorResult& r, const std::string& path, PlotSelection) {
     plot_calibration_posterior(r.posterior, r.study, path.substr(0, path.size() - 3));
   };
-  p.verdict = [](const CalibrationPosteriorResult& r) { return r.posterior.mixed ? 0 : kUntrustedStatus; };
+  p.verdict = [](const CalibrationPosteriorResult& r) { return r.posterior.valid() ? 0 : kUntrustedStatus; };
   return p;
 }
 

@@ -2662,6 +2662,28 @@ TEST_F(Audit, MisfitsUntouchedGroundAndBorrowedRuns) {
   cases.push_back({"a fit to the horizontal drop's own data",
                    fit_to(first_rows("configs/data/drop_horizontal_synthetic.csv", "horizontal")), Want::kRuns,
                    {"residual lag-1 autocorrelation"}, {}, {}, {"NOT VALID"}});
+  // The same for a posterior, and a posterior told a noise sd the residuals contradict.
+  auto posterior_of = [&](const std::string& data, const Json& mcmc) {
+    return study("calibrate", w().calibration([&](Json& j) {
+      j["scenario"] = horizontal_0_3s;
+      j["data"] = data;
+      j["max_evaluations"] = 40;
+      j["method"] = "mcmc";
+      j["mcmc"] = mcmc;
+    }));
+  };
+  const Json short_chain = {{"walkers", 8}, {"steps", 6}, {"discard", 0}, {"target_ess", 0}, {"predictive_draws", 0}};
+  Json told_too_little = short_chain;
+  told_too_little["noise_sd"] = 1e-5;  // the data's noise is 1e-4 m
+  cases.push_back({"a posterior of the skewed drop's data on the horizontal drop",
+                   posterior_of(first_rows("configs/data/drop_skewed_synthetic.csv", "skewed"), short_chain),
+                   Want::kAllFailed, {"posterior is NOT VALID", "the residuals are correlated", "lack_of_fit"}});
+  cases.push_back({"a posterior told a tenth of the data's noise sd",
+                   posterior_of(first_rows("configs/data/drop_horizontal_synthetic.csv", "horizontal"), told_too_little),
+                   Want::kAllFailed, {"posterior is NOT VALID", "the residuals contradict mcmc.noise_sd 1e-05 m"}});
+  cases.push_back({"a posterior of the horizontal drop's own data",
+                   posterior_of(first_rows("configs/data/drop_horizontal_synthetic.csv", "horizontal"), short_chain),
+                   Want::kRuns, {"residual lag-1 autocorrelation"}, {}, {}, {"NOT VALID"}});
   const std::string gravity_0 = w().text_file("gravity_0", "gravity\n0\n", "csv");
   cases.push_back({"evaluate without gravity",
                    "evaluate --no-plot --scenario " + horizontal_0_3s + " --design " + gravity_0 + " --out " +
