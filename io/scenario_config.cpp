@@ -359,7 +359,15 @@ WheelPenetration deepest_wheel_penetration(const RoverModel& model, const Coordi
 std::string resolve_relative(const std::string& config_path, const std::string& path) {
   const std::filesystem::path p(path);
   if (p.is_absolute()) return path;
-  return (std::filesystem::path(config_path).parent_path() / p).lexically_normal().string();
+  const std::filesystem::path joined = std::filesystem::path(config_path).parent_path() / p;
+  const std::filesystem::path tidy = joined.lexically_normal();
+  if (tidy == joined) return tidy.string();
+  // ".." after a linked folder leaves the link's target, not the folder the
+  // link stands in: the tidy name is used only where the system agrees.
+  std::error_code joined_error, tidy_error;
+  const std::filesystem::path joined_real = std::filesystem::weakly_canonical(joined, joined_error);
+  const std::filesystem::path tidy_real = std::filesystem::weakly_canonical(tidy, tidy_error);
+  return !joined_error && !tidy_error && joined_real == tidy_real ? tidy.string() : joined.string();
 }
 
 namespace {

@@ -100,7 +100,10 @@ IntegratorSettings parse_integrator_settings(const JsonReader& r, IntegratorSett
 // Parses {"f", "c_q", "M0": [8]} over `base`.
 ModelInputs parse_simulation_inputs(const JsonReader& r, ModelInputs base);
 
-// Resolves a path written in a config file relative to that file's directory.
+// Resolves a path written in a config file relative to that file's directory,
+// as the operating system does: "lnk/../rover.json" through a linked folder
+// `lnk` names the rover.json beside the link's target. The name is written
+// without "." and ".." where that names the same file (the common case).
 std::string resolve_relative(const std::string& config_path, const std::string& path);
 
 }  // namespace rover::io

@@ -2885,6 +2885,24 @@ TEST_F(Audit, OneProcessWritersTakeTheLock) {
   run_table(dir, cases);
 }
 
+// A name inside a config means what the system makes of it: "lnk/../x"
+// through a linked folder names the x beside the link's target, which is
+// then read, and protected as an input.
+TEST_F(Audit, NamesInsideConfigsMeanWhatTheSystemMakesOfThem) {
+  std::vector<Case> cases;
+  const std::string dir = w().dir();
+  fs::create_directories(dir + "/elsewhere/sub");
+  fs::create_directory_symlink(dir + "/elsewhere/sub", dir + "/lnk");
+  const std::string shipped = file_bytes(source_path("configs/rover.json"));
+  write_file(dir + "/elsewhere/rover.json", shipped);
+  write_file(dir + "/rover.json", shipped);
+  const std::string scenario = w().scenario_with_rover("lnk/../rover.json");
+  cases.push_back({"--csv at the rover a config names through a linked folder",
+                   simulate(scenario) + " --csv " + dir + "/elsewhere/rover.json", Want::kError,
+                   {"named by 'rover'", "writing it would destroy it"}, unchanged(dir + "/elsewhere/rover.json")});
+  run_table(dir, cases);
+}
+
 // Synthetic data are a known truth: their integration error stays below a
 // tenth of their noise (else a fit recovers the integrator's error, not the
 // parameters), whatever integrator was asked for; the header says which ran.

@@ -381,5 +381,23 @@ TEST(ScenarioConfig, StartsWithAWheelInTheGroundAreRefusedByField) {
   }
 }
 
+// A name inside a config means what the system makes of it: ".." after a
+// linked folder leaves the link's target. Plain names keep their tidy form.
+TEST(ResolveRelative, FollowsLinkedFoldersAsTheSystemDoes) {
+  namespace fs = std::filesystem;
+  const fs::path base = rover::testing::temp_dir();
+  fs::create_directories(base / "configs" / "scenarios");
+  fs::create_directories(base / "elsewhere" / "sub");
+  fs::create_directory_symlink(base / "elsewhere" / "sub", base / "configs" / "lnk");
+  for (const fs::path& file : {base / "configs" / "rover.json", base / "elsewhere" / "rover.json"})
+    std::ofstream(file) << "{}\n";
+  const std::string config = (base / "configs" / "s.json").string();
+  const std::string through_link = io::resolve_relative(config, "lnk/../rover.json");
+  EXPECT_TRUE(fs::equivalent(through_link, base / "elsewhere" / "rover.json")) << through_link;
+  EXPECT_EQ(io::resolve_relative((base / "configs" / "scenarios" / "s.json").string(), "../rover.json"),
+            (base / "configs" / "rover.json").string());
+  EXPECT_EQ(io::resolve_relative(config, "/abs/x.json"), "/abs/x.json");
+}
+
 }  // namespace
 }  // namespace rover
