@@ -5,6 +5,8 @@
 #include <iterator>
 #include <sstream>
 
+#include "io/json_reader.hpp"
+
 namespace rover::cli {
 namespace {
 
@@ -117,7 +119,10 @@ std::string extras_text(const std::string& list, const CLI::App* sub, bool after
 std::string validation_text(const std::string& what) {
   const auto [name, message] = name_and_message(what);
   std::string rest;
-  if (after(message, "File does not exist: ", &rest)) return where(name) + " '" + rest + "': no such file";
+  if (after(message, "File does not exist: ", &rest)) {  // or cannot be reached: a link loop, a closed folder
+    const std::string problem = io::input_path_problem(rest, "a file");
+    return where(name) + " '" + rest + "': " + (problem.empty() ? "no such file" : problem);
+  }
   if (after(message, "File is actually a directory: ", &rest))
     return where(name) + " '" + rest + "' is a directory; give a file";
   if (after(message, "Value ", &rest)) {

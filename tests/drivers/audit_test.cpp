@@ -2900,6 +2900,10 @@ TEST_F(Audit, NamesInsideConfigsMeanWhatTheSystemMakesOfThem) {
   cases.push_back({"--csv at the rover a config names through a linked folder",
                    simulate(scenario) + " --csv " + dir + "/elsewhere/rover.json", Want::kError,
                    {"named by 'rover'", "writing it would destroy it"}, unchanged(dir + "/elsewhere/rover.json")});
+  fs::create_symlink("loop", dir + "/loop");
+  cases.push_back({"--scenario through a link that leads back to itself",
+                   "simulate --no-plot --scenario " + dir + "/loop/s.json --out " + w().out(), Want::kError,
+                   {"--scenario '" + dir + "/loop/s.json': cannot be reached", "leads back to itself"}});
   run_table(dir, cases);
 }
 
