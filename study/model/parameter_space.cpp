@@ -8,6 +8,7 @@
 
 #include "core/coordinates.hpp"
 #include "core/rover_parameters.hpp"
+#include "io/nearest_name.hpp"
 
 namespace rover::study {
 namespace {
@@ -134,21 +135,6 @@ std::map<std::string, std::string> alias_table() {
   return table;
 }
 
-std::size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diagonal = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t above = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1] ? 1u : 0u)});
-      diagonal = above;
-    }
-  }
-  return row[b.size()];
-}
-
 }  // namespace
 
 std::string preload_alias(int index) {
@@ -193,7 +179,7 @@ std::string ParameterSpace::canonical(const std::string& name) const {
   std::vector<std::string> all = names_;
   for (const auto& [alias, t] : table) all.push_back(alias);
   std::sort(all.begin(), all.end(), [&](const std::string& a, const std::string& b) {
-    return edit_distance(name, a) < edit_distance(name, b);
+    return io::edit_distance(name, a) < io::edit_distance(name, b);
   });
   std::string message = "unknown parameter '" + name + "'; did you mean '" + all[0] + "'";
   if (all.size() > 1) message += " or '" + all[1] + "'";
