@@ -20,6 +20,7 @@
 #include <sys/un.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstring>
 #include <filesystem>
@@ -28,6 +29,7 @@
 #include <iterator>
 #include <map>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -2701,11 +2703,11 @@ TEST_F(Audit, MisfitsUntouchedGroundAndBorrowedRuns) {
                    {"training runs: were made on another scenario", "field 'duration' (0.05 against 0.04)"}});
   // Designs that say nothing new: repeated Morris paths, a surface axis
   // narrower than a double resolves, a truncation far in a tail.
-  cases.push_back({"more Morris trajectories than distinct paths", study("sensitivity", w().sensitivity([](Json& j) {
+  cases.push_back({"more Morris trajectories than distinct steps", study("sensitivity", w().sensitivity([](Json& j) {
                      j["method"] = "morris";
                      j["design"] = {{"trajectories", 25}, {"levels", 2}, {"seed", 1}};  // Ishigami's 3 inputs
                    })),
-                   Want::kError, {"'design.trajectories'", "have only 24 distinct ones"}});
+                   Want::kError, {"'design.trajectories'", "give each input only 4 distinct steps"}});
   cases.push_back({"a surface axis narrower than a double resolves", study("surface", w().surface([](Json& j) {
                      j["f"] = {{"min", 1000.0}, {"max", 1000.0 * (1 + 1e-15)}, {"count", 3}};
                    })),
@@ -2826,6 +2828,42 @@ TEST_F(Audit, EighthAuditStudyCases) {
   ASSERT_EQ(run_command(rover_binary() + " surrogate --predict " + unfitted + " --design " + point + " --csv " +
                             w().out("csv"), &log), 1) << log;
   EXPECT_NE(log.find("holds no fitted model"), std::string::npos) << log;
+}
+
+// How many elementary-effect steps of a Morris result repeat an earlier one
+// (the same input between the same two points), read from its /inputs/values.
+std::string repeated_morris_steps(const std::string& results) {
+  const Eigen::MatrixXd x = io::Hdf5Reader(results).read_matrix("/inputs/values");
+  const Eigen::Index d = x.cols(), trajectories = x.rows() / (d + 1);
+  std::set<std::vector<double>> seen;
+  int repeats = 0;
+  for (Eigen::Index t = 0; t < trajectories; ++t)
+    for (Eigen::Index k = 0; k < d; ++k) {
+      const Eigen::VectorXd a = x.row(t * (d + 1) + k), b = x.row(t * (d + 1) + k + 1);
+      std::vector<double> step;
+      for (Eigen::Index i = 0; i < d; ++i) step.push_back(a[i] != b[i] ? -1.0 - static_cast<double>(i) : a[i]);
+      for (Eigen::Index i = 0; i < d; ++i) step.push_back(std::min(a[i], b[i]));
+      repeats += !seen.insert(step).second;
+    }
+  return repeats == 0 ? "" : results + ": " + std::to_string(repeats) + " repeated elementary-effect steps";
+}
+
+TEST_F(Audit, NinthAuditCases) {
+  std::vector<Case> cases;
+  // Morris steps: Ishigami's 3 inputs on 2 levels have 4 steps each; 4 trajectories take every one once.
+  const std::string morris_out = w().out();
+  auto morris = [&](int trajectories) {
+    return w().sensitivity([&](Json& j) {
+      j["method"] = "morris";
+      j["design"] = {{"trajectories", trajectories}, {"levels", 2}, {"seed", 1}};
+    });
+  };
+  cases.push_back({"Morris trajectories as many as the distinct steps", study_args("sensitivity", morris(4), morris_out),
+                   Want::kRuns, {"Morris, 4 trajectories"}, [morris_out] { return repeated_morris_steps(morris_out); }});
+  cases.push_back({"one Morris trajectory more than the distinct steps", study("sensitivity", morris(5)), Want::kError,
+                   {"'design.trajectories'", "(value 5)", "give each input only 4 distinct steps",
+                    "at most 4 trajectories"}});
+  run_table(w().dir(), cases);
 }
 
 }  // namespace
