@@ -2863,6 +2863,22 @@ TEST_F(Audit, NinthAuditCases) {
   cases.push_back({"one Morris trajectory more than the distinct steps", study("sensitivity", morris(5)), Want::kError,
                    {"'design.trajectories'", "(value 5)", "give each input only 4 distinct steps",
                     "at most 4 trajectories"}});
+  // The chassis turning faster than the rover's size allows.
+  for (const std::string rate : {"theta", "chi", "psi"})
+    cases.push_back({"initial_u." + rate + " 110 rad/s", simulate(w().scenario([&](Json& j) {
+                       j["initial_u"] = {{rate, 110.0}};
+                     })),
+                     Want::kError, {"'initial_u'", rate + " = 110 rad/s is beyond +-", "the rover's farthest point"}});
+  cases.push_back({"a wheel spinning at 110 rad/s", simulate(w().scenario([](Json& j) { j["initial_u"] = {{"z1", 110.0}}; })),
+                   Want::kRuns, {"simulate: ok"}});
+  cases.push_back({"an eom state of a chassis at 110 rad/s",
+                   "eom --state " + w().json_file("state_chi", Json{{"q", std::vector<double>(23, 0.0)},
+                                                                    {"u", [] {
+                                                                       std::vector<double> u(23, 0.0);
+                                                                       u[4] = 110.0;
+                                                                       return u;
+                                                                     }()}}),
+                   Want::kError, {"'u'", "entry 4 (chi) = 110 rad/s is beyond", "the rover's farthest point"}});
   run_table(w().dir(), cases);
 }
 
