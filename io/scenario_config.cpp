@@ -237,7 +237,7 @@ DriveCommandSegment parse_drive_segment(const Json& json, const std::string& fil
   }
   if (const std::string p = beyond_scale(segment.command.yaw_rate_radps, kMaxYawRate_radps, "rad/s", kDriveScaleReason);
       natural && !p.empty())
-    s.fail(s.raw_object().contains("radius") ? "radius" : "icr", "gives a yaw rate of " + p);
+    s.fail(s.raw_object().contains("radius") ? "radius" : "icr", "gives a yaw rate beyond the rover's scale: " + p);
   s.finish();
   return segment;
 }

@@ -2879,6 +2879,10 @@ TEST_F(Audit, NinthAuditCases) {
                                                                        return u;
                                                                      }()}}),
                    Want::kError, {"'u'", "entry 4 (chi) = 110 rad/s is beyond", "the rover's farthest point"}});
+  cases.push_back({"a turn radius whose yaw rate is beyond the scale",
+                   simulate(w().drive_scenario({{"segments", {{{"mode", "car"}, {"speed", 0.3}, {"radius", 1e-3}}}}})),
+                   Want::kError, {"'drive.segments[0].radius'", "gives a yaw rate beyond the rover's scale: 300 rad/s is beyond"},
+                   {}, {}, {"gives a yaw rate of"}});
   run_table(w().dir(), cases);
 }
 
