@@ -2863,6 +2863,14 @@ TEST_F(Audit, NinthAuditCases) {
   cases.push_back({"one Morris trajectory more than the distinct steps", study("sensitivity", morris(5)), Want::kError,
                    {"'design.trajectories'", "(value 5)", "give each input only 4 distinct steps",
                     "at most 4 trajectories"}});
+  // A median the model refuses, on a key the scenario does not set.
+  cases.push_back({"a distribution whose median the model refuses", study("montecarlo", w().montecarlo([](Json& j) {
+                     j["parameters"] = {{"c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.2}}},
+                                        {"scenario.initial_u.z", {{"distribution", "uniform"}, {"min", -2000}, {"max", 0}}}};
+                   })),
+                   Want::kError,
+                   {"'scenario.initial_u.z' at -1000, the median of its uniform", "z = -1000 m/s is beyond +-10 m/s"},
+                   {}, {}, {"cannot vary alone", "'c_q'"}});
   // The chassis turning faster than the rover's size allows.
   for (const std::string rate : {"theta", "chi", "psi"})
     cases.push_back({"initial_u." + rate + " 110 rad/s", simulate(w().scenario([&](Json& j) {
