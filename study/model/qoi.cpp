@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/curve_overlap.hpp"
 #include "core/name_list.hpp"
 #include "core/metrics.hpp"
 #include "core/number_text.hpp"
@@ -182,12 +183,14 @@ std::string reference_span_problem(const std::vector<double>& t, double offset_s
   constexpr double kTimeTolerance_s = 1e-12;  // as rms_difference
   const auto inside = static_cast<std::size_t>(std::count_if(
       t.begin(), t.end(), [&](double s) { return s >= lo - kTimeTolerance_s && s <= hi + kTimeTolerance_s; }));
-  if (inside >= kMinReferenceSamplesInRun) return "";
-  return "spans " + number_text(t.front()) + " .. " + number_text(t.back()) + " s; the run's " +
-         number_text(duration_s) + " s with time_offset " + number_text(offset_s) + " s cover reference times " +
-         number_text(lo) + " .. " + number_text(hi) + " s, which hold " + std::to_string(inside) +
-         " of its samples, fewer than the " + std::to_string(kMinReferenceSamplesInRun) +
-         " a comparison needs (times in seconds? the offset?)";
+  const std::string run = "spans " + number_text(t.front()) + " .. " + number_text(t.back()) + " s; the run's " +
+                          number_text(duration_s) + " s with time_offset " + number_text(offset_s) +
+                          " s cover reference times " + number_text(lo) + " .. " + number_text(hi) + " s";
+  if (inside < kMinReferenceSamplesInRun)
+    return run + ", which hold " + std::to_string(inside) + " of its samples, fewer than the " +
+           std::to_string(kMinReferenceSamplesInRun) + " a comparison needs (times in seconds? the offset?)";
+  if (const std::string p = curve_share_problem(t.front(), t.back(), lo, hi); !p.empty()) return run + ": " + p;
+  return "";
 }
 
 std::string constant_reference_problem(const std::vector<double>& value) {

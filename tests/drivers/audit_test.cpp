@@ -2848,6 +2848,17 @@ std::string repeated_morris_steps(const std::string& results) {
   return repeats == 0 ? "" : results + ": " + std::to_string(repeats) + " repeated elementary-effect steps";
 }
 
+// A curve recorded at 60 kHz for 0.1 s with its times in milliseconds: 4 of
+// its 6001 samples lie within the quick drop's 0.05 s.
+std::string curve_in_milliseconds() {
+  std::string text = "t,z\n";
+  for (int k = 0; k <= 6000; ++k) {
+    const double t_s = k / 60000.0;
+    text += std::to_string(1000.0 * t_s) + "," + std::to_string(0.281 - 0.5 * 9.81 * t_s * t_s) + "\n";
+  }
+  return text;
+}
+
 TEST_F(Audit, NinthAuditCases) {
   std::vector<Case> cases;
   // Morris steps: Ishigami's 3 inputs on 2 levels have 4 steps each; 4 trajectories take every one once.
@@ -2863,6 +2874,19 @@ TEST_F(Audit, NinthAuditCases) {
   cases.push_back({"one Morris trajectory more than the distinct steps", study("sensitivity", morris(5)), Want::kError,
                    {"'design.trajectories'", "(value 5)", "give each input only 4 distinct steps",
                     "at most 4 trajectories"}});
+  // A curve in milliseconds recorded fast enough to put 3 samples in the run.
+  const std::string ms = w().text_file("ms_60k", curve_in_milliseconds(), "csv");
+  cases.push_back({"compare against a 60 kHz curve in milliseconds",
+                   "compare " + ms + " " + simulated_curve(w().dir() + "/run9.h5"), Want::kError,
+                   {"curve A ('" + ms + "')", "only 0.05 % of its time span", "t runs to 100, milliseconds?"}});
+  cases.push_back({"a study reference of 60 kHz in milliseconds", study("montecarlo", w().montecarlo([&](Json& j) {
+                     j["qoi"] = {{{"name", "rms_vs"}, {"reference", ms}}};
+                   })),
+                   Want::kError, {"'qoi[0].reference'", "only 0.05 % of its time span", "milliseconds?"}});
+  cases.push_back({"a surface reference of 60 kHz in milliseconds", study("surface", w().surface([&](Json& j) {
+                     j["reference"] = {{"file", ms}};
+                   })),
+                   Want::kError, {"'reference.file'", "only 0.05 % of its time span", "milliseconds?"}});
   // A median the model refuses, on a key the scenario does not set.
   cases.push_back({"a distribution whose median the model refuses", study("montecarlo", w().montecarlo([](Json& j) {
                      j["parameters"] = {{"c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.2}}},
