@@ -9,6 +9,7 @@
 #include "core/name_list.hpp"
 #include "core/metrics.hpp"
 #include "core/number_text.hpp"
+#include "core/run_note.hpp"
 
 namespace rover::study {
 namespace {
@@ -211,13 +212,15 @@ std::string qoi_note(const QoiSpec& spec, const Trajectory& tr) {
   const double duration_s = tr.t.back() - tr.t.front();
   if (spec.kind == QoiKind::kAtRest &&
       !settled_before_end(settling_time(tr.t, z, QoiSpec{}.settling_band) - tr.t.front(), duration_s))
-    return spec.name + " is no rest height: B_l z was still moving at the run's end (within " +
-           number_text(QoiSpec{}.settling_band) + " m of its last value for less than the last " +
-           number_text(100.0 * kMinSettledShare) + " % of the run); lengthen \"duration\"";
+    return run_note(spec.name + " is no rest height",
+                    "B_l z was still moving at the run's end (within " + number_text(QoiSpec{}.settling_band) +
+                        " m of its last value for less than the last " + number_text(100.0 * kMinSettledShare) +
+                        " % of the run), lengthen \"duration\"");
   if (spec.kind == QoiKind::kReboundPeak) {
     const auto peak = std::max_element(z.begin() + static_cast<std::ptrdiff_t>(argmin(z)), z.end());
     if (peak + 1 == z.end())
-      return spec.name + " is the run's last sample: the rebound had not peaked by its end; lengthen \"duration\"";
+      return run_note(spec.name + " is the run's last sample",
+                      "the rebound had not peaked by its end, lengthen \"duration\"");
   }
   return "";
 }

@@ -2663,7 +2663,7 @@ TEST_F(Audit, MisfitsUntouchedGroundAndBorrowedRuns) {
   cases.push_back({"evaluate without gravity",
                    "evaluate --no-plot --scenario " + horizontal_0_3s + " --design " + gravity_0 + " --out " +
                        w().out("csv") + " --qoi B_l_z_min,max_wheel_load",
-                   Want::kRuns, {"WARNING: 1 of 1 runs finished, but no wheel touched the ground within the run's 0.3 s"}});
+                   Want::kRuns, {"WARNING: 1 of 1 runs finished, but no wheel touched the ground: within the run's 0.3 s"}});
   const std::string z_in_mm = w().scenario([](Json& j) { j["initial_q"]["z"] = 281; });
   cases.push_back({"simulate a drop height in millimetres", simulate(z_in_mm), Want::kRuns,
                    {"warning: no wheel touched the ground", "a drop height in millimetres"}});
@@ -2895,6 +2895,13 @@ TEST_F(Audit, NinthAuditCases) {
                    Want::kError,
                    {"'scenario.initial_u.z' at -1000, the median of its uniform", "z = -1000 m/s is beyond +-10 m/s"},
                    {}, {}, {"cannot vary alone", "'c_q'"}});
+  // Notes of two kinds: the quick drop never lands, and mu_k above mu_s misses the friction law.
+  cases.push_back({"runs with two kinds of note", study("montecarlo", w().montecarlo([](Json& j) {
+                     j["parameters"] = {{"friction.mu_k", {{"distribution", "uniform"}, {"min", 0.45}, {"max", 0.6}}}};
+                   })),
+                   Want::kRuns,
+                   {"WARNING: 2 of 2 runs finished, but the friction law misses its parameters: Makkar fit RMS",
+                    "WARNING: 2 of 2 runs finished, but no wheel touched the ground: within the run's 0.05 s"}});
   // The chassis turning faster than the rover's size allows.
   for (const std::string rate : {"theta", "chi", "psi"})
     cases.push_back({"initial_u." + rate + " 110 rad/s", simulate(w().scenario([&](Json& j) {
