@@ -5,6 +5,7 @@
 #include <exception>
 
 #include "core/friction_synthesis.hpp"
+#include "core/number_text.hpp"
 #include "core/run_note.hpp"
 #include "study/estimators/test_models.hpp"
 
