@@ -13,6 +13,7 @@
 #include "core/contact.hpp"
 #include "core/integrators.hpp"
 #include "core/number_text.hpp"
+#include "core/run_note.hpp"
 
 namespace rover {
 
@@ -210,9 +211,10 @@ Trajectory simulate(const RoverModel& model, const Scenario& scenario,
 
 std::string no_wheel_touched_note(const Trajectory& tr) {
   if (!tr.ok() || tr.t.empty() || tr.normal_force_N.maxCoeff() > 0.0) return "";
-  return "no wheel touched the ground within the run's " + number_text(tr.t.back()) +
-         " s (B_l z from " + number_text(tr.B_l_z.front()) + " to " + number_text(tr.B_l_z.back()) +
-         " m): a drop height in millimetres, too little gravity or too short a run?";
+  return run_note("no wheel touched the ground",
+                  "within the run's " + number_text(tr.t.back()) + " s, B_l z went from " +
+                      number_text(tr.B_l_z.front()) + " to " + number_text(tr.B_l_z.back()) +
+                      " m (a drop height in millimetres, too little gravity or too short a run?)");
 }
 
 }  // namespace rover

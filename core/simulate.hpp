@@ -108,7 +108,8 @@ Trajectory simulate(const RoverModel& model, const Scenario& scenario,
 
 // Empty if a wheel carried load at some sample of a finished run; otherwise
 // why the run says nothing of the contacts or the S-structure's compression
-// ("no wheel touched the ground within the run's 0.05 s: ..."). A drop from
+// ("no wheel touched the ground: within the run's 0.05 s, ...", a note of
+// core/run_note.hpp). A drop from
 // too high (a height in millimetres), too little gravity or too short a run
 // does that.
 std::string no_wheel_touched_note(const Trajectory& tr);

@@ -8,6 +8,7 @@
 #include <iostream>
 #include <tuple>
 
+#include "core/curve_overlap.hpp"
 #include "core/metrics.hpp"
 #include "core/reference_miss.hpp"
 #include "drivers/command_registry.hpp"
@@ -77,19 +78,24 @@ void warn_if_reference_missed(const CompareOptions& o, double rms, const io::Cur
             << "\n";
 }
 
-// Each curve has at least kMeasuredCurveMinRows samples inside the two
-// curves' common time interval: an RMS over one common sample (a curve in
-// milliseconds against one in seconds) says nothing.
+// Each curve has at least kMeasuredCurveMinRows samples, and at least
+// kMinCurveShareCompared of its time span, inside the two curves' common time
+// interval: an RMS over one common sample, or over the first 0.3 ms of a
+// 20 kHz curve in milliseconds against a run in seconds, says nothing.
 void check_common_samples(const CompareOptions& o, const io::Curve& a, const io::Curve& b) {
   const double lo = std::max(a.t.front(), b.t.front()), hi = std::min(a.t.back(), b.t.back());
+  const std::string interval = "the curves' common time interval [" + number_text(lo) + ", " + number_text(hi) +
+                               "] s (A " + span_text(a) + ", B " + span_text(b) + " on A's clock)";
   for (const auto& [name, path, curve] : {std::tuple{"A", &o.first, &a}, std::tuple{"B", &o.second, &b}}) {
     const auto inside = std::count_if(curve->t.begin(), curve->t.end(), [&](double t) { return t >= lo && t <= hi; });
-    if (inside >= static_cast<std::ptrdiff_t>(io::kMeasuredCurveMinRows)) continue;
-    throw std::invalid_argument("only " + std::to_string(inside) + " of curve " + name + "'s samples ('" + *path +
-                                "') lie in the curves' common time interval [" + number_text(lo) + ", " +
-                                number_text(hi) + "] s (A " + span_text(a) + ", B " + span_text(b) +
-                                " on A's clock); an RMS needs at least " + std::to_string(io::kMeasuredCurveMinRows) +
-                                ": are its times in milliseconds, or --time-offset wrong?");
+    if (inside < static_cast<std::ptrdiff_t>(io::kMeasuredCurveMinRows))
+      throw std::invalid_argument("only " + std::to_string(inside) + " of curve " + name + "'s samples ('" + *path +
+                                  "') lie in " + interval + "; an RMS needs at least " +
+                                  std::to_string(io::kMeasuredCurveMinRows) +
+                                  ": are its times in milliseconds, or --time-offset wrong?");
+    if (const std::string p = curve_share_problem(curve->t.front(), curve->t.back(), lo, hi); !p.empty())
+      throw std::invalid_argument("curve " + std::string(name) + " ('" + *path + "') beside " + interval + ": " + p +
+                                  "; or is --time-offset wrong?");
   }
 }
 

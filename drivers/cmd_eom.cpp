@@ -34,9 +34,10 @@ void check_state_scale(const io::JsonReader& state, const RoverModel& model, con
   for (const int index : {coord::x, coord::y, coord::z})
     if (const std::string p = beyond_scale(q[index], kMaxCoordinate_m, "m", kPositionScaleReason); !p.empty())
       state.fail("q", "entry " + std::to_string(index) + " (" + kCoordinateNames[index] + ") = " + p);
-  const double radius = model.parameters.geometry.wheel_radius_m;
+  const io::SpeedScale scale = io::speed_scale(model);
+  const double radius = scale.wheel_radius_m;
   for (int index = 0; index < kNumCoordinates; ++index)
-    if (const std::string p = io::speed_beyond_scale(index, u[index], radius); !p.empty())
+    if (const std::string p = io::speed_beyond_scale(index, u[index], scale); !p.empty())
       state.fail("u", "entry " + std::to_string(index) + " (" + kCoordinateNames[index] + ") = " + p);
   if (!state.has("params")) return;
   const io::JsonReader params = state.child("params");

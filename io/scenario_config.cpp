@@ -57,9 +57,10 @@ void check_initial_position(const JsonReader& r, const Coordinates& q) {
 
 // The speeds of initial_u (also those a drive or forward_speed set) and the
 // rates of wheel_speed_ref within the rover's scale.
-void check_initial_speeds(const JsonReader& r, const Scenario& s, double wheel_radius_m) {
+void check_initial_speeds(const JsonReader& r, const Scenario& s, const SpeedScale& scale) {
+  const double wheel_radius_m = scale.wheel_radius_m;
   for (int index = 0; index < kNumCoordinates; ++index)
-    if (const std::string p = speed_beyond_scale(index, s.initial_u[index], wheel_radius_m); !p.empty())
+    if (const std::string p = speed_beyond_scale(index, s.initial_u[index], scale); !p.empty())
       r.fail(r.has("initial_u") ? "initial_u" : "drive", std::string(kCoordinateNames[index]) + " = " + p);
   if (!r.has("wheel_speed_ref")) return;
   for (int leg = 0; leg < kNumLegs; ++leg)
@@ -236,7 +237,7 @@ DriveCommandSegment parse_drive_segment(const Json& json, const std::string& fil
   }
   if (const std::string p = beyond_scale(segment.command.yaw_rate_radps, kMaxYawRate_radps, "rad/s", kDriveScaleReason);
       natural && !p.empty())
-    s.fail(s.raw_object().contains("radius") ? "radius" : "icr", "gives a yaw rate of " + p);
+    s.fail(s.raw_object().contains("radius") ? "radius" : "icr", "gives a yaw rate beyond the rover's scale: " + p);
   s.finish();
   return segment;
 }
@@ -278,10 +279,23 @@ std::string rate_beyond_scale(double rate_radps, double wheel_radius_m) {
                           " m/s (wheel radius " + number_text(wheel_radius_m) + " m), " + kDriveScaleReason);
 }
 
-std::string speed_beyond_scale(int index, double value, double wheel_radius_m) {
+SpeedScale speed_scale(const RoverModel& model) {
+  const TreeKinematics kin = forward_kinematics(model.tree, Coordinates::Zero(), Coordinates::Zero());
+  double farthest = 0.0;
+  for (int leg = 0; leg < kNumLegs; ++leg) farthest = std::max(farthest, kin.nodes[node::wheel(leg)].origin.norm());
+  const double radius = model.parameters.geometry.wheel_radius_m;
+  return {radius, farthest + radius};
+}
+
+std::string speed_beyond_scale(int index, double value, const SpeedScale& scale) {
   if (index == coord::x || index == coord::y || index == coord::z)
     return beyond_scale(value, kMaxDriveSpeed_mps, "m/s", kDriveScaleReason);
-  return rate_beyond_scale(value, wheel_radius_m);
+  if (index == coord::yaw || index == coord::pitch || index == coord::roll)
+    return beyond_scale(value, kMaxDriveSpeed_mps / scale.rover_extent_m, "rad/s",
+                        "the rate that turns the rover's farthest point (a wheel rim " +
+                            number_text(scale.rover_extent_m) + " m from G) at " + number_text(kMaxDriveSpeed_mps) +
+                            " m/s, " + kDriveScaleReason);
+  return rate_beyond_scale(value, scale.wheel_radius_m);
 }
 
 DriveConfig parse_drive(const JsonReader& r, const DriveKinematics& kinematics) {
@@ -529,7 +543,7 @@ ScenarioSetup build_scenario(const ScenarioSources& sources) {
   }
   check_initial_position(r, s.initial_q);
   if (r.has("wheel_speed_ref")) s.wheel_speed_ref_radps = r.fixed_numbers<kNumLegs>("wheel_speed_ref");
-  check_initial_speeds(r, s, R);
+  check_initial_speeds(r, s, speed_scale(setup.model));
   if (r.has("steer_ref")) {
     s.steer_ref_rad = r.fixed_numbers<kNumLegs>("steer_ref");
     // Beyond the end-stop the servo would push into it for the whole run: an

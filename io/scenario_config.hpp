@@ -85,14 +85,21 @@ DriveConfig parse_drive(const JsonReader& r, const DriveKinematics& kinematics);
 
 // The scale of a state's speeds (a scenario's initial_u and wheel_speed_ref,
 // an `rover eom` state), as core/model_scale.hpp bounds the commanded ones:
-// x, y and z within kMaxDriveSpeed_mps; every rate (a wheel's spin, a joint's
-// or the chassis's angular rate) within the rate that would move a wheel rim
-// at that speed, kMaxDriveSpeed_mps / wheel radius (118 rad/s for 8.5 cm
-// wheels). Empty when `value`, the speed of coordinate `index`, is within;
-// otherwise "1e+04 rad/s is beyond +-117.647 rad/s, ...".
+// x, y and z within kMaxDriveSpeed_mps; the chassis's angular rates (theta,
+// chi, psi) within the rate that would move the rover's farthest point at
+// that speed, kMaxDriveSpeed_mps / rover_extent_m (about 26 rad/s); every
+// other rate (a wheel's spin, a joint's) within the rate that would move a
+// wheel rim at that speed, kMaxDriveSpeed_mps / wheel radius (118 rad/s for
+// 8.5 cm wheels). Empty when `value`, the speed of coordinate `index`, is
+// within; otherwise "1e+04 rad/s is beyond +-117.647 rad/s, ...".
+struct SpeedScale {
+  double wheel_radius_m = 0.0;
+  double rover_extent_m = 0.0;  // from G to the farthest wheel rim, in the zero pose
+};
+SpeedScale speed_scale(const RoverModel& model);
 double max_rate_radps(double wheel_radius_m);
 std::string rate_beyond_scale(double rate_radps, double wheel_radius_m);
-std::string speed_beyond_scale(int index, double value, double wheel_radius_m);
+std::string speed_beyond_scale(int index, double value, const SpeedScale& scale);
 
 // Parses "integrator": {...} over `base`; used by scenarios and studies.
 IntegratorSettings parse_integrator_settings(const JsonReader& r, IntegratorSettings base);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numeric>
 #include <set>
 #include <stdexcept>
@@ -17,30 +18,106 @@ namespace rover::study {
 
 namespace {
 
-// The grid points a trajectory visits from `start`, moving the inputs in
-// `order`, as one sequence, or the reversed visit if that sorts first: a
-// trajectory and its reverse (which starts where it ends and moves the
-// inputs back in the opposite order) give the same elementary effects.
-std::vector<int> path_key(std::vector<int> grid, const std::vector<int>& order, int half) {
-  const std::size_t d = grid.size();
-  std::vector<int> forward(grid);
-  for (const int i : order) {
+using Engine = boost::random::mt19937_64;
+
+// Random draws that keep colliding with earlier trajectories' steps this many
+// times in a row mean the design is near its bound: it is packed instead.
+constexpr int kDrawsPerTrajectory = 200;
+
+// A trajectory on the grid: the levels of its start and the order in which
+// the inputs move (each by half the levels, up from the lower half, down from
+// the upper).
+struct GridTrajectory {
+  std::vector<int> start, order;
+};
+
+// The step of each input a trajectory takes: the levels before the move with
+// the moving input's level replaced by the lower of its pair {k, k + half},
+// then the input.
+std::vector<std::vector<int>> steps_of(const GridTrajectory& t, int half) {
+  std::vector<int> grid = t.start;
+  std::vector<std::vector<int>> steps;
+  for (const int i : t.order) {
+    std::vector<int> step = grid;
+    step[static_cast<std::size_t>(i)] %= half;
+    step.push_back(i);
+    steps.push_back(std::move(step));
     grid[static_cast<std::size_t>(i)] += grid[static_cast<std::size_t>(i)] < half ? half : -half;
-    forward.insert(forward.end(), grid.begin(), grid.end());
   }
-  std::vector<int> backward;
-  for (std::size_t k = forward.size(); k > 0; k -= d) backward.insert(backward.end(), forward.begin() + (k - d), forward.begin() + k);
-  return std::min(forward, backward);
+  return steps;
+}
+
+std::vector<int> random_order(int d, Engine& engine) {
+  std::vector<int> order(static_cast<std::size_t>(d));
+  std::iota(order.begin(), order.end(), 0);  // then Fisher-Yates
+  for (int i = d - 1; i > 0; --i)
+    std::swap(order[i], order[boost::random::uniform_int_distribution<int>(0, i)(engine)]);
+  return order;
+}
+
+// Morris's random trajectories, each redrawn while one of its steps repeats
+// an earlier trajectory's; empty if one found no free steps in
+// kDrawsPerTrajectory draws.
+std::vector<GridTrajectory> drawn_trajectories(int d, int trajectories, int levels, Engine& engine) {
+  boost::random::uniform_int_distribution<int> level(0, levels - 1);
+  std::set<std::vector<int>> taken;
+  std::vector<GridTrajectory> drawn;
+  for (int t = 0; t < trajectories; ++t) {
+    for (int draw = 0;; ++draw) {
+      if (draw == kDrawsPerTrajectory) return {};
+      GridTrajectory candidate{std::vector<int>(static_cast<std::size_t>(d)), {}};
+      for (int& k : candidate.start) k = level(engine);
+      candidate.order = random_order(d, engine);
+      const std::vector<std::vector<int>> steps = steps_of(candidate, levels / 2);
+      if (std::any_of(steps.begin(), steps.end(), [&](const auto& s) { return taken.contains(s); })) continue;
+      taken.insert(steps.begin(), steps.end());
+      drawn.push_back(std::move(candidate));
+      break;
+    }
+  }
+  return drawn;
+}
+
+// A packing of distinct_morris_steps trajectories that share no step. The
+// grid splits into classes by each input's pair (its level mod half); a step
+// never leaves its class. Within a class, the 2^d points are the corners of a
+// cube (which half of its pair each input is in); every trajectory of the
+// class moves the inputs in one order and starts at a corner of one parity
+// (both random per class). Two such starts differ in at least two inputs'
+// halves, so the points before input i moves differ in some other input:
+// no step repeats. The design draws `trajectories` of the packing at random.
+std::vector<GridTrajectory> packed_trajectories(int d, int trajectories, int levels, Engine& engine) {
+  const int half = levels / 2;
+  struct ClassLayout {
+    std::vector<int> order;
+    int parity = 0;
+  };
+  std::map<std::vector<int>, ClassLayout> classes;
+  std::set<std::vector<int>> starts;
+  std::vector<GridTrajectory> packed;
+  boost::random::uniform_int_distribution<int> pair(0, half - 1), bit(0, 1);
+  while (static_cast<int>(packed.size()) < trajectories) {
+    std::vector<int> pairs(static_cast<std::size_t>(d)), halves(static_cast<std::size_t>(d));
+    for (int& p : pairs) p = pair(engine);
+    auto layout = classes.find(pairs);
+    if (layout == classes.end()) layout = classes.emplace(pairs, ClassLayout{random_order(d, engine), bit(engine)}).first;
+    int parity = layout->second.parity;
+    for (int i = 0; i + 1 < d; ++i) parity ^= halves[static_cast<std::size_t>(i)] = bit(engine);
+    halves.back() = parity;
+    std::vector<int> start(static_cast<std::size_t>(d));
+    for (int i = 0; i < d; ++i) start[i] = pairs[i] + half * halves[i];
+    if (starts.insert(start).second) packed.push_back({std::move(start), layout->second.order});
+  }
+  return packed;
 }
 
 }  // namespace
 
-double distinct_morris_trajectories(int dimensions, int levels) {
-  // levels^d starts times d! orders (the start sets every jump's direction),
-  // each path counted once for its two directions.
-  double count = 0.5;
-  for (int i = 1; i <= dimensions && count < kManyTrajectories; ++i) count *= static_cast<double>(levels) * i;
-  return std::min(count, kManyTrajectories);
+double distinct_morris_steps(int dimensions, int levels) {
+  // levels / 2 pairs of levels of the moving input, times levels^(d-1) of the others.
+  double count = 0.5 * levels;
+  for (int i = 1; i < dimensions && count < kManySteps; ++i) count *= static_cast<double>(levels);
+  return std::min(count, kManySteps);
 }
 
 MorrisDesign morris_design(int dimensions, int trajectories, int levels, std::uint64_t seed) {
@@ -51,6 +128,11 @@ MorrisDesign morris_design(int dimensions, int trajectories, int levels, std::ui
   if (levels < 2 || levels % 2 != 0)
     throw std::invalid_argument("morris_design: levels must be even and >= 2 (got " +
                                 std::to_string(levels) + ")");
+  if (const double distinct = distinct_morris_steps(dimensions, levels); trajectories > distinct)
+    throw std::invalid_argument("morris_design: " + std::to_string(trajectories) + " trajectories, but " +
+                                std::to_string(dimensions) + " input(s) on " + std::to_string(levels) +
+                                " levels give each input only " + std::to_string(static_cast<long long>(distinct)) +
+                                " distinct steps; ask for at most that many, or for more levels");
   MorrisDesign design;
   design.trajectories = trajectories;
   design.dimensions = dimensions;
@@ -59,30 +141,16 @@ MorrisDesign morris_design(int dimensions, int trajectories, int levels, std::ui
   design.points.resize(static_cast<Eigen::Index>(trajectories) * (d + 1), d);
   design.changed_input.reserve(static_cast<std::size_t>(trajectories) * d);
   design.step.reserve(static_cast<std::size_t>(trajectories) * d);
-  if (const double distinct = distinct_morris_trajectories(dimensions, levels); trajectories > distinct)
-    throw std::invalid_argument("morris_design: " + std::to_string(trajectories) + " trajectories, but " +
-                                std::to_string(dimensions) + " input(s) on " + std::to_string(levels) +
-                                " levels have only " + std::to_string(static_cast<long long>(distinct)) +
-                                " distinct ones; ask for fewer, or for more levels");
-  boost::random::mt19937_64 engine(seed);
-  boost::random::uniform_int_distribution<int> level(0, levels - 1);
-  std::vector<int> grid(static_cast<std::size_t>(d)), order(static_cast<std::size_t>(d));
-  std::set<std::vector<int>> drawn;  // each trajectory's path: none repeats
+  Engine engine(seed);
+  std::vector<GridTrajectory> chosen = drawn_trajectories(d, trajectories, levels, engine);
+  if (chosen.empty()) chosen = packed_trajectories(d, trajectories, levels, engine);
   const auto unit = [levels](int k) { return (k + 0.5) / levels; };
   for (int t = 0; t < trajectories; ++t) {
     const Eigen::Index first = static_cast<Eigen::Index>(t) * (d + 1);
-    std::vector<int> key;
-    do {
-      for (int i = 0; i < d; ++i) grid[i] = level(engine);
-      // Random order of the inputs (Fisher-Yates).
-      std::iota(order.begin(), order.end(), 0);
-      for (int i = d - 1; i > 0; --i)
-        std::swap(order[i], order[boost::random::uniform_int_distribution<int>(0, i)(engine)]);
-      key = path_key(grid, order, half);
-    } while (!drawn.insert(key).second);
+    std::vector<int> grid = chosen[static_cast<std::size_t>(t)].start;
     for (int i = 0; i < d; ++i) design.points(first, i) = unit(grid[i]);
     for (int k = 0; k < d; ++k) {
-      const int i = order[k];
+      const int i = chosen[static_cast<std::size_t>(t)].order[static_cast<std::size_t>(k)];
       const int jump = grid[i] < half ? half : -half;
       design.points.row(first + k + 1) = design.points.row(first + k);
       grid[i] += jump;

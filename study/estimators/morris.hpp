@@ -6,7 +6,9 @@
 // moves each input once, in random order, by the jump Delta = 1/2 (p/2 levels):
 // an input in the lower half of the grid moves up, one in the upper half down,
 // so every point stays on the grid and the direction of each jump is random
-// (Morris's random orientation of the trajectory).
+// (Morris's random orientation of the trajectory). No two trajectories take
+// the same step of an input (the same pair of points), so every elementary
+// effect is a new one.
 #pragma once
 
 #include <cstdint>
@@ -27,15 +29,22 @@ struct MorrisDesign {
   std::vector<double> step;        // r d entries: signed jump in unit coordinates
   int trajectories = 0, dimensions = 0, levels = 0;
 };
-// How many distinct trajectories `dimensions` inputs on `levels` levels have
-// (levels^d starts times d! orders, halved: a trajectory and its reverse
-// visit the same points and give the same elementary effects), capped at
-// kManyTrajectories.
-inline constexpr double kManyTrajectories = 1e15;
-double distinct_morris_trajectories(int dimensions, int levels);
-// No trajectory repeats another or another's reverse. Throws std::invalid_argument unless
-// dimensions >= 1, trajectories >= 1 and levels is even, >= 2, and for more
-// trajectories than there are distinct ones.
+// How many distinct elementary-effect steps each input has: a step of input i
+// is the pair of grid points (x, x + Delta e_i), named by the levels of the
+// other inputs and the lower level of i, so levels^(d-1) x levels/2 of them
+// (capped at kManySteps). Every trajectory takes one step of each input, so
+// this is also the most trajectories whose steps never repeat.
+inline constexpr double kManySteps = 1e15;
+double distinct_morris_steps(int dimensions, int levels);
+// No two trajectories share a step of any input (two that did would give
+// that input the same elementary effect twice, counted as independent in
+// sigma and the bootstrap; a repeated or reversed trajectory repeats all its
+// steps). Trajectories are drawn at random and redrawn while a step repeats;
+// when random draws keep colliding (near the bound), the whole design is drawn
+// instead from a packing in which no step can repeat (morris.cpp). The design
+// is a function of the seed. Throws std::invalid_argument unless dimensions >= 1,
+// trajectories >= 1 and levels is even, >= 2, and for more trajectories than
+// distinct_morris_steps.
 MorrisDesign morris_design(int dimensions, int trajectories, int levels, std::uint64_t seed);
 
 struct MorrisOptions {

@@ -5,9 +5,11 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/curve_overlap.hpp"
 #include "core/name_list.hpp"
 #include "core/metrics.hpp"
 #include "core/number_text.hpp"
+#include "core/run_note.hpp"
 
 namespace rover::study {
 namespace {
@@ -182,12 +184,14 @@ std::string reference_span_problem(const std::vector<double>& t, double offset_s
   constexpr double kTimeTolerance_s = 1e-12;  // as rms_difference
   const auto inside = static_cast<std::size_t>(std::count_if(
       t.begin(), t.end(), [&](double s) { return s >= lo - kTimeTolerance_s && s <= hi + kTimeTolerance_s; }));
-  if (inside >= kMinReferenceSamplesInRun) return "";
-  return "spans " + number_text(t.front()) + " .. " + number_text(t.back()) + " s; the run's " +
-         number_text(duration_s) + " s with time_offset " + number_text(offset_s) + " s cover reference times " +
-         number_text(lo) + " .. " + number_text(hi) + " s, which hold " + std::to_string(inside) +
-         " of its samples, fewer than the " + std::to_string(kMinReferenceSamplesInRun) +
-         " a comparison needs (times in seconds? the offset?)";
+  const std::string run = "spans " + number_text(t.front()) + " .. " + number_text(t.back()) + " s; the run's " +
+                          number_text(duration_s) + " s with time_offset " + number_text(offset_s) +
+                          " s cover reference times " + number_text(lo) + " .. " + number_text(hi) + " s";
+  if (inside < kMinReferenceSamplesInRun)
+    return run + ", which hold " + std::to_string(inside) + " of its samples, fewer than the " +
+           std::to_string(kMinReferenceSamplesInRun) + " a comparison needs (times in seconds? the offset?)";
+  if (const std::string p = curve_share_problem(t.front(), t.back(), lo, hi); !p.empty()) return run + ": " + p;
+  return "";
 }
 
 std::string constant_reference_problem(const std::vector<double>& value) {
@@ -208,13 +212,15 @@ std::string qoi_note(const QoiSpec& spec, const Trajectory& tr) {
   const double duration_s = tr.t.back() - tr.t.front();
   if (spec.kind == QoiKind::kAtRest &&
       !settled_before_end(settling_time(tr.t, z, QoiSpec{}.settling_band) - tr.t.front(), duration_s))
-    return spec.name + " is no rest height: B_l z was still moving at the run's end (within " +
-           number_text(QoiSpec{}.settling_band) + " m of its last value for less than the last " +
-           number_text(100.0 * kMinSettledShare) + " % of the run); lengthen \"duration\"";
+    return run_note(spec.name + " is no rest height",
+                    "B_l z was still moving at the run's end (within " + number_text(QoiSpec{}.settling_band) +
+                        " m of its last value for less than the last " + number_text(100.0 * kMinSettledShare) +
+                        " % of the run), lengthen \"duration\"");
   if (spec.kind == QoiKind::kReboundPeak) {
     const auto peak = std::max_element(z.begin() + static_cast<std::ptrdiff_t>(argmin(z)), z.end());
     if (peak + 1 == z.end())
-      return spec.name + " is the run's last sample: the rebound had not peaked by its end; lengthen \"duration\"";
+      return run_note(spec.name + " is the run's last sample",
+                      "the rebound had not peaked by its end, lengthen \"duration\"");
   }
   return "";
 }

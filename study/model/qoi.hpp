@@ -71,7 +71,9 @@ inline constexpr std::size_t kMinReferenceSamplesInRun = 3;
 // reference times [offset_s, offset_s + duration_s], and fewer than
 // kMinReferenceSamplesInRun of its samples lie there (a curve in
 // milliseconds, an offset beyond the curve, a run far shorter than the
-// record). Empty if it can. Names both spans and the offset.
+// record), or less than kMinCurveShareCompared of its time span
+// (core/curve_overlap.hpp: a curve in milliseconds recorded at 20 kHz).
+// Empty if it can. Names both spans and the offset.
 std::string reference_span_problem(const std::vector<double>& t, double offset_s, double duration_s);
 
 // Why a reference of heights says nothing about a run: every value is the

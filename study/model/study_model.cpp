@@ -5,6 +5,8 @@
 #include <exception>
 
 #include "core/friction_synthesis.hpp"
+#include "core/number_text.hpp"
+#include "core/run_note.hpp"
 #include "study/estimators/test_models.hpp"
 
 namespace rover::study {
@@ -18,9 +20,10 @@ const char* const kFrictionKeys[4] = {"mu_s", "v_s", "mu_k", "v_k"};
 std::string friction_note(const FrictionParameters& friction) {
   const FrictionFitQuality fit = friction_fit_quality(friction.gammas, friction);
   if (fit.acceptable) return "";
-  return "the friction law misses its parameters (Makkar fit RMS " + number_text(fit.rms) + ", peak mu " +
-         number_text(fit.peak_mu) + " against mu_s " + number_text(friction.mu_static) +
-         "): mu_k above mu_s, or extreme Stribeck speeds? see `rover friction`";
+  return run_note("the friction law misses its parameters",
+                  "Makkar fit RMS " + number_text(fit.rms) + ", peak mu " + number_text(fit.peak_mu) +
+                      " against mu_s " + number_text(friction.mu_static) +
+                      " (mu_k above mu_s, or extreme Stribeck speeds? see `rover friction`)");
 }
 
 }  // namespace
@@ -122,11 +125,9 @@ namespace {
 // no wheel touched the ground, and QoIs whose value is not what their name
 // says (qoi_note).
 std::string run_notes(const std::string& setup_note, const Trajectory& tr, const std::vector<QoiSpec>& qois) {
-  std::string notes = setup_note;
-  if (const std::string note = no_wheel_touched_note(tr); !note.empty()) notes += (notes.empty() ? "" : "; ") + note;
-  for (const QoiSpec& q : qois)
-    if (const std::string note = qoi_note(q, tr); !note.empty()) notes += (notes.empty() ? "" : "; ") + note;
-  return notes;
+  std::vector<std::string> notes{setup_note, no_wheel_touched_note(tr)};
+  for (const QoiSpec& q : qois) notes.push_back(qoi_note(q, tr));
+  return join_notes(notes);
 }
 
 }  // namespace

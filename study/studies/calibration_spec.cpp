@@ -16,6 +16,7 @@
 
 #include <nlopt.hpp>
 
+#include "core/curve_overlap.hpp"
 #include "core/simulate.hpp"
 #include "io/csv.hpp"
 #include "io/hdf5_file.hpp"
@@ -214,7 +215,8 @@ void check_data_fits_the_run(const CalibrationStudy& s, const CalibrationDataset
     throw io::ConfigError(d.path + ": the data run to t = " + format_number(d.t.back(), 6) +
                           " s, past the end of the simulated " + format_number(duration_s, 6) + " s of " +
                           d.scenario_path + " even at the largest time offset, " + format_number(offset_upper, 6) +
-                          " s (field 'bounds.time_offset'); lengthen the scenario's \"duration\" or cut the data");
+                          " s (field 'bounds.time_offset')" + milliseconds_hint(d.t.back(), duration_s + offset_upper) +
+                          "; lengthen the scenario's \"duration\" or cut the data");
 }
 
 // Bounds and initial values of parameters not fitted are accepted (a study

@@ -279,11 +279,12 @@ SensitivityStudy load_sensitivity_study(const std::string& path) {
     if (s.trajectories < 2 || s.trajectories > 100000) d.fail("trajectories", "must be from 2 to 100000");
     s.levels = d.has("levels") ? d.integer("levels") : 4;
     if (s.levels < 2 || s.levels % 2 != 0) d.fail("levels", "must be an even number >= 2");
-    if (const double distinct = distinct_morris_trajectories(d_inputs, s.levels); s.trajectories > distinct)
+    if (const double distinct = distinct_morris_steps(d_inputs, s.levels); s.trajectories > distinct)
       d.fail("trajectories", std::to_string(s.trajectories) + " trajectories, but " + std::to_string(d_inputs) +
-                                 " input(s) on " + std::to_string(s.levels) + " levels have only " +
-                                 number_text(distinct) + " distinct ones (a repeated trajectory adds no " +
-                                 "information); ask for fewer, or for more \"levels\"");
+                                 " input(s) on " + std::to_string(s.levels) + " levels give each input only " +
+                                 number_text(distinct) + " distinct steps (a repeated step repeats an elementary effect); " +
+                                 "at most " + number_text(distinct) + " trajectories are possible: ask for " +
+                                 "fewer, or for more \"levels\"");
     s.spec.design.samples = s.trajectories * (d_inputs + 1);
     s.morris.bootstrap_resamples = bootstrap;
     s.morris.confidence = confidence;

@@ -2,10 +2,13 @@
 #include "study/studies/study_driver.hpp"
 #include "study/runtime/calibration_mpi.hpp"
 
+#include <algorithm>
 #include <filesystem>
+#include <set>
 #include <stdexcept>
 #include <string_view>
 
+#include "core/run_note.hpp"
 #include "io/checkpoint.hpp"
 #include "io/output_target.hpp"
 
@@ -20,11 +23,34 @@ RunCounts count_runs(const std::vector<int>& status, const std::vector<std::stri
   for (std::size_t i = 0; i < status.size(); ++i) {
     if (status[i] != run_status::kOk) {
       if (counts.failed++ == 0) counts.first_failure = messages[i];
-    } else if (i < messages.size() && !messages[i].empty()) {
-      if (counts.noted++ == 0) counts.first_note = messages[i];
+      continue;
+    }
+    if (i >= messages.size() || messages[i].empty()) continue;
+    ++counts.noted;
+    std::set<std::string> kinds;  // of this run: each counted once
+    for (const std::string& note : split_notes(messages[i])) {
+      const std::string kind = note_kind(note);
+      if (!kinds.insert(kind).second) continue;
+      const auto known = std::find_if(counts.notes.begin(), counts.notes.end(),
+                                       [&](const NoteCount& c) { return c.kind == kind; });
+      if (known != counts.notes.end()) ++known->runs;
+      else counts.notes.push_back({kind, 1, note});
     }
   }
   return counts;
+}
+
+std::vector<std::string> note_lines(const RunCounts& counts) {
+  std::vector<std::string> lines;
+  for (std::size_t k = 0; k < counts.notes.size() && k < kNoteKindsPrinted; ++k) {
+    const NoteCount& c = counts.notes[k];
+    lines.push_back(std::to_string(c.runs) + " of " + std::to_string(counts.runs) + " runs finished, but " + c.first +
+                    (c.runs > 1 ? " (the first of them)" : ""));
+  }
+  if (counts.notes.size() > kNoteKindsPrinted)
+    lines.push_back(std::to_string(counts.notes.size() - kNoteKindsPrinted) +
+                    " more kinds of note; every run's notes are in the results (/samples/message)");
+  return lines;
 }
 
 }  // namespace rover::study
@@ -95,9 +121,7 @@ void commit(const std::string& command, const std::string& results_path, io::Hdf
   std::cerr << command << ": ";
   if (counts.runs > 0) std::cerr << counts.runs << " runs (" << counts.failed << " failed), ";
   std::cerr << "wrote " << results_path << "\n";
-  if (counts.noted > 0)
-    std::cerr << command << ": WARNING: " << counts.noted << " of " << counts.runs << " runs finished, but "
-              << counts.first_note << (counts.noted > 1 ? " (the first of them)" : "") << "\n";
+  for (const std::string& line : note_lines(counts)) std::cerr << command << ": WARNING: " << line << "\n";
 }
 
 std::optional<int> keep_earlier_result(const std::string& command, const std::string& results_path,

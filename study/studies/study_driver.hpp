@@ -42,19 +42,33 @@
 
 namespace rover::study {
 
+// The runs that finished with one kind of note (core/run_note.hpp: no wheel
+// touched the ground, the friction law misses its parameters, ...).
+struct NoteCount {
+  std::string kind;
+  long long runs = 0;
+  std::string first;  // the note of the first run with this kind
+};
+
 // How many runs a study did, how many of them failed and how many finished
-// with a note (a run in which no wheel touched the ground).
+// with a note, per kind of note (a run with two problems counts under both).
 struct RunCounts {
   long long runs = 0;
   long long failed = 0;
   std::string first_failure;  // the message of the first failed run
-  long long noted = 0;
-  std::string first_note;     // the note of the first run that finished with one
+  long long noted = 0;        // runs with any note
+  std::vector<NoteCount> notes;  // by kind, in the order of their first run
 };
 
 // The counts of runs of these statuses (run_status::kOk: done) and messages,
-// with the message of the first that failed and the first note.
+// with the message of the first that failed and the notes by kind.
 RunCounts count_runs(const std::vector<int>& status, const std::vector<std::string>& messages);
+
+// One line per kind of note, "K of N runs finished, but <first note> (the
+// first of them)", at most kNoteKindsPrinted of them and then how many kinds
+// more; none without notes.
+inline constexpr std::size_t kNoteKindsPrinted = 6;
+std::vector<std::string> note_lines(const RunCounts& counts);
 
 // The bytes a study holds on rank 0 (`what` says what they are).
 struct MemoryEstimate {

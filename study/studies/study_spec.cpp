@@ -67,11 +67,44 @@ constexpr double kRunEndTolerance = 1e-9;
 // Relative size of the step that tells whether an input can vary alone.
 constexpr double kAloneStep = 1e-6;
 
+// How the checks below name an input's value at the base point: its
+// configured value, or the median its distribution gives a key the files
+// set no value for.
+std::string base_value_text(const UncertainInput& input, double value) {
+  if (std::isnan(input.nominal))
+    return number_text(value) + ", the median of its " + input.distribution.describe() + " (the files set no value)";
+  return "its configured value " + number_text(value);
+}
+
+// Refuses a base point the model refuses, naming what was tried: the keys
+// the files set no value for, at their medians (initial_u.z uniform on
+// [-2000, 0] starts at -1000, beyond the rover's speeds), and the model's
+// reason. Every check below starts from that point.
+void refuse_a_refused_base_point(const io::JsonReader& r, const RoverStudyModel& model,
+                                 const std::vector<UncertainInput>& inputs) {
+  const std::vector<double> base = base_point(inputs);
+  try {
+    (void)model.setup_at(base.data());
+    return;
+  } catch (const std::exception& e) {
+    std::string medians;
+    for (std::size_t j = 0; j < inputs.size(); ++j)
+      if (std::isnan(inputs[j].nominal))
+        medians += (medians.empty() ? "" : ", ") + ("'" + inputs[j].label + "' at " + base_value_text(inputs[j], base[j]));
+    if (medians.empty())
+      r.fail("parameters", std::string("with every parameter at its configured value, the model refuses the run (") +
+                               e.what() + ")");
+    r.fail("parameters", "with " + medians + " and every other parameter at its configured value, the model " +
+                             "refuses the run (" + e.what() + "): most samples would fail");
+  }
+}
+
 // Refuses, before any run, an input that cannot change while every other
 // input keeps its nominal value: an off-diagonal inertia entry, say, whose
 // symmetric partner stays put. Such an input fails a step of kAloneStep (of
-// its magnitude) either way from its nominal value; an input that is merely
-// at a bound of its valid range passes one way.
+// its magnitude) either way from its nominal value, which the model takes
+// (refuse_a_refused_base_point); an input that is merely at a bound of its
+// valid range passes one way. The message names the values tried.
 void refuse_inputs_that_cannot_vary_alone(const io::JsonReader& r, const RoverStudyModel& model,
                                           const std::vector<UncertainInput>& inputs) {
   const std::vector<double> nominal = base_point(inputs);
@@ -92,8 +125,10 @@ void refuse_inputs_that_cannot_vary_alone(const io::JsonReader& r, const RoverSt
       }
     }
     if (!varies)
-      r.fail("parameters", "'" + inputs[j].label + "' cannot vary alone: with every other parameter at its " +
-                               "configured value, any change of it is refused (" + why + ")");
+      r.fail("parameters", "'" + inputs[j].label + "' cannot vary alone: the model takes it at " +
+                               base_value_text(inputs[j], nominal[j]) + " but refuses " +
+                               number_text(nominal[j] - step) + " and " + number_text(nominal[j] + step) +
+                               ", with every other parameter at its configured value (" + why + ")");
   }
 }
 
@@ -557,6 +592,7 @@ StudySpec parse_study_spec(const io::JsonReader& r, const std::vector<std::strin
         s.files.add(qois[k].reference->path, "'qoi[" + std::to_string(k) + "].reference' in " + s.path);
       }
     auto rover = std::make_shared<RoverStudyModel>(std::move(sources), names, qois, channels, integrator);
+    refuse_a_refused_base_point(r, *rover, s.inputs);
     refuse_inputs_that_cannot_vary_alone(r, *rover, s.inputs);
     refuse_supports_the_model_refuses(r, *rover, s.inputs);
     warn_of_refused_tails(*rover, s.inputs, s);

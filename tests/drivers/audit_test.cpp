@@ -20,6 +20,7 @@
 #include <sys/un.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstring>
 #include <filesystem>
@@ -28,6 +29,7 @@
 #include <iterator>
 #include <map>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -2688,7 +2690,7 @@ TEST_F(Audit, MisfitsUntouchedGroundAndBorrowedRuns) {
   cases.push_back({"evaluate without gravity",
                    "evaluate --no-plot --scenario " + horizontal_0_3s + " --design " + gravity_0 + " --out " +
                        w().out("csv") + " --qoi B_l_z_min,max_wheel_load",
-                   Want::kRuns, {"WARNING: 1 of 1 runs finished, but no wheel touched the ground within the run's 0.3 s"}});
+                   Want::kRuns, {"WARNING: 1 of 1 runs finished, but no wheel touched the ground: within the run's 0.3 s"}});
   const std::string z_in_mm = w().scenario([](Json& j) { j["initial_q"]["z"] = 281; });
   cases.push_back({"simulate a drop height in millimetres", simulate(z_in_mm), Want::kRuns,
                    {"warning: no wheel touched the ground", "a drop height in millimetres"}});
@@ -2728,11 +2730,11 @@ TEST_F(Audit, MisfitsUntouchedGroundAndBorrowedRuns) {
                    {"training runs: were made on another scenario", "field 'duration' (0.05 against 0.04)"}});
   // Designs that say nothing new: repeated Morris paths, a surface axis
   // narrower than a double resolves, a truncation far in a tail.
-  cases.push_back({"more Morris trajectories than distinct paths", study("sensitivity", w().sensitivity([](Json& j) {
+  cases.push_back({"more Morris trajectories than distinct steps", study("sensitivity", w().sensitivity([](Json& j) {
                      j["method"] = "morris";
                      j["design"] = {{"trajectories", 25}, {"levels", 2}, {"seed", 1}};  // Ishigami's 3 inputs
                    })),
-                   Want::kError, {"'design.trajectories'", "have only 24 distinct ones"}});
+                   Want::kError, {"'design.trajectories'", "give each input only 4 distinct steps"}});
   cases.push_back({"a surface axis narrower than a double resolves", study("surface", w().surface([](Json& j) {
                      j["f"] = {{"min", 1000.0}, {"max", 1000.0 * (1 + 1e-15)}, {"count", 3}};
                    })),
@@ -2994,6 +2996,101 @@ TEST_F(Audit, SurrogateRunsOfUnknownOriginOrNoNovelty) {
                    }});
   cases.push_back({"held-out runs of dopri5 beside training runs of rosenbrock", surrogate(trained, dopri_runs),
                    Want::kRuns, {"the held-out runs were made with dopri5", "the held-out Q2 includes"}});
+  run_table(w().dir(), cases);
+}
+
+// How many elementary-effect steps of a Morris result repeat an earlier one
+// (the same input between the same two points), read from its /inputs/values.
+std::string repeated_morris_steps(const std::string& results) {
+  const Eigen::MatrixXd x = io::Hdf5Reader(results).read_matrix("/inputs/values");
+  const Eigen::Index d = x.cols(), trajectories = x.rows() / (d + 1);
+  std::set<std::vector<double>> seen;
+  int repeats = 0;
+  for (Eigen::Index t = 0; t < trajectories; ++t)
+    for (Eigen::Index k = 0; k < d; ++k) {
+      const Eigen::VectorXd a = x.row(t * (d + 1) + k), b = x.row(t * (d + 1) + k + 1);
+      std::vector<double> step;
+      for (Eigen::Index i = 0; i < d; ++i) step.push_back(a[i] != b[i] ? -1.0 - static_cast<double>(i) : a[i]);
+      for (Eigen::Index i = 0; i < d; ++i) step.push_back(std::min(a[i], b[i]));
+      repeats += !seen.insert(step).second;
+    }
+  return repeats == 0 ? "" : results + ": " + std::to_string(repeats) + " repeated elementary-effect steps";
+}
+
+// A curve recorded at 60 kHz for 0.1 s with its times in milliseconds: 4 of
+// its 6001 samples lie within the quick drop's 0.05 s.
+std::string curve_in_milliseconds() {
+  std::string text = "t,z\n";
+  for (int k = 0; k <= 6000; ++k) {
+    const double t_s = k / 60000.0;
+    text += std::to_string(1000.0 * t_s) + "," + std::to_string(0.281 - 0.5 * 9.81 * t_s * t_s) + "\n";
+  }
+  return text;
+}
+
+TEST_F(Audit, NinthAuditCases) {
+  std::vector<Case> cases;
+  // Morris steps: Ishigami's 3 inputs on 2 levels have 4 steps each; 4 trajectories take every one once.
+  const std::string morris_out = w().out();
+  auto morris = [&](int trajectories) {
+    return w().sensitivity([&](Json& j) {
+      j["method"] = "morris";
+      j["design"] = {{"trajectories", trajectories}, {"levels", 2}, {"seed", 1}};
+    });
+  };
+  cases.push_back({"Morris trajectories as many as the distinct steps", study_args("sensitivity", morris(4), morris_out),
+                   Want::kRuns, {"Morris, 4 trajectories"}, [morris_out] { return repeated_morris_steps(morris_out); }});
+  cases.push_back({"one Morris trajectory more than the distinct steps", study("sensitivity", morris(5)), Want::kError,
+                   {"'design.trajectories'", "(value 5)", "give each input only 4 distinct steps",
+                    "at most 4 trajectories"}});
+  // A curve in milliseconds recorded fast enough to put 3 samples in the run.
+  const std::string ms = w().text_file("ms_60k", curve_in_milliseconds(), "csv");
+  cases.push_back({"compare against a 60 kHz curve in milliseconds",
+                   "compare " + ms + " " + simulated_curve(w().dir() + "/run9.h5"), Want::kError,
+                   {"curve A ('" + ms + "')", "only 0.05 % of its time span", "t runs to 100, milliseconds?"}});
+  cases.push_back({"a study reference of 60 kHz in milliseconds", study("montecarlo", w().montecarlo([&](Json& j) {
+                     j["qoi"] = {{{"name", "rms_vs"}, {"reference", ms}}};
+                   })),
+                   Want::kError, {"'qoi[0].reference'", "only 0.05 % of its time span", "milliseconds?"}});
+  cases.push_back({"a surface reference of 60 kHz in milliseconds", study("surface", w().surface([&](Json& j) {
+                     j["reference"] = {{"file", ms}};
+                   })),
+                   Want::kError, {"'reference.file'", "only 0.05 % of its time span", "milliseconds?"}});
+  // A median the model refuses, on a key the scenario does not set.
+  cases.push_back({"a distribution whose median the model refuses", study("montecarlo", w().montecarlo([](Json& j) {
+                     j["parameters"] = {{"c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.2}}},
+                                        {"scenario.initial_u.z", {{"distribution", "uniform"}, {"min", -2000}, {"max", 0}}}};
+                   })),
+                   Want::kError,
+                   {"'scenario.initial_u.z' at -1000, the median of its uniform", "z = -1000 m/s is beyond +-10 m/s"},
+                   {}, {}, {"cannot vary alone", "'c_q'"}});
+  // Notes of two kinds: the quick drop never lands, and mu_k above mu_s misses the friction law.
+  cases.push_back({"runs with two kinds of note", study("montecarlo", w().montecarlo([](Json& j) {
+                     j["parameters"] = {{"friction.mu_k", {{"distribution", "uniform"}, {"min", 0.45}, {"max", 0.6}}}};
+                   })),
+                   Want::kRuns,
+                   {"WARNING: 2 of 2 runs finished, but the friction law misses its parameters: Makkar fit RMS",
+                    "WARNING: 2 of 2 runs finished, but no wheel touched the ground: within the run's 0.05 s"}});
+  // The chassis turning faster than the rover's size allows.
+  for (const std::string rate : {"theta", "chi", "psi"})
+    cases.push_back({"initial_u." + rate + " 110 rad/s", simulate(w().scenario([&](Json& j) {
+                       j["initial_u"] = {{rate, 110.0}};
+                     })),
+                     Want::kError, {"'initial_u'", rate + " = 110 rad/s is beyond +-", "the rover's farthest point"}});
+  cases.push_back({"a wheel spinning at 110 rad/s", simulate(w().scenario([](Json& j) { j["initial_u"] = {{"z1", 110.0}}; })),
+                   Want::kRuns, {"simulate: ok"}});
+  cases.push_back({"an eom state of a chassis at 110 rad/s",
+                   "eom --state " + w().json_file("state_chi", Json{{"q", std::vector<double>(23, 0.0)},
+                                                                    {"u", [] {
+                                                                       std::vector<double> u(23, 0.0);
+                                                                       u[4] = 110.0;
+                                                                       return u;
+                                                                     }()}}),
+                   Want::kError, {"'u'", "entry 4 (chi) = 110 rad/s is beyond", "the rover's farthest point"}});
+  cases.push_back({"a turn radius whose yaw rate is beyond the scale",
+                   simulate(w().drive_scenario({{"segments", {{{"mode", "car"}, {"speed", 0.3}, {"radius", 1e-3}}}}})),
+                   Want::kError, {"'drive.segments[0].radius'", "gives a yaw rate beyond the rover's scale: 300 rad/s is beyond"},
+                   {}, {}, {"gives a yaw rate of"}});
   run_table(w().dir(), cases);
 }
 

@@ -5,6 +5,7 @@
 // for memory and starts with a wheel deep in the ground are refused at load.
 #include "io/scenario_config.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "core/kinematic_tree.hpp"
+#include "core/number_text.hpp"
 #include "test_support.hpp"
 
 namespace rover {
@@ -279,6 +281,50 @@ std::string load_error(const Json& j) {
   }
   ADD_FAILURE() << "loaded:\n" << j.dump(2);
   return "";
+}
+
+// The chassis's angular rates are bounded by the rover's own size: at the
+// bound, no wheel rim moves faster than the 10 m/s that bounds the linear
+// speeds (the rates of a turning rover, from its kinematics); 110 rad/s of
+// yaw, pitch or roll is refused, naming the field, the value and the range,
+// while a wheel may still spin at 110 rad/s (its rim at 9.4 m/s).
+TEST(ScenarioConfig, ChassisRatesAreBoundedByTheRoversExtent) {
+  const io::ScenarioSetup nominal = io::load_scenario(write_scenario(base_scenario()));
+  const io::SpeedScale scale = io::speed_scale(nominal.model);
+  const double bound = 10.0 / scale.rover_extent_m;
+  for (const int index : {coord::yaw, coord::pitch, coord::roll}) {
+    Coordinates u = Coordinates::Zero();
+    u[index] = bound;
+    const TreeKinematics kin = forward_kinematics(nominal.model.tree, Coordinates::Zero(), u);
+    double fastest_rim = 0.0;
+    for (int leg = 0; leg < kNumLegs; ++leg) {
+      const NodeKinematics& w = kin.nodes[node::wheel(leg)];
+      fastest_rim = std::max(fastest_rim, w.velocity.norm() + w.omega.norm() * scale.wheel_radius_m);
+    }
+    EXPECT_LE(fastest_rim, 10.0 * (1 + 1e-12)) << kCoordinateNames[index];
+    EXPECT_GE(fastest_rim, 5.0) << kCoordinateNames[index];  // the bound is the rover's, not far looser
+  }
+  for (const char* name : {"theta", "chi", "psi"}) {
+    SCOPED_TRACE(name);
+    Json j = base_scenario();
+    j["initial_u"] = {{name, 110.0}};
+    const std::string path = write_scenario(j);
+    try {
+      io::load_scenario(path);
+      ADD_FAILURE() << "loaded " << name << " = 110 rad/s";
+    } catch (const io::ConfigError& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find("'initial_u'"), std::string::npos) << message;
+      EXPECT_NE(message.find(std::string(name) + " = 110 rad/s is beyond +-" + number_text(bound) + " rad/s"),
+                std::string::npos) << message;
+      EXPECT_NE(message.find("the rover's farthest point"), std::string::npos) << message;
+    }
+    j["initial_u"] = {{name, 0.99 * bound}};
+    EXPECT_NO_THROW(io::load_scenario(write_scenario(j)));
+  }
+  Json j = base_scenario();
+  j["initial_u"] = {{"z1", 110.0}};
+  EXPECT_NO_THROW(io::load_scenario(write_scenario(j)));
 }
 
 TEST(ScenarioConfig, RecordingSizeEstimateIsTheClosedForm) {

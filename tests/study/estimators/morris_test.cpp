@@ -66,13 +66,13 @@ TEST(Morris, TrajectoriesMoveEachInputOnceByHalfTheCubeOnTheCentredGrid) {
   EXPECT_THROW(morris_design(0, r, 4, 3), std::invalid_argument);
 }
 
-// The distinct sets of elementary-effect steps among a design's
-// trajectories: each step as (input, its two points in sorted order).
-std::set<std::set<std::vector<double>>> distinct_step_sets(const MorrisDesign& design) {
-  std::set<std::set<std::vector<double>>> seen;
+// How many of a design's elementary-effect steps repeat an earlier one: each
+// step as (input, its two points in sorted order), read from the points.
+int repeated_steps(const MorrisDesign& design) {
+  std::set<std::vector<double>> seen;
   const int d = design.dimensions;
-  for (int t = 0; t < design.trajectories; ++t) {
-    std::set<std::vector<double>> steps;
+  int repeats = 0;
+  for (int t = 0; t < design.trajectories; ++t)
     for (int k = 0; k < d; ++k) {
       const auto a = design.points.row(t * (d + 1) + k), b = design.points.row(t * (d + 1) + k + 1);
       std::vector<double> before(a.begin(), a.end()), after(b.begin(), b.end());
@@ -80,27 +80,55 @@ std::set<std::set<std::vector<double>>> distinct_step_sets(const MorrisDesign& d
       std::vector<double> step{static_cast<double>(design.changed_input[static_cast<std::size_t>(t * d + k)])};
       step.insert(step.end(), before.begin(), before.end());
       step.insert(step.end(), after.begin(), after.end());
-      steps.insert(step);
+      repeats += !seen.insert(step).second;
     }
-    seen.insert(steps);
-  }
-  return seen;
+  return repeats;
 }
 
-TEST(Morris, NoTrajectoryRepeatsAnotherOrItsReverse) {
-  // Two inputs on two levels: 2^2 starts times 2 orders, halved = 4 paths;
-  // one input on four levels: the paths 0-2 and 1-3.
-  EXPECT_EQ(distinct_morris_trajectories(2, 2), 4.0);
-  EXPECT_EQ(distinct_morris_trajectories(1, 4), 2.0);
-  EXPECT_EQ(distinct_morris_trajectories(3, 4), 64.0 * 6.0 / 2.0);
-  EXPECT_EQ(distinct_morris_trajectories(40, 8), kManyTrajectories);
-  for (std::uint64_t seed = 0; seed < 20; ++seed) {
-    EXPECT_EQ(distinct_step_sets(morris_design(2, 4, 2, seed)).size(), 4u) << seed;
-    EXPECT_EQ(distinct_step_sets(morris_design(1, 2, 4, seed)).size(), 2u) << seed;
-    // 16 paths exist: a repeat among 6 draws is likely without the rule.
-    EXPECT_EQ(distinct_step_sets(morris_design(2, 6, 4, seed)).size(), 6u) << seed;
+TEST(Morris, CountsTheDistinctStepsOfEachInput) {
+  // A step of input i: the levels of the others, and which of the levels / 2
+  // pairs {k, k + levels / 2} input i jumps between.
+  EXPECT_EQ(distinct_morris_steps(2, 2), 2.0);
+  EXPECT_EQ(distinct_morris_steps(1, 4), 2.0);
+  EXPECT_EQ(distinct_morris_steps(2, 4), 8.0);
+  EXPECT_EQ(distinct_morris_steps(3, 4), 32.0);
+  EXPECT_EQ(distinct_morris_steps(3, 6), 108.0);
+  EXPECT_EQ(distinct_morris_steps(40, 8), kManySteps);
+}
+
+TEST(Morris, NoStepRepeatsUpToTheNumberOfDistinctSteps) {
+  struct Size {
+    int d, levels, trajectories;
+  };
+  // Far from the bound, near it and at it (where random draws collide and the
+  // design is packed), on two to six levels.
+  for (const Size& size : std::vector<Size>{{2, 2, 2}, {1, 4, 2}, {1, 6, 3}, {2, 4, 8}, {2, 4, 6}, {3, 2, 4},
+                                            {4, 2, 8}, {3, 4, 32}, {3, 4, 20}, {5, 2, 16}, {2, 6, 18},
+                                            {6, 4, 200}, {16, 4, 20}}) {
+    for (std::uint64_t seed = 0; seed < 30; ++seed) {
+      const MorrisDesign design = morris_design(size.d, size.trajectories, size.levels, seed);
+      EXPECT_EQ(repeated_steps(design), 0)
+          << size.d << " inputs, " << size.levels << " levels, " << size.trajectories << " trajectories, seed " << seed;
+      EXPECT_EQ(morris_design(size.d, size.trajectories, size.levels, seed).points, design.points);
+    }
+    EXPECT_THROW(morris_design(size.d, static_cast<int>(distinct_morris_steps(size.d, size.levels)) + 1, size.levels, 1),
+                 std::invalid_argument);
   }
-  EXPECT_THROW(morris_design(2, 5, 2, 1), std::invalid_argument);
+}
+
+TEST(Morris, APackedDesignKeepsTheExactEffectsOfALinearModel) {
+  // Three inputs on two levels: 4 trajectories take every step of every input.
+  const std::vector<double> c{2.0, -0.5, 1.25};
+  for (std::uint64_t seed = 0; seed < 10; ++seed) {
+    const MorrisDesign design = morris_design(3, 4, 2, seed);
+    const MorrisResult m = morris_effects(
+        design, outputs(design, [&](const double* u) { return linear_model(u, c); }), {});
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_NEAR(m.mu[i], c[i], 1e-12) << i;
+      EXPECT_NEAR(m.mu_star[i], std::abs(c[i]), 1e-12) << i;
+      EXPECT_NEAR(m.sigma[i], 0.0, 1e-12) << i;
+    }
+  }
 }
 
 TEST(Morris, LinearModelEffectsAreExactAndUnscattered) {

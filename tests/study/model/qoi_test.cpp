@@ -3,6 +3,8 @@
 
 #include <cmath>
 #include <numbers>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -88,6 +90,22 @@ TEST(Qoi, RmsAgainstAShiftedReferenceIsItsOffset) {
   s.kind = QoiKind::kRmsVs;
   s.reference = ref;
   EXPECT_NEAR(compute_qoi(s, tr), 1e-3, 1e-12);
+}
+
+TEST(Qoi, AReferenceInMillisecondsIsRefusedByItsShareOfTheRun) {
+  // A 0.3 s drop recorded at 20 kHz: in seconds it fits the 0.3 s run; in
+  // milliseconds 7 of its 6000 samples lie in the run, 0.1 % of its span.
+  std::vector<double> seconds, milliseconds;
+  for (int k = 0; k < 6000; ++k) {
+    seconds.push_back(k / 20000.0);
+    milliseconds.push_back(k / 20.0);
+  }
+  EXPECT_EQ(reference_span_problem(seconds, 0.0, 0.3), "");
+  const std::string p = reference_span_problem(milliseconds, 0.0, 0.3);
+  EXPECT_NE(p.find("cover reference times 0 .. 0.3 s: only 0.1 % of its time span"), std::string::npos) << p;
+  EXPECT_NE(p.find("t runs to 299.95, milliseconds?"), std::string::npos) << p;
+  // Fewer than 3 samples in the run: the sample count is named first.
+  EXPECT_NE(reference_span_problem({0.0, 1.0, 2.0}, 0.0, 0.3).find("which hold 1 of its samples"), std::string::npos);
 }
 
 TEST(Qoi, NamesAndChannelsRoundTripAndUnknownsListTheValidOnes) {

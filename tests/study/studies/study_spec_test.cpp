@@ -70,5 +70,31 @@ TEST(StudySpec, ErrorsNameTheField) {
             std::string::npos);
 }
 
+TEST(StudySpec, ARefusedStartingPointIsNamedByTheValueTried) {
+  // The scenario sets no initial_u.z: the checks start at its median, -1000 m/s,
+  // which the model refuses; values near 0 it takes.
+  const std::string uniform = R"("scenario.initial_u.z": {"distribution": "uniform", "min": -2000, "max": 0})";
+  for (const std::string& parameters : {uniform, R"("c_q": {"distribution": "uniform", "min": 0.1, "max": 0.3}, )" + uniform}) {
+    const std::string e = error_of(R"("parameters": {)" + parameters + R"(},
+                                      "design": {"type": "sobol", "samples": 4}, "qoi": ["t_min"])");
+    SCOPED_TRACE(parameters);
+    EXPECT_NE(e.find("'scenario.initial_u.z' at -1000, the median of its uniform"), std::string::npos) << e;
+    EXPECT_NE(e.find("z = -1000 m/s is beyond +-10 m/s"), std::string::npos) << e;
+    EXPECT_EQ(e.find("cannot vary alone"), std::string::npos) << e;
+    EXPECT_EQ(e.find("'c_q'"), std::string::npos) << e;
+  }
+  EXPECT_EQ(error_of(R"("parameters": {"scenario.initial_u.z": {"distribution": "uniform", "min": -2, "max": 0}},
+                        "design": {"type": "sobol", "samples": 4}, "qoi": ["t_min"])"), "");
+}
+
+TEST(StudySpec, AnInputThatCannotVaryAloneNamesTheValuesTried) {
+  // An off-diagonal inertia entry whose symmetric partner stays put.
+  const std::string e = error_of(R"("parameters": {"bodies.chassis.inertia[0][1]": {"distribution": "uniform", "min": -1e-4, "max": 1e-4}},
+                                    "design": {"type": "sobol", "samples": 4}, "qoi": ["t_min"])");
+  EXPECT_NE(e.find("cannot vary alone: the model takes it at its configured value "), std::string::npos) << e;
+  EXPECT_NE(e.find(" but refuses "), std::string::npos) << e;
+  EXPECT_NE(e.find("symmetric"), std::string::npos) << e;  // the model's reason
+}
+
 }  // namespace
 }  // namespace rover::study

@@ -1,0 +1,36 @@
+// How much of a curve lies within the times it is compared over: a run's
+// span, or the common interval of two curves (docs/reliability.md, "Numbers
+// beyond the model's scale"). A curve whose times are in milliseconds beside
+// a run in seconds shares about a thousandth of its span with it (a 0.3 s
+// drop recorded at 20 kHz in milliseconds: 7 of its 6000 samples, its first
+// 0.3 ms), enough samples for an RMS that says nothing. One rule and one
+// sentence for every reader of such a curve: `rover compare`, a study's
+// reference curves (qoi[i].reference, a surface's reference.file) and the
+// hint of a calibration's data that run past the simulated end.
+#pragma once
+
+#include <string>
+
+namespace rover {
+
+// At least this share of a compared curve's time span must lie within the
+// times compared: a record 50 times longer than the run passes; a curve in
+// milliseconds fails unless the run is 20 times longer than the record.
+inline constexpr double kMinCurveShareCompared = 0.02;
+
+// The share of [t_first, t_last] that lies within [lo, hi]; for a curve of
+// one instant, 1 if it lies there, else 0.
+double span_share_within(double t_first, double t_last, double lo, double hi);
+
+// Empty if at least kMinCurveShareCompared of [t_first, t_last] lies within
+// [lo, hi]; otherwise "only 0.1 % of its time span (t 0 .. 300) lies within
+// them, less than the 2 % a comparison needs: t runs to 300, milliseconds?
+// (a longer record: cut it to the times compared)".
+std::string curve_share_problem(double t_first, double t_last, double lo, double hi);
+
+// ": t runs to 300, milliseconds?" when a curve that ends at t_last runs on
+// beyond a span ending at span_end_s by more than the share rule allows
+// (t_last above span_end_s / kMinCurveShareCompared), else "".
+std::string milliseconds_hint(double t_last, double span_end_s);
+
+}  // namespace rover
