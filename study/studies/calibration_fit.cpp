@@ -209,6 +209,7 @@ LevenbergMarquardtResult weighted_round(const CalibrationStudy& s, const Interna
     for (std::size_t k = 0; k < layout.curves; ++k)
       r.segment(static_cast<Eigen::Index>(first[k]), static_cast<Eigen::Index>(first[k + 1] - first[k])) *= weights[k];
   };
+  std::string failed_run;  // the first run that failed, named by its curve
   LeastSquaresResidualFunction residuals = [&](const Eigen::VectorXd& x) -> std::optional<Eigen::VectorXd> {
     const FitPoint p = natural_point(s, layout, x);
     CalibrationEvaluation e{p.values, p.offsets, 0, 0, 1};
@@ -216,6 +217,9 @@ LevenbergMarquardtResult weighted_round(const CalibrationStudy& s, const Interna
     for (std::size_t k = 0; k < layout.curves; ++k) {
       const CalibrationCurve curve = simulate_calibration_curve(s, k, p.values);
       if (!curve.ok) {
+        if (failed_run.empty())
+          failed_run = "curve " + std::to_string(k + 1) + " (" + s.datasets[k].path + " on " +
+                       s.datasets[k].scenario_path + "): " + curve.message;
         history.push_back(e);
         return std::nullopt;
       }
@@ -255,7 +259,10 @@ LevenbergMarquardtResult weighted_round(const CalibrationStudy& s, const Interna
   settings.step_tolerance = kStepTolerance;
   settings.gradient_tolerance = kGradientTolerance;
   settings.decrease_tolerance = kDecreaseTolerance;
-  return levenberg_marquardt(residuals, jacobian, x0, lower, upper, settings);
+  LevenbergMarquardtResult fit = levenberg_marquardt(residuals, jacobian, x0, lower, upper, settings);
+  if (fit.stop == LeastSquaresStop::kEvaluationFailed && !failed_run.empty())
+    fit.message += ": the run of " + failed_run;
+  return fit;
 }
 
 // Each curve's RMS at a point (NaN where its run failed).

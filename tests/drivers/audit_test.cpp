@@ -2889,6 +2889,21 @@ TEST_F(Audit, OneProcessWritersTakeTheLock) {
   run_table(dir, cases);
 }
 
+// A joint fit whose second curve's scenario fails every run says which
+// curve, which file and which scenario, and why its runs failed.
+TEST_F(Audit, JointFitNamesTheCurveWhoseRunsFail) {
+  std::vector<Case> cases;
+  const std::string failing = w().scenario([](Json& j) { j["wall_time_budget"] = 1e-6; });
+  const std::string data = w().dir() + "/quick_data.csv";  // the quick drop's own curve
+  cases.push_back({"a joint fit whose second curve cannot run",
+                   study("calibrate", w().calibration([&](Json& j) {
+                     j["data"] = {{{"file", data}, {"channel", "B_l_z"}},
+                                  {{"file", data}, {"channel", "B_l_z"}, {"scenario", failing}}};
+                   })),
+                   Want::kAllFailed, {"the run of curve 2 (" + data + " on " + failing + ")", "wall-time budget"}});
+  run_table(w().dir(), cases);
+}
+
 // A name inside a config means what the system makes of it: "lnk/../x"
 // through a linked folder names the x beside the link's target, which is
 // then read, and protected as an input.
