@@ -483,29 +483,16 @@ ScenarioSetup load_scenario(const std::string& path) {
   return build_scenario(read_scenario_sources(path));
 }
 
-ScenarioSetup build_scenario(const ScenarioSources& sources) {
-  const std::string& path = sources.scenario_path;
-  const JsonReader r(sources.scenario, path);
-  ScenarioSetup setup;
-  setup.scenario_path = path;
-  Scenario& s = setup.scenario;
-  s.name = r.string_or("name", std::filesystem::path(path).stem().string());
-  if (r.has("name") && !is_plain_file_name(s.name))
-    r.fail("name", "must be a plain file name (rover simulate writes results/<name>.h5 by default)");
-  r.string_or("description", "");
-  r.string("rover");
-  if (r.has("terrain")) r.string("terrain");
-  setup.rover_path = sources.rover_path;
-  setup.terrain_path = sources.terrain_path;
-  setup.files = sources.files;
-  setup.model = make_checked_rover_model(parse_rover_parameters(sources.rover, sources.rover_path),
-                                        sources.terrain, sources.rover_path);
-  const double R = setup.model.parameters.geometry.wheel_radius_m;
+namespace {
 
+// The initial state and set-points: initial_q, initial_u, a drive's start,
+// forward_speed, initial_ground_clearance, wheel_speed_ref and steer_ref.
+void parse_initial_state(const JsonReader& r, const ScenarioSources& sources, ScenarioSetup& setup) {
+  Scenario& s = setup.scenario;
+  const double R = setup.model.parameters.geometry.wheel_radius_m;
   // A drive schedule replaces the constant set-points; its command at t = 0
   // gives the initial steering and, unless it starts at rest, the speeds.
-  const bool has_drive = r.has("drive");
-  if (has_drive) {
+  if (r.has("drive")) {
     for (const char* key : {"forward_speed", "wheel_speed_ref", "steer_ref"}) {
       if (r.has(key))
         r.fail(key, "conflicts with 'drive', whose schedule sets the wheel speed and steering "
@@ -555,13 +542,17 @@ ScenarioSetup build_scenario(const ScenarioSources& sources) {
                                 " rad) is beyond the steering end-stop +-" + number_text(limit) +
                                 " rad (steering.limit of " + sources.rover_path + ")");
   }
+}
 
+// The run's length (duration, or travel_distance at forward_speed) and its
+// output rate, within what a recorded curve needs and a file holds.
+void parse_run_length(const JsonReader& r, Scenario& s) {
   if (r.has("duration") == r.has("travel_distance"))
     r.fail("duration", "give exactly one of 'duration' [s] and 'travel_distance' [m]");
   if (r.has("duration")) {
     s.duration_s = r.positive("duration");
   } else {
-    if (has_drive) r.fail("travel_distance", "give 'duration' [s] with 'drive'");
+    if (r.has("drive")) r.fail("travel_distance", "give 'duration' [s] with 'drive'");
     const double distance = r.positive("travel_distance");
     if (!r.has("forward_speed") || !(r.number("forward_speed") > 0.0))
       r.fail("travel_distance", "needs a positive 'forward_speed'");
@@ -583,18 +574,12 @@ ScenarioSetup build_scenario(const ScenarioSources& sources) {
     r.fail(r.has("duration") ? "duration" : "travel_distance",
            problem + " at " + number_text(s.output_rate_hz) + " Hz; reduce duration or output_rate");
   }
-  if (has_drive) {
-    refuse_segments_after_the_end(r.child("drive"), s);
-    refuse_ramp_beyond_the_end(r.child("drive"), s);
-  }
-  refuse_runs_beside_the_grid(r, setup);
-  if (r.has("integrator")) s.integrator = parse_integrator_settings(r.child("integrator"), s.integrator);
-  if (r.has("wall_time_budget")) s.wall_time_budget_s = r.positive("wall_time_budget");
-  if (std::string why; !scenario_is_valid(s, &why)) r.fail("integrator", why);
+}
 
-  // A wheel deep in the ground would start with a contact force far beyond
-  // the rover's weight: a typo in z, not a drop test.
-  const WheelPenetration start = deepest_wheel_penetration(setup.model, s.initial_q);
+// A wheel deep in the ground would start with a contact force far beyond
+// the rover's weight: a typo in z, not a drop test.
+void refuse_deep_start(const JsonReader& r, const ScenarioSetup& setup) {
+  const WheelPenetration start = deepest_wheel_penetration(setup.model, setup.scenario.initial_q);
   if (const double tolerance = initial_penetration_tolerance_m(setup.model); start.depth_m > tolerance) {
     char depth[160];
     std::snprintf(depth, sizeof depth,
@@ -606,7 +591,39 @@ ScenarioSetup build_scenario(const ScenarioSources& sources) {
                                          "not from the terrain under the wheels)");
     r.fail("initial_q", std::string(depth) + "; raise initial_q.z or give initial_ground_clearance");
   }
+}
 
+}  // namespace
+
+ScenarioSetup build_scenario(const ScenarioSources& sources) {
+  const std::string& path = sources.scenario_path;
+  const JsonReader r(sources.scenario, path);
+  ScenarioSetup setup;
+  setup.scenario_path = path;
+  Scenario& s = setup.scenario;
+  s.name = r.string_or("name", std::filesystem::path(path).stem().string());
+  if (r.has("name") && !is_plain_file_name(s.name))
+    r.fail("name", "must be a plain file name (rover simulate writes results/<name>.h5 by default)");
+  r.string_or("description", "");
+  r.string("rover");
+  if (r.has("terrain")) r.string("terrain");
+  setup.rover_path = sources.rover_path;
+  setup.terrain_path = sources.terrain_path;
+  setup.files = sources.files;
+  setup.model = make_checked_rover_model(parse_rover_parameters(sources.rover, sources.rover_path),
+                                        sources.terrain, sources.rover_path);
+  parse_initial_state(r, sources, setup);
+  parse_run_length(r, s);
+  const bool has_drive = r.has("drive");
+  if (has_drive) {
+    refuse_segments_after_the_end(r.child("drive"), s);
+    refuse_ramp_beyond_the_end(r.child("drive"), s);
+  }
+  refuse_runs_beside_the_grid(r, setup);
+  if (r.has("integrator")) s.integrator = parse_integrator_settings(r.child("integrator"), s.integrator);
+  if (r.has("wall_time_budget")) s.wall_time_budget_s = r.positive("wall_time_budget");
+  if (std::string why; !scenario_is_valid(s, &why)) r.fail("integrator", why);
+  refuse_deep_start(r, setup);
   setup.inputs = nominal_inputs(setup.model.parameters);
   if (r.has("inputs")) setup.inputs = parse_simulation_inputs(r.child("inputs"), setup.inputs);
   r.finish();
