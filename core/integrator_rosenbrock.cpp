@@ -28,9 +28,9 @@
 //    is 2e4 times its displacement, is not followed to the last
 //    micro-radian per second;
 //  * slip: at every contact of the step start, the error of the slip speed,
-//    (I - n n^T) J_P e_u, is held to 5 % of the speed scale on which the
-//    friction force changes: v_s near stick, about |v_t| in gross sliding
-//    (slip_error_norm() below);
+//    (I - n n^T) J_P e_u, is held to settings.slip_tolerance (5 % by
+//    default) of the speed scale on which the friction force changes: v_s
+//    near stick, about |v_t| in gross sliding (slip_error_norm() below);
 //  * wheel spin: a disk wheel's rolling angle enters no force, and its rate
 //    matters through the speed of its rim. A wheel on the ground is measured
 //    by its slip alone; a wheel in the air by its absolute rate about its
@@ -264,9 +264,9 @@ double error_norm(const StateVector& error, const StateVector& scale) {
 // is the slip-speed change that would change the force by its whole range:
 // about v_s near stick, about |v_t| mu_s / mu_k in gross sliding. The error of
 // the tangential speed of each contact point, (I - n n^T) J_P e_u, is held to
-// kSlipTolerance s(v_t) (+ rtol |v_t|): stick and the Stribeck hump are
-// resolved to 5 % of v_s, a wheel skidding sideways at 0.2 m/s to 1 cm/s.
-constexpr double kSlipTolerance = 0.05;
+// slip_tolerance s(v_t) (+ rtol |v_t|): at the default 0.05, stick and the
+// Stribeck hump are resolved to 5 % of v_s, a wheel skidding sideways at
+// 0.2 m/s to 1 cm/s.
 
 struct SlipRows {
   Eigen::Matrix<double, 3, kNumCoordinates> tangential_jacobian;  // (I - n n^T) J_P
@@ -308,7 +308,7 @@ double slip_error_norm(const SlipRowSet& slips, const Coordinates& speed_error, 
   for (int i = 0; i < slips.count; ++i) {
     const SlipRows& r = slips.rows[static_cast<std::size_t>(i)];
     norm = std::max(norm, (r.tangential_jacobian * speed_error).norm() /
-                              (kSlipTolerance * r.friction_speed_scale_mps +
+                              (settings.slip_tolerance * r.friction_speed_scale_mps +
                                settings.relative_tolerance * r.slip_speed_mps));
   }
   return std::isfinite(norm) ? norm : std::numeric_limits<double>::infinity();
