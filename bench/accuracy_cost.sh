@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The accuracy-cost frontier of the integrators (docs/model.md §9): the five
 # paper scenarios (both drops, the obstacle at 0.34, 1 and 2 m/s) run with
-# each integrator over a range of tolerances; per setting and scenario,
+# each integrator over a range of tolerances (and, for the stiff ones, slip
+# tolerances: slip_tol in the scenario files); per setting and scenario,
 # bench/paper_scenarios_bench prints the RMS and largest difference of B_l z
 # and B_r z from Dormand-Prince at rtol 1e-10 (cached: the references take
 # minutes once), accepted and rejected steps, right-hand sides and the wall
@@ -24,10 +25,13 @@ extra=()
 [[ -n "${ROVER_ONLY:-}" ]] && extra+=(--only "$ROVER_ONLY")
 [[ -n "${ROVER_REFERENCE_RTOL:-}" ]] && extra+=(--reference-rtol "$ROVER_REFERENCE_RTOL")
 
-# method rtol atol, cheapest first within each method.
+# method rtol atol [slip_tol], cheapest first within each method.
 settings=(
   "rosenbrock 1e-4 2e-3" "rosenbrock 1e-5 2e-4" "rosenbrock 1e-5 1e-5" "rosenbrock 1e-5 1e-6"
   "rosenbrock 1e-5 1e-7" "rosenbrock 1e-5 1e-8" "rosenbrock 1e-6 1e-8"
+  "rosenbrock 1e-5 1e-5 0.01" "rosenbrock 1e-5 1e-5 0.005" "rosenbrock 1e-5 3e-6 0.01"
+  "rosenbrock 1e-5 1e-6 0.01" "rosenbrock 1e-5 1e-6 0.002" "rosenbrock 1e-5 3e-7 0.01"
+  "rosenbrock 1e-5 1e-7 0.002"
   "rodas4 1e-4 2e-3" "rodas4 1e-5 2e-4" "rodas4 1e-5 1e-5" "rodas4 1e-5 1e-6" "rodas4 1e-6 1e-7"
   "rodas4 1e-7 1e-8"
   "dopri5 1e-6 1e-9" "dopri5 1e-7 1e-10" "dopri5 1e-8 1e-11" "dopri5 1e-9 1e-12"
@@ -35,8 +39,10 @@ settings=(
 
 lscpu | grep 'Model name' || true
 for setting in "${settings[@]}"; do
-  read -r method rtol atol <<<"$setting"
+  read -r method rtol atol slip <<<"$setting"
   [[ " $methods " == *" $method "* ]] || continue
+  slip_args=()
+  [[ -n "$slip" ]] && slip_args=(--slip "$slip")
   echo
-  "$bench" --method "$method" --rtol "$rtol" --atol "$atol" --repeats 1 "${extra[@]}"
+  "$bench" --method "$method" --rtol "$rtol" --atol "$atol" "${slip_args[@]}" --repeats 1 "${extra[@]}"
 done

@@ -12,8 +12,10 @@
 // /tmp/rover_reference_cache; --cache DIR) keyed by scenario, so a second
 // run of the table costs seconds. Run on a quiet core:
 //   taskset -c 0 build/bench/paper_scenarios_bench [--cache DIR] [--only NAME] [--rtol R] [--atol A]
-//       [--method NAME | --dopri5] [--repeats N] [--reference-rtol R] [--lift METRES] [--trace FILE]
-// (--rtol and --atol replace the method's default tolerances; --method runs
+//       [--slip S] [--method NAME | --dopri5] [--repeats N] [--reference-rtol R] [--lift METRES]
+//       [--trace FILE]
+// (--rtol and --atol replace the method's default tolerances, --slip its
+// slip_tolerance (rosenbrock, rodas4); --method runs
 // any integrator by name (rosenbrock, rodas4, dopri5) at its defaults or the
 // tolerances given; --dopri5 runs Dormand-Prince at the scenario's own
 // tolerances, or those given, to show how far an explicit run
@@ -163,6 +165,7 @@ int main(int argc, char** argv) {
   int repeats = 0;  // 0: three, one for dopri5
   double reference_rtol = kReferenceRelativeTolerance;
   double lift_m = 0.0;
+  double slip_tolerance = 0.0;  // 0: the method's default
   std::string trace;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--cache") && i + 1 < argc) {
@@ -177,6 +180,8 @@ int main(int argc, char** argv) {
       stiff.absolute_tolerance = positive_number("--atol", argv[i + 1]);
       tolerances_given = true;
       ++i;
+    } else if (!std::strcmp(argv[i], "--slip") && i + 1 < argc) {
+      slip_tolerance = positive_number("--slip", argv[++i]);
     } else if (!std::strcmp(argv[i], "--dopri5")) {
       dopri5 = true;
     } else if (!std::strcmp(argv[i], "--method") && i + 1 < argc) {
@@ -202,12 +207,14 @@ int main(int argc, char** argv) {
     } else if (!std::strcmp(argv[i], "--trace") && i + 1 < argc) {
       trace = argv[++i];
     } else {
-      std::fprintf(stderr, "usage: %s [--cache DIR] [--only SCENARIO] [--rtol R] [--atol A] [--method NAME | --dopri5] "
+      std::fprintf(stderr, "usage: %s [--cache DIR] [--only SCENARIO] [--rtol R] [--atol A] [--slip S] "
+                           "[--method NAME | --dopri5] "
                            "[--repeats N] [--reference-rtol R] [--lift METRES] "
                            "[--trace FILE]\n", argv[0]);
       return 2;
     }
   }
+  if (slip_tolerance > 0.0) stiff.slip_tolerance = slip_tolerance;
   const char* const names[] = {"drop_horizontal", "drop_skewed", "obstacle_v034", "obstacle_v1", "obstacle_v2"};
   if (!only.empty() && std::find(std::begin(names), std::end(names), only) == std::end(names)) {
     std::fprintf(stderr, "--only: unknown scenario '%s' (drop_horizontal, drop_skewed, obstacle_v034, "
@@ -224,6 +231,7 @@ int main(int argc, char** argv) {
   else
     std::printf("%s (rtol %.0e, atol %.0e)", dopri5 ? "dopri5" : integrator_name(stiff.method),
                 stiff.relative_tolerance, stiff.absolute_tolerance);
+  if (!dopri5 && slip_tolerance > 0.0) std::printf(", slip_tol %g,", stiff.slip_tolerance);
   if (lift_m > 0.0) std::printf(", started %g m higher,", lift_m);
   std::printf(" against dopri5 (rtol %.0e, atol %.0e)\n", reference_rtol, kReferenceAtolPerRtol * reference_rtol);
   std::printf("%-16s %9s %7s %7s %7s | %-19s | %-19s\n", "scenario", "wall [s]", "steps", "reject", "rhs",

@@ -13,9 +13,9 @@
 namespace rover {
 
 struct IntegratorChoice {
-  IntegratorSettings settings;      // method, rtol, atol; the other fields at their defaults
+  IntegratorSettings settings;      // method, rtol, atol, slip_tol; the other fields at their defaults
   double measured_error_m = 0.0;    // worst RMS difference of the setting over the paper scenarios
-  std::string description;          // e.g. "rosenbrock rtol 1e-05 atol 0.0002"
+  std::string description;          // e.g. "rosenbrock rtol 1e-05 atol 1e-05 slip_tol 0.01"
                                     // ("(the most accurate measured ...)" appended if short)
 };
 

@@ -28,9 +28,9 @@
 //    is 2e4 times its displacement, is not followed to the last
 //    micro-radian per second;
 //  * slip: at every contact of the step start, the error of the slip speed,
-//    (I - n n^T) J_P e_u, is held to 5 % of the speed scale on which the
-//    friction force changes: v_s near stick, about |v_t| in gross sliding
-//    (slip_error_norm() below);
+//    (I - n n^T) J_P e_u, is held to settings.slip_tolerance (5 % by
+//    default) of the speed scale on which the friction force changes: v_s
+//    near stick, about |v_t| in gross sliding (slip_error_norm() below);
 //  * wheel spin: a disk wheel's rolling angle enters no force, and its rate
 //    matters through the speed of its rim. A wheel on the ground is measured
 //    by its slip alone; a wheel in the air by its absolute rate about its
@@ -44,7 +44,12 @@
 // touch. A step whose stages all miss the contact, but whose end state has it,
 // has skipped part of the impact without its error estimate noticing; such a
 // step is rejected and retried at half the size, until a stage sees the
-// contact and the error estimate takes over. A contact can also begin and end
+// contact and the error estimate takes over. A try whose stages see a contact
+// region that the start did not have is retried, once per step, where the
+// motion of the start (q0 + s u0 + s^2 a0 / 2) meets it (predicted_touchdown()):
+// the step then ends just before the touchdown and the next one starts at
+// it, where creeping up to it by the error estimate's shrinking (at most 5
+// per try) costs about ten rejected tries. A contact can also begin and end
 // inside one step, between its stages (a wheel that strikes the foot of a ramp
 // and bounces off it within a millisecond): the accepted step is looked inside,
 // at a quarter, half and three quarters of it on the cubic Hermite output, and
@@ -148,6 +153,32 @@ struct StepPoint {
   ModelInputs inputs;
   DynamicsWorkspace dynamics;
 };
+
+// The time into a step of size h from `start` at which a wheel meets a
+// contact region it did not have there (`start_regions`), on the quadratic
+// predictor q0 + s u0 + s^2 a0 / 2, u0 + s a0 of the smooth motion before
+// the touchdown, by bisection to h / 2^kTouchdownBisections: the last time
+// found without the new region, or h if the predictor meets none within h
+// (`kinematics` is scratch).
+constexpr int kTouchdownBisections = 12;
+
+double predicted_touchdown(const RoverModel& model, const StepPoint& start, const ContactCounts& start_regions,
+                           double h, TreeKinematics& kinematics) {
+  const Coordinates q0 = start.x.head<kNumCoordinates>(), u0 = start.x.tail<kNumCoordinates>();
+  const Coordinates a0 = start.dx.tail<kNumCoordinates>();
+  const auto touches = [&](double s) {
+    StateVector x;
+    x << q0 + s * u0 + (0.5 * s * s) * a0, u0 + s * a0;
+    return has_unseen_region(model, x, start_regions, kinematics);
+  };
+  if (!touches(h)) return h;
+  double before = 0.0, after = h;
+  for (int i = 0; i < kTouchdownBisections; ++i) {
+    const double mid = 0.5 * (before + after);
+    (touches(mid) ? after : before) = mid;
+  }
+  return before;
+}
 
 // The right-hand side at a step end, with M (the next step's iteration
 // matrix needs it), or at a stage point, where du/dt is all that is needed
@@ -264,9 +295,9 @@ double error_norm(const StateVector& error, const StateVector& scale) {
 // is the slip-speed change that would change the force by its whole range:
 // about v_s near stick, about |v_t| mu_s / mu_k in gross sliding. The error of
 // the tangential speed of each contact point, (I - n n^T) J_P e_u, is held to
-// kSlipTolerance s(v_t) (+ rtol |v_t|): stick and the Stribeck hump are
-// resolved to 5 % of v_s, a wheel skidding sideways at 0.2 m/s to 1 cm/s.
-constexpr double kSlipTolerance = 0.05;
+// slip_tolerance s(v_t) (+ rtol |v_t|): at the default 0.05, stick and the
+// Stribeck hump are resolved to 5 % of v_s, a wheel skidding sideways at
+// 0.2 m/s to 1 cm/s.
 
 struct SlipRows {
   Eigen::Matrix<double, 3, kNumCoordinates> tangential_jacobian;  // (I - n n^T) J_P
@@ -308,7 +339,7 @@ double slip_error_norm(const SlipRowSet& slips, const Coordinates& speed_error, 
   for (int i = 0; i < slips.count; ++i) {
     const SlipRows& r = slips.rows[static_cast<std::size_t>(i)];
     norm = std::max(norm, (r.tangential_jacobian * speed_error).norm() /
-                              (kSlipTolerance * r.friction_speed_scale_mps +
+                              (settings.slip_tolerance * r.friction_speed_scale_mps +
                                settings.relative_tolerance * r.slip_speed_mps));
   }
   return std::isfinite(norm) ? norm : std::numeric_limits<double>::infinity();
@@ -367,11 +398,18 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
   const bool rodas4 = settings.method == IntegratorMethod::kRodas4;
   const int embedded_order = rodas4 ? kRodas4.embedded_order : kRos34pw2.embedded_order;
   constexpr double kMaxGrowth = 5.0, kOnsetShrink = 0.5;
+  constexpr double kAtTouchdown = 1e-3;  // of a try: a predicted touchdown closer is at its start
+  constexpr int kTouchdownsInARow = 2;
   constexpr std::array<double, 3> kLookInside = {0.25, 0.5, 0.75};  // of an accepted step, for contacts
   IntegrationReport report;
   request.record(0.0, x);
   if (request.sample_count < 2) return report;
   const double t_end = static_cast<double>(request.sample_count - 1) * request.sample_period_s;
+  // A predicted touchdown is taken only where it is 2^kTouchdownBisections
+  // times the shortest step the stall watch lets pass (integrators.hpp), so
+  // that the steps after it, down to that fraction of it, pass too.
+  const double shortest_touchdown = std::ldexp(StallWatch::kRoundingUnits, kTouchdownBisections) *
+                                    std::numeric_limits<double>::epsilon() * t_end;
   auto sample_time = [&](std::size_t k) { return static_cast<double>(k) * request.sample_period_s; };
   auto underflow = [&](double t, double h, const std::string& why) {
     report.status = SimulationStatus::kStepSizeUnderflow;
@@ -395,6 +433,7 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
   std::size_t next = 1;
   Linearization lin;
   SlipRowSet slips;
+  int touchdowns_in_a_row = 0;  // steps that ended at a predicted touchdown, the last ones
   while (next < request.sample_count) {
     linearize(system, *start, report, lin);
     // K's diagonal at the step start; each try stiffens its S-joint entries
@@ -408,6 +447,12 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
     // Try steps until one passes the error test and misses no touchdown.
     double error = 0.0, t1 = 0.0;
     bool rejected = false;  // by the error test, at a longer step
+    // Whether the try under way ends at a predicted touchdown, and whether
+    // one has been tried in this step: at most one, and none after
+    // kTouchdownsInARow steps that ended at one (each lands up to
+    // 2^kTouchdownBisections times closer to it; the step across it is left
+    // to the error estimate).
+    bool located = false, touchdown_tried = touchdowns_in_a_row >= kTouchdownsInARow;
     for (;;) {
       bool last = false;
       if (start->t + h >= t_end * (1.0 - 1e-15)) {
@@ -452,17 +497,31 @@ IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
         }
         if (!missed) break;
         ++report.rejected_steps;
+        located = false;
         h *= kOnsetShrink;  // a touchdown inside the step that no stage saw
         if (h < settings.min_step_s) return underflow(start->t, h, "touchdown");
         continue;
       }
       rejected = true;
       ++report.rejected_steps;
+      located = false;
+      // A stage met a contact that the start did not have: once per step,
+      // the next try ends where the smooth motion before it meets it, unless
+      // the step starts there already (the error estimate then shrinks it).
+      if (!touchdown_tried && has_more(seen_regions, start_regions)) {
+        const double touchdown = predicted_touchdown(system.model, *start, start_regions, h, stage.dynamics.kinematics);
+        if (touchdown < h && touchdown > std::max(kAtTouchdown * h, shortest_touchdown)) {
+          touchdown_tried = located = true;
+          h = touchdown;
+          continue;
+        }
+      }
       h *= step_factor(error, 1.0, embedded_order);
       if (h < settings.min_step_s)
         return underflow(start->t, h, "error estimate " + number_text(error));
     }
 
+    touchdowns_in_a_row = located ? touchdowns_in_a_row + 1 : 0;
     const double taken = t1 - start->t;
     if (step_is_bad(report, stall, t1, taken, end->x, request)) return report;
     while (next < request.sample_count && sample_time(next) <= t1) {

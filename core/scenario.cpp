@@ -63,6 +63,10 @@ bool IntegratorSettings::IsValid(std::string* why) const {
   if (!(absolute_tolerance <= kMaxAbsoluteTolerance))
     return fail(why, method_name + ": atol must be at most " + number_text(kMaxAbsoluteTolerance) + ", got " +
                          number_text(absolute_tolerance));
+  const bool stiff = method == IntegratorMethod::kRosenbrockW || method == IntegratorMethod::kRodas4;
+  if (stiff && !(slip_tolerance > 0.0 && slip_tolerance <= kMaxSlipTolerance))
+    return fail(why, method_name + ": slip_tol must lie in (0, " + number_text(kMaxSlipTolerance) + "], got " +
+                         number_text(slip_tolerance));
   if (!positive_finite(min_step_s) || !positive_finite(initial_step_s) || !positive_finite(max_step_s))
     return fail(why, method_name + ": min_step, initial_step and max_step must be finite and > 0, got " +
                          number_text(min_step_s) + ", " + number_text(initial_step_s) + ", " +

@@ -32,15 +32,24 @@ struct IntegratorSettings {
   double min_step_s = 1e-12;         // adaptive: below this the run fails
   double max_step_s = 1e-2;          // adaptive: upper bound on the step
   double fixed_step_s = 1e-5;        // RK4: step; must divide the output period
+  // rosenbrock, rodas4: a contact's slip-speed error is held to this fraction
+  // of the speed on which its friction force changes (integrator_rosenbrock.cpp);
+  // smaller buys the accuracy of the drops' compression where atol does not
+  // (docs/performance.md, "Accuracy against cost").
+  double slip_tolerance = 0.05;
 
   // Tolerances beyond these say nothing about the result (an rtol of 1 lets
   // every state be wrong by its own size; an atol above 1 cm is larger than
   // the deflections studied) or ask for less than round-off.
   static constexpr double kMinRelativeTolerance = 1e-14, kMaxRelativeTolerance = 0.1;
   static constexpr double kMaxAbsoluteTolerance = 1e-2;
+  // A slip tolerance of the whole speed scale lets the friction force be
+  // wrong by its whole range.
+  static constexpr double kMaxSlipTolerance = 1.0;
 
   // Ceres-style check of the fields the method uses: tolerances within the
-  // limits above and 0 < min_step <= initial_step <= max_step for the adaptive
+  // limits above (slip_tolerance in (0, kMaxSlipTolerance] for rosenbrock and
+  // rodas4) and 0 < min_step <= initial_step <= max_step for the adaptive
   // methods, a finite fixed_step > 0 for RK4. On failure, says why in `why`
   // (if not null), with the numbers as written (1e-12, not 0.000000).
   bool IsValid(std::string* why) const;

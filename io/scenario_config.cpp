@@ -394,6 +394,11 @@ const char* misordered_step_key(const JsonReader& r, const IntegratorSettings& s
   return "initial_step";
 }
 
+bool slip_tolerance_out(const IntegratorSettings& s) {
+  const bool stiff = s.method == IntegratorMethod::kRosenbrockW || s.method == IntegratorMethod::kRodas4;
+  return stiff && !(s.slip_tolerance <= IntegratorSettings::kMaxSlipTolerance);
+}
+
 }  // namespace
 
 IntegratorSettings parse_integrator_settings(const JsonReader& r, IntegratorSettings s) {
@@ -420,6 +425,7 @@ IntegratorSettings parse_integrator_settings(const JsonReader& r, IntegratorSett
   if (r.has("min_step")) s.min_step_s = r.positive("min_step");
   if (r.has("max_step")) s.max_step_s = r.positive("max_step");
   if (r.has("fixed_step")) s.fixed_step_s = r.positive("fixed_step");
+  if (r.has("slip_tol")) s.slip_tolerance = r.positive("slip_tol");
   r.finish();
   if (std::string why; !s.IsValid(&why)) {
     const bool rtol_out = !(s.relative_tolerance >= IntegratorSettings::kMinRelativeTolerance &&
@@ -427,6 +433,7 @@ IntegratorSettings parse_integrator_settings(const JsonReader& r, IntegratorSett
     const char* key = s.method == IntegratorMethod::kRungeKutta4                     ? "fixed_step"
                       : rtol_out                                                     ? "rtol"
                       : !(s.absolute_tolerance <= IntegratorSettings::kMaxAbsoluteTolerance) ? "atol"
+                      : slip_tolerance_out(s)                                        ? "slip_tol"
                                                                                      : misordered_step_key(r, s);
     r.fail(key, why);
   }

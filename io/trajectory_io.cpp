@@ -81,6 +81,7 @@ void write_trajectory_hdf5(const std::string& path, const Trajectory& tr, const 
   h5.attribute("/", "integrator", integrator_name(integ.method));
   h5.attribute("/", "rtol", integ.relative_tolerance);
   h5.attribute("/", "atol", integ.absolute_tolerance);
+  h5.attribute("/", "slip_tol", integ.slip_tolerance);
   h5.attribute("/", "initial_step_s", integ.initial_step_s);
   h5.attribute("/", "min_step_s", integ.min_step_s);
   h5.attribute("/", "max_step_s", integ.max_step_s);

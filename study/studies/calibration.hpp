@@ -258,7 +258,8 @@ CalibrationResiduals calibration_residuals(const CalibrationStudy& study, const 
 // (bench/calibration_coverage.py); 1e-2 keeps them stable.
 inline constexpr double kJacobianRelativeStep = 1e-2;
 
-// "rosenbrock at rtol 1e-08, atol 2e-07", as results and messages name an integrator.
+// "rosenbrock at rtol 1e-08, atol 2e-07" (", slip_tol 0.01" at another than the
+// method's default), as results and messages name an integrator.
 std::string describe_integrator(const IntegratorSettings& integrator);
 
 }  // namespace rover::study

@@ -63,6 +63,7 @@ void write_base_provenance(io::Hdf5Writer& h5, const std::string& type, const st
     h5.attribute("/", "integrator", integrator_name(integrator->method));
     h5.attribute("/", "rtol", integrator->relative_tolerance);
     h5.attribute("/", "atol", integrator->absolute_tolerance);
+    h5.attribute("/", "slip_tol", integrator->slip_tolerance);
   }
   h5.attribute("/", "ranks", static_cast<long long>(world_size()));
   h5.attribute("/", "fingerprint", fingerprint);

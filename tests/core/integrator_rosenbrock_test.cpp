@@ -111,6 +111,46 @@ TEST(IntegratorRosenbrock, Rodas4ByNameMatchesTheDormandPrinceReference) {
   EXPECT_LT(1e3 * rms_difference(rodas.B_r_z, dp.B_r_z), 0.05);
 }
 
+TEST(IntegratorRosenbrock, StepsToATouchdown) {
+  // The horizontal drop's first two wheels touch at 87.6 and 89.7 ms. A try
+  // whose stages meet a touchdown is retried where the motion before it
+  // meets the ground, instead of creeping up to it by the error estimate's
+  // shrinking, which takes more than 11 rejected tries per touchdown there.
+  const RoverModel model = make_rover_model(default_rover_parameters());
+  Scenario s = rosenbrock_scenario(drop(0.281, 0.039, 0.0042));
+  s.duration_s = 0.09;
+  const Trajectory tr = simulate(model, s, nominal_inputs(model.parameters));
+  ASSERT_TRUE(tr.ok()) << tr.message;
+  EXPECT_LT(tr.rejected_steps, 2 * 11);
+}
+
+TEST(IntegratorRosenbrock, TighterSlipToleranceBringsTheDropCloserToTheReference) {
+  // At a tight atol the horizontal drop's error is made in its compression,
+  // where the wheels slide outwards against the friction: a fifth of the
+  // slip tolerance takes it several times closer to Dormand-Prince, for
+  // little more work.
+  const RoverModel model = make_rover_model(default_rover_parameters());
+  const ModelInputs inputs = nominal_inputs(model.parameters);
+  Scenario reference = drop(0.281, 0.039, 0.0042);
+  reference.integrator.relative_tolerance = 1e-8;
+  reference.integrator.absolute_tolerance = 1e-11;
+  const Trajectory dp = simulate(model, reference, inputs);
+  ASSERT_TRUE(dp.ok()) << dp.message;
+  auto run_at = [&](double slip_tolerance) {
+    Scenario s = rosenbrock_scenario(drop(0.281, 0.039, 0.0042));
+    s.integrator.absolute_tolerance = 1e-5;
+    s.integrator.slip_tolerance = slip_tolerance;
+    return simulate(model, s, inputs);
+  };
+  const Trajectory loose = run_at(0.05), tight = run_at(0.01);
+  ASSERT_TRUE(loose.ok()) << loose.message;
+  ASSERT_TRUE(tight.ok()) << tight.message;
+  const double loose_mm = 1e3 * std::max(rms_difference(loose.B_l_z, dp.B_l_z), rms_difference(loose.B_r_z, dp.B_r_z));
+  const double tight_mm = 1e3 * std::max(rms_difference(tight.B_l_z, dp.B_l_z), rms_difference(tight.B_r_z, dp.B_r_z));
+  EXPECT_LT(3.0 * tight_mm, loose_mm);
+  EXPECT_LT(tight.rhs_evaluations, 1.2 * loose.rhs_evaluations);
+}
+
 TEST(IntegratorRosenbrock, SettledRoverCostsTheSameForAnySharpness) {
   // Once the rover rests, the stiffness left is that of the S-structures
   // (slope 2 M0 f / pi), the contacts and the friction at zero slip; an

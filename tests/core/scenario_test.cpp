@@ -76,6 +76,30 @@ TEST(IntegratorSettings, BadValuesAreNamedWithReadableNumbers) {
   EXPECT_TRUE(valid(s, &why)) << why;
 }
 
+TEST(IntegratorSettings, SlipToleranceIsAFractionOfTheFrictionSpeedScale) {
+  // The stiff methods hold a slip-speed error to a fraction in (0, 1] of the
+  // speed on which the friction force changes; dopri5 has no such test.
+  std::string why;
+  for (const IntegratorMethod m : {IntegratorMethod::kRosenbrockW, IntegratorMethod::kRodas4}) {
+    IntegratorSettings s = default_integrator_settings(m);
+    EXPECT_GT(s.slip_tolerance, 0.0);
+    EXPECT_LE(s.slip_tolerance, IntegratorSettings::kMaxSlipTolerance);
+    s.slip_tolerance = 1.0;
+    EXPECT_TRUE(valid(s, &why)) << why;
+    for (const double bad : {0.0, -0.01, 1.5, std::nan("")}) {
+      s.slip_tolerance = bad;
+      EXPECT_FALSE(valid(s, &why)) << bad;
+      EXPECT_NE(why.find("slip_tol"), std::string::npos) << why;
+    }
+    s.slip_tolerance = 1.5;
+    valid(s, &why);
+    EXPECT_NE(why.find("1.5"), std::string::npos) << why;
+  }
+  IntegratorSettings s = default_integrator_settings(IntegratorMethod::kDormandPrince45);
+  s.slip_tolerance = 0.0;
+  EXPECT_TRUE(valid(s, &why)) << why;
+}
+
 TEST(Scenario, Rk4StepMustDivideTheOutputPeriod) {
   Scenario s = scenario_of(1.0, 1000.0);
   s.integrator = default_integrator_settings(IntegratorMethod::kRungeKutta4);

@@ -195,6 +195,22 @@ TEST(ScenarioConfig, AnotherMethodBringsItsOwnTolerances) {
   s = io::load_scenario(write_scenario(j));
   EXPECT_EQ(s.scenario.integrator.relative_tolerance, rosenbrock.relative_tolerance);
   EXPECT_EQ(s.scenario.integrator.absolute_tolerance, 2e-4);
+  EXPECT_EQ(s.scenario.integrator.slip_tolerance, rosenbrock.slip_tolerance);
+}
+
+TEST(ScenarioConfig, SlipToleranceIsReadAndCheckedByName) {
+  Json j = base_scenario();
+  j["integrator"] = {{"method", "rosenbrock"}, {"slip_tol", 0.01}};
+  EXPECT_EQ(io::load_scenario(write_scenario(j)).scenario.integrator.slip_tolerance, 0.01);
+  j["integrator"]["slip_tol"] = 2.0;
+  try {
+    io::load_scenario(write_scenario(j));
+    ADD_FAILURE() << "slip_tol 2 accepted";
+  } catch (const std::exception& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("slip_tol"), std::string::npos) << message;
+    EXPECT_NE(message.find("got 2"), std::string::npos) << message;
+  }
 }
 
 TEST(ScenarioConfig, BadFilesNameFileFieldAndValue) {
