@@ -76,10 +76,13 @@ IntegratorChoice integrator_for_accuracy(double accuracy_m) {
 
 std::optional<double> expected_error_m(const IntegratorSettings& settings) {
   std::optional<double> error_m;
-  for (const FrontierPoint& p : kMeasuredFrontier)
-    if (p.method == settings.method && settings.relative_tolerance <= p.relative_tolerance &&
-        settings.absolute_tolerance <= p.absolute_tolerance)
+  for (const FrontierPoint& p : kMeasuredFrontier) {
+    const IntegratorSettings measured = choice_of(p).settings;
+    if (p.method == settings.method && settings.relative_tolerance <= measured.relative_tolerance &&
+        settings.absolute_tolerance <= measured.absolute_tolerance &&
+        settings.slip_tolerance <= measured.slip_tolerance)
       error_m = std::min(error_m.value_or(p.worst_rms_error_m), p.worst_rms_error_m);
+  }
   return error_m;
 }
 

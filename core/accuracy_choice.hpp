@@ -32,7 +32,7 @@ IntegratorChoice integrator_for_accuracy(double accuracy_m);
 
 // The measured error to expect of `settings`: the worst RMS error of the
 // most accurate frontier setting of the same method that `settings` is at
-// least as tight as (rtol and atol no larger). nullopt where no such setting
+// least as tight as (rtol, atol and slip_tol no larger). nullopt where no such setting
 // was measured: tolerances looser than every measured one, or a method the
 // frontier does not hold (fixed-step rk4).
 std::optional<double> expected_error_m(const IntegratorSettings& settings);
