@@ -133,7 +133,7 @@ StudyProgram<MonteCarloResult> montecarlo_program(MonteCarloStudy study) {
   p.name = spec.name;
   p.fingerprint = spec.fingerprint;
   p.inputs = spec.files;
-  p.banner = std::to_string(spec.design.samples) + " runs of " + spec.model->describe() + " over " +
+  p.banner = std::to_string(spec.design.samples) + " runs of " + runs_description(spec) + " over " +
              std::to_string(spec.inputs.size()) + " inputs (" + design_type_name(spec.design.type) + ", seed " +
              std::to_string(spec.design.seed) + ") on " + std::to_string(world_size()) + " rank(s)";
   p.warnings = spec.warnings;

@@ -443,7 +443,7 @@ StudyProgram<SensitivityResult> sensitivity_program(SensitivityStudy study) {
   p.fingerprint = spec.fingerprint;
   p.inputs = spec.files;
   p.banner = std::string(kMethodTitle[static_cast<int>(study.method)]) + ", " + std::to_string(spec.inputs.size()) +
-             " inputs, " + std::to_string(spec.design.samples) + " runs of " + spec.model->describe() + " on " +
+             " inputs, " + std::to_string(spec.design.samples) + " runs of " + runs_description(spec) + " on " +
              std::to_string(world_size()) + " rank(s)";
   p.warnings = spec.warnings;
   p.memory = sensitivity_memory(study);

@@ -9,6 +9,7 @@
 
 #include "io/output_target.hpp"
 #include "study/runtime/study_runner.hpp"
+#include "study/studies/calibration.hpp"
 
 namespace rover::study {
 
@@ -107,6 +108,12 @@ void write_study_inputs(io::Hdf5Writer& h5, const StudySpec& spec, const DesignM
   h5.write("/inputs/labels", labels);
   h5.write("/inputs/distributions", distributions);
   h5.write("/inputs/values", Eigen::MatrixXd(x));
+}
+
+std::string runs_description(const StudySpec& spec) {
+  if (!spec.rover) return spec.model->describe();
+  return spec.rover->describe() + " on " + describe_integrator(spec.rover->nominal().scenario.integrator) +
+         (spec.accuracy_choice.empty() ? "" : ", which \"accuracy\" chose");
 }
 
 }  // namespace rover::study

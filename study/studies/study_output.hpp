@@ -40,6 +40,11 @@ void write_study_provenance(io::Hdf5Writer& h5, const StudySpec& spec, const std
 
 // /inputs/names (d), /inputs/labels (d), /inputs/distributions (d, described)
 // and /inputs/values (N x d).
+// What the study's runs are, for its banner: "scenario drop (path) on
+// rosenbrock at rtol 1e-05, atol 3e-06, slip_tol 0.01, which \"accuracy\"
+// chose"; an analytic model's name.
+std::string runs_description(const StudySpec& spec);
+
 void write_study_inputs(io::Hdf5Writer& h5, const StudySpec& spec, const DesignMatrix& x);
 
 }  // namespace rover::study

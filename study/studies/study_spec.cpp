@@ -576,7 +576,7 @@ StudySpec parse_study_spec(const io::JsonReader& r, const std::vector<std::strin
     } catch (const io::ConfigError& e) {
       r.fail("scenario", e.what());
     }
-    const std::optional<IntegratorSettings> integrator = study_integrator(r, scenario_integrator);
+    const std::optional<IntegratorSettings> integrator = study_integrator(r, scenario_integrator, &s.accuracy_choice);
     qois = parse_qois(r, s.path);
     refuse_references_beside_the_run(r, qois, scenario, duration_s);
     const std::vector<Channel> channels = parse_channels(r);

@@ -67,6 +67,7 @@ struct StudySpec {
   // hold: those runs will fail. Printed before the runs, written as the
   // attribute input_warnings.
   std::vector<std::string> warnings;
+  std::string accuracy_choice;  // the setting "accuracy" chose, in words (empty without "accuracy")
   double refused_share = 0.0;  // of the samples, in those tails (inputs drawn independently)
 };
 

@@ -263,7 +263,7 @@ StudyProgram<SurrogateStudyResult> surrogate_program(SurrogateStudy study) {
   p.banner = std::string(surrogate_kind_name(study.kind)) + " of " + std::to_string(study.qoi_names().size()) +
              " QoI(s) over " + std::to_string(study.spec.inputs.size()) + " inputs, trained on " +
              (study.training_file.empty()
-                  ? std::to_string(study.spec.design.samples) + " runs of " + study.spec.model->describe() + " (" +
+                  ? std::to_string(study.spec.design.samples) + " runs of " + runs_description(study.spec) + " (" +
                         design_type_name(study.spec.design.type) + ") on " + std::to_string(world_size()) +
                         " rank(s)"
                   : study.training_file);
