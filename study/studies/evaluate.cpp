@@ -14,6 +14,7 @@
 #include "io/hdf5_file.hpp"
 #include "io/json_reader.hpp"
 #include "io/output_target.hpp"
+#include "study/runtime/calibration_mpi.hpp"
 #include "study/studies/study_output.hpp"
 #include "study/studies/summary_figure.hpp"
 #include "study/runtime/study_runner.hpp"
@@ -183,7 +184,19 @@ EvaluateStudy load_evaluate(const EvaluateRequest& request) {
   s.files.add_all(sources.files);
   s.model = std::make_shared<RoverStudyModel>(std::move(sources), s.names, plain_qois(request.qoi_names), channels,
                                               integrator);
-  if (world_rank() == 0) check_rows(s.design, *s.model);
+  // Rank 0 checks and every rank learns the verdict: a refusal on rank 0
+  // alone would leave the others waiting for it in the run.
+  std::string refusal;
+  if (world_rank() == 0) {
+    try {
+      check_rows(s.design, *s.model);
+    } catch (const io::ConfigError& e) {
+      refusal = e.what();
+    }
+  }
+  std::vector<double> refused{refusal.empty() ? 0.0 : 1.0};
+  broadcast_from_rank0(refused);
+  if (refused[0] != 0.0) throw io::ConfigError(refusal.empty() ? "a design row is refused (rank 0 says which)" : refusal);
   return s;
 }
 

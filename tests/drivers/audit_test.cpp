@@ -1842,6 +1842,23 @@ TEST_F(Audit, OneMessageUnderMpirun) {
   EXPECT_TRUE(first == 0 || output[first - 1] == '\n') << output;
 }
 
+// A design row the model refuses is refused on every rank under mpirun, once,
+// with its line; rank 0 alone used to refuse it while rank 1 waited for it.
+TEST_F(Audit, RefusedDesignRowEndsEveryRank) {
+  std::string output;
+  const std::string design = w().text_file("design", "c_q,f\n0.2,1e4\n2000,1e4\n", "csv");
+  const int status = run_command("timeout -k 5 60 " + testing::mpiexec() + " -np 2 " + rover_binary() +
+                                     " evaluate --scenario " + w().quick() + " --design " + design +
+                                     " --qoi B_l_z_min --out " + w().out("csv") + " 2>&1",
+                                 &output);
+  EXPECT_NE(status, 124) << "hung:\n" << output;
+  EXPECT_NE(status, 0) << output;
+  const std::string message = design + ":3: this row's values are not a valid configuration";
+  const std::size_t first = output.find(message);
+  ASSERT_NE(first, std::string::npos) << output;
+  EXPECT_EQ(output.find(message, first + 1), std::string::npos) << "printed twice:\n" << output;
+}
+
 // ---- The third audit -----------------------------------------------------------
 
 // Classes 5 and 7: inputs that could only fail after the runs, or give
