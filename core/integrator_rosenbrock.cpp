@@ -390,148 +390,261 @@ double step_factor(double error, double max_growth, int embedded_order) {
   return std::clamp(kSafety * root, kMinShrink, max_growth);
 }
 
-}  // namespace
+// Step control: the largest growth of the step size after an accepted step,
+// and the shrinking of a try that missed a contact onset inside it.
+constexpr double kMaxGrowth = 5.0, kOnsetShrink = 0.5;
+constexpr double kAtTouchdown = 1e-3;  // of a try: a predicted touchdown closer is at its start
+constexpr int kTouchdownsInARow = 2;
+constexpr std::array<double, 3> kLookInside = {0.25, 0.5, 0.75};  // of an accepted step, for contacts
 
-IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
-                                       const IntegratorSettings& settings,
-                                       const IntegrationRequest& request) {
-  const bool rodas4 = settings.method == IntegratorMethod::kRodas4;
-  const int embedded_order = rodas4 ? kRodas4.embedded_order : kRos34pw2.embedded_order;
-  constexpr double kMaxGrowth = 5.0, kOnsetShrink = 0.5;
-  constexpr double kAtTouchdown = 1e-3;  // of a try: a predicted touchdown closer is at its start
-  constexpr int kTouchdownsInARow = 2;
-  constexpr std::array<double, 3> kLookInside = {0.25, 0.5, 0.75};  // of an accepted step, for contacts
-  IntegrationReport report;
-  request.record(0.0, x);
-  if (request.sample_count < 2) return report;
-  const double t_end = static_cast<double>(request.sample_count - 1) * request.sample_period_s;
+// What stays fixed for a whole integration.
+struct RunSetup {
+  const OdeSystem& system;
+  const IntegratorSettings& settings;
+  bool rodas4 = false;
+  int embedded_order = 0;
+  double t_end = 0.0;
   // A predicted touchdown is taken only where it is 2^kTouchdownBisections
   // times the shortest step the stall watch lets pass (integrators.hpp), so
   // that the steps after it, down to that fraction of it, pass too.
-  const double shortest_touchdown = std::ldexp(StallWatch::kRoundingUnits, kTouchdownBisections) *
-                                    std::numeric_limits<double>::epsilon() * t_end;
-  auto sample_time = [&](std::size_t k) { return static_cast<double>(k) * request.sample_period_s; };
-  auto underflow = [&](double t, double h, const std::string& why) {
-    report.status = SimulationStatus::kStepSizeUnderflow;
-    report.failed_at_s = t;
-    report.detail = "step " + number_text(h) + " s is below min_step " +
-                    number_text(settings.min_step_s) + " s (" + why + ")";
-    return report;
-  };
+  double shortest_touchdown = 0.0;
+  StateVector absolute_tolerance;  // at the initial state (absolute_tolerances())
+};
 
-  StallWatch stall;
-  // The two step ends trade places after every step (their workspaces are
-  // large: swapping pointers, not contents).
+// The points and the matrices reused from step to step. The two step ends
+// trade places after every step (their workspaces are large: swapping
+// pointers, not contents), so the workspace is not copied.
+struct Workspace {
   std::array<StepPoint, 2> ends;
   StepPoint* start = &ends[0];
   StepPoint* end = &ends[1];
   StepPoint stage;
   BranchInducedLU iteration;  // of M0 - h g D - h^2 g^2 K
-  evaluate(system, 0.0, x, *start, report, NeedsMass::kYes);
-  const StateVector absolute_tolerance = absolute_tolerances(start->dynamics.kinematics, settings);
+  Linearization lin;
+  Workspace() = default;
+  Workspace(const Workspace&) = delete;
+  Workspace& operator=(const Workspace&) = delete;
+};
+
+// What the evaluated start of a step fixes for every try of the step.
+struct StepStart {
+  // K's diagonal at the step start; each try stiffens its S-joint entries
+  // over its own h (stiffen_s_joints_over_step), from this.
+  Coordinates stiffness;
+  Coordinates q0, u0;
+  ContactCounts contacts, regions;
+  SlipRowSet slips;
+  WheelSpinRows spins;
+};
+
+// The tries of one step: the size of the next try, what the last one found,
+// and how the step has gone so far.
+struct StepTries {
+  double h = 0.0;
+  double error = 0.0, t1 = 0.0;  // of the last try, and its end once accepted
+  bool rejected = false;         // by the error test, at a longer step
+  // Whether the try under way ends at a predicted touchdown, and whether
+  // one has been tried in this step: at most one, and none after
+  // kTouchdownsInARow steps that ended at one (each lands up to
+  // 2^kTouchdownBisections times closer to it; the step across it is left
+  // to the error estimate).
+  bool located = false, touchdown_tried = false;
+};
+
+// One try's result: the end state, its error norm, and the contacts
+// (pushing) and contact regions seen at the start and the stages.
+struct TryResult {
+  StateVector x1;
+  double error = 0.0;
+  ContactCounts seen, seen_regions;
+};
+
+// Fills the report's status for a step size below min_step (`why` names the
+// cause) and returns false, so that the caller stops.
+bool fail_underflow(IntegrationReport& report, const IntegratorSettings& settings, double t, double h,
+                    const std::string& why) {
+  report.status = SimulationStatus::kStepSizeUnderflow;
+  report.failed_at_s = t;
+  report.detail = "step " + number_text(h) + " s is below min_step " +
+                  number_text(settings.min_step_s) + " s (" + why + ")";
+  return false;
+}
+
+// Linearizes at the evaluated step start and gathers what every try of the
+// step needs from it (written into `out`, every field).
+void prepare_step_start(const RunSetup& run, Workspace& ws, IntegrationReport& report, StepStart& out) {
+  linearize(run.system, *ws.start, report, ws.lin);
+  out.stiffness = ws.lin.system.d_force_d_position.diagonal();
+  out.q0 = ws.start->x.head<kNumCoordinates>();
+  out.u0 = ws.start->x.tail<kNumCoordinates>();
+  out.contacts = active_contacts(ws.start->dynamics.contacts);
+  out.regions = contact_regions(ws.start->dynamics.contacts);
+  slip_rows(run.system.model, *ws.start, out.slips);
+  out.spins = wheel_spin_rows(run.system.model.tree, ws.start->dynamics.kinematics);
+}
+
+// One try of size h from the step start: the S-joint stiffening over h, the
+// LU of the iteration matrix, the Rosenbrock stages (each counted as a
+// right-hand side, its contacts kept in `seen` and `seen_regions`), and the
+// error norm of the embedded solution (infinite for a non-finite end state).
+TryResult try_step(const RunSetup& run, const StepStart& s, Workspace& ws, IntegrationReport& report, double h) {
+  TryResult out;
+  out.seen = s.contacts;
+  out.seen_regions = s.regions;
+  auto acceleration = [&](double t, const Coordinates& q, const Coordinates& u) -> Coordinates {
+    StateVector x;
+    x << q, u;
+    evaluate(run.system, t, x, ws.stage, report, NeedsMass::kNo);
+    keep_maximum(out.seen, active_contacts(ws.stage.dynamics.contacts));
+    keep_maximum(out.seen_regions, contact_regions(ws.stage.dynamics.contacts));
+    return ws.stage.dx.tail<kNumCoordinates>();
+  };
+  MechanicalLinearization<kNumCoordinates>& lin = ws.lin.system;
+  lin.d_force_d_position.diagonal() = s.stiffness;
+  stiffen_s_joints_over_step(run.system.model.parameters, ws.start->inputs, s.q0, s.u0, h, lin.d_force_d_position);
+  ws.iteration.compute(run.rodas4 ? rosenbrock_iteration_matrix(lin, h, kRodas4.gamma)
+                                  : ros34pw2_iteration_matrix(lin, h));
+  const double t0 = ws.start->t;
+  const RosenbrockWStep<kNumCoordinates> step =
+      run.rodas4 ? rosenbrock_step(kRodas4, lin, ws.iteration, t0, s.q0, s.u0, h, acceleration)
+                 : ros34pw2_step<kNumCoordinates>(lin, ws.iteration, t0, s.q0, s.u0, h, acceleration);
+  StateVector e;
+  out.x1 << step.q, step.u;
+  e << step.error_q, step.error_u;
+  measure_wheel_spins(s.spins, step.error_u, e);
+  out.error = !out.x1.allFinite()
+                  ? std::numeric_limits<double>::infinity()
+                  : std::max(error_norm(e, error_scale(ws.start->x, out.x1, run.absolute_tolerance,
+                                                      ws.lin.spring_frequency_radps, s.contacts, run.settings)),
+                             slip_error_norm(s.slips, step.error_u, run.settings));
+  return out;
+}
+
+// Evaluates the end t1 of a try that passed the error test (into ws.end) and
+// returns whether the try missed a contact onset: a pushing contact at the
+// end that no stage had, or a contact region on the cubic Hermite output
+// inside the step (at kLookInside) that no evaluated point had.
+bool misses_contact_onset(const RunSetup& run, Workspace& ws, IntegrationReport& report, TryResult& tried,
+                          double t1) {
+  evaluate(run.system, t1, tried.x1, *ws.end, report, NeedsMass::kYes);
+  keep_maximum(tried.seen_regions, contact_regions(ws.end->dynamics.contacts));
+  bool missed = has_more(active_contacts(ws.end->dynamics.contacts), tried.seen);
+  for (const double s : kLookInside) {
+    // Nothing to interpolate for once every wheel has its most regions.
+    if (missed || every_wheel_has_most_regions(run.system.model, tried.seen_regions)) break;
+    const StateVector inside = hermite(*ws.start, *ws.end, ws.start->t + s * (t1 - ws.start->t));
+    missed = has_unseen_region(run.system.model, inside, tried.seen_regions, ws.stage.dynamics.kinematics);
+  }
+  return missed;
+}
+
+// After a try that failed the error test: the size of the next try, at a
+// predicted touchdown if a stage met a contact region that the start did not
+// have, else shrunk by the error. False (report filled in) on underflow.
+bool shrink_after_error(const RunSetup& run, const StepStart& s, Workspace& ws, const TryResult& tried,
+                        StepTries& tries, IntegrationReport& report) {
+  tries.rejected = true;
+  ++report.rejected_steps;
+  tries.located = false;
+  // A stage met a contact that the start did not have: once per step,
+  // the next try ends where the smooth motion before it meets it, unless
+  // the step starts there already (the error estimate then shrinks it).
+  if (!tries.touchdown_tried && has_more(tried.seen_regions, s.regions)) {
+    const double touchdown =
+        predicted_touchdown(run.system.model, *ws.start, s.regions, tries.h, ws.stage.dynamics.kinematics);
+    if (touchdown < tries.h && touchdown > std::max(kAtTouchdown * tries.h, run.shortest_touchdown)) {
+      tries.touchdown_tried = tries.located = true;
+      tries.h = touchdown;
+      return true;
+    }
+  }
+  tries.h *= step_factor(tries.error, 1.0, run.embedded_order);
+  if (tries.h < run.settings.min_step_s)
+    return fail_underflow(report, run.settings, ws.start->t, tries.h, "error estimate " + number_text(tries.error));
+  return true;
+}
+
+// Tries steps from the step start until one passes the error test and misses
+// no touchdown; its end is then in ws.end at tries.t1. False (report filled
+// in) if the step size fell below min_step.
+bool try_until_accepted(const RunSetup& run, const StepStart& s, Workspace& ws, StepTries& tries,
+                        IntegrationReport& report) {
+  for (;;) {
+    bool last = false;
+    if (ws.start->t + tries.h >= run.t_end * (1.0 - 1e-15)) {
+      tries.h = run.t_end - ws.start->t;
+      last = true;
+    }
+    TryResult tried = try_step(run, s, ws, report, tries.h);
+    tries.error = tried.error;
+    if (!(tries.error <= 1.0)) {
+      if (!shrink_after_error(run, s, ws, tried, tries, report)) return false;
+      continue;
+    }
+    tries.t1 = last ? run.t_end : ws.start->t + tries.h;
+    if (!misses_contact_onset(run, ws, report, tried, tries.t1)) return true;
+    ++report.rejected_steps;
+    tries.located = false;
+    tries.h *= kOnsetShrink;  // a touchdown inside the step that no stage saw
+    if (tries.h < run.settings.min_step_s)
+      return fail_underflow(report, run.settings, ws.start->t, tries.h, "touchdown");
+  }
+}
+
+// Records the samples that fall within the accepted step from ws.start to
+// ws.end (from sample `next` on, advanced past them), the one at the step
+// end exactly and the others on the cubic Hermite output.
+void record_samples(const IntegrationRequest& request, const Workspace& ws, std::size_t& next) {
+  const double t1 = ws.end->t;
+  for (; next < request.sample_count; ++next) {
+    const double ts = static_cast<double>(next) * request.sample_period_s;
+    if (!(ts <= t1)) break;
+    request.record(ts, ts >= t1 ? ws.end->x : hermite(*ws.start, *ws.end, ts));
+  }
+}
+
+}  // namespace
+
+// The integration loop: per step, the linearization at its start, the tries
+// until one is accepted, the bookkeeping and stall watch of step_is_bad(),
+// the samples within it, and the size of the next step.
+IntegrationReport integrate_rosenbrock(const OdeSystem& system, StateVector x,
+                                       const IntegratorSettings& settings,
+                                       const IntegrationRequest& request) {
+  IntegrationReport report;
+  request.record(0.0, x);
+  if (request.sample_count < 2) return report;
+  const bool rodas4 = settings.method == IntegratorMethod::kRodas4;
+  const double t_end = static_cast<double>(request.sample_count - 1) * request.sample_period_s;
+  Workspace ws;
+  evaluate(system, 0.0, x, *ws.start, report, NeedsMass::kYes);
+  const RunSetup run{system,
+                     settings,
+                     rodas4,
+                     rodas4 ? kRodas4.embedded_order : kRos34pw2.embedded_order,
+                     t_end,
+                     std::ldexp(StallWatch::kRoundingUnits, kTouchdownBisections) *
+                         std::numeric_limits<double>::epsilon() * t_end,
+                     absolute_tolerances(ws.start->dynamics.kinematics, settings)};
+  StallWatch stall;
+  StepStart step_start;
   double h = std::clamp(settings.initial_step_s, settings.min_step_s, settings.max_step_s);
   std::size_t next = 1;
-  Linearization lin;
-  SlipRowSet slips;
   int touchdowns_in_a_row = 0;  // steps that ended at a predicted touchdown, the last ones
   while (next < request.sample_count) {
-    linearize(system, *start, report, lin);
-    // K's diagonal at the step start; each try stiffens its S-joint entries
-    // over its own h (stiffen_s_joints_over_step), from this.
-    const Coordinates start_stiffness = lin.system.d_force_d_position.diagonal();
-    const Coordinates q0 = start->x.head<kNumCoordinates>(), u0 = start->x.tail<kNumCoordinates>();
-    const ContactCounts start_contacts = active_contacts(start->dynamics.contacts);
-    const ContactCounts start_regions = contact_regions(start->dynamics.contacts);
-    slip_rows(system.model, *start, slips);
-    const WheelSpinRows spins = wheel_spin_rows(system.model.tree, start->dynamics.kinematics);
-    // Try steps until one passes the error test and misses no touchdown.
-    double error = 0.0, t1 = 0.0;
-    bool rejected = false;  // by the error test, at a longer step
-    // Whether the try under way ends at a predicted touchdown, and whether
-    // one has been tried in this step: at most one, and none after
-    // kTouchdownsInARow steps that ended at one (each lands up to
-    // 2^kTouchdownBisections times closer to it; the step across it is left
-    // to the error estimate).
-    bool located = false, touchdown_tried = touchdowns_in_a_row >= kTouchdownsInARow;
-    for (;;) {
-      bool last = false;
-      if (start->t + h >= t_end * (1.0 - 1e-15)) {
-        h = t_end - start->t;
-        last = true;
-      }
-      ContactCounts seen = start_contacts, seen_regions = start_regions;
-      auto acceleration = [&](double t, const Coordinates& q, const Coordinates& u) -> Coordinates {
-        StateVector s;
-        s << q, u;
-        evaluate(system, t, s, stage, report, NeedsMass::kNo);
-        keep_maximum(seen, active_contacts(stage.dynamics.contacts));
-        keep_maximum(seen_regions, contact_regions(stage.dynamics.contacts));
-        return stage.dx.tail<kNumCoordinates>();
-      };
-      lin.system.d_force_d_position.diagonal() = start_stiffness;
-      stiffen_s_joints_over_step(system.model.parameters, start->inputs, q0, u0, h,
-                                 lin.system.d_force_d_position);
-      iteration.compute(rodas4 ? rosenbrock_iteration_matrix(lin.system, h, kRodas4.gamma)
-                               : ros34pw2_iteration_matrix(lin.system, h));
-      const RosenbrockWStep<kNumCoordinates> step =
-          rodas4 ? rosenbrock_step(kRodas4, lin.system, iteration, start->t, q0, u0, h, acceleration)
-                 : ros34pw2_step<kNumCoordinates>(lin.system, iteration, start->t, q0, u0, h, acceleration);
-      StateVector x1, e;
-      x1 << step.q, step.u;
-      e << step.error_q, step.error_u;
-      measure_wheel_spins(spins, step.error_u, e);
-      error = !x1.allFinite()
-                  ? std::numeric_limits<double>::infinity()
-                  : std::max(error_norm(e, error_scale(start->x, x1, absolute_tolerance, lin.spring_frequency_radps,
-                                                      start_contacts, settings)),
-                             slip_error_norm(slips, step.error_u, settings));
-      if (error <= 1.0) {
-        t1 = last ? t_end : start->t + h;
-        evaluate(system, t1, x1, *end, report, NeedsMass::kYes);
-        keep_maximum(seen_regions, contact_regions(end->dynamics.contacts));
-        bool missed = has_more(active_contacts(end->dynamics.contacts), seen);
-        for (const double s : kLookInside) {
-          if (missed || every_wheel_has_most_regions(system.model, seen_regions)) break;  // nothing to interpolate for
-          missed = has_unseen_region(system.model, hermite(*start, *end, start->t + s * (t1 - start->t)),
-                                     seen_regions, stage.dynamics.kinematics);
-        }
-        if (!missed) break;
-        ++report.rejected_steps;
-        located = false;
-        h *= kOnsetShrink;  // a touchdown inside the step that no stage saw
-        if (h < settings.min_step_s) return underflow(start->t, h, "touchdown");
-        continue;
-      }
-      rejected = true;
-      ++report.rejected_steps;
-      located = false;
-      // A stage met a contact that the start did not have: once per step,
-      // the next try ends where the smooth motion before it meets it, unless
-      // the step starts there already (the error estimate then shrinks it).
-      if (!touchdown_tried && has_more(seen_regions, start_regions)) {
-        const double touchdown = predicted_touchdown(system.model, *start, start_regions, h, stage.dynamics.kinematics);
-        if (touchdown < h && touchdown > std::max(kAtTouchdown * h, shortest_touchdown)) {
-          touchdown_tried = located = true;
-          h = touchdown;
-          continue;
-        }
-      }
-      h *= step_factor(error, 1.0, embedded_order);
-      if (h < settings.min_step_s)
-        return underflow(start->t, h, "error estimate " + number_text(error));
-    }
-
-    touchdowns_in_a_row = located ? touchdowns_in_a_row + 1 : 0;
-    const double taken = t1 - start->t;
-    if (step_is_bad(report, stall, t1, taken, end->x, request)) return report;
-    while (next < request.sample_count && sample_time(next) <= t1) {
-      const double ts = sample_time(next);
-      request.record(ts, ts >= t1 ? end->x : hermite(*start, *end, ts));
-      ++next;
-    }
-    std::swap(start, end);
-    if (request.progress) request.progress(t1);
-    h = std::min(taken * step_factor(error, rejected ? 1.0 : kMaxGrowth, embedded_order), settings.max_step_s);
+    prepare_step_start(run, ws, report, step_start);
+    StepTries tries;
+    tries.h = h;
+    tries.touchdown_tried = touchdowns_in_a_row >= kTouchdownsInARow;
+    if (!try_until_accepted(run, step_start, ws, tries, report)) return report;
+    touchdowns_in_a_row = tries.located ? touchdowns_in_a_row + 1 : 0;
+    const double taken = tries.t1 - ws.start->t;
+    if (step_is_bad(report, stall, tries.t1, taken, ws.end->x, request)) return report;
+    record_samples(request, ws, next);
+    std::swap(ws.start, ws.end);
+    if (request.progress) request.progress(tries.t1);
+    h = std::min(taken * step_factor(tries.error, tries.rejected ? 1.0 : kMaxGrowth, run.embedded_order),
+                 settings.max_step_s);
   }
   return report;
 }
