@@ -34,6 +34,8 @@ constexpr const char* kDefaultScenario = "configs/scenarios/drop_horizontal.json
 constexpr double kBytesPerLine = 50.0;
 // A synthetic curve beyond 1 GB (2e7 points, 1 MHz over 20 s) is a mistake.
 constexpr double kMaxCurveBytes = 1e9;
+// The exit status of a run that failed, as `rover simulate`'s.
+constexpr int kFailedRunStatus = 2;
 // Synthetic data are the truth a fit is meant to recover: their integration
 // error stays below this share of the noise sd (a tenth: it then moves a
 // fitted parameter by a small part of its standard error), and below
@@ -70,6 +72,12 @@ void check_data_clock(const SynthesizeOptions& o, double duration_s, const std::
     throw CommandLineError({"--rate " + number_text(o.rate_hz) + " over the " +
                             number_text(duration_s) + " s of " + scenario_path +
                             ": " + problem + "; reduce --rate"});
+  // A release more than the run before the data clock's start leaves no point within the run.
+  if (!(duration_s + o.offset_s > 0.0))
+    throw CommandLineError({"--offset " + number_text(o.offset_s) + " s puts the release before the data clock's "
+                            "start by more than the " + number_text(duration_s) + " s of " + scenario_path +
+                            ": no data point falls within the run; give an offset above -" +
+                            number_text(duration_s) + " s (the release's time on the data clock)"});
   if (const std::size_t points = data_point_count(duration_s, o.offset_s, o.rate_hz);
       points < io::kMeasuredCurveMinRows)
     throw CommandLineError({"--rate " + number_text(o.rate_hz) + " Hz and --offset " + number_text(o.offset_s) +
@@ -156,15 +164,21 @@ int run_synthesize(const SynthesizeOptions& o) {
       setup.scenario.integrator, o.integrator.empty() ? "the scenario's integrator" : "--integrator", o.noise_m);
   check_data_clock(o, setup.scenario.duration_s, scenario_path);
   const ModelInputs in = apply_overrides(o.overrides, setup.inputs);
+  HeldOutputs held;  // before the run: a file another process writes is refused at once
+  held.hold("--out", o.out);
   const Trajectory tr = simulate_interruptibly(setup.model, setup.scenario, in);
-  if (!tr.ok()) throw std::runtime_error("the simulation failed: " + tr.message);
+  if (!tr.ok()) {  // a failed run, as simulate's: status 2, nothing written
+    std::cerr << "rover synthesize: error: the run failed: " << tr.message << "; nothing was written\n";
+    return kFailedRunStatus;
+  }
   const std::vector<double> clean = study::channel_values(tr, channel.channel);
   boost::random::mt19937_64 engine(seed);
   boost::random::normal_distribution<double> noise(0.0, o.noise_m);
   // Data clock: t_d = t_sim + offset, from 0 to the end of the run; before the
   // release the rover hangs at its initial height.
   std::vector<double> t, z;
-  for (std::size_t k = 0; k < data_point_count(setup.scenario.duration_s, o.offset_s, o.rate_hz); ++k) {
+  const std::size_t points = data_point_count(setup.scenario.duration_s, o.offset_s, o.rate_hz);
+  for (std::size_t k = 0; k < points; ++k) {
     const double td = static_cast<double>(k) / o.rate_hz;
     t.push_back(td);
     z.push_back(interpolate(tr.t, clean, td - o.offset_s) + (o.noise_m > 0 ? noise(engine) : 0.0));
@@ -178,8 +192,6 @@ int run_synthesize(const SynthesizeOptions& o) {
                               " m that rover compare and calibrate accept; give a noise sd in metres, far below "
                               "that; nothing was written"});
   const std::string comment = provenance_comment(o, scenario_path, in, setup.scenario.integrator, channel, seed);
-  HeldOutputs held;
-  held.hold("--out", o.out);
   io::write_csv(o.out, {"t", "z"}, {t, z}, comment);
   std::cerr << "synthesize: wrote " << t.size() << " points of " << channel.name << " to " << o.out << "\n";
   return 0;

@@ -2959,6 +2959,17 @@ TEST_F(Audit, SyntheticDataOutrunTheirNoise) {
   cases.push_back({"the stiff default against 1 mm of noise",
                    "synthesize --scenario " + w().quick() + " --integrator rosenbrock --noise 1e-3 --out " + coarse,
                    Want::kRuns, {"wrote"}, header_lacks(coarse, "atol 1e-"), {}, {"so they are made with"}});
+  // A release before the data clock by more than the run: no point within it.
+  cases.push_back({"synthesize --offset -5 on a 0.05 s run",
+                   "synthesize --scenario " + w().quick() + " --offset -5 --out " + w().out("csv"), Want::kError,
+                   {"--offset -5 s puts the release before the data clock's start", "give an offset above -0.05 s"},
+                   {}, {}, {"raise --rate"}});
+  // A failed run is a failed run, as simulate's: status 2, nothing written.
+  const std::string unwritten = w().out("csv");
+  cases.push_back({"synthesize of a run that fails",
+                   "synthesize --scenario " + w().scenario([](Json& j) { j["wall_time_budget"] = 1e-6; }) + " --out " +
+                       unwritten,
+                   Want::kAllFailed, {"the run failed", "nothing was written"}, absent_file(unwritten)});
   run_table(w().dir(), cases);
 }
 
