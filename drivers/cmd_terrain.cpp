@@ -13,6 +13,7 @@
 #include "core/obstacle.hpp"
 #include "drivers/command_registry.hpp"
 #include "drivers/held_outputs.hpp"
+#include "study/runtime/study_runner.hpp"
 #include "drivers/options.hpp"
 #include "io/plot.hpp"
 #include "io/terrain_json.hpp"
@@ -84,6 +85,12 @@ void require_readable_extent(const HeightGrid& grid) {
   checks.throw_if_any();
 }
 
+// After a signal (SIGINT, SIGTERM) during the work: stops, saying what stands.
+void stop_if_signalled(const std::string& what_stands) {
+  if (study::InterruptGuard::flag().load())
+    throw study::StudyInterrupted("interrupted (SIGINT or SIGTERM); " + what_stands);
+}
+
 int run_obstacle(const ObstacleOptions& o) {
   // Each flag by name (core/obstacle checks the same ranges by field name).
   FlagChecks checks;
@@ -113,6 +120,7 @@ int run_obstacle(const ObstacleOptions& o) {
   TrapezoidObstacle obstacle = o.obstacle;
   obstacle.ramp_angle_rad = o.ramp_angle_deg * std::numbers::pi / 180.0;
   require_resolved(obstacle, o);
+  const study::InterruptGuard interrupts;  // a signal stops the work with a word, never halfway through a file
   HeightGrid grid;
   try {
     grid = trapezoid_obstacle_grid(obstacle, o.spacing_m, o.margin_m);
@@ -149,7 +157,9 @@ int run_obstacle(const ObstacleOptions& o) {
   HeldOutputs held;
   held.hold("--out", o.out);
   held.hold("--png", o.png);
+  stop_if_signalled("nothing written");
   io::save_terrain_grid(grid, o.out, provenance);
+  stop_if_signalled(o.out + " was written in full before the signal took effect; no plot");
 
   std::cout << "wrote " << o.out << ": " << grid.nx << " x " << grid.ny << " grid, spacing "
             << grid.spacing_x_m << " x " << grid.spacing_y_m << " m, x in [" << grid.node_x(0)
