@@ -160,9 +160,9 @@ int run_synthesize(const SynthesizeOptions& o) {
   // A different method comes with its own default tolerances, as in `rover simulate`.
   if (!o.integrator.empty())
     setup.scenario.integrator = default_integrator_settings(integrator_from_name(o.integrator));
+  check_data_clock(o, setup.scenario.duration_s, scenario_path);
   setup.scenario.integrator = data_integrator(
       setup.scenario.integrator, o.integrator.empty() ? "the scenario's integrator" : "--integrator", o.noise_m);
-  check_data_clock(o, setup.scenario.duration_s, scenario_path);
   const ModelInputs in = apply_overrides(o.overrides, setup.inputs);
   HeldOutputs held;  // before the run: a file another process writes is refused at once
   held.hold("--out", o.out);

@@ -22,6 +22,7 @@
 #include <exception>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <vector>
 
 #ifdef __GLIBC__
@@ -33,6 +34,7 @@
 #include "drivers/launcher.hpp"
 #include "drivers/options.hpp"
 #include "io/json_reader.hpp"
+#include "study/runtime/mpi_session.hpp"
 #include "study/runtime/study_runner.hpp"
 
 namespace rover::cli {
@@ -161,11 +163,16 @@ std::string typed_subcommands(const CLI::App& app, int argc, char** argv) {
 }
 
 // Runs the parsed subcommand `sub`: its exit status, or 1 with rover's
-// message for every error (130 when a study was interrupted).
-int run_subcommand(CLI::App& sub, const std::function<int()>& run) {
+// message for every error (130 when a study was interrupted). Under mpirun
+// a command that shares its runs (`shares_runs`) holds MPI until its message
+// is printed: rank 0 prints before any rank leaves MPI, so mpirun never ends
+// the job on another rank's exit before the user has read why.
+int run_subcommand(CLI::App& sub, const std::function<int()>& run, bool shares_runs) {
   const std::string prefix = "rover " + sub.get_name() + ": error: ";
   int status = 1;
+  std::optional<rover::study::MpiSession> mpi;
   try {
+    if (shares_runs && launcher_size() > 1) mpi.emplace(nullptr, nullptr);
     reject_empty_values(sub);
     status = run();
   } catch (const CommandLineError& e) {
@@ -249,7 +256,7 @@ int main(int argc, char** argv) {
                             shared_among_processes + " share their runs among processes"});
       return 1;
     }
-    return run_subcommand(*sub, run);
+    return run_subcommand(*sub, run, processes[sub] == Processes::kMany);
   }
   return 1;
 }

@@ -1440,7 +1440,7 @@ TEST_F(Audit, MeaninglessScale) {
                    Want::kError, {"--rate 10 Hz", "1 data point", "at least 3"}});
   cases.push_back({"synthesize with the release after the end",
                    "synthesize --scenario " + w().quick() + " --offset -1 --out " + w().out("csv"), Want::kError,
-                   {"--offset -1", "0 data point", "at least 3"}});
+                   {"--offset -1 s puts the release before the data clock's start", "no data point falls within"}});
   run_table(w().dir(), cases);
 }
 
