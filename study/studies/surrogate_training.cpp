@@ -11,6 +11,7 @@
 #include "io/hdf5_file.hpp"
 #include "io/json_reader.hpp"
 #include "study/runtime/study_runner.hpp"
+#include "study/studies/calibration.hpp"
 #include "study/studies/study_output.hpp"
 
 namespace rover::study {
@@ -129,20 +130,18 @@ std::optional<IntegratorSettings> recorded_integrator(const io::Hdf5Reader& h5) 
     IntegratorSettings s = default_integrator_settings(integrator_from_name(h5.attribute_string("/", "integrator")));
     s.relative_tolerance = h5.attribute_double("/", "rtol");
     s.absolute_tolerance = h5.attribute_double("/", "atol");
+    if (h5.has_attribute("/", "slip_tol")) s.slip_tolerance = h5.attribute_double("/", "slip_tol");
     return s;
   } catch (const std::invalid_argument&) {  // a method of no version of rover: nothing to compare
     return std::nullopt;
   }
 }
 
-std::string integrator_text(const IntegratorSettings& s) {
-  return std::string(integrator_name(s.method)) + " (rtol " + number_text(s.relative_tolerance) + ", atol " +
-         number_text(s.absolute_tolerance) + ")";
-}
+std::string integrator_text(const IntegratorSettings& s) { return describe_integrator(s); }
 
 bool same_integrator(const IntegratorSettings& a, const IntegratorSettings& b) {
   return a.method == b.method && a.relative_tolerance == b.relative_tolerance &&
-         a.absolute_tolerance == b.absolute_tolerance;
+         a.absolute_tolerance == b.absolute_tolerance && a.slip_tolerance == b.slip_tolerance;
 }
 
 // Per input, the distance within which two runs are one (kSameRunRelativeDistance).

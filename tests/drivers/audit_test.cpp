@@ -3041,6 +3041,13 @@ TEST_F(Audit, SurrogateRunsOfUnknownOriginOrNoNovelty) {
                    }});
   cases.push_back({"held-out runs of dopri5 beside training runs of rosenbrock", surrogate(trained, dopri_runs),
                    Want::kRuns, {"the held-out runs were made with dopri5", "the held-out Q2 includes"}});
+  // evaluate --integrator records the integrator it ran, as the studies do.
+  const std::string evaluated = w().out();
+  ASSERT_EQ(run_command(rover_binary() + " evaluate --no-plot --scenario " + landing + " --integrator dopri5 --design " +
+                            w().text_file("held", "c_q\n0.13\n0.19\n0.27\n", "csv") + " --qoi B_l_z_min --out " +
+                            evaluated, &log), 0) << log;
+  cases.push_back({"held-out runs of evaluate --integrator dopri5", surrogate(trained, evaluated), Want::kRuns,
+                   {"the held-out runs were made with dopri5"}});
   run_table(w().dir(), cases);
 }
 
