@@ -68,6 +68,9 @@ inline constexpr double kMaxDamping_Nms_per_rad = 1e3;
 inline constexpr double kMaxPreload_Nm = 1e3;
 inline constexpr double kMaxGravity_mps2 = 1e2;
 inline constexpr double kMaxBodyMass_kg = 1e2;
+// A body lighter than a gram (1e-30 kg, or 8e-5 kg: a wheel in tonnes) is
+// a unit mistake too: the rover's lightest body, a wheel, weighs 0.08 kg.
+inline constexpr double kMinBodyMass_kg = 1e-3;
 inline constexpr double kMaxRoverLength_m = 10.0;
 inline constexpr double kMaxBodyInertia_kgm2 = 1.0;
 inline constexpr double kMaxSStructureStiffness_Nm_per_rad = 1e3;

@@ -37,6 +37,9 @@ Vec3 rover_length_vec3(const JsonReader& r, const std::string& key) {
 RigidBodyParameters parse_body(const JsonReader& r) {
   RigidBodyParameters b;
   b.mass_kg = within_scale(r, "mass", r.positive("mass"), kMaxBodyMass_kg, "kg", kBodyMassScaleReason);
+  if (b.mass_kg < kMinBodyMass_kg)
+    r.fail("mass", number_text(b.mass_kg) + " kg is below " + number_text(kMinBodyMass_kg) + " kg, " +
+                       kBodyMassScaleReason + " (tonnes?)");
   b.com_m = rover_length_vec3(r, "com");
   b.inertia_kgm2 = r.mat3("inertia");
   const Mat3& I = b.inertia_kgm2;

@@ -349,6 +349,8 @@ TEST_F(Audit, RoverFile) {
   rover_case("negative gravity", [](Json& j) { j["gravity"] = -9.81; }, Want::kError, {"'gravity'", "-9.81"});
   rover_case("zero gravity", [](Json& j) { j["gravity"] = 0.0; }, Want::kRuns, {});
   rover_case("huge gravity", [](Json& j) { j["gravity"] = 1e300; }, Want::kError, {"'gravity'", "1e+300", "100 m/s^2"});
+  rover_case("a chassis of 1e-30 kg", [](Json& j) { j["bodies"]["chassis"]["mass"] = 1e-30; }, Want::kError,
+             {"mass'", "1e-30 kg is below 0.001 kg", "tonnes?"});
   rover_case("wheel centre as an object",
              [](Json& j) { j["geometry"]["wheel_centre"] = {{"x", 0.168}, {"y", 0.089}, {"z", -0.033}}; },
              Want::kError, {"'geometry.wheel_centre'", "0.168"});
