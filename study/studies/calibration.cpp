@@ -40,9 +40,18 @@ namespace {
 // A fitted value this close to a bound (relative to the bounds' width) is on it.
 constexpr double kOnBoundRelative = 1e-6;
 
-// The fitted parameters and time offsets that ended on a bound, in words;
-// empty when none did. A Gauss-Newton interval there is of a constrained
-// optimum: the bound, not the data, holds the value.
+// The bounds of a parameter of the Gauss-Newton uncertainty (a fitted one or
+// a curve's time offset).
+std::pair<double, double> bounds_of(const CheckedFit& c, const std::string& name) {
+  for (const FitParameter& f : c.study.fit)
+    if (f.name == name) return {f.lower, f.upper};
+  return {c.study.offset_min_s, c.study.offset_max_s};
+}
+
+// The fitted parameters and time offsets that ended on a bound, or so near
+// one that their 95 % interval reaches past it, in words; empty when none
+// did. A Gauss-Newton interval there is of a constrained optimum: the bound,
+// not the data, may hold the value.
 std::string on_a_bound(const CheckedFit& c) {
   std::string text;
   auto check = [&](const std::string& name, double value, double lower, double upper, const std::string& field) {
@@ -57,15 +66,19 @@ std::string on_a_bound(const CheckedFit& c) {
   for (std::size_t k = 0; k < c.fit.offsets.size() && !c.study.offset_fitted(); ++k)
     check(c.fit.offsets.size() == 1 ? "time_offset" : "time_offset[" + std::to_string(k) + "]", c.fit.offsets[k],
           c.study.offset_min_s, c.study.offset_max_s, "bounds.time_offset");
+  if (!text.empty() || !c.gn.ok) return text;
+  // Just inside a bound: the 95 % interval reaches past it, so the bound may
+  // be what holds the value there.
+  const LeastSquaresUncertainty& u = c.gn.uncertainty;
+  for (Eigen::Index k = 0; k < u.standard_error.size(); ++k) {
+    const std::string& name = c.gn.names[static_cast<std::size_t>(k)];
+    const auto [lower, upper] = bounds_of(c, name);
+    if (!(u.lower[k] < lower || u.upper[k] > upper)) continue;
+    text += (text.empty() ? "" : "; ") + name + "'s 95 % interval [" + format_number(u.lower[k], 6) + ", " +
+            format_number(u.upper[k], 6) + "] reaches past its bound " +
+            format_number(u.lower[k] < lower ? lower : upper, 6) + " (widen bounds." + name + ")";
+  }
   return text;
-}
-
-// The bounds of a parameter of the Gauss-Newton uncertainty (a fitted one or
-// a curve's time offset).
-std::pair<double, double> bounds_of(const CheckedFit& c, const std::string& name) {
-  for (const FitParameter& f : c.study.fit)
-    if (f.name == name) return {f.lower, f.upper};
-  return {c.study.offset_min_s, c.study.offset_max_s};
 }
 
 // The parameters the data leave undetermined, in words: a standard error that

@@ -2923,6 +2923,24 @@ TEST_F(Audit, JointFitNamesTheCurveWhoseRunsFail) {
   run_table(w().dir(), cases);
 }
 
+// A fit just inside a bound, whose 95 % interval reaches past it, is not to
+// be trusted any more than one on the bound: the bound may hold the value.
+TEST_F(Audit, IntervalsReachingPastABoundAreNotValid) {
+  std::vector<Case> cases;
+  auto shipped_fit = [&](double upper) {
+    Json j = Json::parse(file_bytes(source_path("configs/studies/calibration.json")), nullptr, true, true);
+    j["scenario"] = source_path("configs/scenarios/drop_horizontal.json");
+    j["data"] = source_path("configs/data/drop_horizontal_synthetic.csv");
+    j["bounds"]["c_q"] = {0.02, upper};
+    return study("calibrate", w().json_file("bounded", j));
+  };
+  cases.push_back({"c_q 0.25 +- 0.001 under a bound of 0.2504", shipped_fit(0.2504), Want::kAllFailed,
+                   {"c_q's 95 % interval [", "reaches past its bound 0.2504 (widen bounds.c_q)"}});
+  cases.push_back({"c_q 0.25 +- 0.001 well inside its bounds", shipped_fit(1.0), Want::kRuns, {}, {}, {},
+                   {"reaches past its bound", "NOT VALID"}});
+  run_table(w().dir(), cases);
+}
+
 // A name inside a config means what the system makes of it: "lnk/../x"
 // through a linked folder names the x beside the link's target, which is
 // then read, and protected as an input.
