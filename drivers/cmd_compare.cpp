@@ -99,10 +99,20 @@ void check_common_samples(const CompareOptions& o, const io::Curve& a, const io:
   }
 }
 
+// A measured curve that declares its channel (rover synthesize writes it)
+// is compared as that channel only: another --column compares unlike things.
+void check_declared_channels(const CompareOptions& o, FlagChecks& checks) {
+  for (const auto& [which, path] : {std::pair{"curve A", o.first}, std::pair{"curve B", o.second}})
+    if (const std::string declared = io::declared_channel(path); !declared.empty() && declared != o.column)
+      checks.add(std::string(which) + " ('" + path + "') declares its z to be " + declared + ", but --column is " +
+                 o.column + ": give --column " + declared + ", or a curve of " + o.column);
+}
+
 int run_compare(const CompareOptions& o) {
   FlagChecks checks;
   checks.finite("--rest-time", o.rest_time_s);
   checks.finite("--time-offset", o.time_offset_s);
+  check_declared_channels(o, checks);
   checks.throw_if_any();
   const io::Curve a = io::read_curve(o.first, o.column);
   io::Curve b = io::read_curve(o.second, o.column);

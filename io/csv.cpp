@@ -295,4 +295,19 @@ MeasuredCurve read_measured_curve(const std::string& path) {
   return curve_from_table(read_csv(path, {"t", "z"}), "z", kMeasuredCurveMaxAbsHeight_m);
 }
 
+std::string declared_channel(const std::string& path) {
+  constexpr std::string_view kDeclaration = "z [m] = ";
+  constexpr int kHeaderLinesRead = 32;  // the declaration stands in the leading comment block
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  for (int k = 0; k < kHeaderLinesRead && std::getline(in, line) && line.starts_with("#"); ++k) {
+    const std::size_t at = line.find(kDeclaration);
+    if (at == std::string::npos) continue;
+    // A name, then a comma: "= B_r_z, the world z ..." (a description, "= world z of ...", names none).
+    const std::size_t start = at + kDeclaration.size(), end = line.find_first_of(",. ", start);
+    return end != std::string::npos && line[end] == ',' ? line.substr(start, end - start) : "";
+  }
+  return "";
+}
+
 }  // namespace rover::io

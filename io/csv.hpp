@@ -54,6 +54,11 @@ inline constexpr double kMeasuredCurveMaxAbsHeight_m = 1e3;
 // naming the file, the line and the value otherwise.
 MeasuredCurve read_measured_curve(const std::string& path);
 
+// The channel a measured curve's header declares for its z column, as
+// `rover synthesize` writes it ("# Columns: t [s], z [m] = B_r_z, ..."), or
+// "" when the file declares none (a file from elsewhere, or not a CSV).
+std::string declared_channel(const std::string& path);
+
 // The checks of read_measured_curve() on columns "t" and `value_column` of a
 // table, with |value| < max_abs_value (infinity: no bound); read_measured_curve
 // is curve_from_table(read_csv(path, {"t", "z"}), "z", kMeasuredCurveMaxAbsHeight_m).

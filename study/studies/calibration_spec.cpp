@@ -323,6 +323,10 @@ void read_datasets(const io::JsonReader& r, const std::string& path, const Calib
       throw io::ConfigError(file + ": an HDF5 file; a measured curve is read as CSV with columns t,z "
                                    "(docs/configuration.md)");
     const io::MeasuredCurve curve = io::read_measured_curve(file);
+    if (const std::string declared = io::declared_channel(file); !declared.empty() && declared != channel)
+      throw io::ConfigError(file + ": declares its z to be " + declared + " (its header), but is fitted as " +
+                            channel + ": give it \"channel\": \"" + declared + "\" in 'data', or a curve of " +
+                            channel);
     d.t = curve.t_s;
     d.z = curve.z_m;
     s.data_path += (s.data_path.empty() ? "" : ", ") + file;

@@ -2925,6 +2925,8 @@ TEST_F(Audit, JointFitNamesTheCurveWhoseRunsFail) {
 
 // A fit just inside a bound, whose 95 % interval reaches past it, is not to
 // be trusted any more than one on the bound: the bound may hold the value.
+// And a curve whose header declares another channel than the one it is
+// compared or fitted as is refused.
 TEST_F(Audit, IntervalsReachingPastABoundAreNotValid) {
   std::vector<Case> cases;
   auto shipped_fit = [&](double upper) {
@@ -2938,6 +2940,15 @@ TEST_F(Audit, IntervalsReachingPastABoundAreNotValid) {
                    {"c_q's 95 % interval [", "reaches past its bound 0.2504 (widen bounds.c_q)"}});
   cases.push_back({"c_q 0.25 +- 0.001 well inside its bounds", shipped_fit(1.0), Want::kRuns, {}, {}, {},
                    {"reaches past its bound", "NOT VALID"}});
+  // A curve that declares another channel than the one it is compared or fitted as.
+  const std::string g_z = w().out("csv");
+  std::string log;
+  ASSERT_EQ(run_command(rover_binary() + " synthesize --scenario " + w().quick() + " --channel G_z --out " + g_z, &log),
+            0) << log;
+  cases.push_back({"compare a G_z curve as B_l_z", "compare " + g_z + " " + g_z, Want::kError,
+                   {"declares its z to be G_z, but --column is B_l_z", "give --column G_z"}});
+  cases.push_back({"fit a G_z curve as B_l_z", study("calibrate", w().calibration([&](Json& j) { j["data"] = g_z; })),
+                   Want::kError, {g_z + ": declares its z to be G_z", "\"channel\": \"G_z\""}});
   run_table(w().dir(), cases);
 }
 

@@ -231,5 +231,20 @@ TEST(Csv, WriteRefusesInconsistentColumnsAndLeavesNothing) {
                std::runtime_error);
 }
 
+// The channel a curve's header declares, as write_csv writes rover
+// synthesize's header: read back; a curve from elsewhere declares none.
+TEST(DeclaredChannel, ReadsWhatTheHeaderDeclares) {
+  const std::string dir = rover::testing::temp_dir();
+  write_csv(dir + "/right.csv", {"t", "z"}, {{0.0, 0.1, 0.2}, {0.3, 0.2, 0.25}},
+            "SYNTHETIC measured drop curve.\nColumns: t [s], z [m] = B_r_z, the world z of the right bogie pin B_r.");
+  EXPECT_EQ(declared_channel(dir + "/right.csv"), "B_r_z");
+  write_csv(dir + "/plain.csv", {"t", "z"}, {{0.0, 0.1, 0.2}, {0.3, 0.2, 0.25}}, "a drop on the test rig");
+  EXPECT_EQ(declared_channel(dir + "/plain.csv"), "");
+  write_csv(dir + "/described.csv", {"t", "z"}, {{0.0, 0.1, 0.2}, {0.3, 0.2, 0.25}},
+            "Columns: t [s], z [m] = world z of the left bogie pin B_l.");
+  EXPECT_EQ(declared_channel(dir + "/described.csv"), "");
+  EXPECT_EQ(declared_channel(dir + "/absent.csv"), "");
+}
+
 }  // namespace
 }  // namespace rover::io
