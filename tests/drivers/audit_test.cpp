@@ -1845,7 +1845,7 @@ TEST_F(Audit, OneMessageUnderMpirun) {
 }
 
 // A design row the model refuses is refused on every rank under mpirun, once,
-// with its line; rank 0 alone used to refuse it while rank 1 waited for it.
+// with its line: a refusal on rank 0 alone would leave rank 1 waiting for it.
 TEST_F(Audit, RefusedDesignRowEndsEveryRank) {
   std::string output;
   const std::string design = w().text_file("design", "c_q,f\n0.2,1e4\n2000,1e4\n", "csv");
