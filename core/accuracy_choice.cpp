@@ -47,12 +47,17 @@ constexpr std::array<FrontierPoint, 14> kMeasuredFrontier = {{
     {IntegratorMethod::kDormandPrince45, 1e-9, 1e-12, 0.0, 3.74e-12},  // 3.8 M
 }};
 
+IntegratorSettings settings_of(const FrontierPoint& p) {
+  IntegratorSettings s = default_integrator_settings(p.method);
+  s.relative_tolerance = p.relative_tolerance;
+  s.absolute_tolerance = p.absolute_tolerance;
+  if (p.slip_tolerance > 0.0) s.slip_tolerance = p.slip_tolerance;
+  return s;
+}
+
 IntegratorChoice choice_of(const FrontierPoint& p) {
   IntegratorChoice c;
-  c.settings = default_integrator_settings(p.method);
-  c.settings.relative_tolerance = p.relative_tolerance;
-  c.settings.absolute_tolerance = p.absolute_tolerance;
-  if (p.slip_tolerance > 0.0) c.settings.slip_tolerance = p.slip_tolerance;
+  c.settings = settings_of(p);
   c.measured_error_m = p.worst_rms_error_m;
   c.description = std::string(integrator_name(p.method)) + " rtol " + number_text(p.relative_tolerance) +
                   " atol " + number_text(p.absolute_tolerance);
@@ -77,7 +82,7 @@ IntegratorChoice integrator_for_accuracy(double accuracy_m) {
 std::optional<double> expected_error_m(const IntegratorSettings& settings) {
   std::optional<double> error_m;
   for (const FrontierPoint& p : kMeasuredFrontier) {
-    const IntegratorSettings measured = choice_of(p).settings;
+    const IntegratorSettings measured = settings_of(p);
     if (p.method == settings.method && settings.relative_tolerance <= measured.relative_tolerance &&
         settings.absolute_tolerance <= measured.absolute_tolerance &&
         settings.slip_tolerance <= measured.slip_tolerance)

@@ -88,9 +88,7 @@ inline void check_leftover_checkpoint(FlagChecks& checks, const std::string& res
   if (results_path.empty()) return;
   // A running study's checkpoint is not leftover: neither --resume nor --restart may touch it.
   // Rank 0 probes (the other ranks would see rank 0's own lock once it runs) and tells every rank.
-  std::vector<double> held{study::world_rank() == 0 && io::OutputLock::held_elsewhere(results_path) ? 1.0 : 0.0};
-  study::broadcast_from_rank0(held);
-  if (held[0] != 0.0) {
+  if (study::broadcast_flag_from_rank0(study::world_rank() == 0 && io::OutputLock::held_elsewhere(results_path))) {
     checks.add(io::OutputLock::held_message(results_path));
     return;
   }

@@ -19,4 +19,10 @@ void broadcast_from_rank0(std::vector<double>& values) {
   if (count > 0) MPI_Bcast(values.data(), static_cast<int>(count), MPI_DOUBLE, 0, MPI_COMM_WORLD);
 }
 
+bool broadcast_flag_from_rank0(bool flag) {
+  std::vector<double> value{flag ? 1.0 : 0.0};
+  broadcast_from_rank0(value);
+  return value[0] != 0.0;
+}
+
 }  // namespace rover::study

@@ -12,4 +12,8 @@ namespace rover::study {
 // `values` (resized as needed).
 void broadcast_from_rank0(std::vector<double>& values);
 
+// Collective: rank 0's `flag` on every rank (a verdict only rank 0 can reach,
+// such as a refusal that every rank must act on).
+bool broadcast_flag_from_rank0(bool flag);
+
 }  // namespace rover::study

@@ -194,9 +194,7 @@ EvaluateStudy load_evaluate(const EvaluateRequest& request) {
       refusal = e.what();
     }
   }
-  std::vector<double> refused{refusal.empty() ? 0.0 : 1.0};
-  broadcast_from_rank0(refused);
-  if (refused[0] != 0.0) throw io::ConfigError(refusal.empty() ? "a design row is refused (rank 0 says which)" : refusal);
+  if (broadcast_flag_from_rank0(!refusal.empty())) throw io::ConfigError(refusal.empty() ? "a design row is refused (rank 0 says which)" : refusal);
   return s;
 }
 

@@ -161,9 +161,7 @@ std::unique_ptr<io::OutputLock> lock_output(const std::string& results_path) {
       refusal = e.what();
     }
   }
-  std::vector<double> refused{refusal.empty() ? 0.0 : 1.0};
-  broadcast_from_rank0(refused);
-  if (refused[0] != 0.0) throw std::invalid_argument(refusal.empty() ? "the result is locked (rank 0 says why)" : refusal);
+  if (broadcast_flag_from_rank0(!refusal.empty())) throw std::invalid_argument(refusal.empty() ? "the result is locked (rank 0 says why)" : refusal);
   return lock;
 }
 

@@ -137,8 +137,6 @@ std::optional<IntegratorSettings> recorded_integrator(const io::Hdf5Reader& h5) 
   }
 }
 
-std::string integrator_text(const IntegratorSettings& s) { return describe_integrator(s); }
-
 bool same_integrator(const IntegratorSettings& a, const IntegratorSettings& b) {
   return a.method == b.method && a.relative_tolerance == b.relative_tolerance &&
          a.absolute_tolerance == b.absolute_tolerance && a.slip_tolerance == b.slip_tolerance;
@@ -165,11 +163,11 @@ std::string integrator_mismatch(const SurrogateStudy& study, const TrainingRuns&
   const IntegratorSettings& trained_with = training.integrator.value_or(own);
   std::string text;
   if (!same_integrator(trained_with, own))
-    text = "the training runs were made with " + integrator_text(trained_with) + ", not the study's " +
-           integrator_text(own) + ": the surrogate stands for the training runs' integrator, and the result records it";
+    text = "the training runs were made with " + describe_integrator(trained_with) + ", not the study's " +
+           describe_integrator(own) + ": the surrogate stands for the training runs' integrator, and the result records it";
   if (held_out.integrator && !same_integrator(*held_out.integrator, trained_with))
     text += std::string(text.empty() ? "" : "; ") + "the held-out runs were made with " +
-            integrator_text(*held_out.integrator) + ", the training runs with " + integrator_text(trained_with) +
+            describe_integrator(*held_out.integrator) + ", the training runs with " + describe_integrator(trained_with) +
             ": the held-out Q2 includes the difference of the two integrators";
   return text;
 }

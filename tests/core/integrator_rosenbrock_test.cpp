@@ -28,6 +28,14 @@ Scenario rosenbrock_scenario(const Scenario& base) {
   return s;
 }
 
+// `base` on Dormand-Prince at rtol 1e-8, atol 1e-11: the reference.
+Scenario reference_scenario(const Scenario& base) {
+  Scenario s = base;
+  s.integrator.relative_tolerance = 1e-8;
+  s.integrator.absolute_tolerance = 1e-11;
+  return s;
+}
+
 // The drop tests of docs/model.md §7 (Table 2).
 Scenario drop(double z, double chi, double psi) {
   Scenario s;
@@ -77,9 +85,7 @@ TEST(IntegratorRosenbrock, DropTestsMatchTheDormandPrinceReference) {
   const RoverModel model = make_rover_model(default_rover_parameters());
   const ModelInputs inputs = nominal_inputs(model.parameters);
   for (const Scenario& base : {drop(0.281, 0.039, 0.0042), drop(0.299, 0.116, -0.0809)}) {
-    Scenario reference = base;
-    reference.integrator.relative_tolerance = 1e-8;
-    reference.integrator.absolute_tolerance = 1e-11;
+    const Scenario reference = reference_scenario(base);
     const Trajectory dp = simulate(model, reference, inputs);
     const Trajectory ros = simulate(model, rosenbrock_scenario(base), inputs);
     ASSERT_TRUE(dp.ok()) << dp.message;
@@ -97,9 +103,7 @@ TEST(IntegratorRosenbrock, Rodas4ByNameMatchesTheDormandPrinceReference) {
   // name, on the horizontal drop at its default settings.
   const RoverModel model = make_rover_model(default_rover_parameters());
   const ModelInputs inputs = nominal_inputs(model.parameters);
-  Scenario reference = drop(0.281, 0.039, 0.0042);
-  reference.integrator.relative_tolerance = 1e-8;
-  reference.integrator.absolute_tolerance = 1e-11;
+  const Scenario reference = reference_scenario(drop(0.281, 0.039, 0.0042));
   Scenario run = drop(0.281, 0.039, 0.0042);
   run.integrator = default_integrator_settings(integrator_from_name("rodas4"));
   ASSERT_EQ(run.integrator.method, IntegratorMethod::kRodas4);
@@ -131,9 +135,7 @@ TEST(IntegratorRosenbrock, TighterSlipToleranceBringsTheDropCloserToTheReference
   // little more work.
   const RoverModel model = make_rover_model(default_rover_parameters());
   const ModelInputs inputs = nominal_inputs(model.parameters);
-  Scenario reference = drop(0.281, 0.039, 0.0042);
-  reference.integrator.relative_tolerance = 1e-8;
-  reference.integrator.absolute_tolerance = 1e-11;
+  const Scenario reference = reference_scenario(drop(0.281, 0.039, 0.0042));
   const Trajectory dp = simulate(model, reference, inputs);
   ASSERT_TRUE(dp.ok()) << dp.message;
   auto run_at = [&](double slip_tolerance) {
@@ -232,9 +234,7 @@ TEST(IntegratorRosenbrock, MatchesTheReferenceAtTheSharpestF) {
   const RoverModel model = make_rover_model(default_rover_parameters());
   ModelInputs inputs = nominal_inputs(model.parameters);
   inputs.sharpness_f = 1e5;
-  Scenario reference = drop(0.281, 0.039, 0.0042);
-  reference.integrator.relative_tolerance = 1e-8;
-  reference.integrator.absolute_tolerance = 1e-11;
+  const Scenario reference = reference_scenario(drop(0.281, 0.039, 0.0042));
   const Trajectory dp = simulate(model, reference, inputs);
   const Trajectory ros = simulate(model, rosenbrock_scenario(drop(0.281, 0.039, 0.0042)), inputs);
   ASSERT_TRUE(dp.ok()) << dp.message;
