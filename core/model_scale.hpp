@@ -68,10 +68,14 @@ inline constexpr double kMaxDamping_Nms_per_rad = 1e3;
 inline constexpr double kMaxPreload_Nm = 1e3;
 inline constexpr double kMaxGravity_mps2 = 1e2;
 inline constexpr double kMaxBodyMass_kg = 1e2;
-// A body lighter than a gram (1e-30 kg, or 8e-5 kg: a wheel in tonnes) is
-// a unit mistake too: the rover's lightest body, a wheel, weighs 0.08 kg.
-inline constexpr double kMinBodyMass_kg = 1e-3;
+// A body lighter than 10 g (1e-30 kg, or 1.3e-3 kg: the chassis in tonnes)
+// is a unit mistake too: the rover's lightest body, a leg module, weighs
+// 0.079 kg.
+inline constexpr double kMinBodyMass_kg = 1e-2;
 inline constexpr double kMaxRoverLength_m = 10.0;
+// A wheel smaller than a millimetre is a unit mistake (8.5e-5: the paper's
+// 8.5 cm in kilometres).
+inline constexpr double kMinWheelRadius_m = 1e-3;
 inline constexpr double kMaxBodyInertia_kgm2 = 1.0;
 inline constexpr double kMaxSStructureStiffness_Nm_per_rad = 1e3;
 inline constexpr double kMaxSteeringStiffness_Nm_per_rad = 1e4;
@@ -82,12 +86,22 @@ inline constexpr double kMaxGroundDamping = 1e4;    // N s/m
 inline constexpr double kMaxContactExponent = 10.0;
 inline constexpr double kMaxFrictionCoefficient = 10.0;
 inline constexpr double kMaxStribeckSpeed_mps = 0.1;
+// Below 1 um/s (the paper's v_s is 550 um/s) a Stribeck speed is a unit
+// mistake (km/s, 1e-300): the stick-slip transition sharpens as 1/v and a
+// drop's cost grows as 1/v^2 (a 1-s drop at v_s 1 um/s takes minutes).
+inline constexpr double kMinStribeckSpeed_mps = 1e-6;
 
 // Empty if |value| <= bound; otherwise "1e+308 m is beyond +-1e+06 m, <why>".
 inline std::string beyond_scale(double value, double bound, const std::string& unit, const std::string& why) {
   if (std::abs(value) <= bound) return "";
   const std::string u = unit.empty() ? "" : " " + unit;  // none for a coefficient
   return number_text(value) + u + " is beyond +-" + number_text(bound) + u + ", " + why;
+}
+
+// Empty if value >= bound; otherwise "1e-300 m/s is below 1e-06 m/s, <why>".
+inline std::string below_scale(double value, double bound, const std::string& unit, const std::string& why) {
+  if (value >= bound) return "";
+  return number_text(value) + " " + unit + " is below " + number_text(bound) + " " + unit + ", " + why;
 }
 
 inline const std::string kPositionScaleReason =
@@ -116,6 +130,11 @@ inline const std::string kFrictionScaleReason =
     "far beyond any contact's friction (paper: mu_s 0.3, mu_k 0.2); a unit mistake (percent)?";
 inline const std::string kStribeckScaleReason =
     "far beyond the paper's stick-slip speeds (v_s 0.55 mm/s, v_k 2 mm/s); a unit mistake (mm/s)?";
+inline const std::string kStribeckBelowScaleReason =
+    "far below the paper's stick-slip speeds (v_s 0.55 mm/s, v_k 2 mm/s), where a drop's cost grows as 1/v^2; "
+    "a unit mistake (km/s)?";
+inline const std::string kWheelRadiusBelowScaleReason =
+    "far below the rover's wheels (8.5 cm radius); a unit mistake (kilometres)?";
 inline const std::string kDriveScaleReason =
     "far beyond what the rover drives (decimetres per second); a unit mistake?";
 

@@ -88,6 +88,11 @@ int run_friction(const FrictionOptions& o) {
   within("--v-s", o.v_static_mps, kMaxStribeckSpeed_mps, "m/s", kStribeckScaleReason);
   within("--mu-k", o.mu_kinetic, kMaxFrictionCoefficient, "", kFrictionScaleReason);
   within("--v-k", o.v_kinetic_mps, kMaxStribeckSpeed_mps, "m/s", kStribeckScaleReason);
+  for (const auto& [flag, value] : {std::pair{"--v-s", o.v_static_mps}, std::pair{"--v-k", o.v_kinetic_mps}})
+    if (value && *value > 0.0)
+      if (const std::string problem = below_scale(*value, kMinStribeckSpeed_mps, "m/s", kStribeckBelowScaleReason);
+          !problem.empty())
+        checks.add(std::string(flag) + " " + problem);
   checks.output_file("--png", o.png, /*regular_only=*/true);
   checks.distinct_files("--png", o.png, "--config", o.config);
   checks.throw_if_any();

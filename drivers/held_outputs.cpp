@@ -5,11 +5,13 @@
 #include <stdexcept>
 
 #include "drivers/options.hpp"
+#include "study/runtime/study_runner.hpp"
 
 namespace rover::cli {
 
 void HeldOutputs::hold(const std::string& flag, const std::string& path) {
   if (path.empty()) return;
+  study::retire_exit_on_interrupt();  // from here on, a signal ends the command as the system does
   std::error_code error;
   // A link (/dev/stdout) or a special file is written through: its lock would
   // stand in a folder that is not the user's.

@@ -17,7 +17,8 @@ namespace rover::cli {
 class HeldOutputs {
  public:
   // Makes the folders of `path` and takes its lock until this object dies;
-  // nothing for an empty path, a link or a special file. Throws CommandLineError
+  // nothing for an empty path, a link or a special file. Retires the exit on
+  // a signal of study::exit_on_interrupt_until_guarded(): the command writes. Throws CommandLineError
   // naming `flag` if another process writes `path` now.
   void hold(const std::string& flag, const std::string& path);
 

@@ -6,7 +6,8 @@
 // is returned, so a full disk or a closed pipe is an error, not a success.
 // Exit status: 0 done, 1 refused (a bad file, or a bad command line, also one
 // CLI11 refuses itself, or an option given an empty value), 2 some runs
-// failed (the subcommand's own), 130 interrupted.
+// failed (the subcommand's own), 130 interrupted (also while it reads its
+// inputs, perhaps waiting on a pipe).
 //
 // A study allocates the same few hundred kilobytes for every run (the
 // trajectory's rows) and frees them at its end. glibc would hand that memory
@@ -207,6 +208,7 @@ int run_subcommand(CLI::App& sub, const std::function<int()>& run, bool shares_r
 int main(int argc, char** argv) {
   using namespace rover::cli;
   keep_freed_memory();
+  rover::study::exit_on_interrupt_until_guarded();  // reading inputs, perhaps from a pipe: 130 and a word
   CLI::App app{
       "rover: semi-analytical dynamics of the Archimede rover (Caruso et al.) and the\n"
       "uncertainty/sensitivity studies built on it. Model: docs/model.md.\n"

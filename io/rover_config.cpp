@@ -25,6 +25,13 @@ double within_scale(const JsonReader& r, const std::string& key, double value, d
   return value;
 }
 
+// `value` read from `key`, refused below `bound` (a unit mistake, `why`).
+double at_least(const JsonReader& r, const std::string& key, double value, double bound, const char* unit,
+                const std::string& why) {
+  if (const std::string below = below_scale(value, bound, unit, why); !below.empty()) r.fail(key, below);
+  return value;
+}
+
 // A point or offset of the rover (m), each element within kMaxRoverLength_m.
 Vec3 rover_length_vec3(const JsonReader& r, const std::string& key) {
   const Vec3 v = r.vec3(key);
@@ -37,9 +44,7 @@ Vec3 rover_length_vec3(const JsonReader& r, const std::string& key) {
 RigidBodyParameters parse_body(const JsonReader& r) {
   RigidBodyParameters b;
   b.mass_kg = within_scale(r, "mass", r.positive("mass"), kMaxBodyMass_kg, "kg", kBodyMassScaleReason);
-  if (b.mass_kg < kMinBodyMass_kg)
-    r.fail("mass", number_text(b.mass_kg) + " kg is below " + number_text(kMinBodyMass_kg) + " kg, " +
-                       kBodyMassScaleReason + " (tonnes?)");
+  at_least(r, "mass", b.mass_kg, kMinBodyMass_kg, "kg", kBodyMassScaleReason + " (tonnes?)");
   b.com_m = rover_length_vec3(r, "com");
   b.inertia_kgm2 = r.mat3("inertia");
   const Mat3& I = b.inertia_kgm2;
@@ -111,6 +116,7 @@ RoverParameters parse_rover_parameters(const Json& config, const std::string& fi
   p.geometry.wheel_centre_m = rover_length_vec3(g, "wheel_centre");
   p.geometry.wheel_radius_m =
       within_scale(g, "wheel_radius", g.positive("wheel_radius"), kMaxRoverLength_m, "m", kLengthScaleReason);
+  at_least(g, "wheel_radius", p.geometry.wheel_radius_m, kMinWheelRadius_m, "m", kWheelRadiusBelowScaleReason);
   for (const char* key : {"hip", "knee"})
     if (!(g.vec3(key).norm() > 0.0)) g.fail(key, "link length must be positive");
   g.finish();
@@ -173,10 +179,12 @@ RoverParameters parse_rover_parameters(const Json& config, const std::string& fi
       within_scale(f, "mu_s", f.non_negative("mu_s"), kMaxFrictionCoefficient, "", kFrictionScaleReason);
   p.friction.v_static_mps =
       within_scale(f, "v_s", f.positive("v_s"), kMaxStribeckSpeed_mps, "m/s", kStribeckScaleReason);
+  at_least(f, "v_s", p.friction.v_static_mps, kMinStribeckSpeed_mps, "m/s", kStribeckBelowScaleReason);
   p.friction.mu_kinetic =
       within_scale(f, "mu_k", f.non_negative("mu_k"), kMaxFrictionCoefficient, "", kFrictionScaleReason);
   p.friction.v_kinetic_mps =
       within_scale(f, "v_k", f.positive("v_k"), kMaxStribeckSpeed_mps, "m/s", kStribeckScaleReason);
+  at_least(f, "v_k", p.friction.v_kinetic_mps, kMinStribeckSpeed_mps, "m/s", kStribeckBelowScaleReason);
   if (!(p.friction.v_kinetic_mps > p.friction.v_static_mps))
     f.fail("v_k", "must be larger than v_s (" + number_text(p.friction.v_static_mps) + " m/s)");
   if (f.has("gammas")) {

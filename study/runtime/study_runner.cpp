@@ -8,6 +8,8 @@
 #include <csignal>
 #include <ctime>
 
+#include <unistd.h>
+
 #include "io/checkpoint.hpp"
 #include "study/runtime/ordered_sink.hpp"
 
@@ -65,23 +67,54 @@ extern "C" void on_interrupt(int signal_number) {
   if (since_first_ns < InterruptGuard::kSignalRepeatWindow_s * kNanosecondsPerSecond) return;
   // A later second signal kills as it would have without the guard.
   const Handler previous = signal_number == SIGINT ? g_previous_int : g_previous_term;
-  std::signal(signal_number, previous == SIG_ERR ? SIG_DFL : previous);
+  std::signal(signal_number, previous);
   std::raise(signal_number);
+}
+
+// Before the first guard: the command is still reading its inputs (perhaps
+// blocked on a pipe no one writes yet) and has written nothing of its own.
+extern "C" void on_interrupt_before_guard(int signal_number) {
+  static constexpr char kInt[] = "rover: interrupted (SIGINT); nothing written\n";
+  static constexpr char kTerm[] = "rover: interrupted (SIGTERM); nothing written\n";
+  // write(2) and _exit are async-signal-safe; a short write only shortens the message.
+  const bool by_int = signal_number == SIGINT;
+  const char* message = by_int ? kInt : kTerm;
+  const std::size_t length = by_int ? sizeof kInt - 1 : sizeof kTerm - 1;
+  [[maybe_unused]] const ssize_t written = write(STDERR_FILENO, message, length);
+  _exit(StudyInterrupted::kExitCode);
+}
+
+// The handler a guard restores: the system's default in place of the one of
+// exit_on_interrupt_until_guarded(), which is retired by the first guard.
+Handler restorable(Handler previous) {
+  return previous == SIG_ERR || previous == on_interrupt_before_guard ? SIG_DFL : previous;
 }
 
 }  // namespace
 
+void exit_on_interrupt_until_guarded() {
+  std::signal(SIGINT, on_interrupt_before_guard);
+  std::signal(SIGTERM, on_interrupt_before_guard);
+}
+
+void retire_exit_on_interrupt() {
+  for (const int signal_number : {SIGINT, SIGTERM}) {
+    const Handler current = std::signal(signal_number, SIG_DFL);
+    if (current != on_interrupt_before_guard && current != SIG_ERR) std::signal(signal_number, current);
+  }
+}
+
 InterruptGuard::InterruptGuard() {
   if (g_guard_depth++ > 0) return;
   g_interrupted.store(false);
-  g_previous_int = std::signal(SIGINT, on_interrupt);
-  g_previous_term = std::signal(SIGTERM, on_interrupt);
+  g_previous_int = restorable(std::signal(SIGINT, on_interrupt));
+  g_previous_term = restorable(std::signal(SIGTERM, on_interrupt));
 }
 
 InterruptGuard::~InterruptGuard() {
   if (--g_guard_depth > 0) return;
-  std::signal(SIGINT, g_previous_int == SIG_ERR ? SIG_DFL : g_previous_int);
-  std::signal(SIGTERM, g_previous_term == SIG_ERR ? SIG_DFL : g_previous_term);
+  std::signal(SIGINT, g_previous_int);
+  std::signal(SIGTERM, g_previous_term);
 }
 
 const std::atomic<bool>& InterruptGuard::flag() { return g_interrupted; }

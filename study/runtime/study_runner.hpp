@@ -73,6 +73,15 @@ class InterruptGuard {
   static const std::atomic<bool>& flag();
 };
 
+// Until the first InterruptGuard, SIGINT or SIGTERM ends the process at once
+// with StudyInterrupted::kExitCode and a one-line message: the program is
+// reading its inputs (perhaps waiting on a pipe) and has written nothing.
+// The first guard retires this (the handlers it restores are the system's),
+// and so does retire_exit_on_interrupt(), called by a command that begins to
+// write without a guard: a signal then ends it as the system does.
+void exit_on_interrupt_until_guarded();
+void retire_exit_on_interrupt();
+
 // `settings` whose likelihood maximisation stops when a signal arrives
 // (InterruptGuard::flag()): a kriging fit of thousands of runs ends within an
 // evaluation, not after its starts.

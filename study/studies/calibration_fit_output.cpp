@@ -179,12 +179,12 @@ void report_calibration_fit(const CalibrationFitResult& r, const CalibrationStud
   if (!r.trusted)
     out << "calibrate: WARNING: the intervals below are NOT VALID: " << r.not_valid_because
         << ". They are written flagged (/best intervals_valid = 0) and the exit status is 2.\n";
-  out << "calibrate: best RMS " << format_number(r.best_rms_m * 1000.0) << " mm at";
+  out << "calibrate: best RMS " << format_residual_statistic(r.best_rms_m * 1000.0, 4, "mm") << " at";
   for (std::size_t k = 0; k < s.fit.size(); ++k) out << " " << s.fit[k].name << " = " << format_number(c.fit.values[k], 6);
   out << ", time offset" << (s.datasets.size() > 1 ? "s" : "");
   for (double o : c.fit.offsets) out << " " << format_number(o, 6);
   out << " s; residual lag-1 autocorrelation";
-  for (double lag1 : r.curve_residual_lag1) out << " " << format_number(lag1, 2);
+  for (double lag1 : r.curve_residual_lag1) out << " " << format_residual_statistic(lag1, 2);
   out << " (independent noise: near 0)\n";
   if (c.gn.ok) report_intervals(r, out);
   else out << "calibrate: WARNING: " << c.gn.message << "\n";

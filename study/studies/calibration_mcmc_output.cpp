@@ -115,9 +115,9 @@ void report_calibration_posterior(const CalibrationPosterior& posterior, const C
         << "\n";
   }
   out << "calibrate: acceptance " << format_number(d.acceptance_fraction, 3) << "; at the MAP, residual RMS";
-  for (double rms : posterior.residual_rms_m) out << " " << format_number(rms, 4) << " m";
+  for (double rms : posterior.residual_rms_m) out << " " << format_residual_statistic(rms, 4, "m");
   out << ", residual lag-1 autocorrelation";
-  for (double lag1 : posterior.residual_lag1) out << " " << format_number(lag1, 2);
+  for (double lag1 : posterior.residual_lag1) out << " " << format_residual_statistic(lag1, 2);
   out << " (independent noise: near 0)\n";
   // With a target met the warning's rule of thumb (50 autocorrelation times) is moot.
   if (!d.warning.empty() && (!posterior.mixed || s.mcmc.target_ess <= 0)) out << "calibrate: WARNING: " << d.warning << "\n";

@@ -33,6 +33,19 @@ std::string number(double v, int digits = 4) {
   return text;
 }
 
+// The candidate's scenario with its "set" values applied, built: its
+// duration. A scenario the model refuses only with those values is blamed on
+// "set" in the candidates file, with the values, not on the scenario file,
+// which holds others.
+double candidate_duration_s(const io::JsonReader& c, const NextExperimentCandidate& candidate) {
+  if (!c.has("set")) return io::build_scenario(candidate.sources).scenario.duration_s;
+  try {
+    return io::build_scenario(candidate.sources).scenario.duration_s;
+  } catch (const std::exception& e) {
+    c.fail("set", "with these values, the model refuses the scenario " + candidate.scenario_path + ": " + e.what());
+  }
+}
+
 NextExperimentCandidate read_candidate(const io::JsonReader& c, const std::string& path, std::size_t index) {
   NextExperimentCandidate out;
   out.name = c.string_or("name", "candidate " + std::to_string(index));
@@ -65,7 +78,7 @@ NextExperimentCandidate read_candidate(const io::JsonReader& c, const std::strin
   // The scenario's own checks, with "set" applied; then the data clock: a
   // curve of fewer samples than rover compare and calibrate accept has no
   // place in a ranking of curves.
-  const double duration_s = io::build_scenario(out.sources).scenario.duration_s;
+  const double duration_s = candidate_duration_s(c, out);
   if (const double samples = io::recorded_sample_count(duration_s, out.rate_hz);
       samples < static_cast<double>(io::kMeasuredCurveMinRows))
     c.fail("rate_hz", number(out.rate_hz, 6) + " Hz over the " + number(duration_s, 6) + " s of " +

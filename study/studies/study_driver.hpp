@@ -194,13 +194,13 @@ int drive_study(const StudyProgram<Result>& study, const StudyRunOptions& option
     if (world_rank() == 0) driver_detail::report_dry_run(study.command, out);
     return 0;
   }
+  const InterruptGuard interrupts;  // from the first thing written on: a signal stops the study with its work saved
   if (world_rank() == 0) io::create_parent_directories(out);  // not for a dry run or a refusal
   const std::unique_ptr<io::OutputLock> lock = driver_detail::lock_output(out);
   const bool csv = driver_detail::is_csv_path(out);
   std::unique_ptr<io::Hdf5Writer> h5;
   if (world_rank() == 0 && !csv) h5 = std::make_unique<io::Hdf5Writer>(out);
   runtime.h5 = h5.get();
-  const InterruptGuard interrupts;
   try {
     const Result result = study.run(runtime);
     driver_detail::stop_if_interrupted(runtime.options);

@@ -213,7 +213,7 @@ SurrogateSet read_surrogate_set(const std::string& path) {
   const io::Hdf5Reader h5(path);
   if (!h5.exists("/surrogate/inputs") || !h5.exists("/surrogate/outputs"))
     throw io::ConfigError(path + ": no /surrogate/inputs and /surrogate/outputs: not a model written by "
-                          "`rover surrogate --study`");
+                          "`rover surrogate --study`, or one damaged since it was written (write it again)");
   SurrogateSet set;
   try {
     set.kind = surrogate_kind_from_name(h5.attribute_string("/surrogate", "kind"));

@@ -39,11 +39,19 @@ void check_channels(const io::JsonReader& r, const SurrogateStudy& s) {
     r.fail("channels", "curves along time are fitted on a design's runs, not on \"training\" files");
 }
 
-std::string existing_file(const io::JsonReader& r, const std::string& study_path) {
+// The HDF5 result named by `file` in `r`; `holds` says which results are
+// read there ("runs of rover montecarlo, ..."), for a file that is none
+// (an evaluate CSV, say).
+std::string existing_file(const io::JsonReader& r, const std::string& study_path, const std::string& holds) {
   const std::string file = io::resolve_relative(study_path, r.string("file"));
   if (!std::filesystem::is_regular_file(file)) r.fail("file", "no such result file: " + file);
+  if (!io::is_hdf5_file(file))
+    r.fail("file", file + " is not an HDF5 file; give the .h5 result of " + holds +
+                       " (a CSV keeps no input names or provenance)");
   return file;
 }
+
+const std::string kRunsResults = "rover montecarlo, evaluate, sensitivity or surrogate, whose runs are read";
 
 GaussianProcessSettings parse_gp_options(const io::JsonReader& r, std::uint64_t seed) {
   GaussianProcessSettings gp;
@@ -76,7 +84,7 @@ void parse_held_out(const io::JsonReader& r, SurrogateStudy& s) {
   if (h.has("fraction") == h.has("file"))
     r.fail("held_out", "give {\"fraction\": f} (the last runs) or {\"file\": \"result.h5\"}");
   if (h.has("file")) {
-    s.held_out_file = existing_file(h, r.file());
+    s.held_out_file = existing_file(h, r.file(), kRunsResults);
   } else {
     s.held_out_fraction = h.number("fraction");
     if (!(s.held_out_fraction > 0.0 && s.held_out_fraction <= kMaxHeldOutFraction))
@@ -180,7 +188,7 @@ SurrogateStudy load_surrogate_study(const std::string& path) {
   s.gp = parse_gp_options(r, seed);
   if (from_file) {
     const io::JsonReader t = r.child("training");
-    s.training_file = existing_file(t, path);
+    s.training_file = existing_file(t, path, kRunsResults);
     t.finish();
   }
   parse_held_out(r, s);
@@ -188,7 +196,7 @@ SurrogateStudy load_surrogate_study(const std::string& path) {
   if (r.has("compare")) {
     const io::JsonReader c = r.child("compare");
     if (s.kind != SurrogateKind::kPolynomialChaos) r.fail("compare", "compares the indices of a polynomial chaos");
-    s.compare_file = existing_file(c, path);
+    s.compare_file = existing_file(c, path, "rover sensitivity, whose indices are compared");
     c.finish();
   }
   if (!from_file) check_design_runs(r, s);

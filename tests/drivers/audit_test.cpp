@@ -350,7 +350,7 @@ TEST_F(Audit, RoverFile) {
   rover_case("zero gravity", [](Json& j) { j["gravity"] = 0.0; }, Want::kRuns, {});
   rover_case("huge gravity", [](Json& j) { j["gravity"] = 1e300; }, Want::kError, {"'gravity'", "1e+300", "100 m/s^2"});
   rover_case("a chassis of 1e-30 kg", [](Json& j) { j["bodies"]["chassis"]["mass"] = 1e-30; }, Want::kError,
-             {"mass'", "1e-30 kg is below 0.001 kg", "tonnes?"});
+             {"mass'", "1e-30 kg is below 0.01 kg", "tonnes?"});
   rover_case("wheel centre as an object",
              [](Json& j) { j["geometry"]["wheel_centre"] = {{"x", 0.168}, {"y", 0.089}, {"z", -0.033}}; },
              Want::kError, {"'geometry.wheel_centre'", "0.168"});
@@ -2919,7 +2919,9 @@ TEST_F(Audit, JointFitNamesTheCurveWhoseRunsFail) {
                      j["data"] = {{{"file", data}, {"channel", "B_l_z"}},
                                   {{"file", data}, {"channel", "B_l_z"}, {"scenario", failing}}};
                    })),
-                   Want::kAllFailed, {"the run of curve 2 (" + data + " on " + failing + ")", "wall-time budget"}});
+                   Want::kAllFailed, {"the run of curve 2 (" + data + " on " + failing + ")", "wall-time budget",
+                                      "lag-1 autocorrelation"},
+                   {}, {}, {" nan"}});
   run_table(w().dir(), cases);
 }
 
@@ -3175,6 +3177,61 @@ TEST_F(Audit, NinthAuditCases) {
                    Want::kError, {"'drive.segments[0].radius'", "gives a yaw rate beyond the rover's scale: 300 rad/s is beyond"},
                    {}, {}, {"gives a yaw rate of"}});
   run_table(w().dir(), cases);
+}
+
+// A candidate's "set" values the model refuses are blamed on the candidates
+// file, scales below the rover's are unit mistakes, a CSV is no result of
+// runs, and a signal while an input pipe waits for its writer ends with 130.
+TEST_F(Audit, TenthAuditLeftovers) {
+  std::vector<Case> cases;
+  const std::string buried = w().json_file(
+      "buried", Json{{"candidates",
+                      {{{"scenario", w().quick()}, {"rate_hz", 1000}, {"noise_sd", 1e-4},
+                        {"set", {{"scenario.initial_q.z", 0.1}}}}}}});
+  cases.push_back({"a candidate set into the ground",
+                   study("calibrate", w().calibration([](Json&) {})) + " --dry-run --next-experiment " + buried,
+                   Want::kError, {buried + ": field 'candidates[0].set'", "the model refuses the scenario", "below the ground"}});
+  auto rover_case = [&](const std::string& id, const std::function<void(Json&)>& edit,
+                        std::vector<std::string> mentions) {
+    const std::string path = w().rover(edit);
+    mentions.insert(mentions.begin(), path);
+    cases.push_back({id, simulate(w().scenario_with_rover(path)), Want::kError, mentions});
+  };
+  rover_case("a chassis in tonnes", [](Json& j) { j["bodies"]["chassis"]["mass"] = 0.001267; },
+             {"'bodies.chassis.mass'", "0.001267 kg is below 0.01 kg", "tonnes?"});
+  rover_case("a wheel radius in kilometres", [](Json& j) { j["geometry"]["wheel_radius"] = 8.5e-5; },
+             {"'geometry.wheel_radius'", "8.5e-05 m is below 0.001 m", "kilometres"});
+  rover_case("Stribeck speeds of 1e-300 m/s", [](Json& j) {
+    j["friction"]["v_s"] = 1e-300;
+    j["friction"]["v_k"] = 2e-300;
+  }, {"'friction.v_s'", "1e-300 m/s is below 1e-06 m/s", "km/s"});
+  cases.push_back({"rover friction --v-s 1e-9", "friction --v-s 1e-9 --v-k 1e-8", Want::kError,
+                   {"--v-s 1e-09 m/s is below 1e-06 m/s", "--v-k 1e-08 m/s is below"}});
+  const Json parameters = {{"c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.3}}}};
+  const std::string csv_runs = w().text_file("runs", "c_q,B_l_z_min\n0.1,0.16\n0.2,0.17\n", "csv");
+  cases.push_back({"a CSV as a surrogate's training file",
+                   study("surrogate", w().json_file("csv_training", Json{{"type", "surrogate"}, {"name", "gp"},
+                                                                         {"surrogate", "gp"}, {"scenario", w().quick()},
+                                                                         {"training", {{"file", csv_runs}}},
+                                                                         {"parameters", parameters},
+                                                                         {"qoi", {"B_l_z_min"}}})),
+                   Want::kError, {"'training.file'", csv_runs + " is not an HDF5 file", "rover montecarlo, evaluate"}});
+  run_table(w().dir(), cases);
+}
+
+// A signal while the command waits for an input pipe's writer: 130, a word,
+// nothing written (the default action would end it with 143 and no word).
+TEST_F(Audit, SignalWhileAnInputPipeWaits) {
+  const std::string dir = w().dir(), pipe = dir + "/unwritten.csv", out = dir + "/piped.h5";
+  ASSERT_EQ(run_command("mkfifo " + pipe), 0);
+  std::string output;
+  run_command("cd " + dir + " && (OMPI_MCA_ess_singleton_isolated=1 timeout -k 2 30 " + rover_binary() + " " +
+                  study_args("calibrate", w().calibration([](Json&) {}), out) + " --data " + pipe +
+                  " 2>&1 & pid=$!; sleep 1; kill -TERM $pid; wait $pid; echo \"status $?\")",
+              &output);
+  EXPECT_NE(output.find("status 130"), std::string::npos) << output;
+  EXPECT_NE(output.find("interrupted (SIGTERM); nothing written"), std::string::npos) << output;
+  EXPECT_FALSE(fs::exists(out)) << output;
 }
 
 }  // namespace
