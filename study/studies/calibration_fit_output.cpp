@@ -1,5 +1,6 @@
 // The result file and the console report of a calibration fit
 // (calibration_checked_fit.hpp; the layout is in docs/results_format.md).
+#include <cmath>
 #include <cstdio>
 #include <ostream>
 
@@ -119,8 +120,12 @@ void report_intervals(const CalibrationFitResult& r, std::ostream& out) {
   for (std::size_t k = 0; k < gn.names.size(); ++k) {
     const auto i = static_cast<Eigen::Index>(k);
     const double value = k < p ? r.checked.fit.values[k] : r.checked.fit.offsets[k - p];
-    out << "  " << gn.names[k] << " = " << format_number(value, 6) << " +- " << format_number(u.upper[i] - value, 3)
-        << " (95 %), se " << format_number(u.standard_error[i], 3) << (k >= p ? "  (profiled offset)" : "") << "\n";
+    out << "  " << gn.names[k] << " = " << format_number(value, 6);
+    if (std::isfinite(u.standard_error[i]))
+      out << " +- " << format_number(u.upper[i] - value, 3) << " (95 %), se " << format_number(u.standard_error[i], 3);
+    else
+      out << ", no interval (not identifiable from these data)";
+    out << (k >= p ? "  (profiled offset)" : "") << "\n";
   }
   out << "calibrate: correlation matrix (";
   for (std::size_t k = 0; k < gn.names.size(); ++k) out << (k ? ", " : "") << gn.names[k];
@@ -129,7 +134,8 @@ void report_intervals(const CalibrationFitResult& r, std::ostream& out) {
     out << " ";
     for (Eigen::Index j = 0; j < u.correlation.cols(); ++j) {
       char cell[32];
-      std::snprintf(cell, sizeof cell, " %7.3f", u.correlation(i, j));
+      if (std::isfinite(u.correlation(i, j))) std::snprintf(cell, sizeof cell, " %7.3f", u.correlation(i, j));
+      else std::snprintf(cell, sizeof cell, " %7s", "none");
       out << cell;
     }
     out << "\n";

@@ -3216,6 +3216,13 @@ TEST_F(Audit, TenthAuditLeftovers) {
                                                                          {"parameters", parameters},
                                                                          {"qoi", {"B_l_z_min"}}})),
                    Want::kError, {"'training.file'", csv_runs + " is not an HDF5 file", "rover montecarlo, evaluate"}});
+  // The quick drop ends before any wheel lands: its curve says nothing of c_q.
+  cases.push_back({"a fit of a curve before any contact", study("calibrate", w().calibration([](Json&) {})),
+                   Want::kAllFailed, {"c_q = 0.1, no interval (not identifiable from these data)", "none"}, {}, {},
+                   {"inf", "nan"}});
+  cases.push_back({"5 cm of noise on a 1 cm fall",
+                   "synthesize --scenario " + w().quick() + " --noise 0.05 --out " + w().out("csv"), Want::kRuns,
+                   {"--noise 0.05 m is larger than the curve's own travel", "millimetres?"}});
   run_table(w().dir(), cases);
 }
 
