@@ -102,14 +102,9 @@ std::array<double, kNumSJoints> read_preloads(const JsonReader& r, const std::st
   return values;
 }
 
-RoverParameters parse_rover_parameters(const Json& config, const std::string& file) {
-  const JsonReader top(config, file);
-  RoverParameters p;
-  top.string_or("description", "");
-  p.gravity_mps2 = within_scale(top, "gravity", top.non_negative("gravity"), kMaxGravity_mps2, "m/s^2",
-                                kGravityScaleReason);
+namespace {
 
-  const JsonReader g = top.child("geometry");
+void parse_geometry(const JsonReader& g, RoverParameters& p) {
   p.geometry.bogie_pivot_m = rover_length_vec3(g, "bogie_pivot");
   p.geometry.hip_m = rover_length_vec3(g, "hip");
   p.geometry.knee_m = rover_length_vec3(g, "knee");
@@ -120,16 +115,18 @@ RoverParameters parse_rover_parameters(const Json& config, const std::string& fi
   for (const char* key : {"hip", "knee"})
     if (!(g.vec3(key).norm() > 0.0)) g.fail(key, "link length must be positive");
   g.finish();
+}
 
-  const JsonReader bodies = top.child("bodies");
+void parse_bodies(const JsonReader& bodies, RoverParameters& p) {
   p.chassis = parse_body(bodies.child("chassis"));
   p.bogie = parse_body(bodies.child("bogie"));
   p.module1 = parse_body(bodies.child("module1"));
   p.module2 = parse_body(bodies.child("module2"));
   p.wheel = parse_body(bodies.child("wheel"));
   bodies.finish();
+}
 
-  const JsonReader s = top.child("s_structure");
+void parse_s_structure(const JsonReader& s, RoverParameters& p) {
   p.s_structure.sharpness_f = read_sharpness_f(s, "f");
   p.s_structure.stiffness_Nm_per_rad = within_scale(s, "k_q", s.non_negative("k_q"),
                                                     kMaxSStructureStiffness_Nm_per_rad, "N m/rad", kJointScaleReason);
@@ -145,8 +142,9 @@ RoverParameters parse_rover_parameters(const Json& config, const std::string& fi
   p.s_structure.preload_mean_Nm = read_preloads(s, "preload_mean");
   p.s_structure.preload_sd_Nm = read_preloads(s, "preload_sd");
   s.finish();
+}
 
-  const JsonReader st = top.child("steering");
+void parse_steering(const JsonReader& st, RoverParameters& p) {
   p.steering.stiffness_Nm_per_rad = within_scale(st, "K_d", st.non_negative("K_d"),
                                                   kMaxSteeringStiffness_Nm_per_rad, "N m/rad", kJointScaleReason);
   p.steering.damping_Nms_per_rad =
@@ -157,23 +155,26 @@ RoverParameters parse_rover_parameters(const Json& config, const std::string& fi
       within_scale(st, "end_stop_stiffness", st.non_negative("end_stop_stiffness"),
                    kMaxSteeringStiffness_Nm_per_rad, "N m/rad", kJointScaleReason);
   st.finish();
+}
 
-  const JsonReader d = top.child("drive");
+void parse_drive(const JsonReader& d, RoverParameters& p) {
   p.drive.gain_Nms_per_rad =
       within_scale(d, "K_w", d.non_negative("K_w"), kMaxDamping_Nms_per_rad, "N m s/rad", kJointScaleReason);
   p.drive.max_torque_Nm =
       within_scale(d, "tau_max", d.positive("tau_max"), kMaxDriveTorque_Nm, "N m", kDriveTorqueScaleReason);
   d.finish();
+}
 
-  const JsonReader c = top.child("contact");
+void parse_contact(const JsonReader& c, RoverParameters& p) {
   p.contact.stiffness_k_g =
       within_scale(c, "k_g", c.positive("k_g"), kMaxGroundStiffness, "N/m^sigma", kContactScaleReason);
   p.contact.damping_c_g = within_scale(c, "c_g", c.non_negative("c_g"), kMaxGroundDamping, "N s/m", kContactScaleReason);
   p.contact.exponent_sigma =
       within_scale(c, "sigma", c.positive("sigma"), kMaxContactExponent, "", kContactScaleReason);
   c.finish();
+}
 
-  const JsonReader f = top.child("friction");
+void parse_friction(const JsonReader& f, RoverParameters& p) {
   f.string_or("comment", "");
   p.friction.mu_static =
       within_scale(f, "mu_s", f.non_negative("mu_s"), kMaxFrictionCoefficient, "", kFrictionScaleReason);
@@ -195,7 +196,23 @@ RoverParameters parse_rover_parameters(const Json& config, const std::string& fi
     p.friction.gammas_fitted_to.fill(std::nan(""));
   }
   f.finish();
+}
 
+}  // namespace
+
+RoverParameters parse_rover_parameters(const Json& config, const std::string& file) {
+  const JsonReader top(config, file);
+  RoverParameters p;
+  top.string_or("description", "");
+  p.gravity_mps2 = within_scale(top, "gravity", top.non_negative("gravity"), kMaxGravity_mps2, "m/s^2",
+                                kGravityScaleReason);
+  parse_geometry(top.child("geometry"), p);
+  parse_bodies(top.child("bodies"), p);
+  parse_s_structure(top.child("s_structure"), p);
+  parse_steering(top.child("steering"), p);
+  parse_drive(top.child("drive"), p);
+  parse_contact(top.child("contact"), p);
+  parse_friction(top.child("friction"), p);
   top.finish();
   return p;
 }
