@@ -217,4 +217,24 @@ std::string no_wheel_touched_note(const Trajectory& tr) {
                       " m (a drop height in millimetres, too little gravity or too short a run?)");
 }
 
+std::string chassis_through_ground_note(const Trajectory& tr, const Terrain& terrain) {
+  if (!tr.ok()) return "";
+  double deepest_m = 0.0;
+  std::size_t at = 0;
+  for (std::size_t k = 0; k < tr.t.size(); ++k) {
+    const auto row = static_cast<Eigen::Index>(k);
+    const double depth_m = terrain.height(tr.q(row, coord::x), tr.q(row, coord::y)) - tr.G_z[k];
+    if (depth_m > deepest_m) {
+      deepest_m = depth_m;
+      at = k;
+    }
+  }
+  if (!(deepest_m > 0.0)) return "";
+  return run_note("the chassis went through the ground",
+                  "its origin G reached " + number_text(deepest_m) + " m below the terrain at t = " +
+                      number_text(tr.t[at]) + " s: the wheels gave way under an impact beyond the contact "
+                      "model, and the run is not physical (a smaller drop height, a softer landing or a stiffer "
+                      "k_g)");
+}
+
 }  // namespace rover

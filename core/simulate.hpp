@@ -114,4 +114,11 @@ Trajectory simulate(const RoverModel& model, const Scenario& scenario,
 // does that.
 std::string no_wheel_touched_note(const Trajectory& tr);
 
+// Empty unless the chassis origin G went below `terrain` at some sample of
+// a finished run; otherwise a note (core/run_note.hpp) with the deepest
+// point and its time: the wheels gave way under an impact beyond what the
+// contact model holds (a drop from metres, a landing at metres per second),
+// and the run is not physical even if it rebounds.
+std::string chassis_through_ground_note(const Trajectory& tr, const Terrain& terrain);
+
 }  // namespace rover

@@ -29,24 +29,6 @@ struct SimulateOptions {
   std::string integrator;
 };
 
-// Warns when the chassis origin G is below the terrain at the end of the run.
-void warn_if_chassis_below_ground(const Trajectory& tr, const Terrain& terrain) {
-  if (tr.t.empty()) return;
-  const Eigen::Index last = tr.q.rows() - 1;
-  const double ground_m = terrain.height(tr.q(last, coord::x), tr.q(last, coord::y));
-  const double depth_m = ground_m - tr.G_z.back();
-  if (!(depth_m > 0.0)) return;
-  std::size_t first = 0;
-  while (first < tr.t.size() &&
-         !(tr.G_z[first] < terrain.height(tr.q(static_cast<Eigen::Index>(first), coord::x),
-                                          tr.q(static_cast<Eigen::Index>(first), coord::y))))
-    ++first;
-  std::cerr << "simulate: warning: the chassis origin G ends " << depth_m
-            << " m below the ground (below it from t = " << tr.t[std::min(first, tr.t.size() - 1)]
-            << " s): the wheels went through the terrain; the result is not physical (a softer "
-               "landing, a stiffer contact k_g or a smaller drop height)\n";
-}
-
 // The stem of the plots beside the HDF5 output: results/a.h5 -> results/a.
 std::string plot_stem(const std::string& out) {
   return out.substr(0, out.size() - std::filesystem::path(out).extension().string().size());
@@ -156,9 +138,8 @@ int run_simulate(const SimulateOptions& o) {
     std::cerr << "  t = " << t << " / " << setup.scenario.duration_s << " s\n";
   };
   const Trajectory tr = simulate_interruptibly(setup.model, setup.scenario, inputs, observer);
-  warn_if_chassis_below_ground(tr, setup.model.terrain);
-  if (const std::string note = no_wheel_touched_note(tr); !note.empty())
-    std::cerr << "simulate: warning: " << note << "\n";
+  for (const std::string& note : {no_wheel_touched_note(tr), chassis_through_ground_note(tr, setup.model.terrain)})
+    if (!note.empty()) std::cerr << "simulate: warning: " << note << "\n";
   if (!tr.ok()) return record_failed_run(o, out, tr, setup, inputs);
   io::write_trajectory_hdf5(out, tr, setup, inputs);
   std::cerr << "simulate: ok; wall " << tr.wall_time_s << " s, " << tr.rhs_evaluations << " right-hand sides, "

@@ -600,6 +600,36 @@ void refuse_deep_start(const JsonReader& r, const ScenarioSetup& setup) {
   }
 }
 
+// The height of the lowest wheel's rim above the terrain under its centre
+// (centre height less the radius: never more than the true clearance); 0 or
+// less when a wheel touches.
+double lowest_wheel_clearance_m(const RoverModel& model, const Coordinates& q) {
+  const TreeKinematics kin = forward_kinematics(model.tree, q, Coordinates::Zero());
+  double lowest_m = std::numeric_limits<double>::infinity();
+  for (int leg = 0; leg < kNumLegs; ++leg) {
+    const Vec3& centre = kin.nodes[node::wheel(leg)].origin;
+    lowest_m = std::min(lowest_m, centre.z() - model.parameters.geometry.wheel_radius_m -
+                                      model.terrain.height(centre.x(), centre.y()));
+  }
+  return lowest_m;
+}
+
+// A start that lands faster than kMaxDriveSpeed_mps (a drop from metres, a
+// height in millimetres): the wheels would go through the ground, as no
+// Kelvin-Voigt contact of this stiffness holds such an impact.
+void refuse_impact_beyond_scale(const JsonReader& r, const ScenarioSetup& setup) {
+  const double clearance_m = std::max(0.0, lowest_wheel_clearance_m(setup.model, setup.scenario.initial_q));
+  const double falling_mps = setup.scenario.initial_u[coord::z];
+  const double impact_mps =
+      std::sqrt(falling_mps * falling_mps + 2.0 * setup.model.parameters.gravity_mps2 * clearance_m);
+  if (!(impact_mps > kMaxDriveSpeed_mps)) return;
+  r.fail(r.has("initial_ground_clearance") ? "initial_ground_clearance" : "initial_q",
+         "the lowest wheel starts " + number_text(clearance_m) + " m above the ground at z speed " +
+             number_text(falling_mps) + " m/s and lands at " + number_text(impact_mps) + " m/s, beyond +-" +
+             number_text(kMaxDriveSpeed_mps) + " m/s: the wheels would go through the ground (the paper's drops "
+             "land at under 1 m/s); a height in millimetres?");
+}
+
 }  // namespace
 
 ScenarioSetup build_scenario(const ScenarioSources& sources) {
@@ -631,6 +661,7 @@ ScenarioSetup build_scenario(const ScenarioSources& sources) {
   if (r.has("wall_time_budget")) s.wall_time_budget_s = r.positive("wall_time_budget");
   if (std::string why; !scenario_is_valid(s, &why)) r.fail("integrator", why);
   refuse_deep_start(r, setup);
+  refuse_impact_beyond_scale(r, setup);
   setup.inputs = nominal_inputs(setup.model.parameters);
   if (r.has("inputs")) setup.inputs = parse_simulation_inputs(r.child("inputs"), setup.inputs);
   r.finish();

@@ -110,7 +110,9 @@ std::optional<Trajectory> RoverStudyModel::simulate_at(const double* x, RunRecor
   try {
     const io::ScenarioSetup setup = setup_at(x);
     if (note != nullptr && varies_friction_) *note = friction_note(setup.model.parameters.friction);
-    return simulate(setup.model, setup.scenario, setup.inputs);
+    Trajectory tr = simulate(setup.model, setup.scenario, setup.inputs);
+    if (note != nullptr) *note = join_notes({*note, chassis_through_ground_note(tr, setup.model.terrain)});
+    return tr;
   } catch (const io::ConfigError& e) {
     *failure = failed_record(shape, run_status::kRejectedInput, e.what());
   } catch (const std::exception& e) {

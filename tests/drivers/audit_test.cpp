@@ -3226,6 +3226,31 @@ TEST_F(Audit, TenthAuditLeftovers) {
   run_table(w().dir(), cases);
 }
 
+// Impacts beyond the rover: a drop from 100 m is refused before the run; a
+// landing inside the speed bound whose wheels still give way is noted, by
+// simulate and in a study's count of runs.
+TEST_F(Audit, ImpactsBeyondTheContactModel) {
+  std::vector<Case> cases;
+  const std::string high = w().scenario([](Json& j) { j["initial_q"] = {{"z", 100.0}}; });
+  cases.push_back({"a drop from 100 m", simulate(high), Want::kError,
+                   {high, "'initial_q'", "lands at 44.2", "beyond +-10 m/s", "go through the ground"}});
+  auto landing_at = [&](double speed_mps) {
+    return w().scenario([&](Json& j) {
+      j["duration"] = 0.12;
+      j["initial_u"] = {{"z", speed_mps}};
+    });
+  };
+  const std::string hard = landing_at(-9.5), soft = landing_at(-0.5);
+  cases.push_back({"a landing at 9.5 m/s", simulate(hard), Want::kRuns,
+                   {"warning: the chassis went through the ground: its origin G reached"}});
+  cases.push_back({"a landing at 0.5 m/s", simulate(soft), Want::kRuns, {}, {}, {}, {"through the ground"}});
+  cases.push_back({"a study of landings at 9.5 m/s", study("montecarlo", w().montecarlo([&](Json& j) {
+                     j["scenario"] = hard;
+                   })),
+                   Want::kRuns, {"runs finished, but the chassis went through the ground"}});
+  run_table(w().dir(), cases);
+}
+
 // A signal while the command waits for an input pipe's writer: 130, a word,
 // nothing written (the default action would end it with 143 and no word).
 TEST_F(Audit, SignalWhileAnInputPipeWaits) {

@@ -247,7 +247,7 @@ TEST(CmdSimulateWarnings, PoorFrictionFitIsReportedAndRecorded) {
   EXPECT_EQ(io::Hdf5Reader(dir + "/g.h5").attribute_integer("/", "friction_fit_acceptable"), 1);
 }
 
-TEST(CmdSimulateWarnings, ChassisEndingBelowTheGroundIsReported) {
+TEST(CmdSimulateWarnings, ChassisGoingThroughTheGroundIsReported) {
   const std::string dir = testing::temp_dir();
   // Ground with almost no stiffness and no damping: the rover falls through it.
   const std::string scenario = quick_scenario(
@@ -258,10 +258,10 @@ TEST(CmdSimulateWarnings, ChassisEndingBelowTheGroundIsReported) {
       });
   std::string out;
   ASSERT_EQ(run_command(rover_binary() + " simulate --no-plot --scenario " + scenario + " --out " + dir + "/s.h5", &out), 0) << out;
-  EXPECT_NE(out.find("warning: the chassis origin G ends"), std::string::npos) << out;
+  EXPECT_NE(out.find("warning: the chassis went through the ground: its origin G reached"), std::string::npos) << out;
   // The ordinary short drop ends on its wheels: no warning.
   ASSERT_EQ(run_command(rover_binary() + " simulate --no-plot --scenario " + quick_scenario(dir) + " --out " + dir + "/t.h5", &out), 0) << out;
-  EXPECT_EQ(out.find("below the ground"), std::string::npos) << out;
+  EXPECT_EQ(out.find("through the ground"), std::string::npos) << out;
 }
 
 }  // namespace
