@@ -5,6 +5,7 @@
 // values (a curve in millimetres) is a warning (core/reference_miss.hpp).
 #include <algorithm>
 #include <iomanip>
+#include <map>
 #include <iostream>
 #include <tuple>
 
@@ -70,8 +71,7 @@ void check_reference_divisors(const CompareOptions& o, const io::Curve& b) {
 void warn_if_reference_missed(const CompareOptions& o, double rms, const io::Curve& b) {
   const double span = value_span(b.y);
   if (!every_rms_exceeds_span({rms}, span)) return;
-  const bool angle = o.column == "pitch" || o.column == "roll";
-  const std::string unit = angle ? "rad" : (o.column.ends_with("_z") ? "m" : "");
+  const std::string unit = o.column.ends_with("_z") ? "m" : "";
   const std::string who = "curve A ('" + o.first + "') misses (RMS " + number_text(rms) + (unit.empty() ? "" : " " + unit) + ")";
   std::cerr << "rover compare: warning: "
             << reference_missed_text(who, "curve B ('" + o.second + "', column " + o.column + ")", span, unit, "column named")
@@ -108,8 +108,23 @@ void check_declared_channels(const CompareOptions& o, FlagChecks& checks) {
                  o.column + ": give --column " + declared + ", or a curve of " + o.column);
 }
 
+// compare's measures are of heights: RMS and max in metres, eqs. 10-11 of
+// a drop's rise to rest. A trajectory's other datasets are refused by name.
+void check_height_column(const CompareOptions& o, FlagChecks& checks) {
+  static const std::map<std::string, std::string> kNotHeights = {
+      {"t", "the time itself"},          {"q", "a matrix of the 23 coordinates"},
+      {"u", "a matrix of the 23 speeds"}, {"Fn", "a matrix of the 4 wheels' normal forces"},
+      {"pitch", "an angle"},             {"roll", "an angle"},
+      {"coordinate_names", "the coordinates' names"}};
+  if (const auto found = kNotHeights.find(o.column); found != kNotHeights.end())
+    checks.add("--column " + o.column + " is " + found->second + ", not a height: compare measures heights (its "
+               "RMS in metres, eqs. 10-11 of a drop's rise to rest); give B_l_z, B_r_z, G_z or a CSV's height "
+               "column");
+}
+
 int run_compare(const CompareOptions& o) {
   FlagChecks checks;
+  check_height_column(o, checks);
   checks.finite("--rest-time", o.rest_time_s);
   checks.finite("--time-offset", o.time_offset_s);
   check_declared_channels(o, checks);
@@ -158,7 +173,7 @@ const RegisterCommand compare_command{
           "      --time-offset 0.05 --rest-time 0.9");
       app.add_option("A", o->first, "Curve to judge (.h5 or .csv)")->required()->check(CLI::ExistingFile);
       app.add_option("B", o->second, "Reference curve (.h5 or .csv)")->required()->check(CLI::ExistingFile);
-      app.add_option("--column", o->column, "Dataset/column to compare")->capture_default_str();
+      app.add_option("--column", o->column, "Height dataset or column to compare: B_l_z, B_r_z, G_z, or a CSV's column")->capture_default_str();
       CLI::Option* rest_time =
           app.add_option("--rest-time", o->rest_time_s,
                          "Time of the at-rest value z_r [s]: refused where neither curve reaches, a warning "

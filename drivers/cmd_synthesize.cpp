@@ -98,8 +98,8 @@ void check_data_clock(const SynthesizeOptions& o, double duration_s, const std::
 // error (core/accuracy_choice.hpp) is within the accuracy the noise asks,
 // else the cheapest measured setting that is, said on stderr.
 IntegratorSettings data_integrator(const IntegratorSettings& asked, const std::string& asked_by, double noise_m) {
-  const double accuracy_m = std::clamp(noise_m > 0.0 ? kIntegrationErrorPerNoiseSd * noise_m : kNoiseFreeAccuracy_m,
-                                       2.0 * kMostAccuracy_m, 0.5 * kLeastAccuracy_m);
+  const double wanted_m = noise_m > 0.0 ? kIntegrationErrorPerNoiseSd * noise_m : kNoiseFreeAccuracy_m;
+  const double accuracy_m = std::clamp(wanted_m, 2.0 * kMostAccuracy_m, 0.5 * kLeastAccuracy_m);
   const std::optional<double> expected = expected_error_m(asked);
   if (expected && *expected <= accuracy_m) return asked;
   const IntegratorChoice chosen = integrator_for_accuracy(accuracy_m);
@@ -108,7 +108,10 @@ IntegratorSettings data_integrator(const IntegratorSettings& asked, const std::s
             << (expected ? "errs by up to " + number_text(*expected) + " m RMS on the paper's five scenarios"
                          : std::string("has no measured error"))
             << "; the data need an integration error below " << number_text(accuracy_m) << " m ("
-            << (noise_m > 0.0 ? "a tenth of the noise sd" : "noise-free data")
+            << (accuracy_m > wanted_m ? "the tightest the integrators are measured to reach; a tenth of the noise "
+                                        "sd would be " + number_text(wanted_m) + " m"
+                : noise_m > 0.0     ? "a tenth of the noise sd"
+                                    : "noise-free data")
             << "), so they are made with " << chosen.description << "\n";
   return chosen.settings;
 }
@@ -138,8 +141,11 @@ std::string provenance_comment(const SynthesizeOptions& o, const std::string& sc
           << "integrator " << integrator_name(integrator.method);
   if (integrator.method == IntegratorMethod::kRungeKutta4)
     comment << " (step " << integrator.fixed_step_s << " s)";
-  else
+  else if (integrator.method == IntegratorMethod::kDormandPrince45)
     comment << " (rtol " << integrator.relative_tolerance << ", atol " << integrator.absolute_tolerance << ")";
+  else
+    comment << " (rtol " << integrator.relative_tolerance << ", atol " << integrator.absolute_tolerance
+            << ", slip_tol " << integrator.slip_tolerance << ")";
   comment << ".\nColumns: t [s], z [m] = " << channel.name << ", the " << channel.description << ".";
   return comment.str();
 }

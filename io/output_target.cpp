@@ -2,6 +2,8 @@
 #include "io/output_target.hpp"
 
 #include <fcntl.h>
+#include <linux/fs.h>
+#include <sys/ioctl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -15,6 +17,21 @@
 
 namespace rover::io {
 namespace {
+
+// "immutable" or "append-only" for a file with that attribute (chattr +i,
+// +a), which neither rename nor unlink may replace; empty otherwise or where
+// the file system keeps no such attributes.
+std::string locking_file_attribute(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) return "";
+  int flags = 0;
+  const bool known = ::ioctl(fd, FS_IOC_GETFLAGS, &flags) == 0;
+  ::close(fd);
+  if (!known) return "";
+  if ((flags & FS_IMMUTABLE_FL) != 0) return "immutable";
+  if ((flags & FS_APPEND_FL) != 0) return "append-only";
+  return "";
+}
 
 namespace fs = std::filesystem;
 
@@ -120,6 +137,10 @@ OutputTarget inspect_output(const std::string& path, OutputFormat format) {
   if (fs::is_fifo(own)) return stream_target(format, "a pipe");
   if (fs::is_socket(own)) return refused("is a socket, which cannot be opened as a file; give a file name");
   if (!fs::is_regular_file(own)) return stream_target(format, "a socket or another special file");
+  if (const std::string attribute = locking_file_attribute(path); !attribute.empty())
+    return refused("is " + attribute + " (lsattr shows it): no program can replace it, whatever its mode; an "
+                   "existing result that is not writable is never replaced: give another name, or clear the "
+                   "attribute (chattr)");
   struct stat st {};
   if (::stat(path.c_str(), &st) == 0 && ((st.st_mode & 0222) == 0 || ::access(path.c_str(), W_OK) != 0))
     return refused("is read-only (mode " + octal_mode(st.st_mode) +

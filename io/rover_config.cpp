@@ -202,6 +202,9 @@ void parse_friction(const JsonReader& f, RoverParameters& p) {
 
 RoverParameters parse_rover_parameters(const Json& config, const std::string& file) {
   const JsonReader top(config, file);
+  if (config.is_object() && config.contains("rover") && !config.contains("bodies"))
+    top.fail("rover", "this is a scenario file (it names its rover file here), not a rover file: give the rover "
+                      "file it names");
   RoverParameters p;
   top.string_or("description", "");
   p.gravity_mps2 = within_scale(top, "gravity", top.non_negative("gravity"), kMaxGravity_mps2, "m/s^2",

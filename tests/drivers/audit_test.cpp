@@ -3223,6 +3223,17 @@ TEST_F(Audit, TenthAuditLeftovers) {
   cases.push_back({"5 cm of noise on a 1 cm fall",
                    "synthesize --scenario " + w().quick() + " --noise 0.05 --out " + w().out("csv"), Want::kRuns,
                    {"--noise 0.05 m is larger than the curve's own travel", "millimetres?"}});
+  // Messages that say what was given.
+  const std::string run = simulated_curve(w().dir() + "/tenth_curve.h5");
+  for (const std::string column : {"Fn", "pitch", "t"})
+    cases.push_back({"compare --column " + column, "compare " + run + " " + run + " --column " + column, Want::kError,
+                     {"--column " + column + " is ", "not a height"}});
+  cases.push_back({"rover friction --config a scenario", "friction --config " + w().quick(), Want::kError,
+                   {w().quick(), "field 'rover'", "a scenario file", "not a rover file"}});
+  cases.push_back({"synthesize --noise 1e-20", "synthesize --scenario " + w().quick() + " --noise 1e-20 --out " +
+                                                   w().out("csv"),
+                   Want::kRuns, {"the tightest the integrators are measured to reach", "would be 1e-21 m"}, {}, {},
+                   {"(a tenth of the noise sd)"}});
   run_table(w().dir(), cases);
 }
 
@@ -3249,6 +3260,24 @@ TEST_F(Audit, ImpactsBeyondTheContactModel) {
                    })),
                    Want::kRuns, {"runs finished, but the chassis went through the ground"}});
   run_table(w().dir(), cases);
+}
+
+// A file no program may replace (chattr +i, +a) at an output path is
+// refused before the run by what it is, not after it at the rename.
+TEST_F(Audit, ImmutableAndAppendOnlyOutputs) {
+  for (const std::string attribute : {"i", "a"}) {
+    const std::string out = w().out();
+    write_file(out, "an earlier result");
+    if (run_command("chattr +" + attribute + " " + out + " 2>/dev/null") != 0)
+      GTEST_SKIP() << "chattr does not work here (needs root and a file system with attributes)";
+    std::string log;
+    const int status = run_command(rover_binary() + " simulate --no-plot --scenario " + w().quick() + " --out " + out, &log);
+    run_command("chattr -" + attribute + " " + out);
+    EXPECT_EQ(status, 1) << log;
+    EXPECT_NE(log.find(attribute == "i" ? "is immutable" : "is append-only"), std::string::npos) << log;
+    EXPECT_EQ(log.find("chmod"), std::string::npos) << log;
+    EXPECT_EQ(file_bytes(out), "an earlier result");
+  }
 }
 
 // A signal while the command waits for an input pipe's writer: 130, a word,
