@@ -99,6 +99,16 @@ void refuse_a_refused_base_point(const io::JsonReader& r, const RoverStudyModel&
   }
 }
 
+// Refuses parameters that are all "fixed": every run would be the same run,
+// and its bands, summaries or indices would say nothing of uncertainty.
+void refuse_nothing_varied(const io::JsonReader& r, const std::vector<UncertainInput>& inputs) {
+  if (inputs.empty()) return;
+  for (const UncertainInput& in : inputs)
+    if (in.distribution.kind != DistributionKind::kFixed) return;
+  r.fail("parameters", "every parameter is fixed: each run would be the same run; give at least one a "
+                       "distribution (or run it once with rover simulate)");
+}
+
 // Refuses, before any run, an input that cannot change while every other
 // input keeps its nominal value: an off-diagonal inertia entry, say, whose
 // symmetric partner stays put. Such an input fails a step of kAloneStep (of
@@ -600,6 +610,7 @@ StudySpec parse_study_spec(const io::JsonReader& r, const std::vector<std::strin
     s.model = rover;
   }
   warn_of_far_truncations(s.inputs, s);
+  refuse_nothing_varied(r, s.inputs);
   if (design_key == DesignKey::kByCaller) {
     // the caller reads "design"
   } else if (r.has("design")) {

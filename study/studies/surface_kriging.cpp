@@ -233,6 +233,10 @@ void write_surface_kriging(const SurfaceKriging& k, io::Hdf5Writer& h5) {
   if (!set.models.empty()) write_surrogate_set(h5, set);
 }
 
+// Below this nugget (a share of the process variance) a process
+// interpolates its runs: its left-out error is the map's own.
+constexpr double kInterpolatingNugget = 1e-6;
+
 void report_surface_kriging(const SurfaceKriging& k, std::ostream& out) {
   const long ok = std::count(k.status.begin(), k.status.end(), run_status::kOk);
   out << "surface: kriging from " << ok << " of " << k.status.size() << " runs (Latin hypercube)\n";
@@ -246,6 +250,12 @@ void report_surface_kriging(const SurfaceKriging& k, std::ostream& out) {
         << " c_q " << gp.length_scales(1) << ", nugget " << gp.nugget << " (noise sd "
         << std::sqrt(gp.nugget * gp.process_variance) << (m.log_scale ? " in log units" : "") << "), Q2 LOO "
         << gp.validation.q2_loo << "\n";
+    // A process with a nugget (a wall time's scatter) cannot predict noisy
+    // left-out runs well, whatever its mean map; one that interpolates must.
+    if (gp.nugget < kInterpolatingNugget && !(gp.validation.q2_loo >= kDefaultQ2Threshold))
+      out << "  WARNING: " << m.name << "'s process predicts its own left-out runs with Q2 "
+          << gp.validation.q2_loo << ", below " << kDefaultQ2Threshold
+          << ": its map is not to be trusted between the runs (more runs, or a smaller range)\n";
     if (m.checked)
       out << "    against " << k.check_source << " (" << m.checked_points << " points): Q2 " << m.q2
           << ", largest error " << m.max_abs_error << ", " << m.covered_points << " of " << m.checked_points

@@ -3223,6 +3223,18 @@ TEST_F(Audit, TenthAuditLeftovers) {
   cases.push_back({"5 cm of noise on a 1 cm fall",
                    "synthesize --scenario " + w().quick() + " --noise 0.05 --out " + w().out("csv"), Want::kRuns,
                    {"--noise 0.05 m is larger than the curve's own travel", "millimetres?"}});
+  // Degenerate studies: nothing varied; a kriged map that cannot predict its own runs.
+  cases.push_back({"a Monte Carlo whose only parameter is fixed", study("montecarlo", w().montecarlo([](Json& j) {
+                     j["parameters"] = {{"c_q", {{"distribution", "fixed"}, {"value", 0.2}}}};
+                   })),
+                   Want::kError, {"'parameters'", "every parameter is fixed"}});
+  Json kriged = Json::parse(file_bytes(source_path("configs/studies/surface_gp.json")), nullptr, true, true);
+  kriged["scenario"] = source_path("configs/scenarios/drop_horizontal.json");
+  kriged["reference"]["file"] = source_path("configs/data/drop_horizontal_synthetic.csv");
+  kriged["runs"] = 5;
+  kriged.erase("check");
+  cases.push_back({"a kriged surface of 5 runs", study("surface", w().json_file("kriged5", kriged)), Want::kRuns,
+                   {"WARNING: rms's process predicts its own left-out runs with Q2", "below 0.95"}});
   // Messages that say what was given.
   const std::string run = simulated_curve(w().dir() + "/tenth_curve.h5");
   for (const std::string column : {"Fn", "pitch", "t"})

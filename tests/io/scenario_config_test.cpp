@@ -430,10 +430,15 @@ TEST(ScenarioConfig, StartsWithAWheelInTheGroundAreRefusedByField) {
   Json pitched = base_scenario();
   pitched["initial_q"]["chi"] = 0.6;
   EXPECT_NE(load_error(pitched).find("below the ground"), std::string::npos);
-  // Dropping from 10 m is allowed (the result is judged after the run).
+  // Dropping from 3 m is allowed (it lands at 7.3 m/s; the run is judged
+  // after it); from 10 m it would land at 13.8 m/s, beyond the speed bound.
   Json high = base_scenario();
-  high["initial_q"]["z"] = 10.0;
+  high["initial_q"]["z"] = 3.0;
   EXPECT_NO_THROW(io::load_scenario(write_scenario(high)));
+  high["initial_q"]["z"] = 10.0;
+  const std::string landing = load_error(high);
+  EXPECT_NE(landing.find("lands at 13.8"), std::string::npos) << landing;
+  EXPECT_NE(landing.find("beyond +-10 m/s"), std::string::npos) << landing;
   // Every shipped scenario starts above or on the ground.
   for (const auto& entry : std::filesystem::directory_iterator(source_path("configs/scenarios"))) {
     const io::ScenarioSetup s = io::load_scenario(entry.path().string());
