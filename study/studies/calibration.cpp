@@ -108,9 +108,6 @@ std::string not_valid_because(const CheckedFit& c) {
   if (!c.gn.ok) return c.gn.message;
   if (const std::string undetermined = undetermined_parameters(c); !undetermined.empty()) return undetermined;
   if (const std::string bound = on_a_bound(c); !bound.empty()) return bound;
-  if (c.shift.ok && c.shift.largest_se > c.study.integration_check.max_shift_se)
-    return "the integration error moves a parameter by " + format_number(c.shift.largest_se, 3) +
-           " standard errors even with " + describe_integrator(c.study.integrator);
   if (!c.probe.better_values.empty())
     return "a point " + format_number(-c.probe.better_delta_chi2, 3) + " chi-square units below the fit remains after " +
            std::to_string(kMaxProbeRestarts) + " refits from better points: the objective is too rugged for a local fit";
