@@ -200,10 +200,14 @@ CalibrationFitResult run_calibration_fit(const CalibrationStudy& s, const StudyR
   return r;
 }
 
-CalibrationEstimate estimate_calibration(const CalibrationStudy& s, const StudyRunOptions& control) {
-  FitHistory history;
-  const CheckedFit checked = checked_fit(s, s.initial_values(), control, history);
-  CalibrationEstimate e{checked.study, checked.fit.values, checked.fit.offsets, false, "", {}, {}, {}, 0.0};
+CalibrationEstimate estimate_calibration(const CalibrationStudy& s, const StudyRunOptions& control,
+                                         const std::string& results_path) {
+  CalibrationStudy without_profiles = s;  // the ranking needs the fit and its verdict, not the profiles
+  without_profiles.profile = false;
+  const CalibrationFitResult fit = run_calibration_fit(without_profiles, control, results_path);
+  const CheckedFit& checked = fit.checked;
+  CalibrationEstimate e{checked.study, checked.fit.values, checked.fit.offsets, false, "", fit.trusted,
+                        fit.not_valid_because, {}, {}, {}, 0.0};
   std::vector<double> valid{0.0};
   if (!checked.fit.converged) {
     e.why_not = "the fit did not converge: " + checked.fit.message;
