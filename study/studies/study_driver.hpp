@@ -14,6 +14,8 @@
 //     (the results are kept), kSomeRunsFailedStatus when some failed for a
 //     study that says so (evaluate), or the status the result itself asks
 //     for (calibration: intervals that cannot be trusted);
+//   * an earlier result at the results path is kept when every run failed or
+//     the result holds nothing (a ranking of no candidate);
 //   * --dry-run: everything above is checked and the banner printed, then
 //     nothing runs and nothing is written.
 //
