@@ -108,9 +108,6 @@ std::string not_valid_because(const CheckedFit& c) {
   if (!c.gn.ok) return c.gn.message;
   if (const std::string undetermined = undetermined_parameters(c); !undetermined.empty()) return undetermined;
   if (const std::string bound = on_a_bound(c); !bound.empty()) return bound;
-  if (c.shift.ok && c.shift.largest_se > c.study.integration_check.max_shift_se)
-    return "the integration error moves a parameter by " + format_number(c.shift.largest_se, 3) +
-           " standard errors even with " + describe_integrator(c.study.integrator);
   if (!c.probe.better_values.empty())
     return "a point " + format_number(-c.probe.better_delta_chi2, 3) + " chi-square units below the fit remains after " +
            std::to_string(kMaxProbeRestarts) + " refits from better points: the objective is too rugged for a local fit";
@@ -203,10 +200,14 @@ CalibrationFitResult run_calibration_fit(const CalibrationStudy& s, const StudyR
   return r;
 }
 
-CalibrationEstimate estimate_calibration(const CalibrationStudy& s, const StudyRunOptions& control) {
-  FitHistory history;
-  const CheckedFit checked = checked_fit(s, s.initial_values(), control, history);
-  CalibrationEstimate e{checked.study, checked.fit.values, checked.fit.offsets, false, "", {}, {}, {}, 0.0};
+CalibrationEstimate estimate_calibration(const CalibrationStudy& s, const StudyRunOptions& control,
+                                         const std::string& results_path) {
+  CalibrationStudy without_profiles = s;  // the ranking needs the fit and its verdict, not the profiles
+  without_profiles.profile = false;
+  const CalibrationFitResult fit = run_calibration_fit(without_profiles, control, results_path);
+  const CheckedFit& checked = fit.checked;
+  CalibrationEstimate e{checked.study, checked.fit.values, checked.fit.offsets, false, "", fit.trusted,
+                        fit.not_valid_because, {}, {}, {}, 0.0};
   std::vector<double> valid{0.0};
   if (!checked.fit.converged) {
     e.why_not = "the fit did not converge: " + checked.fit.message;

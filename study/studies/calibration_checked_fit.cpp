@@ -40,6 +40,11 @@ struct ShiftVerdict {
 };
 ShiftVerdict check_integration(CheckedFit& c) {
   std::vector<double> verdict{0.0, 0.0};
+  // Each fit is checked on its own integrator: an earlier round's shift is not this one's.
+  c.shift = IntegrationShift{};
+  if (world_rank() == 0 && is_reference(c.study))
+    c.shift.message = "the fit runs on the reference integrator (" + describe_integrator(c.study.integrator) +
+                      ") itself: there is no tighter one to check it against";
   if (world_rank() == 0 && c.fit.converged && c.gn.ok && !is_reference(c.study)) {
     c.shift = integration_shift(c.study, c.fit.values, c.fit.offsets, c.gn.weights, c.gn.weighted_jacobian,
                                 c.gn.uncertainty.standard_error);

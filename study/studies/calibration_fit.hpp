@@ -74,21 +74,25 @@ IntegrationShift integration_shift(const CalibrationStudy& study, const std::vec
                                    const std::vector<double>& offsets, const std::vector<double>& weights,
                                    const Eigen::MatrixXd& weighted_jacobian, const Eigen::VectorXd& standard_error);
 
-// The checked fit of a study as the experiment design needs it: the
-// estimate, and the information the data hold about it (weighted Jacobian
-// and the noise sd of the weighted residuals). Collective; the Jacobian is
-// rank 0's, the rest every rank's.
+// The fit of a study as the experiment design needs it: the fit the study
+// alone would run (its first search, the checked fit; no profiles), the
+// estimate, its verdict, and the information the data hold about it
+// (weighted Jacobian and the noise sd of the weighted residuals). Collective;
+// the Jacobian and the verdict are rank 0's, the rest every rank's.
 struct CalibrationEstimate {
   CalibrationStudy study;       // on the integrator the check proved sufficient
   std::vector<double> values;   // order of study.fit
   std::vector<double> offsets;  // per curve
-  bool valid = false;           // converged, with intervals, check passed
+  bool valid = false;           // converged, with intervals: there is information to rank with
   std::string why_not;
+  bool trusted = false;            // the fit alone would trust its intervals (exit 0)
+  std::string not_valid_because;   // why not, as the fit alone says it
   std::vector<std::string> names;     // the Jacobian's columns
   Eigen::MatrixXd weighted_jacobian;  // rows weighted by 1 / RMS_k (1 for one curve)
   std::vector<double> weights;        // per curve
   double noise_sd = 0;                // of the weighted residuals
 };
-CalibrationEstimate estimate_calibration(const CalibrationStudy& study, const StudyRunOptions& control);
+CalibrationEstimate estimate_calibration(const CalibrationStudy& study, const StudyRunOptions& control,
+                                         const std::string& results_path);
 
 }  // namespace rover::study

@@ -53,6 +53,7 @@ void write_best(const CalibrationFitResult& r, const CalibrationStudy& s, io::Hd
   h5.attribute("/best", "not_valid_because", r.not_valid_because);
   h5.attribute("/best", "iterations", static_cast<long long>(c.fit.iterations));
   h5.attribute("/best", "integrator", describe_integrator(c.study.integrator));
+  if (!c.shift.ok && !c.shift.message.empty()) h5.attribute("/best", "integration_check", c.shift.message);
   if (c.shift.ok) {
     h5.write("/best/integration_shift", c.shift.shift_se);
     h5.attribute("/best/integration_shift", "meaning",
@@ -195,7 +196,10 @@ void report_calibration_fit(const CalibrationFitResult& r, const CalibrationStud
   if (c.gn.ok) report_intervals(r, out);
   else out << "calibrate: WARNING: " << c.gn.message << "\n";
   report_profiles(r, out);
-  if (!c.shift.ok) return;
+  if (!c.shift.ok) {
+    if (!c.shift.message.empty()) out << "calibrate: integration check: " << c.shift.message << "\n";
+    return;
+  }
   out << "calibrate: integration check (" << describe_integrator(c.study.integrator) << " against "
       << describe_integrator(c.study.integration_check.reference) << "): shifts";
   for (std::size_t k = 0; k < s.fit.size(); ++k) out << " " << s.fit[k].name << " " << format_number(c.shift.shift_se[k], 2);

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include <boost/math/distributions/chi_squared.hpp>
+
 #include "study/estimators/residual_correlation.hpp"
 #include "study/studies/report_number.hpp"
 
@@ -27,23 +29,43 @@ std::string residual_structure_reason(const CalibrationStudy& s, const std::vect
          "independent noise";
 }
 
+namespace {
+
+// The curves whose residuals lie far above (`above`) or far below the noise
+// sd, in words; empty when none does.
+std::string contradicting_curves(const CalibrationStudy& s, const std::vector<double>& rss_m2, double noise_sd_m,
+                                 bool above) {
+  std::string curves;
+  for (std::size_t k = 0; k < s.datasets.size() && k < rss_m2.size(); ++k) {
+    const double n = static_cast<double>(s.datasets[k].t.size());
+    const double chi2 = rss_m2[k] / (noise_sd_m * noise_sd_m);
+    if (!std::isfinite(chi2) || n < 1.0) continue;
+    const boost::math::chi_squared_distribution<double> law(n);
+    const double tail = above ? boost::math::cdf(boost::math::complement(law, chi2)) : boost::math::cdf(law, chi2);
+    if (!(tail < kNoiseContradictionTail)) continue;
+    const double rms_m = std::sqrt(rss_m2[k] / n);
+    curves += std::string(curves.empty() ? "" : "; ") + s.datasets[k].path + ": residual RMS " +
+              format_number(rms_m, 4) + " m, " + format_number(rms_m / noise_sd_m, 3) +
+              " times the noise sd (chi-square " + format_number(chi2, 4) + " for " + format_number(n, 6) +
+              " points)";
+  }
+  return curves;
+}
+
+}  // namespace
+
 std::string noise_contradiction_reason(const CalibrationStudy& s, const std::vector<double>& rss_m2,
                                        double known_noise_sd_m) {
   if (!(known_noise_sd_m > 0.0)) return "";
-  std::string contradicted;
-  for (std::size_t k = 0; k < s.datasets.size() && k < rss_m2.size(); ++k) {
-    const double n = static_cast<double>(s.datasets[k].t.size());
-    const double chi2 = rss_m2[k] / (known_noise_sd_m * known_noise_sd_m);
-    if (!((chi2 - n) / std::sqrt(2.0 * n) > kNoiseContradictionSd)) continue;
-    const double rms_m = std::sqrt(rss_m2[k] / n);
-    contradicted += std::string(contradicted.empty() ? "" : "; ") + s.datasets[k].path + ": residual RMS " +
-                    format_number(rms_m, 4) + " m, " + format_number(rms_m / known_noise_sd_m, 3) +
-                    " times the noise sd (chi-square " + format_number(chi2, 4) + " for " +
-                    format_number(n, 6) + " points)";
-  }
-  if (contradicted.empty()) return "";
-  return "the residuals contradict mcmc.noise_sd " + format_number(known_noise_sd_m, 4) + " m (" + contradicted +
-         "): the posterior is too narrow; give the data's noise sd, or sample it (leave out noise_sd)";
+  const std::string given = "mcmc.noise_sd " + format_number(known_noise_sd_m, 4) + " m";
+  std::string why;
+  if (const std::string above = contradicting_curves(s, rss_m2, known_noise_sd_m, true); !above.empty())
+    why = "the residuals contradict " + given + " (" + above + "): the posterior is too narrow";
+  if (const std::string below = contradicting_curves(s, rss_m2, known_noise_sd_m, false); !below.empty())
+    why += std::string(why.empty() ? "" : "; ") + "the residuals contradict " + given + " from below (" + below +
+           "): the noise sd is far above the residuals' scatter, so the posterior is too wide";
+  if (why.empty()) return "";
+  return why + "; give the data's noise sd, or sample it (leave out noise_sd)";
 }
 
 LackOfFit lack_of_fit_at(const CalibrationStudy& s, const std::vector<double>& values, double known_noise_sd_m) {

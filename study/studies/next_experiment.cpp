@@ -139,8 +139,10 @@ std::vector<NextExperimentCandidate> load_next_experiment_candidates(const std::
 NextExperimentRanking rank_next_experiments(const CalibrationStudy& study,
                                             const std::vector<NextExperimentCandidate>& candidates,
                                             const StudyRunOptions& control) {
-  const CalibrationEstimate estimate = estimate_calibration(study, control);
+  const CalibrationEstimate estimate = estimate_calibration(study, control, control.results_path);
   NextExperimentRanking out;
+  out.fit_trusted = estimate.trusted;
+  out.not_valid_because = estimate.not_valid_because;
   if (!estimate.valid) {
     out.message = "no ranking: " + estimate.why_not;
     return out;
@@ -212,7 +214,8 @@ StudyProgram<NextExperimentRanking> next_experiment_program(CalibrationStudy stu
   p.write = write_next_experiment;
   p.counts = [](const NextExperimentRanking&) { return RunCounts{}; };
   p.report = report_next_experiment;
-  p.verdict = [](const NextExperimentRanking& r) { return r.ok ? 0 : kUntrustedStatus; };
+  p.verdict = [](const NextExperimentRanking& r) { return r.ok && r.fit_trusted ? 0 : kUntrustedStatus; };
+  p.holds_nothing = [](const NextExperimentRanking& r) { return r.ok ? std::string() : r.message; };
   return p;
 }
 
@@ -223,6 +226,9 @@ void write_next_experiment(const NextExperimentRanking& ranking, io::Hdf5Writer&
     h5.attribute("/next_experiment", "not_ranked_because", ranking.message);
     return;
   }
+  h5.attribute("/next_experiment", "ranking_valid", static_cast<long long>(ranking.fit_trusted ? 1 : 0));
+  const std::string flaw = "the fit it is computed at is NOT VALID: " + ranking.not_valid_because;
+  h5.attribute("/next_experiment", "not_valid_because", ranking.fit_trusted ? std::string() : flaw);
   h5.write("/next_experiment/candidates", ranking.candidates);
   h5.write("/next_experiment/parameters", ranking.parameters);
   h5.write("/next_experiment/estimate", ranking.estimate);
@@ -240,6 +246,10 @@ void report_next_experiment(const NextExperimentRanking& ranking, std::ostream& 
     out << "calibrate: " << ranking.message << "\n";
     return;
   }
+  if (!ranking.fit_trusted)
+    out << "calibrate: WARNING: the ranking below is NOT VALID: the fit it is computed at is NOT VALID: "
+        << ranking.not_valid_because
+        << ". It is written flagged (/next_experiment ranking_valid = 0) and the exit status is 2.\n";
   out << "calibrate: candidate experiments ranked by the expected 95 % half-width of each parameter (now:";
   for (std::size_t k = 0; k < ranking.parameters.size(); ++k)
     out << " " << ranking.parameters[k] << " +-" << number(ranking.current_half_width[static_cast<Eigen::Index>(k)], 3);

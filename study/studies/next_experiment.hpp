@@ -58,6 +58,10 @@ struct NextExperimentRanking {
   Eigen::MatrixXd expected_half_width;        // candidates x parameters, rank order
   Eigen::VectorXd score;                      // geometric mean of expected / current
   std::vector<double> estimate;               // theta the ranking is computed at
+  // Rank 0: whether the fit it is computed at is one the fit alone would
+  // trust; a ranking at an untrusted fit is written flagged, exit status 2.
+  bool fit_trusted = false;
+  std::string not_valid_because;  // the fit's, as the fit alone says it
 };
 
 // Collective over MPI ranks (the fit and the candidates' Jacobians); the
@@ -70,11 +74,12 @@ NextExperimentRanking rank_next_experiments(const CalibrationStudy& study,
 // (and refused) before any run; it writes the table to results/<study
 // name>_next_experiment.h5 by default, and asks for kUntrustedStatus when
 // there is no ranking (the fit has no intervals, or a candidate cannot be
-// simulated at the estimate).
+// simulated at the estimate; an earlier file at the results path is then
+// kept) or the fit it is computed at is not trusted.
 StudyProgram<NextExperimentRanking> next_experiment_program(CalibrationStudy study, const std::string& candidates_path);
 
 // Rank 0: /next_experiment (attributes ranked and, without a ranking,
-// not_ranked_because).
+// not_ranked_because; with one, ranking_valid and not_valid_because).
 void write_next_experiment(const NextExperimentRanking& ranking, io::Hdf5Writer& h5);
 void report_next_experiment(const NextExperimentRanking& ranking, std::ostream& out);
 

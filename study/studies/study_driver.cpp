@@ -125,21 +125,22 @@ void commit(const std::string& command, const std::string& results_path, io::Hdf
 }
 
 std::optional<int> keep_earlier_result(const std::string& command, const std::string& results_path,
-                                       const RunCounts& counts) {
+                                       const RunCounts& counts, const std::string& nothing) {
   std::error_code error;
-  if (counts.runs == 0 || counts.failed < counts.runs || !std::filesystem::exists(results_path, error))
-    return std::nullopt;
+  const bool every_run_failed = counts.runs > 0 && counts.failed == counts.runs;
+  if ((!every_run_failed && nothing.empty()) || !std::filesystem::exists(results_path, error)) return std::nullopt;
   // A study that checkpoints its runs (a Monte Carlo) still has them; a
   // calibration's fit keeps none.
   const std::string checkpoint = io::ResultCheckpoint::path_for(results_path);
   const bool kept = std::filesystem::exists(checkpoint, error);
-  std::cerr << "rover " << command << ": error: every run failed (first: " << counts.first_failure
-            << "); nothing was written, " << results_path << " is unchanged"
+  std::cerr << "rover " << command << ": error: "
+            << (every_run_failed ? "every run failed (first: " + counts.first_failure + ")" : nothing)
+            << "; nothing was written, " << results_path << " is unchanged"
             << (kept ? "; the runs are kept in " + checkpoint +
                            ": the next run of this study needs --restart (discard them) or --resume (reuse them)"
-                     : std::string("; no run was kept"))
+                     : std::string(every_run_failed ? "; no run was kept" : ""))
             << "\n";
-  return kEveryRunFailedStatus;
+  return every_run_failed ? kEveryRunFailedStatus : kHoldsNothingStatus;
 }
 
 int exit_status(const std::string& command, const std::string& results_path, const RunCounts& counts,

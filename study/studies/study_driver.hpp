@@ -14,6 +14,8 @@
 //     (the results are kept), kSomeRunsFailedStatus when some failed for a
 //     study that says so (evaluate), or the status the result itself asks
 //     for (calibration: intervals that cannot be trusted);
+//   * an earlier result at the results path is kept when every run failed or
+//     the result holds nothing (a ranking of no candidate);
 //   * --dry-run: everything above is checked and the banner printed, then
 //     nothing runs and nothing is written.
 //
@@ -110,6 +112,11 @@ struct StudyProgram {
   // The exit status the result asks for whatever its runs did (0: none); the
   // larger of it and the runs' status is returned.
   std::function<int(const Result&)> verdict;
+  // Optional: why the result holds nothing (a ranking that ranked no
+  // candidate), or empty. Such a result never replaces an earlier file at the
+  // results path, as a study whose every run failed; with none there it is
+  // written, recording why.
+  std::function<std::string(const Result&)> holds_nothing;
 };
 
 // Thrown by a study whose runs finished but whose results it refuses (a
@@ -121,9 +128,11 @@ class RunsRefused : public std::runtime_error {
 };
 
 // The exit status of a study whose every run failed (its results are kept),
-// and of one whose some runs failed where the study counts that as an error.
+// of one whose some runs failed where the study counts that as an error, and
+// of one whose result holds nothing (StudyProgram::holds_nothing).
 inline constexpr int kEveryRunFailedStatus = 2;
 inline constexpr int kSomeRunsFailedStatus = 2;
+inline constexpr int kHoldsNothingStatus = 2;
 
 namespace driver_detail {
 
@@ -142,12 +151,13 @@ bool is_csv_path(const std::string& path);
 void commit(const std::string& command, const std::string& results_path, io::Hdf5Writer* h5,
             const RunCounts& counts);
 
-// Rank 0, when every run failed and a file is already at results_path: the
-// earlier result is left as it was (the runs stay in the checkpoint, when the
-// study keeps one); says so and returns kEveryRunFailedStatus. std::nullopt
-// otherwise.
+// Rank 0, when every run failed, or the result holds nothing (`nothing`
+// says why), and a file is already at results_path: the earlier result is
+// left as it was (the runs stay in the checkpoint, when the study keeps one);
+// says so and returns kEveryRunFailedStatus (kHoldsNothingStatus).
+// std::nullopt otherwise.
 std::optional<int> keep_earlier_result(const std::string& command, const std::string& results_path,
-                                       const RunCounts& counts);
+                                       const RunCounts& counts, const std::string& nothing);
 
 // The exit status for `counts`; says so when every run failed.
 int exit_status(const std::string& command, const std::string& results_path, const RunCounts& counts,
@@ -206,7 +216,8 @@ int drive_study(const StudyProgram<Result>& study, const StudyRunOptions& option
     driver_detail::stop_if_interrupted(runtime.options);
     if (world_rank() != 0) return 0;
     const RunCounts counts = study.counts(result);
-    if (const auto status = driver_detail::keep_earlier_result(study.command, out, counts)) return *status;
+    const std::string nothing = study.holds_nothing ? study.holds_nothing(result) : std::string();
+    if (const auto status = driver_detail::keep_earlier_result(study.command, out, counts, nothing)) return *status;
     if (csv) {
       study.write_csv(result, out);
     } else {

@@ -3307,5 +3307,120 @@ TEST_F(Audit, SignalWhileAnInputPipeWaits) {
   EXPECT_FALSE(fs::exists(out)) << output;
 }
 
+// A 0.3 s horizontal drop (it lands) and its synthetic B_l z curve at
+// c_q = 0.25 (0.1 mm noise, or `noise`), for the calibration cases below.
+struct LandingDrop {
+  std::string scenario, data;
+};
+LandingDrop landing_drop(Workshop& w, const std::string& noise = "") {
+  LandingDrop d{w.scenario([](Json& j) { j["duration"] = 0.3; }), w.out("csv")};
+  std::string log;
+  EXPECT_EQ(run_command(rover_binary() + " synthesize --scenario " + d.scenario + " --cq 0.25 " +
+                            (noise.empty() ? "" : "--noise " + noise + " ") + "--out " + d.data, &log),
+            0) << log;
+  return d;
+}
+
+// A fit of c_q to `drop` within [0.02, c_q_upper].
+std::string landing_fit(Workshop& w, const LandingDrop& drop, double c_q_upper) {
+  return w.calibration([&](Json& j) {
+    j["scenario"] = drop.scenario;
+    j["data"] = drop.data;
+    j["bounds"]["c_q"] = {0.02, c_q_upper};
+    j["max_evaluations"] = 40;
+  });
+}
+
+// An aftermath: /next_experiment of `path` has ranking_valid = `valid`.
+std::function<std::string()> ranking_valid_is(const std::string& path, long long valid) {
+  return [=] {
+    if (!fs::exists(path)) return path + " was not written";
+    const io::Hdf5Reader h5(path);
+    if (!h5.has_attribute("/next_experiment", "ranking_valid")) return path + " has no ranking_valid";
+    const long long got = h5.attribute_integer("/next_experiment", "ranking_valid");
+    return got == valid ? std::string() : path + ": ranking_valid " + std::to_string(got);
+  };
+}
+
+// A ranking computed at a fit the fit alone calls NOT VALID (c_q held by its
+// bound 0.2, truth 0.25) says so, is written flagged and exits 2, as the fit
+// does, alone and under mpirun; at a trusted fit it ranks with status 0. A
+// ranking of nothing (its one candidate's run fails) leaves an earlier file
+// at --out as it was.
+TEST_F(Audit, NextExperimentAtAFitNotToBeTrusted) {
+  std::vector<Case> cases;
+  const LandingDrop drop = landing_drop(w());
+  const std::string candidates = w().json_file(
+      "candidates", Json{{"candidates", {{{"name", "repeat"}, {"scenario", drop.scenario}, {"rate_hz", 500},
+                                          {"noise_sd", 1e-4}}}}});
+  const std::string bounded = landing_fit(w(), drop, 0.2), free = landing_fit(w(), drop, 1.0);
+  const std::string flagged = w().out(), ranked = w().out();
+  cases.push_back({"next experiment at a fit held by its bound",
+                   study_args("calibrate", bounded, flagged) + " --next-experiment " + candidates, Want::kAllFailed,
+                   {"WARNING: the ranking below is NOT VALID: the fit it is computed at is NOT VALID",
+                    "c_q = 0.2 is on its bound", "ranking_valid = 0"},
+                   ranking_valid_is(flagged, 0)});
+  cases.push_back({"next experiment at a trusted fit",
+                   study_args("calibrate", free, ranked) + " --next-experiment " + candidates, Want::kRuns,
+                   {"ranked by the expected 95 % half-width"}, ranking_valid_is(ranked, 1), {}, {"NOT VALID"}});
+  const std::string failing = w().json_file(
+      "failing", Json{{"candidates", {{{"name", "fail"},
+                                       {"scenario", w().scenario([](Json& j) {
+                                          j["duration"] = 0.3;
+                                          j["wall_time_budget"] = 1e-6;
+                                        })},
+                                       {"rate_hz", 500},
+                                       {"noise_sd", 1e-4}}}}});
+  const std::string earlier = w().out();
+  std::string log;
+  ASSERT_EQ(run_command(rover_binary() + " simulate --no-plot --scenario " + w().quick() + " --out " + earlier, &log),
+            0) << log;
+  cases.push_back({"next experiment whose one candidate fails, over an earlier file",
+                   study_args("calibrate", free, earlier) + " --next-experiment " + failing, Want::kAllFailed,
+                   {"no ranking: the candidate 'fail' could not be simulated", "nothing was written, " + earlier +
+                    " is unchanged"},
+                   unchanged(earlier), {}, {"wrote " + earlier}});
+  run_table(w().dir(), cases);
+  // Under mpirun: rank 0 decides; one warning, status 2.
+  const std::string mpi_out = w().out();
+  const int status = run_command("timeout -k 5 120 " + testing::mpiexec() + " -np 2 " + rover_binary() + " " +
+                                     study_args("calibrate", bounded, mpi_out) + " --next-experiment " + candidates +
+                                     " 2>&1",
+                                 &log);
+  EXPECT_EQ(status, 2) << log;
+  const std::string warning = "WARNING: the ranking below is NOT VALID";
+  ASSERT_NE(log.find(warning), std::string::npos) << log;
+  EXPECT_EQ(log.find(warning, log.find(warning) + 1), std::string::npos) << "printed twice:\n" << log;
+  EXPECT_TRUE(ranking_valid_is(mpi_out, 0)().empty()) << log;
+}
+
+// A posterior told a noise sd 100 times the data's (1e-2 m against 1e-4 m) is
+// NOT VALID, naming mcmc.noise_sd, its value and the residual RMS: its
+// intervals are far too wide. On noise-free data the integration check ends
+// on the reference integrator and says it cannot be checked against a
+// tighter one; it never reports a setting's shift against itself.
+TEST_F(Audit, NoiseFarAboveTheResidualsAndTheReferenceUnchecked) {
+  std::vector<Case> cases;
+  const LandingDrop drop = landing_drop(w());
+  const std::string told_too_much = w().calibration([&](Json& j) {
+    j["scenario"] = drop.scenario;
+    j["data"] = drop.data;
+    j["max_evaluations"] = 40;
+    j["method"] = "mcmc";
+    j["mcmc"] = {{"walkers", 8}, {"steps", 6}, {"discard", 0}, {"target_ess", 0}, {"predictive_draws", 0},
+                 {"noise_sd", 1e-2}};
+  });
+  cases.push_back({"a posterior told 100 times the data's noise sd", study("calibrate", told_too_much),
+                   Want::kAllFailed,
+                   {"posterior is NOT VALID", "the residuals contradict mcmc.noise_sd 0.01 m from below",
+                    "residual RMS", "too wide"}});
+  const LandingDrop exact = landing_drop(w(), "0");
+  cases.push_back({"a fit to noise-free data", study("calibrate", landing_fit(w(), exact, 1.0)), Want::kRunsOrFails,
+                   {"integration check: the fit runs on the reference integrator (dopri5",
+                    "there is no tighter one to check it against"},
+                   {}, {}, {"against dopri5 at rtol 1e-08, atol 1e-11): shifts"}});
+  run_table(w().dir(), cases);
+}
+
 }  // namespace
 }  // namespace rover
