@@ -492,9 +492,9 @@ TEST_F(Audit, ScenarioFile) {
   scenario_case("drop from 100 m", [](Json& j) {
                   j.erase("initial_q");
                   j["initial_ground_clearance"] = 100.0;
-                }, Want::kRuns, {});
+                }, Want::kError, {"'initial_ground_clearance'", "lands at 44", "beyond +-10 m/s"});
   const std::string wrong_rover = w().scenario([&](Json& j) { j["rover"] = w().quick(); });
-  cases.push_back({"a rover path that is a scenario", simulate(wrong_rover), Want::kError, {w().quick(), "'gravity'"}});
+  cases.push_back({"a rover path that is a scenario", simulate(wrong_rover), Want::kError, {w().quick(), "'rover'", "a scenario file", "not a rover file"}});
   scenario_case("rover path a directory", [&](Json& j) { j["rover"] = w().dir(); }, Want::kError,
                 {"'rover'", "is a directory"});
   // Raw text.
@@ -2713,8 +2713,8 @@ TEST_F(Audit, MisfitsUntouchedGroundAndBorrowedRuns) {
                        w().out("csv") + " --qoi B_l_z_min,max_wheel_load",
                    Want::kRuns, {"WARNING: 1 of 1 runs finished, but no wheel touched the ground: within the run's 0.3 s"}});
   const std::string z_in_mm = w().scenario([](Json& j) { j["initial_q"]["z"] = 281; });
-  cases.push_back({"simulate a drop height in millimetres", simulate(z_in_mm), Want::kRuns,
-                   {"warning: no wheel touched the ground", "a drop height in millimetres"}});
+  cases.push_back({"simulate a drop height in millimetres", simulate(z_in_mm), Want::kError,
+                   {z_in_mm, "'initial_q'", "lands at 74.2", "a height in millimetres?"}});
   cases.push_back({"a Monte Carlo of max_wheel_load on a drop too short to land",
                    study("montecarlo", w().montecarlo([](Json& j) { j["qoi"] = {"max_wheel_load"}; })), Want::kRuns,
                    {"WARNING: 2 of 2 runs finished, but no wheel touched the ground"}});
