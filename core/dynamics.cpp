@@ -33,7 +33,8 @@ CoordinateMatrix mass_matrix(const KinematicTree& tree, const TreeKinematics& ki
 
 void mass_matrix(const KinematicTree& tree, const TreeKinematics& kin, CoordinateMatrix& M) {
   // Composite inertias of every subtree: a node's own body first; its
-  // children (later nodes) add theirs before the node is reached below.
+  // children add theirs before the node is reached below (the reverse of the
+  // tree's depth order).
   std::array<SpatialInertia, kNumTreeNodes> composite;
   for (int i = 0; i < kNumTreeNodes; ++i) {
     const int b = tree.nodes[i].body;
@@ -49,8 +50,9 @@ void mass_matrix(const KinematicTree& tree, const TreeKinematics& kin, Coordinat
   }
 
   M.setZero();
-  for (int i = kNumTreeNodes - 1; i >= 0; --i) {
-    const SpatialInertia& c = composite[i];  // complete: every descendant comes after i
+  for (int k = kNumTreeNodes - 1; k >= 0; --k) {
+    const int i = tree.depth_order[k];
+    const SpatialInertia& c = composite[i];  // complete: every descendant was reached before i
     const NodeKinematics& n = kin.nodes[i];
     const int ci = tree.nodes[i].coordinate;
     // Momentum (angular about ref; linear) of subtree i under unit motion of
@@ -79,9 +81,10 @@ void mass_matrix(const KinematicTree& tree, const TreeKinematics& kin, Coordinat
 Coordinates gravity_and_inertia_forces(const KinematicTree& tree, const TreeKinematics& kin,
                                        double gravity_mps2) {
   // The net wrench on each node's subtree, a node's own body first, then its
-  // children's (later nodes) added before it is reached: ForcingPass's sums.
+  // children's added before it is reached (the reverse of the tree's depth
+  // order): ForcingPass's sums.
   ForcingPass pass(tree, kin, gravity_mps2);
-  for (int i = kNumTreeNodes - 1; i >= 0; --i) pass.visit(i);
+  for (int k = kNumTreeNodes - 1; k >= 0; --k) pass.visit(tree.depth_order[k]);
   return pass.inertia_forces();
 }
 
