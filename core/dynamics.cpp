@@ -33,8 +33,7 @@ CoordinateMatrix mass_matrix(const KinematicTree& tree, const TreeKinematics& ki
 
 void mass_matrix(const KinematicTree& tree, const TreeKinematics& kin, CoordinateMatrix& M) {
   // Composite inertias of every subtree: a node's own body first; its
-  // children add theirs before the node is reached below (the reverse of the
-  // tree's depth order).
+  // children (later nodes) add theirs before the node is reached below.
   std::array<SpatialInertia, kNumTreeNodes> composite;
   for (int i = 0; i < kNumTreeNodes; ++i) {
     const int b = tree.nodes[i].body;
@@ -50,9 +49,8 @@ void mass_matrix(const KinematicTree& tree, const TreeKinematics& kin, Coordinat
   }
 
   M.setZero();
-  for (int k = kNumTreeNodes - 1; k >= 0; --k) {
-    const int i = tree.depth_order[k];
-    const SpatialInertia& c = composite[i];  // complete: every descendant was reached before i
+  for (int i = kNumTreeNodes - 1; i >= 0; --i) {
+    const SpatialInertia& c = composite[i];  // complete: every descendant comes after i
     const NodeKinematics& n = kin.nodes[i];
     const int ci = tree.nodes[i].coordinate;
     // Momentum (angular about ref; linear) of subtree i under unit motion of

@@ -181,7 +181,7 @@ void node_kinematics(const KinematicTree& tree, const Coordinates& q, const Coor
   for (int i = 0; i < kNumTreeNodes; ++i) displacements[i] = tree.nodes[i].sign * q[tree.nodes[i].coordinate];
   SinesCosines<kNumTreeNodes> trig;
   sines_and_cosines(displacements, trig);
-  for (const int i : tree.depth_order) {
+  for (int i = 0; i < kNumTreeNodes; ++i) {
     const TreeNode& node = tree.nodes[i];
     NodeKinematics& k = kin.nodes[i];
     const double displacement = displacements[i];
