@@ -11,7 +11,14 @@ namespace rover {
 namespace {
 
 using Vector6 = Eigen::Matrix<double, 6, 1>;  // (angular; linear) about the reference point
-using Matrix6 = Eigen::Matrix<double, 6, 6>;
+// A 6 x 6 spatial inertia, and its products with unit motions, are stored with
+// two zero rows below the six, so that a column is one packet of eight
+// doubles (AVX-512) or two of four (AVX) instead of three of two: the column
+// operations below then take a third of the instructions, each entry the same
+// arithmetic (the zero rows stay zero). Inner products read the first six rows.
+constexpr int kPaddedRows = 8;
+using PaddedColumn = Eigen::Matrix<double, kPaddedRows, 1>;
+using PaddedInertia = Eigen::Matrix<double, kPaddedRows, 6>;
 
 // The coordinates above the legs: x, y, z, theta, chi, psi and phi.
 constexpr int kTrunk = coord::bogie + 1;
@@ -21,10 +28,11 @@ using TrunkMatrix = Eigen::Matrix<double, kTrunk, kTrunk>;
 // A body's spatial inertia about the reference point, in the convention of
 // mass_matrix(): momentum = (I_ref w + h x v, m v + w x h), h = m (c - ref),
 // written into `I`.
-void set_spatial_inertia(double mass, const Mat3& inertia_com, const Vec3& com_from_reference, Matrix6& I) {
+void set_spatial_inertia(double mass, const Mat3& inertia_com, const Vec3& com_from_reference, PaddedInertia& I) {
   const Vec3 h = mass * com_from_reference;
   set_inertia_about_offset(mass, inertia_com, com_from_reference, I.topLeftCorner<3, 3>());
-  I.bottomRightCorner<3, 3>() = mass * Mat3::Identity();
+  I.block<3, 3>(3, 3) = mass * Mat3::Identity();
+  I.bottomRows<kPaddedRows - 6>().setZero();
   // [h]x above the diagonal and its transpose below, entry by entry.
   for (int c = 0; c < 3; ++c) I(c, 3 + c) = I(3 + c, c) = 0.0;
   I(0, 4) = I(4, 0) = -h.z();
@@ -39,11 +47,11 @@ void set_spatial_inertia(double mass, const Mat3& inertia_com, const Vec3& com_f
 // passes reach them: a node holds nothing until its body or a child's
 // contribution arrives, and the first arrival is assigned, not added.
 struct Subtrees {
-  std::array<Matrix6, kNumTreeNodes> inertia;  // I^A
+  std::array<PaddedInertia, kNumTreeNodes> inertia;  // I^A
   std::array<Vector6, kNumTreeNodes> bias;     // p^A
   std::array<bool, kNumTreeNodes> loaded{};
 
-  void add(int node, const Matrix6& child_inertia, const Vector6& child_bias) {
+  void add(int node, const PaddedInertia& child_inertia, const Vector6& child_bias) {
     if (loaded[node]) {
       inertia[node] += child_inertia;
       bias[node] += child_bias;
@@ -61,7 +69,7 @@ struct Subtrees {
 struct Recursion {
   Subtrees sub;
   std::array<Vector6, kNumTreeNodes> motion;
-  std::array<Vector6, kNumTreeNodes> U;
+  std::array<PaddedColumn, kNumTreeNodes> U;
   std::array<double, kNumTreeNodes> D, u;     // written by pass 2 before pass 3 reads them
   std::array<double, kNumTreeNodes> trunk_bias;  // written by add_trunk_node() for loaded trunk nodes
   TrunkMatrix A = TrunkMatrix::Zero();
@@ -89,21 +97,21 @@ bool eliminate_leg_joint(const KinematicTree& tree, int i, double tau, Recursion
   if (!sub.loaded[i]) return false;  // a massless subtree
   const Vector6& motion = r.motion[i];
   r.U[i].noalias() = sub.inertia[i] * motion;
-  const double D = motion.dot(r.U[i]);
+  const double D = motion.dot(r.U[i].head<6>());
   r.D[i] = D;
   if (!(D > 0.0) || !std::isfinite(D)) return false;
   r.u[i] = tau - motion.dot(sub.bias[i]);
   const double inverse = 1.0 / D;
-  const Vector6 scaled = inverse * r.U[i];
+  const PaddedColumn scaled = inverse * r.U[i];
   // I^A_i - U_i U_i^T / D_i to the parent, column by column (one axpy each).
   const int p = tree.nodes[i].parent;
-  Matrix6& parent = sub.inertia[p];
+  PaddedInertia& parent = sub.inertia[p];
   if (sub.loaded[p]) {
     for (int col = 0; col < 6; ++col) parent.col(col) += sub.inertia[i].col(col) - r.U[i][col] * scaled;
-    sub.bias[p] += sub.bias[i] + r.u[i] * scaled;
+    sub.bias[p] += sub.bias[i] + r.u[i] * scaled.head<6>();
   } else {
     for (int col = 0; col < 6; ++col) parent.col(col) = sub.inertia[i].col(col) - r.U[i][col] * scaled;
-    sub.bias[p] = sub.bias[i] + r.u[i] * scaled;
+    sub.bias[p] = sub.bias[i] + r.u[i] * scaled.head<6>();
     sub.loaded[p] = true;
   }
   return true;
@@ -118,12 +126,12 @@ void add_trunk_node(const KinematicTree& tree, int i, Recursion& r) {
   Subtrees& sub = r.sub;
   if (!sub.loaded[i]) return;
   const int ci = tree.nodes[i].coordinate;
-  const Vector6 momentum = sub.inertia[i] * r.motion[i];
+  const PaddedColumn momentum = sub.inertia[i] * r.motion[i];
   r.trunk_bias[i] = r.motion[i].dot(sub.bias[i]);
-  r.A(ci, ci) += r.motion[i].dot(momentum);
+  r.A(ci, ci) += r.motion[i].dot(momentum.head<6>());
   for (int k = 1; k < tree.path_length[i]; ++k) {
     const int j = tree.path[i][k];
-    r.A(ci, tree.nodes[j].coordinate) += r.motion[j].dot(momentum);
+    r.A(ci, tree.nodes[j].coordinate) += r.motion[j].dot(momentum.head<6>());
   }
   const int p = tree.nodes[i].parent;
   if (p >= 0) sub.add(p, sub.inertia[i], sub.bias[i]);
@@ -143,7 +151,7 @@ bool solve_trunk_and_legs(const KinematicTree& tree, const Coordinates& tau, Rec
   trunk.solve_in_place(rhs);
   a.head<kTrunk>() = rhs;
   std::array<Vector6, kNumTreeNodes> acceleration;
-  for (int i = 0; i < kNumTreeNodes; ++i) {
+  for (const int i : tree.depth_order) {
     const int c = tree.nodes[i].coordinate;
     const int p = tree.nodes[i].parent;
     if (p < 0) {  // a root: at rest above it
@@ -152,7 +160,7 @@ bool solve_trunk_and_legs(const KinematicTree& tree, const Coordinates& tau, Rec
       continue;
     }
     const Vector6& above = acceleration[p];
-    if (c >= kTrunk) a[c] = (r.u[i] - r.U[i].dot(above)) / r.D[i];
+    if (c >= kTrunk) a[c] = (r.u[i] - r.U[i].head<6>().dot(above)) / r.D[i];
     acceleration[i] = above + a[c] * r.motion[i];
   }
   return a.allFinite();
@@ -166,8 +174,9 @@ bool solve_trunk_and_legs(const KinematicTree& tree, const Coordinates& tau, Rec
                                                   const Coordinates& tau) {
   Recursion r;
   for (int i = 0; i < kNumTreeNodes; ++i) start_node(tree, kin, i, r);
-  // Leaves first (children come after their parents): the legs' pass 2, the trunk's composites.
-  for (int i = kNumTreeNodes - 1; i >= 0; --i) {
+  // Leaves first (the reverse of the depth order): the legs' pass 2, the trunk's composites.
+  for (int k = kNumTreeNodes - 1; k >= 0; --k) {
+    const int i = tree.depth_order[k];
     const int c = tree.nodes[i].coordinate;
     if (c < kTrunk) {
       add_trunk_node(tree, i, r);
@@ -191,7 +200,8 @@ bool solve_trunk_and_legs(const KinematicTree& tree, const Coordinates& tau, Rec
   const auto complete = [&](int c) {
     pass.complete(c, joint_forces, contact_forces, forcing_without_contact, forcing);
   };
-  for (int i = kNumTreeNodes - 1; i >= 0; --i) {
+  for (int k = kNumTreeNodes - 1; k >= 0; --k) {
+    const int i = tree.depth_order[k];
     pass.visit(i);
     const int c = tree.nodes[i].coordinate;
     if (c < kTrunk) {

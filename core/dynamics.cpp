@@ -79,9 +79,10 @@ void mass_matrix(const KinematicTree& tree, const TreeKinematics& kin, Coordinat
 Coordinates gravity_and_inertia_forces(const KinematicTree& tree, const TreeKinematics& kin,
                                        double gravity_mps2) {
   // The net wrench on each node's subtree, a node's own body first, then its
-  // children's (later nodes) added before it is reached: ForcingPass's sums.
+  // children's added before it is reached (the reverse of the tree's depth
+  // order): ForcingPass's sums.
   ForcingPass pass(tree, kin, gravity_mps2);
-  for (int i = kNumTreeNodes - 1; i >= 0; --i) pass.visit(i);
+  for (int k = kNumTreeNodes - 1; k >= 0; --k) pass.visit(tree.depth_order[k]);
   return pass.inertia_forces();
 }
 

@@ -64,7 +64,7 @@ inline void gravity_and_inertia_wrench(double mass_kg, const BodyKinematics& bod
 // leaves first (every child visited before its parent): the net wrench of
 // gravity and the inertia forces on the node's subtree, projected on the
 // node's unit motion. Once every node is visited, inertia_forces() is
-// gravity_and_inertia_forces() (which is this pass over the nodes in reverse
+// gravity_and_inertia_forces() (which is this pass in the reverse of the depth
 // order), and complete() adds the joint and contact terms in the
 // order of compute_forcing(): the articulated-body pass (articulated_body.hpp)
 // gives the same F as the mass-matrix path.

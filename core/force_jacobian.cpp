@@ -52,11 +52,9 @@ JointForceDerivatives joint_force_derivatives(const RoverParameters& p, const Mo
   for (int leg = 0; leg < kNumLegs; ++leg) {
     for (int i = 0; i < 2; ++i) {
       const int c = coord::s_joint(leg, i);
-      const JointTorque t = s_structure_torque(q[c], u[c], in.preload_Nm[2 * leg + i],
-                                               in.sharpness_f, p.s_structure.stiffness_Nm_per_rad,
-                                               in.damping_c_q);
-      d.d_position[c] = t.d_angle;
-      d.d_speed[c] = t.d_rate;
+      d.d_position[c] = s_structure_stiffness(q[c], in.preload_Nm[2 * leg + i], in.sharpness_f,
+                                              p.s_structure.stiffness_Nm_per_rad);
+      d.d_speed[c] = -in.damping_c_q;  // s_structure_torque()'s d_rate
     }
     const int s = coord::steer(leg);
     const JointTorque steer = steering_torque(q[s], u[s], in.steer_ref_rad[leg], p.steering);

@@ -364,9 +364,8 @@ void stiffen_s_joints_over_step(const RoverParameters& parameters, const ModelIn
       const double nearest = std::abs(b) <= reach ? 0.0 : b - std::copysign(reach, b);
       if (nearest == b) continue;
       const auto slope = [&](double angle_rad) {
-        return s_structure_torque(angle_rad, 0.0, inputs.preload_Nm[2 * leg + i], inputs.sharpness_f,
-                                  parameters.s_structure.stiffness_Nm_per_rad, inputs.damping_c_q)
-            .d_angle;
+        return s_structure_stiffness(angle_rad, inputs.preload_Nm[2 * leg + i], inputs.sharpness_f,
+                                     parameters.s_structure.stiffness_Nm_per_rad);
       };
       d_force_d_position(c, c) += slope(nearest) - slope(b);
     }

@@ -1,7 +1,9 @@
 // Kinematic tree of docs/model.md §3 and its recursive kinematics.
 #include "core/kinematic_tree.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <stdexcept>
 
 #include <Eigen/Geometry>
@@ -96,6 +98,9 @@ KinematicTree build_kinematic_tree(const RoverParameters& p) {
       if (tree.nodes[tree.path[i][a]].coordinate == tree.nodes[i].coordinate)
         throw std::logic_error("kinematic tree: coordinate repeated along a path");
   }
+  std::iota(tree.depth_order.begin(), tree.depth_order.end(), 0);
+  std::stable_sort(tree.depth_order.begin(), tree.depth_order.end(),
+                   [&](int a, int b) { return tree.path_length[a] < tree.path_length[b]; });
   // Coordinate parents; the nodes that share a coordinate must agree on it.
   tree.coordinate_parent.fill(-2);
   for (int i = 0; i < kNumTreeNodes; ++i) {

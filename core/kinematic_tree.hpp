@@ -57,6 +57,15 @@ struct KinematicTree {
   // Ancestors of each node, the node itself first, root last.
   std::array<std::array<int, kMaxTreeDepth>, kNumTreeNodes> path{};
   std::array<int, kNumTreeNodes> path_length{};
+  // The nodes by depth (path length), ties by index: every parent before its
+  // children, and the four legs' nodes of one depth next to each other. The
+  // articulated-body recursion and its forcing pass visit them in this order
+  // (root first) or its reverse (leaves first), so that the four legs'
+  // chains of dependent arithmetic (a pivot, its division, the update of the
+  // parent) follow one another closely and the processor overlaps them.
+  // Siblings keep their relative order, so every sum over a node's children
+  // is added in the same order as by index.
+  std::array<int, kNumTreeNodes> depth_order{};
   // The tree of the coordinates: coordinate_parent[c] (< c) drives the
   // nearest joint above the nodes of c, -1 at the root. M(q) and the stiff
   // force Jacobians have non-zeros only where one coordinate is an ancestor

@@ -15,13 +15,22 @@ struct JointTorque {
   double d_rate = 0.0;    // d tau / d rate    [N m s / rad]
 };
 
+// d tau / d angle alone, without the arctangent of the torque (the
+// Jacobians and the step control of the stiff integrator want only this).
+inline double s_structure_stiffness(double angle_rad, double preload_Nm, double sharpness_f,
+                                    double stiffness_k_q) {
+  const double fb = sharpness_f * angle_rad;
+  const double scale = 2.0 * preload_Nm / std::numbers::pi;
+  return -scale * sharpness_f / (1.0 + fb * fb) - stiffness_k_q;
+}
+
 inline JointTorque s_structure_torque(double angle_rad, double rate_radps, double preload_Nm,
                                       double sharpness_f, double stiffness_k_q,
                                       double damping_c_q) {
   const double fb = sharpness_f * angle_rad;
   const double scale = 2.0 * preload_Nm / std::numbers::pi;
   return {-scale * std::atan(fb) - stiffness_k_q * angle_rad - damping_c_q * rate_radps,
-          -scale * sharpness_f / (1.0 + fb * fb) - stiffness_k_q, -damping_c_q};
+          s_structure_stiffness(angle_rad, preload_Nm, sharpness_f, stiffness_k_q), -damping_c_q};
 }
 
 // V(b) with dV/db = (2 M0/pi) atan(f b) + k_q b, V(0) = 0.
