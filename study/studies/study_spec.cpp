@@ -390,6 +390,11 @@ std::vector<QoiSpec> parse_qois(const io::JsonReader& r, const std::string& stud
           } catch (const std::exception& e) {
             o.fail("reference", e.what());
           }
+          // A curve whose header declares its channel (rover synthesize) is compared as that channel only.
+          if (const std::string declared = io::declared_channel(ref->path); !declared.empty() && declared != channel)
+            o.fail("reference", ref->path + ": declares its z to be " + declared + " (its header), but rms_vs compares " +
+                                    channel + ": give \"channel\": \"" + declared + "\" in " + r.field(field) +
+                                    ", or a curve of " + channel);
           for (std::size_t i = 1; i < ref->t.size(); ++i)
             if (!(ref->t[i] > ref->t[i - 1]))
               o.fail("reference", ref->path + ": times must increase strictly (row " + std::to_string(i + 1) + ")");

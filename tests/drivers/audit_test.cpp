@@ -37,6 +37,7 @@
 
 #include <gtest/gtest.h>
 
+#include "io/csv.hpp"
 #include "io/hdf5_file.hpp"
 #include "io/json_reader.hpp"
 #include "io/output_lock.hpp"
@@ -3239,6 +3240,43 @@ TEST_F(Audit, SignalWhileAnInputPipeWaits) {
   EXPECT_NE(output.find("status 130"), std::string::npos) << output;
   EXPECT_NE(output.find("interrupted (SIGTERM); nothing written"), std::string::npos) << output;
   EXPECT_FALSE(fs::exists(out)) << output;
+}
+
+// A curve whose header declares its channel (as rover synthesize writes it,
+// and as every shipped curve does) is refused wherever it is read as another
+// channel: a study's rms_vs reference, a surface's reference file, compare,
+// a calibration's data.
+TEST_F(Audit, CurvesAreReadAsTheChannelTheyDeclare) {
+  for (const auto& entry : fs::directory_iterator(source_path("configs/data")))
+    if (entry.path().extension() == ".csv")
+      EXPECT_NE(io::declared_channel(entry.path().string()), "") << entry.path() << " declares no channel";
+  std::vector<Case> cases;
+  const std::string g_z = w().out("csv");
+  std::string log;
+  ASSERT_EQ(run_command(rover_binary() + " synthesize --scenario " + w().quick() + " --channel G_z --out " + g_z, &log),
+            0) << log;
+  auto rms_vs = [&](const Json& qoi) { return w().montecarlo([&](Json& j) { j["qoi"] = {qoi}; }); };
+  cases.push_back({"a G_z curve as an rms_vs reference of B_l z",
+                   study("montecarlo", rms_vs({{"name", "rms_vs"}, {"reference", g_z}})), Want::kError,
+                   {"'qoi[0].reference'", g_z + ": declares its z to be G_z (its header), but rms_vs compares B_l_z",
+                    "give \"channel\": \"G_z\" in qoi[0]"}});
+  cases.push_back({"a G_z curve as an rms_vs reference of G_z",
+                   study("montecarlo", rms_vs({{"name", "rms_vs"}, {"reference", g_z}, {"channel", "G_z"}})),
+                   Want::kRuns, {}, {}, {}, {"declares its z"}});
+  cases.push_back({"a G_z curve as a surface's reference",
+                   study("surface", w().surface([&](Json& j) { j["reference"] = {{"file", g_z}}; })), Want::kError,
+                   {"'reference.file'", g_z + ": declares its z to be G_z (its header), but is read as B_l_z",
+                    "give a curve of B_l_z"}});
+  const std::string shipped = source_path("configs/data/drop_horizontal_synthetic.csv");
+  cases.push_back({"the shipped B_l z curve compared as G_z",
+                   "compare " + simulated_curve(w().dir() + "/quick_run.h5") + " " + shipped + " --column G_z",
+                   Want::kError, {"declares its z to be B_l_z, but --column is G_z"}});
+  cases.push_back({"the shipped skewed B_l z curve fitted as G_z",
+                   study("calibrate", w().calibration([&](Json& j) {
+                     j["data"] = {{{"file", source_path("configs/data/drop_skewed_synthetic.csv")}, {"channel", "G_z"}}};
+                   })) + " --dry-run",
+                   Want::kError, {"declares its z to be B_l_z", "\"channel\": \"B_l_z\""}});
+  run_table(w().dir(), cases);
 }
 
 }  // namespace
