@@ -1376,8 +1376,8 @@ TEST_F(Audit, LeftoverCheckpoints) {
   const std::string foreign = dir + "/foreign.h5";
   write_file(foreign + ".checkpoint", "not a checkpoint\n");
   cases.push_back({"montecarlo beside a file that is no checkpoint", study_args("montecarlo", mc, foreign),
-                   Want::kError, {foreign + ".checkpoint is no checkpoint of rover", "--restart removes it"},
-                   unchanged(foreign + ".checkpoint"), {}, {"finished runs of an interrupted study"}});
+                   Want::kError, {foreign + ".checkpoint is no checkpoint of rover", "give another --out"},
+                   unchanged(foreign + ".checkpoint"), {}, {"finished runs of an interrupted study", "--restart"}});
   run_table(dir, cases);
 }
 
@@ -3277,6 +3277,27 @@ TEST_F(Audit, CurvesAreReadAsTheChannelTheyDeclare) {
                    })) + " --dry-run",
                    Want::kError, {"declares its z to be B_l_z", "\"channel\": \"B_l_z\""}});
   run_table(w().dir(), cases);
+}
+
+// A file at <out>.checkpoint that does not begin as a checkpoint (the
+// command's own data, or any file rover never wrote) is never offered for
+// removal nor removed, not even by --restart: "give another --out".
+TEST_F(Audit, FilesThatAreNoCheckpointAreNeverRemoved) {
+  std::vector<Case> cases;
+  const std::string dir = w().dir(), fit = dir + "/fit.h5", data = fit + ".checkpoint";
+  std::ofstream(data) << measured_text("\n");
+  const std::string calibration = w().calibration([&](Json& j) { j["data"] = data; });
+  for (const std::string flags : {"", " --restart"})
+    cases.push_back({"a calibration's data at <out>.checkpoint" + flags, study_args("calibrate", calibration, fit) + flags,
+                     Want::kError, {data}, unchanged(data), {}, {"--restart removes", "discard them"}});
+  const std::string runs = dir + "/runs.h5", foreign = runs + ".checkpoint";
+  write_file(foreign, "a user's notes\n");
+  for (const std::string flags : {"", " --restart"})
+    cases.push_back({"a file of the user's at <out>.checkpoint" + flags,
+                     study_args("montecarlo", w().montecarlo([](Json&) {}), runs) + flags, Want::kError,
+                     {foreign + " is no checkpoint of rover", "give another --out"}, unchanged(foreign), {},
+                     {"--restart removes"}});
+  run_table(dir, cases);
 }
 
 }  // namespace
