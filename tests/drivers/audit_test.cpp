@@ -3300,5 +3300,30 @@ TEST_F(Audit, FilesThatAreNoCheckpointAreNeverRemoved) {
   run_table(dir, cases);
 }
 
+// Two runs: a bootstrap of the sd gives [0, s], which cannot hold it. Below
+// the bootstrap's minimum the sd's interval is the chi-square one of normal
+// values, which holds the estimate, and the report and the file say so.
+TEST_F(Audit, SmallMonteCarloSdIntervalsHoldTheSd) {
+  const std::string out = w().dir() + "/two.h5";
+  const std::string mc = w().montecarlo([](Json& j) {
+    j["parameters"] = {{"scenario.initial_q.z", {{"distribution", "uniform"}, {"min", 0.28}, {"max", 0.3}}}};
+    j["qoi"] = {"B_l_z_min"};
+  });
+  const auto sd_interval = [out] {
+    const io::Hdf5Reader h5(out);
+    const std::vector<double> sd = h5.read_doubles("/summary/B_l_z_min/sd");
+    if (!(sd.at(1) > 0.0 && sd.at(1) < sd.at(0) && sd.at(0) < sd.at(2)))
+      return "the sd's interval [" + std::to_string(sd.at(1)) + ", " + std::to_string(sd.at(2)) + "] misses " +
+             std::to_string(sd.at(0));
+    if (h5.attribute_string("/summary/B_l_z_min/sd", "columns").find("chi-square") == std::string::npos)
+      return std::string("/sd does not name its chi-square interval");
+    return std::string();
+  };
+  run_table(w().dir(), {{"montecarlo of 2 runs", study_args("montecarlo", mc, out), Want::kRuns,
+                         {"the sd's interval is the chi-square one of normal values, as the mean's Student t is",
+                          "2 runs are too few for a bootstrap of the sd (it needs 30)"},
+                         sd_interval}});
+}
+
 }  // namespace
 }  // namespace rover
