@@ -3325,5 +3325,63 @@ TEST_F(Audit, SmallMonteCarloSdIntervalsHoldTheSd) {
                          sd_interval}});
 }
 
+// What a study can know before its runs it checks before them: a held-out
+// file without a QoI or an input the surrogate needs, a "compare" file
+// without the indices compared, and gnuplot on PATH for the figures asked
+// for. Nothing is run, no checkpoint left.
+TEST_F(Audit, FilesAndThePlotterAreCheckedBeforeAnyRun) {
+  const std::string dir = w().dir(), runs = dir + "/held.h5";
+  std::string log;
+  ASSERT_EQ(run_command("cd " + dir + " && " + rover_binary() + " " +
+                            study_args("montecarlo", w().montecarlo([](Json& j) { j["design"]["samples"] = 3; }), runs),
+                        &log),
+            0) << log;  // c_q, QoI t_min
+  const Json c_q = {{"c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.2}}}};
+  auto surrogate = [&](const Json& qoi, const Json& inputs, const std::string& key, const Json& value) {
+    Json j{{"type", "surrogate"}, {"name", "sg"}, {"scenario", w().quick()}, {"parameters", inputs}, {"qoi", qoi},
+           {"design", {{"type", "latin_hypercube"}, {"samples", 8}, {"seed", 1}}}};
+    j[key] = value;
+    return w().json_file("sg", j);
+  };
+  std::vector<Case> cases;
+  const std::string no_qoi = dir + "/no_qoi.h5", no_input = dir + "/no_input.h5", no_indices = dir + "/no_indices.h5";
+  cases.push_back({"a held-out file without the QoI",
+                   study_args("surrogate", surrogate({"B_l_z_min"}, c_q, "held_out", {{"file", runs}}), no_qoi),
+                   Want::kError, {"'held_out.file'", runs + ": held-out runs: no QoI 'B_l_z_min'"},
+                   all_of({absent_file(no_qoi + ".checkpoint"), absent_file(no_qoi)})});
+  const Json f_and_c_q = {{"f", {{"distribution", "log_uniform"}, {"min", 1e3}, {"max", 1e4}}},
+                          {"c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.2}}}};
+  cases.push_back({"a held-out file without an input",
+                   study_args("surrogate", surrogate({"t_min"}, f_and_c_q, "held_out", {{"file", runs}}), no_input),
+                   Want::kError, {"'held_out.file'", runs + ": held-out runs: no input 'f'"},
+                   all_of({absent_file(no_input + ".checkpoint"), absent_file(no_input)})});
+  cases.push_back({"a compare file without indices",
+                   study_args("surrogate", surrogate({"t_min"}, c_q, "compare", {{"file", runs}}), no_indices),
+                   Want::kError, {"'compare.file'", runs + " has no total indices of t_min over the study's inputs (c_q)"},
+                   all_of({absent_file(no_indices + ".checkpoint"), absent_file(no_indices)})});
+  // A PATH with `timeout` and no gnuplot.
+  const std::string bin = dir + "/bin";
+  fs::create_directory(bin);
+  std::string timeout;
+  ASSERT_EQ(run_command("command -v timeout", &timeout), 0) << timeout;
+  timeout.erase(timeout.find_last_not_of(" \n") + 1);
+  fs::create_symlink(timeout, bin + "/timeout");
+  const std::string no_gnuplot = "PATH=" + bin;
+  const std::string unplotted = dir + "/unplotted.h5", simulated = dir + "/simulated.h5";
+  cases.push_back({"a study's figures without gnuplot",
+                   "montecarlo --study " + w().montecarlo([](Json&) {}) + " --out " + unplotted, Want::kError,
+                   {"no gnuplot on PATH (" + bin + ")", "--no-plot"}, all_of({absent_file(unplotted + ".checkpoint"),
+                                                                      absent_file(unplotted)}),
+                   no_gnuplot});
+  cases.push_back({"simulate's plot without gnuplot", "simulate --scenario " + w().quick() + " --out " + simulated,
+                   Want::kError, {"no gnuplot on PATH (" + bin + ")", "--no-plot"}, absent_file(simulated), no_gnuplot});
+  cases.push_back({"friction --png without gnuplot", "friction --png " + dir + "/mu.png", Want::kError,
+                   {"--png needs gnuplot", "no gnuplot on PATH", "give no --png"}, absent_file(dir + "/mu.png"), no_gnuplot});
+  cases.push_back({"a study without figures needs no gnuplot",
+                   study_args("montecarlo", w().montecarlo([](Json&) {}), dir + "/no_figures.h5"), Want::kRuns, {},
+                   {}, no_gnuplot});
+  run_table(dir, cases);
+}
+
 }  // namespace
 }  // namespace rover
