@@ -39,7 +39,10 @@ std::string plot_stem(const std::string& out) {
 void check_output_targets(const SimulateOptions& o, const std::string& out_flag, const std::string& out,
                           FlagChecks& checks) {
   checks.output_file(out_flag, out, /*regular_only=*/true);
-  if (!o.no_plot) checks.plots_beside(out_flag, out);
+  if (!o.no_plot) {
+    checks.plots_beside(out_flag, out);
+    checks.plotter("the plot of " + out_flag, "pass --no-plot");
+  }
 }
 
 // `out` is an .h5 name, and a different file from --csv and from each plot

@@ -97,6 +97,7 @@ int run_obstacle(const ObstacleOptions& o) {
   checks.output_file("--out", o.out, /*regular_only=*/true);
   checks.output_file("--png", o.png, /*regular_only=*/true);
   checks.distinct_files("--png", o.png, "--out", o.out);
+  if (!o.png.empty()) checks.plotter("--png", "give no --png");
   checks.positive("--spacing", o.spacing_m);
   checks.non_negative("--margin", o.margin_m);
   checks.finite("--foot-x", o.obstacle.foot_x_m);

@@ -38,6 +38,7 @@
 #include "io/input_files.hpp"
 #include "io/json_reader.hpp"
 #include "io/output_target.hpp"
+#include "io/plot.hpp"
 
 namespace rover::cli {
 
@@ -109,6 +110,14 @@ class FlagChecks {
   void plots_beside(const std::string& flag, const std::string& path) {
     for (const std::string& problem : io::plots_beside_refused(path))
       add(flag + " '" + path + "': the plot " + problem + "; or pass --no-plot");
+  }
+
+  // gnuplot on PATH (io::plotter_problem) for the plot `asked_by` asks for;
+  // `without` says how to do without it ("pass --no-plot").
+  void plotter(const std::string& asked_by, const std::string& without) {
+    if (const std::string problem = io::plotter_problem(); !problem.empty())
+      add(asked_by + " needs gnuplot (with the pngcairo terminal), but there is " + problem + ": install it, or " +
+          without);
   }
 
   // An output that would replace one of `inputs`, the files the command reads

@@ -101,16 +101,22 @@ inline void check_leftover_checkpoint(FlagChecks& checks, const std::string& res
     checks.add(checkpoint + " is no checkpoint (not a regular file): remove it, or give another --out");
     return;
   }
-  if (resume || restart || !std::filesystem::exists(there)) return;
+  if (!std::filesystem::exists(there)) return;
+  // A file that does not begin as a checkpoint was never written by rover: it is
+  // someone's data (an input of this very command, perhaps), never removed, not
+  // even with --restart. (--resume reads it, and refuses it, before any run.)
+  if (!resume && io::ResultCheckpoint::is_foreign_file(checkpoint)) {
+    checks.add(checkpoint + " is no checkpoint of rover (it does not begin as one), and rover never removes such "
+               "a file: give another --out");
+    return;
+  }
+  if (resume || restart) return;
   if (std::filesystem::is_symlink(there))
     checks.add(checkpoint + " is a symbolic link, which no checkpoint is: --restart removes the link, or give "
                "another --out");
   else if (std::filesystem::hard_link_count(checkpoint, error) > 1)
     checks.add(checkpoint + " is one of several names of a file (a hard link), which no checkpoint is: --restart "
                "removes this name (the file keeps its others), or give another --out");
-  else if (!io::ResultCheckpoint::is_checkpoint_file(checkpoint))
-    checks.add(checkpoint + " is no checkpoint of rover (it does not begin as one): --restart removes it, or "
-               "give another --out");
   else
     checks.add(checkpoint + " holds the finished runs of an interrupted study; continue it with --resume, or "
                "discard them and start afresh with --restart");

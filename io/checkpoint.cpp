@@ -145,6 +145,13 @@ bool ResultCheckpoint::is_checkpoint_file(const std::string& path) {
   return in.gcount() == sizeof magic && std::equal(magic, magic + sizeof magic, kMagic);
 }
 
+bool ResultCheckpoint::is_foreign_file(const std::string& path) {
+  std::error_code error;
+  const std::filesystem::file_status status = std::filesystem::symlink_status(path, error);
+  return std::filesystem::is_regular_file(status) && std::filesystem::hard_link_count(path, error) == 1 &&
+         !is_checkpoint_file(path);
+}
+
 ResultCheckpoint::ResultCheckpoint(const std::string& results_path, std::string fingerprint,
                                    CheckpointPolicy policy)
     : path_(path_for(results_path)),
@@ -180,13 +187,18 @@ std::vector<TaskRecord> ResultCheckpoint::load() {
                              "; it is kept: continue it with the configuration that made it, or discard it with "
                              "--restart instead of --resume");
   };
+  // A file that does not begin as a checkpoint is never offered for removal.
+  const auto refuse_foreign = [&](const std::string& why) {
+    throw std::runtime_error(path_ + ": " + why + "; rover never removes such a file: give another --out");
+  };
 
   char magic[sizeof kMagic] = {};
   in.read(magic, sizeof magic);
   if (in.gcount() == sizeof magic && std::equal(magic, magic + 8, kHdf5Signature))
-    refuse("an HDF5 checkpoint of an earlier version of this program, which cannot be resumed");
+    refuse_foreign("an HDF5 file (a checkpoint of an earlier version of this program, which cannot be resumed, "
+                   "or another file)");
   if (in.gcount() != sizeof magic || !std::equal(magic, magic + 8, kMagic))
-    refuse("not a rover checkpoint (it does not start with \"ROVERCKP\")");
+    refuse_foreign("not a rover checkpoint (it does not start with \"ROVERCKP\")");
   char fixed[8];
   if (!in.read(fixed, sizeof fixed)) refuse("damaged checkpoint header");
   const std::uint32_t version = get_u32(fixed);
@@ -293,6 +305,9 @@ void ResultCheckpoint::save() {
 }
 
 void ResultCheckpoint::remove() {
+  if (is_foreign_file(path_))
+    throw std::runtime_error(path_ + ": not a rover checkpoint (it does not start with \"ROVERCKP\"); rover never "
+                             "removes such a file: give another --out");
   std::error_code error;
   std::filesystem::remove(path_, error);
   if (error) throw std::runtime_error(path_ + ": cannot delete the checkpoint: " + error.message());

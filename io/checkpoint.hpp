@@ -71,6 +71,9 @@ class ResultCheckpoint {
   const std::string& path() const { return path_; }
   // Whether the file at `path` begins as a checkpoint (its 8-byte signature).
   static bool is_checkpoint_file(const std::string& path);
+  // Whether `path` is a regular file of one name that does not begin as a
+  // checkpoint: someone's data, which remove() and --restart never delete.
+  static bool is_foreign_file(const std::string& path);
 
   // Reads the checkpoint file if there is one: returns its records sorted by
   // index (the last record of an index counts), none if there is no file,

@@ -316,6 +316,17 @@ void render(const std::string& png_path,
 
 }  // namespace
 
+std::string plotter_problem() {
+  const char* path = std::getenv("PATH");
+  std::stringstream directories(path ? path : "");
+  for (std::string dir; std::getline(directories, dir, ':');) {
+    const std::string candidate = (dir.empty() ? std::string(".") : dir) + "/gnuplot";
+    std::error_code error;
+    if (fs::is_regular_file(candidate, error) && ::access(candidate.c_str(), X_OK) == 0) return "";
+  }
+  return "no gnuplot on PATH (" + std::string(path ? path : "unset") + ")";
+}
+
 double nice_tick_step(double span, int max_intervals) {
   if (!(span > 0.0 && std::isfinite(span)) || max_intervals < 1)
     throw std::invalid_argument("nice_tick_step: needs a finite span > 0 and max_intervals >= 1, got " +

@@ -124,6 +124,11 @@ void write_png(const PanelGrid& grid, const std::string& png_path);
 // max_intervals >= 1.
 double nice_tick_step(double span, int max_intervals);
 
+// "" when gnuplot is on PATH (an executable file of that name in one of its
+// directories), else why no plot can be drawn ("no gnuplot on PATH (<PATH>)"):
+// the commands check it before any run, where plots are asked for.
+std::string plotter_problem();
+
 // For callers whose numbers are already saved: writes the plot and logs
 // "<label>: wrote <path>", or logs "<label>: warning: no plot (<why>)" instead
 // of throwing, so a missing gnuplot never costs a result. Returns success.

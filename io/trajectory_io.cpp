@@ -170,6 +170,9 @@ Curve read_curve(const std::string& path, const std::string& column) {
     } else {
       if (std::find(h.begin(), h.end(), "z") == h.end())
         throw ConfigError(path + ": no column '" + column + "', nor 'z' of measured data");
+      if (const std::string declared = declared_channel(path); !declared.empty() && declared != column)
+        throw ConfigError(path + ": declares its z to be " + declared + " (its header), but is read as " + column +
+                          ": give a curve of " + column);
       curve = curve_from_table(table, "z", kMeasuredCurveMaxAbsHeight_m);
     }
     c.t = std::move(curve.t_s);

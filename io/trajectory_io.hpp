@@ -27,7 +27,9 @@ std::vector<std::string> write_trajectory_plots(const std::string& png_stem,
 
 // A named curve (t, y) from a trajectory file: HDF5 (/t and /<column>) or CSV
 // with a header (column "t" and the named one, or "z" for measured drop data,
-// read by read_measured_curve with its bound on |z|). Times must increase
+// read by read_measured_curve with its bound on |z|; a "z" whose header
+// declares another channel than `column` is refused, see declared_channel).
+// Times must increase
 // strictly over at least 3 samples and every value be finite; throws
 // ConfigError naming the file and the line (CSV) or the sample (HDF5). The
 // HDF5 record of a failed run (attribute status_code not 0) is refused with

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include <boost/math/distributions/binomial.hpp>
+#include <boost/math/distributions/chi_squared.hpp>
 #include <boost/math/distributions/students_t.hpp>
 #include <boost/random/mersenne_twister.hpp>
 #include <boost/random/uniform_int_distribution.hpp>
@@ -120,7 +121,31 @@ double sample_sd(const std::vector<double>& x) {
   return std::sqrt(ss / (n - 1.0));
 }
 
+// The bootstrap percentile interval of the sd of `values` (see the header).
+std::pair<double, double> bootstrap_sd_interval(const std::vector<double>& values, double confidence, int resamples,
+                                                std::uint64_t seed) {
+  const std::size_t n = values.size();
+  boost::random::mt19937_64 engine(seed);
+  boost::random::uniform_int_distribution<std::size_t> pick(0, n - 1);
+  std::vector<double> resample(n), sds(static_cast<std::size_t>(resamples));
+  for (double& sd : sds) {
+    for (double& x : resample) x = values[pick(engine)];
+    sd = sample_sd(resample);
+  }
+  std::sort(sds.begin(), sds.end());
+  return {quantile(sds, 0.5 - confidence / 2), quantile(sds, 0.5 + confidence / 2)};
+}
+
 }  // namespace
+
+std::pair<double, double> chi_square_sd_interval(double sd, int n, double confidence) {
+  check_probability(confidence, "confidence");
+  if (n < 2) throw std::invalid_argument("chi_square_sd_interval: needs n >= 2, got " + std::to_string(n));
+  const boost::math::chi_squared chi2(static_cast<double>(n - 1));
+  const double dof = static_cast<double>(n - 1);
+  return {sd * std::sqrt(dof / boost::math::quantile(chi2, 0.5 + confidence / 2)),
+          sd * std::sqrt(dof / boost::math::quantile(chi2, 0.5 - confidence / 2))};
+}
 
 int minimum_samples_for_quantile_interval(double p, double confidence) {
   check_probability(p, "quantile probability");
@@ -176,16 +201,16 @@ QoiSummary summarize_qoi(std::vector<double> values, const std::vector<double>& 
     s.mean_upper = s.mean + half;
   }
   if (n >= 2 && bootstrap_resamples > 0) {
-    boost::random::mt19937_64 engine(seed);
-    boost::random::uniform_int_distribution<std::size_t> pick(0, n - 1);
-    std::vector<double> resample(n), sds(static_cast<std::size_t>(bootstrap_resamples));
-    for (double& sd : sds) {
-      for (double& x : resample) x = values[pick(engine)];
-      sd = sample_sd(resample);
+    if (n < static_cast<std::size_t>(kMinBootstrapSdSamples)) {
+      const auto [lower, upper] = chi_square_sd_interval(s.sd, static_cast<int>(n), confidence);
+      s.sd_lower = lower;
+      s.sd_upper = upper;
+      s.sd_interval_chi_square = true;
+    } else {
+      const auto [lower, upper] = bootstrap_sd_interval(values, confidence, bootstrap_resamples, seed);
+      s.sd_lower = lower;
+      s.sd_upper = upper;
     }
-    std::sort(sds.begin(), sds.end());
-    s.sd_lower = quantile(sds, 0.5 - confidence / 2);
-    s.sd_upper = quantile(sds, 0.5 + confidence / 2);
   }
 
   std::vector<std::string> notes;

@@ -191,8 +191,10 @@ void stream_study_tasks(int task_count, const std::function<TaskResult(int)>& co
 }
 
 void remove_checkpoint(const std::string& results_path) {
+  const std::string path = io::ResultCheckpoint::path_for(results_path);
+  if (io::ResultCheckpoint::is_foreign_file(path)) return;  // someone's data, never removed
   std::error_code ignored;
-  std::filesystem::remove(io::ResultCheckpoint::path_for(results_path), ignored);
+  std::filesystem::remove(path, ignored);
 }
 
 GaussianProcessSettings interruptible(GaussianProcessSettings settings) {

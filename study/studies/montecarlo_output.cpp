@@ -25,7 +25,9 @@ void write_summary(io::Hdf5Writer& h5, const std::string& name, const QoiSummary
   h5.write(g + "quantile_lower", lo);
   h5.write(g + "quantile_upper", hi);
   h5.attribute(g + "mean", "columns", "estimate, lower, upper (Student t)");
-  h5.attribute(g + "sd", "columns", "estimate, lower, upper (bootstrap percentile)");
+  h5.attribute(g + "sd", "columns",
+               s.sd_interval_chi_square ? "estimate, lower, upper (chi-square, normal values assumed)"
+                                        : "estimate, lower, upper (bootstrap percentile)");
   h5.attribute(g + "quantile", "note", s.note);
   h5.attribute(g + "mean", "samples", static_cast<long long>(s.samples));
   h5.attribute(g + "mean", "confidence", confidence);
@@ -41,6 +43,15 @@ void write_band(io::Hdf5Writer& h5, const std::string& channel, const Band& b) {
   h5.write(g + "p99865", b.p99865);
   h5.attribute(g + "mean", "samples_used", static_cast<long long>(b.samples_used));
 }
+
+// Why the intervals of a small sample are the normal-theory ones.
+std::string small_sample_note(int samples) {
+  return "the sd's interval is the chi-square one of normal values, as the mean's Student t is: " +
+         std::to_string(samples) + " runs are too few for a bootstrap of the sd (it needs " +
+         std::to_string(kMinBootstrapSdSamples) + ") or for the central limit theorem";
+}
+
+std::string join_notes(const std::string& a, const std::string& b) { return a.empty() || b.empty() ? a + b : a + "; " + b; }
 
 }  // namespace
 
@@ -82,8 +93,9 @@ void report_montecarlo(const MonteCarloResult& result, std::ostream& out) {
           << " [" << k * s.sd_lower << ", " << k * s.sd_upper << "] " << unit.name << " (" << s.samples << " runs, "
           << percent << " % intervals)\n";
     }
-    if (!s.note.empty() && s.note != last_note) out << "    " << s.note << "\n";
-    last_note = s.note;
+    const std::string note = s.sd_interval_chi_square ? join_notes(small_sample_note(s.samples), s.note) : s.note;
+    if (!note.empty() && note != last_note) out << "    " << note << "\n";
+    last_note = note;
   }
 }
 

@@ -11,6 +11,7 @@
 #include "core/run_note.hpp"
 #include "io/checkpoint.hpp"
 #include "io/output_target.hpp"
+#include "io/plot.hpp"
 
 #include "study/runtime/run_record.hpp"
 #include "study/studies/study_output.hpp"
@@ -113,6 +114,12 @@ StudyRunOptions prepare(const std::string& command, const std::string& name, con
 }
 
 bool is_csv_path(const std::string& path) { return path.ends_with(".csv"); }
+
+void require_plotter() {
+  if (const std::string problem = io::plotter_problem(); !problem.empty())
+    throw std::invalid_argument("--plots: the study's figures need gnuplot (with the pngcairo terminal), but there "
+                                "is " + problem + ": install it, or pass --no-plot (--plots none)");
+}
 
 void commit(const std::string& command, const std::string& results_path, io::Hdf5Writer* h5,
             const RunCounts& counts) {

@@ -146,6 +146,10 @@ StudyRunOptions prepare(const std::string& command, const std::string& name, con
 
 bool is_csv_path(const std::string& path);
 
+// Before any run of a study that will plot: gnuplot is on PATH
+// (io::plotter_problem), else std::invalid_argument naming --no-plot.
+void require_plotter();
+
 // Commits the result file (if `h5` is not null: a CSV is already in place),
 // removes the checkpoint and prints the one-line summary.
 void commit(const std::string& command, const std::string& results_path, io::Hdf5Writer* h5,
@@ -194,6 +198,7 @@ void report_dry_run(const std::string& command, const std::string& results_path)
 template <class Result>
 int drive_study(const StudyProgram<Result>& study, const StudyRunOptions& options) {
   StudyRuntime runtime;
+  if (study.plot && options.plots != PlotSelection::kNone) driver_detail::require_plotter();
   runtime.options = driver_detail::prepare(study.command, study.name, study.fingerprint, study.memory,
                                            study.banner, static_cast<bool>(study.write_csv), study.inputs,
                                            options);

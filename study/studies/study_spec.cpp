@@ -345,6 +345,48 @@ std::vector<UncertainInput> analytic_inputs(const io::JsonReader& r, const Analy
   return inputs;
 }
 
+// An rms_vs QoI's "reference" curve (and its "channel" into q): the checks of
+// every measured curve, and a declared channel other than the QoI's refused.
+std::shared_ptr<ReferenceCurve> parse_rms_reference(const io::JsonReader& o, const std::string& study_path,
+                                                    const std::string& qoi_field, QoiSpec& q) {
+  auto ref = std::make_shared<ReferenceCurve>();
+  ref->path = io::resolve_relative(study_path, o.string("reference"));
+  const std::string channel = o.string_or("channel", "B_l_z");
+  try {
+    q.channel = channel_from_name(channel);
+  } catch (const std::invalid_argument& e) {
+    o.fail("channel", e.what());
+  }
+  try {
+    if (ref->path.ends_with(".csv")) {
+      // The checks of every measured curve (io::read_measured_curve): a
+      // height in millimetres is caught; other channels have no bound.
+      const double bound = channel.ends_with("_z") ? io::kMeasuredCurveMaxAbsHeight_m
+                                                   : std::numeric_limits<double>::infinity();
+      const io::MeasuredCurve c = io::curve_from_table(io::read_csv(ref->path, {"t", "z"}), "z", bound);
+      ref->t = c.t_s;
+      ref->value = c.z_m;
+    } else {
+      const io::Curve c = io::read_curve(ref->path, channel);
+      ref->t = c.t;
+      ref->value = c.y;
+    }
+  } catch (const std::exception& e) {
+    o.fail("reference", e.what());
+  }
+  // A curve whose header declares its channel (rover synthesize) is compared as that channel only.
+  if (const std::string declared = io::declared_channel(ref->path); !declared.empty() && declared != channel)
+    o.fail("reference", ref->path + ": declares its z to be " + declared + " (its header), but rms_vs compares " +
+                            channel + ": give \"channel\": \"" + declared + "\" in " + qoi_field +
+                            ", or a curve of " + channel);
+  for (std::size_t i = 1; i < ref->t.size(); ++i)
+    if (!(ref->t[i] > ref->t[i - 1]))
+      o.fail("reference", ref->path + ": times must increase strictly (row " + std::to_string(i + 1) + ")");
+  if (ref->t.size() < 3) o.fail("reference", ref->path + ": needs at least 3 samples");
+  ref->time_offset_s = o.number_or("time_offset", 0.0);
+  return ref;
+}
+
 std::vector<QoiSpec> parse_qois(const io::JsonReader& r, const std::string& study_path) {
   std::vector<QoiSpec> qois;
   const io::Json& list = r.raw("qoi");
@@ -374,39 +416,7 @@ std::vector<QoiSpec> parse_qois(const io::JsonReader& r, const std::string& stud
                                " m, wider than a drop test's travel of a few centimetres: every run would settle "
                                "at once (a band in millimetres?)");
         }
-        if (q.kind == QoiKind::kRmsVs) {
-          auto ref = std::make_shared<ReferenceCurve>();
-          ref->path = io::resolve_relative(study_path, o.string("reference"));
-          const std::string channel = o.string_or("channel", "B_l_z");
-          try {
-            q.channel = channel_from_name(channel);
-          } catch (const std::invalid_argument& e) {
-            o.fail("channel", e.what());
-          }
-          try {
-            if (ref->path.ends_with(".csv")) {
-              // The checks of every measured curve (io::read_measured_curve): a
-              // height in millimetres is caught; other channels have no bound.
-              const double bound = channel.ends_with("_z") ? io::kMeasuredCurveMaxAbsHeight_m
-                                                           : std::numeric_limits<double>::infinity();
-              const io::MeasuredCurve c = io::curve_from_table(io::read_csv(ref->path, {"t", "z"}), "z", bound);
-              ref->t = c.t_s;
-              ref->value = c.z_m;
-            } else {
-              const io::Curve c = io::read_curve(ref->path, channel);
-              ref->t = c.t;
-              ref->value = c.y;
-            }
-          } catch (const std::exception& e) {
-            o.fail("reference", e.what());
-          }
-          for (std::size_t i = 1; i < ref->t.size(); ++i)
-            if (!(ref->t[i] > ref->t[i - 1]))
-              o.fail("reference", ref->path + ": times must increase strictly (row " + std::to_string(i + 1) + ")");
-          if (ref->t.size() < 3) o.fail("reference", ref->path + ": needs at least 3 samples");
-          ref->time_offset_s = o.number_or("time_offset", 0.0);
-          q.reference = ref;
-        }
+        if (q.kind == QoiKind::kRmsVs) q.reference = parse_rms_reference(o, study_path, r.field(field), q);
         o.finish();
       } else {
         r.fail(field, "expected a QoI name or {\"name\": ...}");

@@ -1,12 +1,15 @@
 // See surrogate_spec.hpp.
 #include "study/studies/surrogate_spec.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
 #include "core/number_text.hpp"
+#include "core/name_list.hpp"
 #include "io/hdf5_file.hpp"
 #include "io/scenario_config.hpp"
+#include "study/studies/surrogate_training.hpp"
 
 namespace rover::study {
 namespace {
@@ -114,9 +117,33 @@ void check_held_out_runs(const io::JsonReader& r, const SurrogateStudy& s) {
     if (runs < kMinHeldOutRuns)
       h.fail("file", s.held_out_file + " holds " + std::to_string(runs) + " run(s); a held-out Q2 needs at least " +
                          std::to_string(kMinHeldOutRuns));
+    try {  // its inputs, QoIs, scenario and rover: before any run, not after them
+      (void)read_result_runs(s.held_out_file, s, "held-out");
+    } catch (const std::exception& e) {
+      h.fail("file", e.what());
+    }
   } else if (s.training_file.empty() && s.held_out_runs() < kMinHeldOutRuns) {
     h.fail("fraction", held_out_count_problem(s.held_out_fraction, s.spec.design.samples));
   }
+}
+
+// A "compare" file without the total indices of any QoI is refused before
+// any run; one without some QoIs' indices is warned of then.
+void check_compare_file(const io::JsonReader& c, SurrogateStudy& s) {
+  std::vector<std::string> missing;
+  try {
+    missing = qois_without_compared_indices(s);
+  } catch (const std::exception& e) {
+    c.fail("file", e.what());
+  }
+  if (missing.empty()) return;
+  std::vector<std::string> inputs;
+  for (const UncertainInput& in : s.spec.inputs) inputs.push_back(in.label);
+  const std::string lacks = s.compare_file + " has no total indices of " + comma_separated(missing) +
+                            " over the study's inputs (" + comma_separated(inputs) + ")";
+  if (missing.size() == s.qoi_names().size())
+    c.fail("file", lacks + ": give the result of rover sensitivity (Sobol') of these QoIs over these inputs");
+  s.spec.warnings.push_back("'compare.file': " + lacks + ": they are compared with nothing");
 }
 
 void check_design_runs(const io::JsonReader& r, const SurrogateStudy& s) {
@@ -197,6 +224,7 @@ SurrogateStudy load_surrogate_study(const std::string& path) {
     const io::JsonReader c = r.child("compare");
     if (s.kind != SurrogateKind::kPolynomialChaos) r.fail("compare", "compares the indices of a polynomial chaos");
     s.compare_file = existing_file(c, path, "rover sensitivity, whose indices are compared");
+    check_compare_file(c, s);
     c.finish();
   }
   if (!from_file) check_design_runs(r, s);
@@ -206,6 +234,19 @@ SurrogateStudy load_surrogate_study(const std::string& path) {
       s.spec.fingerprint, std::string("surrogate ") + surrogate_kind_name(s.kind) + " " + s.training_file + " " +
                               s.held_out_file + " " + std::to_string(s.held_out_fraction));
   return s;
+}
+
+std::vector<std::string> qois_without_compared_indices(const SurrogateStudy& study) {
+  const io::Hdf5Reader h5(study.compare_file);
+  const std::vector<std::string> names =
+      h5.exists("/inputs/names") ? h5.read_strings("/inputs/names") : std::vector<std::string>{};
+  const bool every_input = std::all_of(study.spec.inputs.begin(), study.spec.inputs.end(), [&](const UncertainInput& in) {
+    return std::find(names.begin(), names.end(), in.name) != names.end();
+  });
+  std::vector<std::string> missing;
+  for (const std::string& q : study.qoi_names())
+    if (!every_input || !h5.exists("/indices/" + q + "/ST")) missing.push_back(q);
+  return missing;
 }
 
 void set_surrogate_runs(SurrogateStudy& s, int runs) {

@@ -65,6 +65,11 @@ int min_training_runs(const SurrogateStudy& study);
 // (kMinHeldOutRuns), naming the count and the least fraction; "" if enough.
 std::string held_out_count_problem(double fraction, long long runs);
 
+// The QoIs of `study` whose total indices over all of its inputs its
+// "compare" file lacks (/indices/<qoi>/ST, /inputs/names). Throws what
+// reading the file throws.
+std::vector<std::string> qois_without_compared_indices(const SurrogateStudy& study);
+
 // --samples: the design's run count. Throws std::invalid_argument for a study
 // trained on a file, or too few runs for the fit or for the held-out Q2.
 void set_surrogate_runs(SurrogateStudy& study, int runs);

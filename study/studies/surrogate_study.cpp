@@ -176,7 +176,7 @@ std::vector<std::string> study_warnings(const SurrogateStudy& study, const Surro
 }
 
 // The total indices of the "compare" file, matched by input name; a QoI or
-// input it lacks is left empty and said in a warning.
+// input it lacks is left empty (load_surrogate_study warned of it before any run).
 void read_compared(const SurrogateStudy& study, SurrogateStudyResult& r) {
   if (study.compare_file.empty()) return;
   const io::Hdf5Reader h5(study.compare_file);
@@ -191,8 +191,6 @@ void read_compared(const SurrogateStudy& study, SurrogateStudyResult& r) {
       if (it != names.end()) columns.push_back(static_cast<std::size_t>(it - names.begin()));
     }
     if (!h5.exists(g + "ST") || columns.size() != study.spec.inputs.size()) {
-      r.warnings.push_back("compare: " + study.compare_file + " has no total indices of '" + q +
-                           "' over the study's inputs");
       r.compared.push_back(c);
       continue;
     }
@@ -206,6 +204,15 @@ void read_compared(const SurrogateStudy& study, SurrogateStudyResult& r) {
     c.ST_lower = pick("ST_lower");
     c.ST_upper = pick("ST_upper");
     r.compared.push_back(c);
+  }
+}
+
+// The runs of the file named by '<field>.file', errors naming that field.
+TrainingRuns read_named_runs(const SurrogateStudy& study, const std::string& file, const std::string& field) {
+  try {
+    return read_result_runs(file, study, field == "held_out" ? "held-out" : field);
+  } catch (const io::ConfigError& e) {
+    throw io::ConfigError(study.spec.path + ": field '" + field + ".file': " + e.what());
   }
 }
 
@@ -232,12 +239,12 @@ SurrogateStudyResult run_surrogate_study(const SurrogateStudy& study, const Stud
   const auto start = Clock::now();
   TrainingRuns runs;
   if (study.training_file.empty()) runs = run_design_runs(study, runtime.options);
-  else if (root) runs = read_result_runs(study.training_file, study, "training");
+  else if (root) runs = read_named_runs(study, study.training_file, "training");
   if (!root) return {};
   const double runs_s = seconds_since(start);
   TrainingRuns held_out;
   if (!study.held_out_file.empty()) {
-    held_out = read_result_runs(study.held_out_file, study, "held-out");
+    held_out = read_named_runs(study, study.held_out_file, "held_out");
   } else {
     const int count = static_cast<int>(std::lround(study.held_out_fraction * runs.runs()));
     if (study.held_out_fraction > 0.0)  // of a training file: its run count is known now

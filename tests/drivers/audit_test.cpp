@@ -37,6 +37,7 @@
 
 #include <gtest/gtest.h>
 
+#include "io/csv.hpp"
 #include "io/hdf5_file.hpp"
 #include "io/json_reader.hpp"
 #include "io/output_lock.hpp"
@@ -1375,8 +1376,8 @@ TEST_F(Audit, LeftoverCheckpoints) {
   const std::string foreign = dir + "/foreign.h5";
   write_file(foreign + ".checkpoint", "not a checkpoint\n");
   cases.push_back({"montecarlo beside a file that is no checkpoint", study_args("montecarlo", mc, foreign),
-                   Want::kError, {foreign + ".checkpoint is no checkpoint of rover", "--restart removes it"},
-                   unchanged(foreign + ".checkpoint"), {}, {"finished runs of an interrupted study"}});
+                   Want::kError, {foreign + ".checkpoint is no checkpoint of rover", "give another --out"},
+                   unchanged(foreign + ".checkpoint"), {}, {"finished runs of an interrupted study", "--restart"}});
   run_table(dir, cases);
 }
 
@@ -3420,6 +3421,147 @@ TEST_F(Audit, NoiseFarAboveTheResidualsAndTheReferenceUnchecked) {
                     "there is no tighter one to check it against"},
                    {}, {}, {"against dopri5 at rtol 1e-08, atol 1e-11): shifts"}});
   run_table(w().dir(), cases);
+}
+
+// A curve whose header declares its channel (as rover synthesize writes it,
+// and as every shipped curve does) is refused wherever it is read as another
+// channel: a study's rms_vs reference, a surface's reference file, compare,
+// a calibration's data.
+TEST_F(Audit, CurvesAreReadAsTheChannelTheyDeclare) {
+  for (const auto& entry : fs::directory_iterator(source_path("configs/data")))
+    if (entry.path().extension() == ".csv")
+      EXPECT_NE(io::declared_channel(entry.path().string()), "") << entry.path() << " declares no channel";
+  std::vector<Case> cases;
+  const std::string g_z = w().out("csv");
+  std::string log;
+  ASSERT_EQ(run_command(rover_binary() + " synthesize --scenario " + w().quick() + " --channel G_z --out " + g_z, &log),
+            0) << log;
+  auto rms_vs = [&](const Json& qoi) { return w().montecarlo([&](Json& j) { j["qoi"] = {qoi}; }); };
+  cases.push_back({"a G_z curve as an rms_vs reference of B_l z",
+                   study("montecarlo", rms_vs({{"name", "rms_vs"}, {"reference", g_z}})), Want::kError,
+                   {"'qoi[0].reference'", g_z + ": declares its z to be G_z (its header), but rms_vs compares B_l_z",
+                    "give \"channel\": \"G_z\" in qoi[0]"}});
+  cases.push_back({"a G_z curve as an rms_vs reference of G_z",
+                   study("montecarlo", rms_vs({{"name", "rms_vs"}, {"reference", g_z}, {"channel", "G_z"}})),
+                   Want::kRuns, {}, {}, {}, {"declares its z"}});
+  cases.push_back({"a G_z curve as a surface's reference",
+                   study("surface", w().surface([&](Json& j) { j["reference"] = {{"file", g_z}}; })), Want::kError,
+                   {"'reference.file'", g_z + ": declares its z to be G_z (its header), but is read as B_l_z",
+                    "give a curve of B_l_z"}});
+  const std::string shipped = source_path("configs/data/drop_horizontal_synthetic.csv");
+  cases.push_back({"the shipped B_l z curve compared as G_z",
+                   "compare " + simulated_curve(w().dir() + "/quick_run.h5") + " " + shipped + " --column G_z",
+                   Want::kError, {"declares its z to be B_l_z, but --column is G_z"}});
+  cases.push_back({"the shipped skewed B_l z curve fitted as G_z",
+                   study("calibrate", w().calibration([&](Json& j) {
+                     j["data"] = {{{"file", source_path("configs/data/drop_skewed_synthetic.csv")}, {"channel", "G_z"}}};
+                   })) + " --dry-run",
+                   Want::kError, {"declares its z to be B_l_z", "\"channel\": \"B_l_z\""}});
+  run_table(w().dir(), cases);
+}
+
+// A file at <out>.checkpoint that does not begin as a checkpoint (the
+// command's own data, or any file rover never wrote) is never offered for
+// removal nor removed, not even by --restart: "give another --out".
+TEST_F(Audit, FilesThatAreNoCheckpointAreNeverRemoved) {
+  std::vector<Case> cases;
+  const std::string dir = w().dir(), fit = dir + "/fit.h5", data = fit + ".checkpoint";
+  std::ofstream(data) << measured_text("\n");
+  const std::string calibration = w().calibration([&](Json& j) { j["data"] = data; });
+  for (const std::string flags : {"", " --restart"})
+    cases.push_back({"a calibration's data at <out>.checkpoint" + flags, study_args("calibrate", calibration, fit) + flags,
+                     Want::kError, {data}, unchanged(data), {}, {"--restart removes", "discard them"}});
+  const std::string runs = dir + "/runs.h5", foreign = runs + ".checkpoint";
+  write_file(foreign, "a user's notes\n");
+  for (const std::string flags : {"", " --restart"})
+    cases.push_back({"a file of the user's at <out>.checkpoint" + flags,
+                     study_args("montecarlo", w().montecarlo([](Json&) {}), runs) + flags, Want::kError,
+                     {foreign + " is no checkpoint of rover", "give another --out"}, unchanged(foreign), {},
+                     {"--restart removes"}});
+  run_table(dir, cases);
+}
+
+// Two runs: a bootstrap of the sd gives [0, s], which cannot hold it. Below
+// the bootstrap's minimum the sd's interval is the chi-square one of normal
+// values, which holds the estimate, and the report and the file say so.
+TEST_F(Audit, SmallMonteCarloSdIntervalsHoldTheSd) {
+  const std::string out = w().dir() + "/two.h5";
+  const std::string mc = w().montecarlo([](Json& j) {
+    j["parameters"] = {{"scenario.initial_q.z", {{"distribution", "uniform"}, {"min", 0.28}, {"max", 0.3}}}};
+    j["qoi"] = {"B_l_z_min"};
+  });
+  const auto sd_interval = [out] {
+    const io::Hdf5Reader h5(out);
+    const std::vector<double> sd = h5.read_doubles("/summary/B_l_z_min/sd");
+    if (!(sd.at(1) > 0.0 && sd.at(1) < sd.at(0) && sd.at(0) < sd.at(2)))
+      return "the sd's interval [" + std::to_string(sd.at(1)) + ", " + std::to_string(sd.at(2)) + "] misses " +
+             std::to_string(sd.at(0));
+    if (h5.attribute_string("/summary/B_l_z_min/sd", "columns").find("chi-square") == std::string::npos)
+      return std::string("/sd does not name its chi-square interval");
+    return std::string();
+  };
+  run_table(w().dir(), {{"montecarlo of 2 runs", study_args("montecarlo", mc, out), Want::kRuns,
+                         {"the sd's interval is the chi-square one of normal values, as the mean's Student t is",
+                          "2 runs are too few for a bootstrap of the sd (it needs 30)"},
+                         sd_interval}});
+}
+
+// What a study can know before its runs it checks before them: a held-out
+// file without a QoI or an input the surrogate needs, a "compare" file
+// without the indices compared, and gnuplot on PATH for the figures asked
+// for. Nothing is run, no checkpoint left.
+TEST_F(Audit, FilesAndThePlotterAreCheckedBeforeAnyRun) {
+  const std::string dir = w().dir(), runs = dir + "/held.h5";
+  std::string log;
+  ASSERT_EQ(run_command("cd " + dir + " && " + rover_binary() + " " +
+                            study_args("montecarlo", w().montecarlo([](Json& j) { j["design"]["samples"] = 3; }), runs),
+                        &log),
+            0) << log;  // c_q, QoI t_min
+  const Json c_q = {{"c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.2}}}};
+  auto surrogate = [&](const Json& qoi, const Json& inputs, const std::string& key, const Json& value) {
+    Json j{{"type", "surrogate"}, {"name", "sg"}, {"scenario", w().quick()}, {"parameters", inputs}, {"qoi", qoi},
+           {"design", {{"type", "latin_hypercube"}, {"samples", 8}, {"seed", 1}}}};
+    j[key] = value;
+    return w().json_file("sg", j);
+  };
+  std::vector<Case> cases;
+  const std::string no_qoi = dir + "/no_qoi.h5", no_input = dir + "/no_input.h5", no_indices = dir + "/no_indices.h5";
+  cases.push_back({"a held-out file without the QoI",
+                   study_args("surrogate", surrogate({"B_l_z_min"}, c_q, "held_out", {{"file", runs}}), no_qoi),
+                   Want::kError, {"'held_out.file'", runs + ": held-out runs: no QoI 'B_l_z_min'"},
+                   all_of({absent_file(no_qoi + ".checkpoint"), absent_file(no_qoi)})});
+  const Json f_and_c_q = {{"f", {{"distribution", "log_uniform"}, {"min", 1e3}, {"max", 1e4}}},
+                          {"c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.2}}}};
+  cases.push_back({"a held-out file without an input",
+                   study_args("surrogate", surrogate({"t_min"}, f_and_c_q, "held_out", {{"file", runs}}), no_input),
+                   Want::kError, {"'held_out.file'", runs + ": held-out runs: no input 'f'"},
+                   all_of({absent_file(no_input + ".checkpoint"), absent_file(no_input)})});
+  cases.push_back({"a compare file without indices",
+                   study_args("surrogate", surrogate({"t_min"}, c_q, "compare", {{"file", runs}}), no_indices),
+                   Want::kError, {"'compare.file'", runs + " has no total indices of t_min over the study's inputs (c_q)"},
+                   all_of({absent_file(no_indices + ".checkpoint"), absent_file(no_indices)})});
+  // A PATH with `timeout` and no gnuplot.
+  const std::string bin = dir + "/bin";
+  fs::create_directory(bin);
+  std::string timeout;
+  ASSERT_EQ(run_command("command -v timeout", &timeout), 0) << timeout;
+  timeout.erase(timeout.find_last_not_of(" \n") + 1);
+  fs::create_symlink(timeout, bin + "/timeout");
+  const std::string no_gnuplot = "PATH=" + bin;
+  const std::string unplotted = dir + "/unplotted.h5", simulated = dir + "/simulated.h5";
+  cases.push_back({"a study's figures without gnuplot",
+                   "montecarlo --study " + w().montecarlo([](Json&) {}) + " --out " + unplotted, Want::kError,
+                   {"no gnuplot on PATH (" + bin + ")", "--no-plot"}, all_of({absent_file(unplotted + ".checkpoint"),
+                                                                      absent_file(unplotted)}),
+                   no_gnuplot});
+  cases.push_back({"simulate's plot without gnuplot", "simulate --scenario " + w().quick() + " --out " + simulated,
+                   Want::kError, {"no gnuplot on PATH (" + bin + ")", "--no-plot"}, absent_file(simulated), no_gnuplot});
+  cases.push_back({"friction --png without gnuplot", "friction --png " + dir + "/mu.png", Want::kError,
+                   {"--png needs gnuplot", "no gnuplot on PATH", "give no --png"}, absent_file(dir + "/mu.png"), no_gnuplot});
+  cases.push_back({"a study without figures needs no gnuplot",
+                   study_args("montecarlo", w().montecarlo([](Json&) {}), dir + "/no_figures.h5"), Want::kRuns, {},
+                   {}, no_gnuplot});
+  run_table(dir, cases);
 }
 
 }  // namespace

@@ -193,5 +193,48 @@ TEST(QoiSummary, FailedRunsAreLeftOutAndTinySamplesHaveNoIntervals) {
   EXPECT_THROW(summarize_qoi({1.0}, {0.5}, 0.95, -1, 1), std::invalid_argument);
 }
 
+// Below kMinBootstrapSdSamples the sd's interval is the chi-square one of a
+// normal sample: its ends against OpenTURNS 1.20's chi-square quantiles
+// (sqrt(dof / ChiSquare(dof).computeQuantile(q)), an independent code), an
+// interval that contains the estimate even at N = 2 (a bootstrap gives
+// [0, s] there), and a coverage as stated for 5 normal values.
+TEST(QoiSummary, SmallSamplesGetTheChiSquareSdInterval) {
+  struct Reference {
+    int n;
+    double confidence, lower, upper;  // for a sample sd of 1
+  };
+  for (const Reference& r : {Reference{2, 0.95, 0.44614918492070893, 31.91015934964393},
+                             Reference{3, 0.95, 0.5206582666988174, 6.28473469648538},
+                             Reference{10, 0.9, 0.7293469933127851, 1.6451975743942215},
+                             Reference{29, 0.95, 0.7935794609998603, 1.3524517089179033}}) {
+    const auto [lower, upper] = chi_square_sd_interval(2.0, r.n, r.confidence);
+    EXPECT_NEAR(lower, 2.0 * r.lower, 1e-9 * r.lower) << r.n;
+    EXPECT_NEAR(upper, 2.0 * r.upper, 1e-9 * r.upper) << r.n;
+  }
+  EXPECT_THROW(chi_square_sd_interval(1.0, 1, 0.95), std::invalid_argument);
+  const QoiSummary two = summarize_qoi({1.0, 2.0}, {}, 0.95, 1000, 1);
+  EXPECT_TRUE(two.sd_interval_chi_square);
+  EXPECT_NEAR(two.sd_lower, std::sqrt(0.5) * 0.44614918492070893, 1e-12);
+  EXPECT_NEAR(two.sd_upper, std::sqrt(0.5) * 31.91015934964393, 1e-9);
+  EXPECT_TRUE(std::isnan(summarize_qoi({1.0, 2.0}, {}, 0.95, 0, 1).sd_lower));  // no sd interval asked for
+  std::vector<double> enough(kMinBootstrapSdSamples);
+  for (std::size_t i = 0; i < enough.size(); ++i) enough[i] = static_cast<double>(i * i % 7);
+  EXPECT_FALSE(summarize_qoi(enough, {}, 0.95, 200, 1).sd_interval_chi_square);
+  enough.pop_back();
+  EXPECT_TRUE(summarize_qoi(enough, {}, 0.95, 200, 1).sd_interval_chi_square);
+
+  const int trials = 2000;
+  std::mt19937_64 engine(5);
+  std::normal_distribution<double> normal(0.0, 2.0);
+  std::vector<double> values(5);
+  int hits = 0;
+  for (int trial = 0; trial < trials; ++trial) {
+    for (double& v : values) v = normal(engine);
+    const QoiSummary s = summarize_qoi(values, {}, 0.95, 1, 1);
+    hits += s.sd_lower <= 2.0 && 2.0 <= s.sd_upper;
+  }
+  expect_rate(hits, trials, 0.95, "sd of 5 normal values");
+}
+
 }  // namespace
 }  // namespace rover::study

@@ -254,8 +254,16 @@ TEST(Calibration, StudyFileChecksNameTheField) {
   const CalibrationStudy k_g = load_calibration_study(write_file(dir, "p6.json", with_fit("contact.k_g", "[1e5, 1e7]", "2e6")));
   EXPECT_EQ(k_g.fit.at(0).canonical, "contact.k_g");
   EXPECT_TRUE(k_g.fit.at(0).log_scale);  // stiffnesses are searched in log10 by default
-  // Joint fits: a list of curves, each with a known channel.
-  const std::string skewed = rover::testing::source_path("configs/data/drop_skewed_synthetic.csv");
+  // Joint fits: a list of curves, each with a known channel. The skewed rows
+  // without their header, which declares B_l_z: a curve that declares none
+  // may be fitted as any channel.
+  std::string skewed_rows;
+  {
+    std::ifstream in(rover::testing::source_path("configs/data/drop_skewed_synthetic.csv"));
+    for (std::string line; std::getline(in, line);)
+      if (!line.starts_with("#")) skewed_rows += line + "\n";
+  }
+  const std::string skewed = write_file(dir, "skewed_rows.csv", skewed_rows);
   const std::string joint = R"(, "data": [{"file": ")" + good + R"("}, {"file": ")" + skewed +
                             R"(", "scenario": ")" + rover::testing::source_path("configs/scenarios/drop_skewed.json") +
                             R"(", "channel": "B_r_z"}])";
