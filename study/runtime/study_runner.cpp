@@ -117,7 +117,7 @@ InterruptGuard::~InterruptGuard() {
   std::signal(SIGTERM, g_previous_term);
 }
 
-const std::atomic<bool>& InterruptGuard::flag() { return g_interrupted; }
+std::atomic<bool>& InterruptGuard::flag() { return g_interrupted; }
 
 void stream_study_tasks(int task_count, const std::function<TaskResult(int)>& compute,
                         const std::function<void(TaskResult&&)>& consume,
