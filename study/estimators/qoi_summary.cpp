@@ -1,5 +1,6 @@
 // See qoi_summary.hpp.
 #include "study/estimators/qoi_summary.hpp"
+#include "study/estimators/work_stopped.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -145,7 +146,8 @@ int minimum_samples_for_quantile_interval(double p, double confidence) {
 }
 
 QoiSummary summarize_qoi(std::vector<double> values, const std::vector<double>& probabilities,
-                         double confidence, int bootstrap_resamples, std::uint64_t seed) {
+                         double confidence, int bootstrap_resamples, std::uint64_t seed,
+                         const std::atomic<bool>* stop) {
   check_probability(confidence, "confidence");
   for (const double p : probabilities) check_probability(p, "quantile probability");
   if (bootstrap_resamples < 0)
@@ -180,6 +182,7 @@ QoiSummary summarize_qoi(std::vector<double> values, const std::vector<double>& 
     boost::random::uniform_int_distribution<std::size_t> pick(0, n - 1);
     std::vector<double> resample(n), sds(static_cast<std::size_t>(bootstrap_resamples));
     for (double& sd : sds) {
+      stop_if_requested(stop, "QoI summary: bootstrap of the sd");
       for (double& x : resample) x = values[pick(engine)];
       sd = sample_sd(resample);
     }
