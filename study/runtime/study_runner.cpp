@@ -168,7 +168,7 @@ void stream_study_tasks(int task_count, const std::function<TaskResult(int)>& co
     checkpoint->save();
     std::cerr << options.label << ": interrupt: no new runs are handed out; " << checkpoint->size() << " of "
               << task_count << " runs are saved in " << checkpoint->path()
-              << " and the runs in progress are added as they finish. " << resume_hint << std::endl;
+              << "; runs still in progress are added if they finish. " << resume_hint << std::endl;
   };
   run_task_farm(
       todo, compute,

@@ -199,6 +199,13 @@ int drive_study(const StudyProgram<Result>& study, const StudyRunOptions& option
     if (world_rank() == 0) driver_detail::report_dry_run(study.command, out);
     return 0;
   }
+  if (world_rank() != 0) {
+    // A worker's part can end before rank 0's (its analysis); it then waits
+    // for rank 0 in MPI_Finalize. mpirun signals every rank, and a worker
+    // killed by the signal would make mpirun kill rank 0 before it reports:
+    // a worker's signals stay a flag for the rest of its process.
+    static const InterruptGuard worker_interrupts;
+  }
   const InterruptGuard interrupts;  // from the first thing written on: a signal stops the study with its work saved
   if (world_rank() == 0) io::create_parent_directories(out);  // not for a dry run or a refusal
   const std::unique_ptr<io::OutputLock> lock = driver_detail::lock_output(out);
