@@ -183,6 +183,8 @@ Trajectory simulate(const RoverModel& model, const Scenario& scenario,
   double last_progress_s = 0.0;
   request.progress = [&](double t) {
     reached_s = t;
+    if (observer.stop != nullptr && observer.stop->load(std::memory_order_relaxed))
+      throw SimulationStopped(t, scenario.duration_s);
     if (observer.progress && elapsed() - last_progress_s > 1.0) {
       last_progress_s = elapsed();
       observer.progress(t);
@@ -208,6 +210,11 @@ Trajectory simulate(const RoverModel& model, const Scenario& scenario,
   out.wall_time_s = elapsed();
   return out;
 }
+
+SimulationStopped::SimulationStopped(double reached_s, double duration_s)
+    : std::runtime_error("stopped on request at t = " + number_text(reached_s) + " of the run's " +
+                         number_text(duration_s) + " s"),
+      t_s(reached_s) {}
 
 std::string no_wheel_touched_note(const Trajectory& tr) {
   if (!tr.ok() || tr.t.empty() || tr.normal_force_N.maxCoeff() > 0.0) return "";

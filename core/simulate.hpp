@@ -7,10 +7,13 @@
 // state, step size underflow or collapse, wall-time budget exceeded or sure to
 // be exceeded: RunPaceWatch) or cannot start (scenario_is_valid() fails, a
 // drive schedule the model cannot serve) returns a status and a message; it
-// never throws for numerical trouble, and never hangs.
+// never throws for numerical trouble, and never hangs. A run whose observer's
+// stop flag is raised ends at its next step with SimulationStopped.
 #pragma once
 
+#include <atomic>
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -99,6 +102,17 @@ std::string wall_time_text(double seconds);
 struct SimulationObserver {
   // Called now and then with the simulated time (progress on long runs).
   std::function<void(double t_s)> progress;
+  // Read at every step when set: once true, simulate() throws SimulationStopped
+  // (a signal's request to stop, InterruptGuard's flag, ends a long run at once).
+  const std::atomic<bool>* stop = nullptr;
+};
+
+// A run abandoned because its observer's stop flag was raised: neither a
+// result nor a failure. t_s is the simulated time it had reached.
+class SimulationStopped : public std::runtime_error {
+ public:
+  SimulationStopped(double t_s, double duration_s);
+  double t_s;
 };
 
 // (f, c_q, M0) come from `inputs`; its set-points are replaced by those of

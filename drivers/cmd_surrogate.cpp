@@ -10,6 +10,8 @@
 #include "drivers/launcher.hpp"
 #include "drivers/study_options.hpp"
 #include "io/csv.hpp"
+#include "study/estimators/work_stopped.hpp"
+#include "study/runtime/study_runner.hpp"
 #include "study/studies/surrogate_prediction.hpp"
 #include "study/studies/surrogate_study.hpp"
 
@@ -48,12 +50,26 @@ int predict(const SurrogateOptions& o) {
   checks.throw_if_any();
   const study::SurrogateSet set = study::read_surrogate_set(o.predict_path);
   const study::DesignMatrix x = study::surrogate_points(set, study::read_design_csv(o.design_path));
+  // From here a signal ends the prediction or the writing with a word, and
+  // nothing written (the lock and the temporary go as the exception unwinds).
+  const study::InterruptGuard interrupts;
+  const std::atomic<bool>& signalled = study::InterruptGuard::flag();
   const auto start = std::chrono::steady_clock::now();
-  const study::PredictionTable table = study::predict_surrogate_set(set, x);
+  study::PredictionTable table;
+  try {
+    table = study::predict_surrogate_set(set, x, &signalled);
+  } catch (const study::WorkStopped&) {
+    throw study::StudyInterrupted("interrupted (SIGINT or SIGTERM) while predicting; nothing written");
+  }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   HeldOutputs held;
   held.hold("--csv", o.csv_path);
-  io::write_csv(o.csv_path, table.header, table.columns);
+  if (!io::write_csv(o.csv_path, table.header, table.columns, "", &signalled))
+    throw study::StudyInterrupted("interrupted (SIGINT or SIGTERM) while writing " + o.csv_path +
+                                  "; nothing written, an earlier file there left as it was");
+  if (signalled.load())
+    throw study::StudyInterrupted("interrupted (SIGINT or SIGTERM); " + o.csv_path +
+                                  " was written in full before the signal took effect");
   std::cerr << "surrogate: " << x.rows() << " points of " << set.models.size() << " " << study::surrogate_kind_name(set.kind)
             << " model(s) in " << 1e6 * seconds / static_cast<double>(x.rows()) << " us per point; wrote "
             << o.csv_path << "\n";

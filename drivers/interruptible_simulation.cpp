@@ -17,14 +17,16 @@ namespace {
 Trajectory simulate_interruptibly(const RoverModel& model, const Scenario& scenario, const ModelInputs& inputs,
                                   const SimulationObserver& observer) {
   const study::InterruptGuard guard;
-  SimulationObserver watched;
-  watched.progress = [&](double t_s) {
-    if (study::InterruptGuard::flag().load()) throw_interrupted(t_s, scenario.duration_s);
-    if (observer.progress) observer.progress(t_s);
-  };
-  Trajectory tr = simulate(model, scenario, inputs, watched);
-  if (study::InterruptGuard::flag().load()) throw_interrupted(tr.t.empty() ? 0.0 : tr.t.back(), scenario.duration_s);
-  return tr;
+  SimulationObserver watched = observer;
+  watched.stop = &study::InterruptGuard::flag();  // read at every step: the run ends at once
+  try {
+    Trajectory tr = simulate(model, scenario, inputs, watched);
+    if (study::InterruptGuard::flag().load())
+      throw_interrupted(tr.t.empty() ? 0.0 : tr.t.back(), scenario.duration_s);
+    return tr;
+  } catch (const SimulationStopped& e) {
+    throw_interrupted(e.t_s, scenario.duration_s);
+  }
 }
 
 }  // namespace rover::cli

@@ -1,7 +1,7 @@
 // One simulation run by a one-process command (simulate, synthesize) that
 // Ctrl-C or SIGTERM stops as they stop a study (docs/reliability.md, exit
-// status 130): within about a second of the signal (the simulation's
-// progress calls), with a message and nothing written.
+// status 130): at the next step after the signal (the simulation reads the
+// flag at every step), with a message and nothing written.
 #pragma once
 
 #include <string>

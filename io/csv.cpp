@@ -84,13 +84,15 @@ class PipeProbe {
 
 // Writes header and rows to `out`; false if any write failed.
 bool write_rows(std::ostream& out, const std::vector<std::string>& header,
-                const std::vector<std::vector<double>>& columns, std::size_t rows, const std::string& comment) {
+                const std::vector<std::vector<double>>& columns, std::size_t rows, const std::string& comment,
+                const std::atomic<bool>* stop = nullptr) {
   std::istringstream comment_lines(comment);
   for (std::string line; std::getline(comment_lines, line);) out << "# " << line << '\n';
   for (std::size_t j = 0; j < header.size(); ++j) out << (j ? "," : "") << header[j];
   out << '\n';
   std::array<char, 32> buffer{};
   for (std::size_t i = 0; i < rows && out; ++i) {
+    if (stop != nullptr && i % kStopCheckRows == 0 && stop->load()) return false;
     for (std::size_t j = 0; j < columns.size(); ++j) {
       const auto result = std::to_chars(buffer.data(), buffer.data() + buffer.size(), columns[j][i]);
       if (j) out << ',';
@@ -102,11 +104,12 @@ bool write_rows(std::ostream& out, const std::vector<std::string>& header,
   return static_cast<bool>(out);
 }
 
-// write_rows to a file, then closed; false if any write or the close failed.
+// write_rows to a file, then closed; false if any write or the close failed,
+// or `stop` was set.
 bool write_table(std::ofstream& out, const std::vector<std::string>& header,
                  const std::vector<std::vector<double>>& columns, std::size_t rows,
-                 const std::string& comment) {
-  const bool written = write_rows(out, header, columns, rows, comment);
+                 const std::string& comment, const std::atomic<bool>* stop = nullptr) {
+  const bool written = write_rows(out, header, columns, rows, comment, stop);
   out.close();
   return written && static_cast<bool>(out);
 }
@@ -212,8 +215,9 @@ CsvTable read_csv(const std::string& path, const std::vector<std::string>& requi
   return table;
 }
 
-void write_csv(const std::string& path, const std::vector<std::string>& header,
-               const std::vector<std::vector<double>>& columns, const std::string& comment) {
+bool write_csv(const std::string& path, const std::vector<std::string>& header,
+               const std::vector<std::vector<double>>& columns, const std::string& comment,
+               const std::atomic<bool>* stop) {
   if (columns.size() != header.size())
     throw std::invalid_argument(path + ": " + std::to_string(header.size()) + " column names for " +
                                 std::to_string(columns.size()) + " columns");
@@ -239,13 +243,13 @@ void write_csv(const std::string& path, const std::vector<std::string>& header,
     errno = 0;
     if (const int fd = own_descriptor(path); fd >= 0) {
       write_table_to_descriptor(fd, path, header, columns, rows, comment);
-      return;
+      return true;
     }
     std::ofstream out(path, std::ios::app);
     if (!out) throw std::runtime_error(path + ": cannot open for writing" + system_reason());
     if (!write_table(out, header, columns, rows, comment))
       throw std::runtime_error(path + ": cannot write" + system_reason());
-    return;
+    return true;
   }
 
   const std::string partial = path + ".partial";
@@ -253,10 +257,11 @@ void write_csv(const std::string& path, const std::vector<std::string>& header,
   errno = 0;
   std::ofstream out(partial, std::ios::trunc);
   if (!out) throw std::runtime_error(path + ": cannot create '" + partial + "'" + system_reason());
-  if (!write_table(out, header, columns, rows, comment)) {
+  if (!write_table(out, header, columns, rows, comment, stop)) {
     const std::string reason = system_reason();
     std::error_code ignored;
     fs::remove(partial, ignored);
+    if (stop != nullptr && stop->load()) return false;
     throw std::runtime_error(path + ": cannot write '" + partial + "'" + reason);
   }
   std::error_code error;
@@ -266,6 +271,7 @@ void write_csv(const std::string& path, const std::vector<std::string>& header,
     fs::remove(partial, ignored);
     throw std::runtime_error(path + ": cannot rename '" + partial + "': " + error.message());
   }
+  return true;
 }
 
 MeasuredCurve curve_from_table(const CsvTable& table, const std::string& value_column,

@@ -13,6 +13,8 @@
 // that takes such data.
 #pragma once
 
+#include <atomic>
+
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -73,7 +75,12 @@ MeasuredCurve curve_from_table(const CsvTable& table, const std::string& value_c
 // file, and leaves no partial file. Values are written in the shortest form that reads back exactly
 // (non-finite values as nan/inf, which read_csv refuses). A nonempty `comment`
 // is written first, each of its lines prefixed with "# ".
-void write_csv(const std::string& path, const std::vector<std::string>& header,
-               const std::vector<std::vector<double>>& columns, const std::string& comment = "");
+// `stop` (if given) is read every kStopCheckRows rows of a regular file: once
+// it is set, the temporary is removed and false is returned, the file at
+// `path` left as it was (a signal's request to stop); true otherwise.
+inline constexpr std::size_t kStopCheckRows = 4096;
+bool write_csv(const std::string& path, const std::vector<std::string>& header,
+               const std::vector<std::vector<double>>& columns, const std::string& comment = "",
+               const std::atomic<bool>* stop = nullptr);
 
 }  // namespace rover::io

@@ -1,4 +1,5 @@
 #include "study/estimators/morris.hpp"
+#include "study/estimators/work_stopped.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -221,6 +222,7 @@ MorrisResult morris_effects(const MorrisDesign& design, const Eigen::VectorXd& y
     boost::random::mt19937_64 engine(options.seed);
     boost::random::uniform_int_distribution<Eigen::Index> draw(0, n - 1);
     for (int b = 0; b < R; ++b) {
+      stop_if_requested(options.stop, "Morris effects: bootstrap");
       counts.setZero();
       for (Eigen::Index k = 0; k < n; ++k) counts[draw(engine)] += 1.0;
       replicates.col(b).noalias() = absolute.transpose() * counts;

@@ -11,6 +11,7 @@
 // effect is a new one.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <vector>
 
@@ -51,6 +52,9 @@ struct MorrisOptions {
   int bootstrap_resamples = 1000;  // 0: no interval (NaN bounds)
   double confidence = 0.95;
   std::uint64_t seed = 1;
+  // Read at every resample when set: once true, WorkStopped is thrown
+  // (work_stopped.hpp; a signal ends a long bootstrap at once).
+  const std::atomic<bool>* stop = nullptr;
 };
 struct MorrisResult {
   Eigen::VectorXd mu, mu_star, sigma, mu_star_lower, mu_star_upper;  // d each; EE in unit coords

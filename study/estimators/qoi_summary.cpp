@@ -1,5 +1,6 @@
 // See qoi_summary.hpp.
 #include "study/estimators/qoi_summary.hpp"
+#include "study/estimators/work_stopped.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -123,12 +124,13 @@ double sample_sd(const std::vector<double>& x) {
 
 // The bootstrap percentile interval of the sd of `values` (see the header).
 std::pair<double, double> bootstrap_sd_interval(const std::vector<double>& values, double confidence, int resamples,
-                                                std::uint64_t seed) {
+                                                std::uint64_t seed, const std::atomic<bool>* stop) {
   const std::size_t n = values.size();
   boost::random::mt19937_64 engine(seed);
   boost::random::uniform_int_distribution<std::size_t> pick(0, n - 1);
   std::vector<double> resample(n), sds(static_cast<std::size_t>(resamples));
   for (double& sd : sds) {
+    stop_if_requested(stop, "QoI summary: bootstrap of the sd");
     for (double& x : resample) x = values[pick(engine)];
     sd = sample_sd(resample);
   }
@@ -170,7 +172,8 @@ int minimum_samples_for_quantile_interval(double p, double confidence) {
 }
 
 QoiSummary summarize_qoi(std::vector<double> values, const std::vector<double>& probabilities,
-                         double confidence, int bootstrap_resamples, std::uint64_t seed) {
+                         double confidence, int bootstrap_resamples, std::uint64_t seed,
+                         const std::atomic<bool>* stop) {
   check_probability(confidence, "confidence");
   for (const double p : probabilities) check_probability(p, "quantile probability");
   if (bootstrap_resamples < 0)
@@ -207,7 +210,7 @@ QoiSummary summarize_qoi(std::vector<double> values, const std::vector<double>& 
       s.sd_upper = upper;
       s.sd_interval_chi_square = true;
     } else {
-      const auto [lower, upper] = bootstrap_sd_interval(values, confidence, bootstrap_resamples, seed);
+      const auto [lower, upper] = bootstrap_sd_interval(values, confidence, bootstrap_resamples, seed, stop);
       s.sd_lower = lower;
       s.sd_upper = upper;
     }

@@ -29,6 +29,7 @@
 // (the -3 sigma level) at 95 %, N >= 2,218.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -69,9 +70,11 @@ struct QoiSummary {
 // `values`: one per run; non-finite values (failed runs) are left out.
 // `probabilities` in (0, 1); `confidence` in (0, 1); bootstrap_resamples >= 0
 // (0: no sd interval, of either kind). The mean and sd intervals need N >= 2. Throws
-// std::invalid_argument for arguments out of range.
+// std::invalid_argument for arguments out of range, and WorkStopped once
+// `stop` (if given; read at every resample) is set.
 QoiSummary summarize_qoi(std::vector<double> values, const std::vector<double>& probabilities,
-                         double confidence, int bootstrap_resamples, std::uint64_t seed);
+                         double confidence, int bootstrap_resamples, std::uint64_t seed,
+                         const std::atomic<bool>* stop = nullptr);
 
 // The chi-square interval of the sd of n >= 2 normal values whose sample sd
 // is `sd`, at `confidence` (see above). Throws std::invalid_argument for n < 2

@@ -1,4 +1,5 @@
 #include "study/estimators/sobol_indices.hpp"
+#include "study/estimators/work_stopped.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -271,6 +272,7 @@ void bootstrap_intervals(const TermColumns& columns, const SobolOptions& options
   boost::random::mt19937_64 engine(options.seed);
   boost::random::uniform_int_distribution<Eigen::Index> draw(0, terms.rows() - 1);
   for (int r = 0; r < R; ++r) {
+    stop_if_requested(options.stop, "Sobol' indices: bootstrap");
     counts.setZero();
     for (Eigen::Index k = 0; k < terms.rows(); ++k) counts[draw(engine)] += 1.0;
     sums.noalias() = terms.transpose() * counts;
@@ -288,6 +290,7 @@ void bootstrap_intervals(const TermColumns& columns, const SobolOptions& options
   }
   std::vector<double> values(static_cast<std::size_t>(R)), leave_one_out;
   for (int e = 0; e < estimates; ++e) {
+    stop_if_requested(options.stop, "Sobol' indices: bootstrap intervals");
     const Eigen::VectorXd row = replicates.row(e).transpose();
     values.assign(row.data(), row.data() + R);
     if (jackknife.size() > 0) {

@@ -17,6 +17,7 @@
 // nothing is imputed. The bootstrap resamples the groups that remain.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <vector>
 
@@ -60,6 +61,9 @@ struct SobolOptions {
   double confidence = 0.95;
   std::uint64_t seed = 1;  // bootstrap resampling is deterministic
   BootstrapInterval interval = BootstrapInterval::kPercentile;
+  // Read at every resample when set: once true, WorkStopped is thrown
+  // (work_stopped.hpp; a signal ends a long bootstrap at once).
+  const std::atomic<bool>* stop = nullptr;
 };
 
 struct SobolIndices {

@@ -8,6 +8,8 @@
 #include "core/number_text.hpp"
 #include "core/run_note.hpp"
 #include "study/estimators/test_models.hpp"
+#include "study/estimators/work_stopped.hpp"
+#include "study/runtime/study_runner.hpp"
 
 namespace rover::study {
 namespace {
@@ -110,9 +112,13 @@ std::optional<Trajectory> RoverStudyModel::simulate_at(const double* x, RunRecor
   try {
     const io::ScenarioSetup setup = setup_at(x);
     if (note != nullptr && varies_friction_) *note = friction_note(setup.model.parameters.friction);
-    Trajectory tr = simulate(setup.model, setup.scenario, setup.inputs);
+    SimulationObserver observer;
+    observer.stop = &InterruptGuard::flag();  // a signal ends the run at its next step
+    Trajectory tr = simulate(setup.model, setup.scenario, setup.inputs, observer);
     if (note != nullptr) *note = join_notes({*note, chassis_through_ground_note(tr, setup.model.terrain)});
     return tr;
+  } catch (const SimulationStopped& e) {
+    throw WorkStopped(e.what());  // not done: neither a result nor a failure
   } catch (const io::ConfigError& e) {
     *failure = failed_record(shape, run_status::kRejectedInput, e.what());
   } catch (const std::exception& e) {

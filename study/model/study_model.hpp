@@ -24,7 +24,9 @@ class StudyModel {
  public:
   virtual ~StudyModel() = default;
   // Evaluates one point (input_count() values, in the order of input_names()).
-  // Never throws: trouble becomes the record's status and message.
+  // Trouble becomes the record's status and message; the one exception is
+  // WorkStopped, when a signal (InterruptGuard::flag()) ends the run midway:
+  // it is not done, and the task farm hands it out again on --resume.
   virtual RunRecord run(const double* inputs) const = 0;
   virtual const std::vector<std::string>& input_names() const = 0;
   virtual const std::vector<std::string>& qoi_names() const = 0;
@@ -58,7 +60,7 @@ class RoverStudyModel final : public StudyModel {
   // The setup a point builds (throws io::ConfigError for a rejected point).
   io::ScenarioSetup setup_at(const double* inputs) const;
   // The trajectory of a point, or a failed record (status, message) in
-  // `failure`. `note` (if given) receives what to say of the point's setup:
+  // `failure`; throws WorkStopped when a signal ends the run midway. `note` (if given) receives what to say of the point's setup:
   // friction gammas that miss their fit quality bar (mu_k above mu_s, say).
   std::optional<Trajectory> simulate_at(const double* inputs, RunRecord* failure, std::string* note = nullptr) const;
 

@@ -44,7 +44,9 @@ namespace {
 // The one piece of process-wide state: a signal handler can only reach a
 // static. Set by SIGINT/SIGTERM while an InterruptGuard is alive.
 std::atomic<bool> g_interrupted{false};
-std::atomic<long long> g_first_signal_ns{0};  // CLOCK_MONOTONIC time of the signal that set the flag
+// CLOCK_MONOTONIC time of the signal that set the flag; 0 while none did (the
+// task farm raises the flag when a worker rank was signalled alone).
+std::atomic<long long> g_first_signal_ns{0};
 using Handler = void (*)(int);
 Handler g_previous_int = SIG_DFL, g_previous_term = SIG_DFL;
 int g_guard_depth = 0;  // guards alive; only the outermost installs and restores the handlers
@@ -58,7 +60,8 @@ long long monotonic_ns() {  // clock_gettime is async-signal-safe
 
 extern "C" void on_interrupt(int signal_number) {
   const long long now_ns = monotonic_ns();
-  if (!g_interrupted.exchange(true)) {
+  const bool raised = g_interrupted.exchange(true);
+  if (!raised || g_first_signal_ns.load() == 0) {  // this process's first signal
     g_first_signal_ns.store(now_ns);
     return;
   }
@@ -107,6 +110,7 @@ void retire_exit_on_interrupt() {
 InterruptGuard::InterruptGuard() {
   if (g_guard_depth++ > 0) return;
   g_interrupted.store(false);
+  g_first_signal_ns.store(0);
   g_previous_int = restorable(std::signal(SIGINT, on_interrupt));
   g_previous_term = restorable(std::signal(SIGTERM, on_interrupt));
 }
@@ -117,7 +121,7 @@ InterruptGuard::~InterruptGuard() {
   std::signal(SIGTERM, g_previous_term);
 }
 
-const std::atomic<bool>& InterruptGuard::flag() { return g_interrupted; }
+std::atomic<bool>& InterruptGuard::flag() { return g_interrupted; }
 
 void stream_study_tasks(int task_count, const std::function<TaskResult(int)>& compute,
                         const std::function<void(TaskResult&&)>& consume,
@@ -168,7 +172,7 @@ void stream_study_tasks(int task_count, const std::function<TaskResult(int)>& co
     checkpoint->save();
     std::cerr << options.label << ": interrupt: no new runs are handed out; " << checkpoint->size() << " of "
               << task_count << " runs are saved in " << checkpoint->path()
-              << " and the runs in progress are added as they finish. " << resume_hint << std::endl;
+              << "; runs still in progress are added if they finish. " << resume_hint << std::endl;
   };
   run_task_farm(
       todo, compute,

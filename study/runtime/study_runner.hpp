@@ -70,7 +70,9 @@ class InterruptGuard {
   ~InterruptGuard();
   InterruptGuard(const InterruptGuard&) = delete;
   InterruptGuard& operator=(const InterruptGuard&) = delete;
-  static const std::atomic<bool>& flag();
+  // The flag; the task farm also raises it on rank 0 when a worker rank was
+  // signalled alone (task_farm.hpp, TaskFarmOptions::stop).
+  static std::atomic<bool>& flag();
 };
 
 // Until the first InterruptGuard, SIGINT or SIGTERM ends the process at once

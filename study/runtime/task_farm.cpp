@@ -15,6 +15,7 @@
 // so that no rank sits idle while another holds two; those requests are answered
 // later (a task when the worker returns a result, kStop once the queue is empty).
 #include "study/runtime/task_farm.hpp"
+#include "study/estimators/work_stopped.hpp"
 #include "study/runtime/elapsed_time.hpp"
 
 #include <algorithm>
@@ -72,11 +73,14 @@ std::string format_rate(double per_second) {
   return text;
 }
 
-// Runs one task; an exception becomes a failed result.
-TaskResult run_one(const std::function<TaskResult(int)>& compute, int index) {
+// Runs one task; an exception becomes a failed result, except WorkStopped
+// (a stop request ended the task midway): the task is not done (nullopt).
+std::optional<TaskResult> run_one(const std::function<TaskResult(int)>& compute, int index) {
   TaskResult result;
   try {
     result = compute(index);
+  } catch (const WorkStopped&) {
+    return std::nullopt;
   } catch (const std::exception& e) {
     result = TaskResult{};
     result.status = 1;
@@ -212,7 +216,7 @@ class Delivery {
 // What rank 0's two threads share: the task queue and the results received
 // from workers, waiting for the main thread.
 struct Rank0State {
-  Rank0State(const std::vector<int>& task_list, const std::atomic<bool>* stop_flag)
+  Rank0State(const std::vector<int>& task_list, std::atomic<bool>* stop_flag)
       : tasks(task_list), stop(stop_flag) {}
 
   std::optional<int> take() {
@@ -230,10 +234,12 @@ struct Rank0State {
     const std::lock_guard lock(mutex);
     return halted() ? 0 : tasks.size() - next + returned.size();
   }
-  // A task a stopped worker handed back unrun.
+  // A task a stopped worker handed back unrun: that worker was signalled,
+  // and so the whole farm stops (when it has a stop flag to raise).
   void give_back(int index) {
     const std::lock_guard lock(mutex);
     returned.push_back(index);
+    if (stop != nullptr) stop->store(true);
   }
   // Cancelled, or asked to stop handing out work (a signal).
   bool halted() const { return cancelled || (stop != nullptr && stop->load()); }
@@ -243,7 +249,7 @@ struct Rank0State {
   }
 
   const std::vector<int>& tasks;
-  const std::atomic<bool>* stop;
+  std::atomic<bool>* stop;
   std::mutex mutex;
   std::condition_variable changed;  // inbox filled or master finished
   std::size_t next = 0;
@@ -455,11 +461,13 @@ void worker_loop(MPI_Comm comm, const std::function<TaskResult(int)>& compute,
     MPI_Recv(&index, 1, MPI_INT, 0, kTagTask, comm, MPI_STATUS_IGNORE);
     --pending;
     if (index == kStop) continue;
-    if (stop != nullptr && stop->load()) {  // stopped: hand the task back unrun
+    std::optional<TaskResult> result;
+    if (stop == nullptr || !stop->load()) result = run_one(compute, index);
+    if (!result) {  // stopped, before or during the task: hand it back unrun
       MPI_Send(&index, 1, MPI_INT, 0, kTagReturned, comm);
       continue;
     }
-    std::vector<char> bytes = serialize(run_one(compute, index));
+    std::vector<char> bytes = serialize(*result);
     if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
       throw std::runtime_error("run_task_farm: result of task " + std::to_string(index) +
                                " is too large for one MPI message");
@@ -485,10 +493,11 @@ std::vector<TaskResult> run_serial(const std::vector<int>& tasks,
   results.reserve(tasks.size());
   for (const int index : tasks) {
     if (options.stop != nullptr && options.stop->load()) break;
-    TaskResult result = run_one(compute, index);
-    progress.record(result);
-    if (on_result) on_result(result);
-    if (options.keep_results) results.push_back(std::move(result));
+    std::optional<TaskResult> result = run_one(compute, index);
+    if (!result) break;  // stopped midway: not done
+    progress.record(*result);
+    if (on_result) on_result(*result);
+    if (options.keep_results) results.push_back(std::move(*result));
     progress.maybe_report();
   }
   progress.final_report();
@@ -520,11 +529,11 @@ std::vector<TaskResult> run_rank0(MPI_Comm comm, int size, const std::vector<int
   try {
     if (invalid) std::rethrow_exception(invalid);
     while (const std::optional<int> index = state.take()) {
-      TaskResult result = run_one(compute, *index);
-      progress.record(result);
-      {
+      std::optional<TaskResult> result = run_one(compute, *index);
+      if (result) {  // else stopped midway: not done, and nothing more is handed out
+        progress.record(*result);
         auto delivering = delivery.lock();
-        delivery.deliver(std::move(result));
+        delivery.deliver(std::move(*result));
       }
       deliver_inbox();
     }

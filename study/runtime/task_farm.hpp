@@ -40,10 +40,12 @@ struct TaskFarmOptions {
   // (memory independent of the number of tasks).
   bool keep_results = true;
   // When it becomes true (e.g. set by a signal handler), no further task is
-  // handed out; the tasks in progress finish and are delivered, and the farm
-  // returns with fewer results than tasks. A worker rank whose own flag is set
-  // too (mpirun signals every rank) gives back the task it holds unrun.
-  const std::atomic<bool>* stop = nullptr;
+  // handed out; the tasks in progress finish (or stop midway: WorkStopped) and
+  // are delivered, and the farm returns with fewer results than tasks. A
+  // worker rank whose own flag is set (mpirun signals every rank) gives back
+  // the tasks it holds unrun; rank 0 then sets its own flag, so a signal to
+  // one worker's process stops the farm as a signal to rank 0 does.
+  std::atomic<bool>* stop = nullptr;
   // Under MPI (more than one rank), called once on rank 0 as soon as the stop
   // is seen, after every result received so far went to on_result. It runs on
   // the communication thread, while rank 0's own task may still be computing,
@@ -56,7 +58,10 @@ struct TaskFarmOptions {
 
 // Runs compute(i) for every i in `tasks` (distinct, non-negative indices; only
 // rank 0's list is used) on all ranks. compute() may throw: the task is then
-// recorded as failed (status 1, message = what()). The result's index is set
+// recorded as failed (status 1, message = what()), except for WorkStopped
+// (study/estimators/work_stopped.hpp), which compute() throws once `stop` is set
+// to end a long task midway: that task is not done (no result; a worker hands
+// it back). The result's index is set
 // to i. on_result is called on rank 0 only, once per finished task, in
 // completion order (for checkpointing), in the calling thread (after a stop,
 // also the communication thread: see on_stop; never two calls at once). Returns, on rank 0,

@@ -9,10 +9,12 @@
 #include <string>
 #include <vector>
 
+#include "study/estimators/work_stopped.hpp"
 #include "study/runtime/calibration_mpi.hpp"
 #include "study/runtime/study_runner.hpp"
 #include "study/runtime/task_farm.hpp"
 #include "study/studies/report_number.hpp"
+#include "study/studies/stoppable_optimization.hpp"
 
 #include <functional>
 
@@ -121,18 +123,15 @@ std::vector<double> nlopt_search(const CalibrationStudy& s, const StudyRunOption
       opt.set_local_optimizer(local);
     }
     nlopt::srand(s.seed + static_cast<unsigned long>(start));
-    opt.set_min_objective(
-        [](const std::vector<double>& xi, std::vector<double>& /*grad*/, void* data) {
-          return (*static_cast<std::function<double(const std::vector<double>&)>*>(data))(xi);
-        },
-        &objective);
     double best = 0.0;
     TaskResult result{start, 0, "", {}};
-    try {
-      const nlopt::result code = opt.optimize(x, best);
+    try {  // a signal ends the search at once, and this start is not done (WorkStopped)
+      const nlopt::result code = optimize_stoppably(opt, x, best, objective);
       result.message = nlopt_result_to_string(static_cast<nlopt_result>(code));
     } catch (const nlopt::roundoff_limited&) {
       result.message = "ROUNDOFF_LIMITED";
+    } catch (const WorkStopped&) {
+      throw;
     } catch (const std::exception& e) {
       if (history.empty()) throw;
       result.message = std::string("FAILURE: ") + e.what();

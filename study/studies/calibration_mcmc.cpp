@@ -428,6 +428,7 @@ PredictiveRuns run_predictive(const CalibrationStudy& s, const std::vector<std::
   TaskFarmOptions farm;
   farm.label = "calibrate: posterior predictive";
   farm.progress_interval_s = control.progress_interval_s;
+  farm.stop = &InterruptGuard::flag();
   const std::vector<TaskResult> results = run_task_farm(
       tasks,
       [&](int d) {

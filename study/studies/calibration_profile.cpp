@@ -11,6 +11,7 @@
 #include "study/runtime/calibration_mpi.hpp"
 #include "study/runtime/study_runner.hpp"
 #include "study/runtime/task_farm.hpp"
+#include "study/studies/stoppable_optimization.hpp"
 #include "study/studies/report_number.hpp"
 
 #include <functional>
@@ -45,14 +46,9 @@ void reoptimise_others(const CalibrationStudy& s, std::size_t fixed, std::vector
     opt.set_upper_bounds(upper);
     opt.set_maxeval(s.max_evaluations);
     opt.set_xtol_rel(s.xtol_rel);
-    opt.set_min_objective(
-        [](const std::vector<double>& xi, std::vector<double>&, void* data) {
-          return (*static_cast<std::function<double(const std::vector<double>&)>*>(data))(xi);
-        },
-        &objective);
     double minimum = 0;
-    try {
-      opt.optimize(x, minimum);
+    try {  // a signal ends the search at once, and this grid point is not done (WorkStopped)
+      optimize_stoppably(opt, x, minimum, objective);
     } catch (const nlopt::roundoff_limited&) {
     }
     for (std::size_t k = 0; k < free.size(); ++k) values[free[k]] = fit_natural(s.fit[free[k]], x[k]);

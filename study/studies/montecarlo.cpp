@@ -78,7 +78,8 @@ MonteCarloResult MonteCarloAnalysis::finish() const {
   MonteCarloResult out = result_;
   const std::vector<double> probabilities(std::begin(kTailProbabilities), std::end(kTailProbabilities));
   for (const auto& values : out.qoi)
-    out.summaries.push_back(summarize_qoi(values, probabilities, confidence_, bootstrap_resamples_, seed_));
+    out.summaries.push_back(
+        summarize_qoi(values, probabilities, confidence_, bootstrap_resamples_, seed_, &InterruptGuard::flag()));
   for (const StreamingBand& b : bands_) out.bands.push_back(b.result());
   return out;
 }

@@ -12,6 +12,8 @@
 
 #include "io/plot.hpp"
 #include "study/estimators/bootstrap_resolution.hpp"
+#include "study/estimators/work_stopped.hpp"
+#include "study/runtime/study_runner.hpp"
 #include "study/studies/report_format.hpp"
 #include "study/studies/study_output.hpp"
 
@@ -285,9 +287,12 @@ PceQoiResult pce_qoi_indices(const std::string& name, const DesignMatrix& x_ok, 
   }
   if (options.bootstrap == 0) return q;
   try {
-    q.intervals = bootstrap_pce_sobol(q.expansion, x_ok, y_ok, {options.bootstrap, options.confidence, options.seed});
+    q.intervals = bootstrap_pce_sobol(q.expansion, x_ok, y_ok,
+                                      {options.bootstrap, options.confidence, options.seed, &InterruptGuard::flag()});
     // Percentiles of a few refits that happened to work are no interval.
     q.has_intervals = q.intervals.resamples_used >= kMinUsedResampleShare * options.bootstrap;
+  } catch (const WorkStopped&) {
+    throw;  // a signal: the study ends, its runs kept
   } catch (const std::runtime_error&) {
     // No resample could be refitted: the indices stand, without intervals (warned by the caller).
   }

@@ -112,8 +112,15 @@ void estimate_qoi_indices(const SensitivityStudy& study, const MorrisDesign& mor
   std::string reason = constant_qoi_reason(values);
   if (reason.empty()) {
     try {
-      if (sobol) out.sobol.back() = estimate_sobol_indices(study.layout, y, study.sobol);
-      else out.morris.back() = morris_effects(morris, y, study.morris);
+      if (sobol) {
+        SobolOptions options = study.sobol;
+        options.stop = &InterruptGuard::flag();  // a signal ends the bootstrap at once
+        out.sobol.back() = estimate_sobol_indices(study.layout, y, options);
+      } else {
+        MorrisOptions options = study.morris;
+        options.stop = &InterruptGuard::flag();
+        out.morris.back() = morris_effects(morris, y, options);
+      }
     } catch (const std::invalid_argument& e) {
       reason = e.what();
     }

@@ -194,16 +194,20 @@ int interrupted(const std::string& command, const StudyInterrupted& e) {
   return StudyInterrupted::kExitCode;
 }
 
-void stop_if_interrupted(const StudyRunOptions& options) {
-  if (world_rank() != 0 || !InterruptGuard::flag().load()) return;
+StudyInterrupted interruption(const StudyRunOptions& options) {
   const std::string checkpoint = io::ResultCheckpoint::path_for(options.results_path);
   std::error_code error;
   const bool kept = std::filesystem::exists(checkpoint, error);
   const std::string resume =
       options.resume_command.empty() ? std::string("the same command with --resume") : options.resume_command;
-  throw StudyInterrupted("interrupted before the study was complete; nothing was written" +
-                         (kept ? "; the finished runs are kept in " + checkpoint + ". Continue with:\n  " + resume
-                               : std::string("; run the same command again")));
+  return StudyInterrupted("interrupted before the study was complete; nothing was written" +
+                          (kept ? "; the finished runs are kept in " + checkpoint + ". Continue with:\n  " + resume
+                                : std::string("; run the same command again")));
+}
+
+void stop_if_interrupted(const StudyRunOptions& options) {
+  if (world_rank() != 0 || !InterruptGuard::flag().load()) return;
+  throw interruption(options);
 }
 
 }  // namespace rover::study::driver_detail

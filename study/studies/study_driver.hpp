@@ -6,8 +6,10 @@
 //     and no plot beside it is a link or read-only;
 //   * the memory estimate, refused up front beyond the limit;
 //   * the checkpoint beside the result file, its fingerprint and --resume;
-//   * SIGINT and SIGTERM: stop handing out runs, save the checkpoint, print the
-//     resume command, exit status 130;
+//   * SIGINT and SIGTERM: stop handing out runs, end the runs in progress
+//     (not done: --resume computes them again) or the analysis after the runs
+//     (WorkStopped), save the checkpoint, print the resume command, exit
+//     status 130;
 //   * the provenance attributes, the commit of the result file, the removal
 //     of the checkpoint;
 //   * the exit status: 0 done, kEveryRunFailedStatus when every run failed
@@ -40,6 +42,7 @@
 #include "io/input_files.hpp"
 #include "io/output_lock.hpp"
 #include "io/output_target.hpp"
+#include "study/estimators/work_stopped.hpp"
 #include "study/runtime/study_runner.hpp"
 
 namespace rover::study {
@@ -180,6 +183,8 @@ int interrupted(const std::string& command, const StudyInterrupted& e);
 // incomplete and is never written. The message says where the finished runs
 // are kept, if anywhere, and how to continue.
 void stop_if_interrupted(const StudyRunOptions& options);
+// The StudyInterrupted stop_if_interrupted() throws.
+StudyInterrupted interruption(const StudyRunOptions& options);
 
 // Collective: rank 0 takes the lock of the result (io/output_lock.hpp) and
 // keeps it in the returned object (null elsewhere). Throws
@@ -208,6 +213,13 @@ int drive_study(const StudyProgram<Result>& study, const StudyRunOptions& option
   if (options.dry_run) {
     if (world_rank() == 0) driver_detail::report_dry_run(study.command, out);
     return 0;
+  }
+  if (world_rank() != 0) {
+    // A worker's part can end before rank 0's (its analysis); it then waits
+    // for rank 0 in MPI_Finalize. mpirun signals every rank, and a worker
+    // killed by the signal would make mpirun kill rank 0 before it reports:
+    // a worker's signals stay a flag for the rest of its process.
+    static const InterruptGuard worker_interrupts;
   }
   const InterruptGuard interrupts;  // from the first thing written on: a signal stops the study with its work saved
   if (world_rank() == 0) io::create_parent_directories(out);  // not for a dry run or a refusal
@@ -238,6 +250,9 @@ int drive_study(const StudyProgram<Result>& study, const StudyRunOptions& option
     return study.verdict ? std::max(status, study.verdict(result)) : status;
   } catch (const StudyInterrupted& e) {
     return driver_detail::interrupted(study.command, e);
+  } catch (const WorkStopped&) {  // a signal ended the analysis after the runs, or a run outside the farm
+    return world_rank() == 0 ? driver_detail::interrupted(study.command, driver_detail::interruption(runtime.options))
+                             : 0;
   } catch (const RunsRefused& e) {
     throw std::runtime_error(driver_detail::with_kept_runs(e.what(), out));
   }

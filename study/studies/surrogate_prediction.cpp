@@ -1,6 +1,7 @@
 // See surrogate_prediction.hpp.
 #include "study/studies/surrogate_prediction.hpp"
 #include "core/number_text.hpp"
+#include "study/estimators/work_stopped.hpp"
 #include "study/studies/report_format.hpp"
 
 #include <algorithm>
@@ -63,14 +64,36 @@ DesignMatrix surrogate_points(const SurrogateSet& set, const DesignTable& design
   return x;
 }
 
-PredictionTable predict_surrogate_set(const SurrogateSet& set, const DesignMatrix& x) {
+namespace {
+
+// The predictions of `m` at the rows of x, kPredictionChunkRows at a time,
+// `stop` read before each chunk.
+constexpr Eigen::Index kPredictionChunkRows = 16384;
+SurrogatePrediction predict_in_chunks(const FittedSurrogate& m, const DesignMatrix& x,
+                                      const std::atomic<bool>* stop) {
+  SurrogatePrediction all;
+  all.mean.resize(x.rows());
+  if (m.kind == SurrogateKind::kGaussianProcess) all.sd.resize(x.rows());
+  for (Eigen::Index first = 0; first < x.rows(); first += kPredictionChunkRows) {
+    stop_if_requested(stop, "surrogate: prediction");
+    const Eigen::Index n = std::min(kPredictionChunkRows, x.rows() - first);
+    const SurrogatePrediction p = predict_surrogate(m, x.middleRows(first, n));
+    all.mean.segment(first, n) = p.mean;
+    if (all.sd.size() == x.rows() && p.sd.size() == n) all.sd.segment(first, n) = p.sd;
+  }
+  return all;
+}
+
+}  // namespace
+
+PredictionTable predict_surrogate_set(const SurrogateSet& set, const DesignMatrix& x, const std::atomic<bool>* stop) {
   PredictionTable table;
   for (std::size_t j = 0; j < set.inputs.size(); ++j) {
     table.header.push_back(set.inputs[j].label);
     table.columns.push_back(to_vector(x.col(static_cast<Eigen::Index>(j))));
   }
   for (const FittedSurrogate& m : set.models) {
-    const SurrogatePrediction p = predict_surrogate(m, x);
+    const SurrogatePrediction p = predict_in_chunks(m, x, stop);
     table.header.push_back(m.output_name());
     table.columns.push_back(to_vector(p.mean));
     if (m.kind != SurrogateKind::kGaussianProcess) continue;

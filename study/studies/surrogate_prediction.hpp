@@ -7,6 +7,7 @@
 // process, its predictive standard deviation (<qoi>_sd).
 #pragma once
 
+#include <atomic>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,9 @@ struct PredictionTable {
   std::vector<std::vector<double>> columns;  // columns[j][point]
 };
 
-PredictionTable predict_surrogate_set(const SurrogateSet& set, const DesignMatrix& x);
+// Throws WorkStopped once `stop` (if given; read every few thousand points)
+// is set.
+PredictionTable predict_surrogate_set(const SurrogateSet& set, const DesignMatrix& x,
+                                      const std::atomic<bool>* stop = nullptr);
 
 }  // namespace rover::study

@@ -1,5 +1,6 @@
 // See pce_sobol.hpp.
 #include "study/surrogate/pce_sobol.hpp"
+#include "study/estimators/work_stopped.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -154,6 +155,7 @@ PceSobolIntervals bootstrap_pce_sobol(const PolynomialChaosExpansion& e, const D
   DesignMatrix xb(n, x.cols());
   Eigen::VectorXd yb(n), coefficients;
   for (int b = 0; b < s.resamples; ++b) {
+    stop_if_requested(s.stop, "PCE bootstrap");
     const std::uint64_t key = splitmix64(s.seed ^ splitmix64(kResampleStream + b));
     for (Eigen::Index r = 0; r < n; ++r) {
       const Eigen::Index pick =

@@ -14,6 +14,7 @@
 // (too many repeated runs) are skipped and counted.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <string>
 
@@ -42,6 +43,9 @@ struct PceBootstrapSettings {
   int resamples = 200;      // 2 .. 1,000,000
   double confidence = 0.95; // (0, 1)
   std::uint64_t seed = 1;   // the resamples depend only on (seed, resample, draw)
+  // Read at every resample when set: once true, WorkStopped is thrown
+  // (study/estimators/work_stopped.hpp; a signal ends a long bootstrap at once).
+  const std::atomic<bool>* stop = nullptr;
 };
 
 struct PceSobolIntervals {

@@ -8,6 +8,7 @@
 #include "core/simulate.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -231,6 +232,28 @@ TEST(Simulate, RunsAreBitIdentical) {
   EXPECT_EQ(a.rhs_evaluations, b.rhs_evaluations);
   EXPECT_EQ(a.steps, b.steps);
   EXPECT_GT(a.normal_force_N.maxCoeff(), 0.0);  // through an impact
+}
+
+// A raised stop flag (a signal's request) ends a run at its next step with
+// SimulationStopped, which is neither a result nor a failure status; a flag
+// that stays down changes nothing.
+TEST(Simulate, AStopFlagEndsTheRunAtItsNextStep) {
+  io::ScenarioSetup setup = shipped("drop_horizontal");
+  setup.scenario.duration_s = 0.1;
+  std::atomic<bool> stop{false};
+  SimulationObserver observer;
+  observer.stop = &stop;
+  const Trajectory unstopped = simulate(setup.model, setup.scenario, setup.inputs, observer);
+  ASSERT_TRUE(unstopped.ok()) << unstopped.message;
+  EXPECT_EQ(unstopped.B_l_z, simulate(setup.model, setup.scenario, setup.inputs).B_l_z);
+  stop = true;
+  try {
+    (void)simulate(setup.model, setup.scenario, setup.inputs, observer);
+    ADD_FAILURE() << "the run ended although its stop flag was up";
+  } catch (const SimulationStopped& e) {
+    EXPECT_LT(e.t_s, 0.01) << e.what();
+    EXPECT_NE(std::string(e.what()).find("stopped on request"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Simulate, TinyWallTimeBudgetStopsWithAStatus) {

@@ -3564,5 +3564,129 @@ TEST_F(Audit, FilesAndThePlotterAreCheckedBeforeAnyRun) {
   run_table(dir, cases);
 }
 
+// Runs `rover <args>` in `dir` in the background (log in `log`), waits until
+// the shell condition `ready` holds and `settle_s` more, sends SIGTERM and
+// waits for the end; the output ends with "status N" and the log, and holds
+// "still running" if rover outlived the signal by kSignalGrace_s (`timeout`,
+// which forwards the signal, then kills it).
+constexpr int kSignalGrace_s = 8;
+std::string signalled_run(const std::string& dir, const std::string& args, const std::string& log,
+                          const std::string& ready, double settle_s = 0.0) {
+  std::string output;
+  run_command("cd " + dir + " && (OMPI_MCA_ess_singleton_isolated=1 timeout -k " + std::to_string(kSignalGrace_s + 2) +
+                  " 60 " + rover_binary() + " " + args +
+                  " > " + log + " 2>&1 & pid=$!; for i in $(seq 3000); do " + ready +
+                  " && break; sleep 0.01; done; sleep " + std::to_string(settle_s) + "; kill -TERM $pid; for i in $(seq " +
+                  std::to_string(10 * kSignalGrace_s) +
+                  "); do kill -0 $pid 2>/dev/null || break; sleep 0.1; done; "
+                  "kill -0 $pid 2>/dev/null && echo 'still running after the grace'; wait $pid; echo \"status $?\"; cat " +
+                  log + ")",
+              &output);
+  return output;
+}
+std::string log_holds(const std::string& log, const std::string& line) { return "grep -q '" + line + "' " + log; }
+std::string file_exists(const std::string& path) { return "test -e " + path; }
+
+// What an interrupted command must show: status 130, a word, no result, no
+// temporary and no lock; with `checkpoint_kept`, the checkpoint and the
+// --resume line (a study that finished no run may write no checkpoint).
+void expect_clean_interrupt(const std::string& output, const std::string& out, bool checkpoint_kept) {
+  EXPECT_EQ(output.find("still running"), std::string::npos) << output;
+  EXPECT_NE(output.find("status 130"), std::string::npos) << output;
+  EXPECT_NE(output.find("interrupted"), std::string::npos) << output;
+  EXPECT_FALSE(fs::exists(out)) << output;
+  EXPECT_FALSE(fs::exists(out + ".partial")) << output;
+  EXPECT_FALSE(fs::exists(out + ".lock")) << output;
+  if (!checkpoint_kept) return;
+  EXPECT_TRUE(fs::exists(out + ".checkpoint")) << output;
+  EXPECT_NE(output.find("--resume"), std::string::npos) << output;
+}
+
+// Class 4: a signal in the analysis after the runs (a bootstrap of minutes)
+// ends the study at once; the checkpoint holds every run for --resume.
+TEST_F(Audit, ASignalEndsTheBootstrapAfterTheRuns) {
+  const std::string dir = w().dir();
+  const std::string sobol = w().sensitivity([](Json& j) {
+    j["design"]["samples"] = 16384;
+    j["bootstrap"] = 100000;
+  });
+  const std::string sobol_out = dir + "/boot_sobol.h5";
+  const std::string sobol_log = dir + "/boot_sobol.log";
+  expect_clean_interrupt(
+      signalled_run(dir, study_args("sensitivity", sobol, sobol_out), sobol_log, log_holds(sobol_log, "done (0 failed) in")),
+      sobol_out, true);
+  const std::string mc = w().montecarlo([](Json& j) {
+    j.erase("scenario");
+    j["model"] = "ishigami";
+    j.erase("parameters");
+    j.erase("qoi");
+    j["design"]["samples"] = 100000;
+    j["bootstrap"] = 100000;
+  });
+  const std::string mc_out = dir + "/boot_mc.h5";
+  const std::string mc_log = dir + "/boot_mc.log";
+  expect_clean_interrupt(
+      signalled_run(dir, study_args("montecarlo", mc, mc_out), mc_log, log_holds(mc_log, "done (0 failed) in")), mc_out,
+      true);
+}
+
+// Class 4: a signal ends the run in progress at its next step, not when it
+// is done; the run is not recorded (--resume computes it), never as failed.
+TEST_F(Audit, ASignalEndsTheRunInProgress) {
+  const std::string dir = w().dir();
+  const std::string slow = w().scenario([](Json& j) {
+    j["duration"] = 60.0;
+    j["integrator"] = {{"method", "dopri5"}, {"rtol", 1e-9}, {"atol", 1e-12}};
+  });
+  const std::string design = w().text_file("slow_design", "c_q\n0.14\n", "csv");
+  const std::string out = dir + "/slow.h5";
+  // The lock is taken just before the run; a second later the run is under way.
+  const std::string output = signalled_run(
+      dir, "evaluate --scenario " + slow + " --design " + design + " --out " + out + " --qoi t_min",
+      dir + "/slow.log", file_exists(out + ".lock"), 1.0);
+  expect_clean_interrupt(output, out, false);
+  EXPECT_NE(output.find("0 of 1 runs"), std::string::npos) << output;
+  EXPECT_NE(output.find("--resume"), std::string::npos) << output;
+  EXPECT_EQ(output.find("1 failed"), std::string::npos) << output;
+}
+
+// Class 4: a calibration's NLopt global search of many evaluations is one
+// task; a signal ends it at its next evaluation.
+TEST_F(Audit, ASignalEndsAGlobalSearch) {
+  const std::string dir = w().dir();
+  const std::string calibration = w().calibration([](Json& j) { j["max_evaluations"] = 100000; });
+  const std::string out = dir + "/direct.h5";
+  const std::string output = signalled_run(dir, study_args("calibrate", calibration, out) + " --algorithm GN_DIRECT_L",
+                                           dir + "/direct.log", file_exists(out + ".lock"), 1.0);
+  expect_clean_interrupt(output, out, false);
+  EXPECT_NE(output.find("0 of 1 runs"), std::string::npos) << output;
+}
+
+// Class 4: `surrogate --predict` interrupted while it writes its table: 130,
+// a word, nothing written, neither temporary nor lock left.
+TEST_F(Audit, ASignalEndsAPredictionWithNothingWritten) {
+  const std::string dir = w().dir();
+  const std::string study = w().json_file(
+      "sg", Json{{"type", "surrogate"}, {"surrogate", "pce"}, {"name", "sg"}, {"model", "ishigami"},
+                 {"design", {{"type", "lhs"}, {"samples", 60}, {"seed", 1}}}, {"pce", {{"max_degree", 3}}}});
+  const std::string model = dir + "/sg.h5";
+  std::string output;
+  ASSERT_EQ(run_command("cd " + dir + " && OMPI_MCA_ess_singleton_isolated=1 " + rover_binary() + " " +
+                            study_args("surrogate", study, model),
+                        &output),
+            0)
+      << output;
+  const std::string design = dir + "/many_points.csv";
+  ASSERT_EQ(run_command("awk 'BEGIN { print \"x1,x2,x3\"; for (i = 0; i < 800000; ++i) "
+                        "printf \"%.6f,%.6f,%.6f\\n\", -3 + 6 * (i % 997) / 997, -3 + 6 * (i % 991) / 991, "
+                        "-3 + 6 * (i % 983) / 983 }' > " + design),
+            0);
+  const std::string out = dir + "/many_predictions.csv";
+  output = signalled_run(dir, "surrogate --predict " + model + " --design " + design + " --csv " + out,
+                         dir + "/predict.log", file_exists(out + ".partial"));
+  expect_clean_interrupt(output, out, false);
+  EXPECT_NE(output.find("nothing written"), std::string::npos) << output;
+}
+
 }  // namespace
 }  // namespace rover

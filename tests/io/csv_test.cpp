@@ -6,9 +6,11 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <random>
 #include <stdexcept>
@@ -218,6 +220,23 @@ TEST(Csv, WriteToAFullDeviceFailsAndLeavesTheDevice) {
   const std::string dir = testing::temp_dir();
   EXPECT_THROW(write_csv(dir, {"t"}, {{1.0}}), std::runtime_error);
   EXPECT_TRUE(fs::is_directory(dir));
+}
+
+// A stop request during the write leaves the earlier file as it was and no
+// temporary; without one the file is written.
+TEST(Csv, AStopDuringTheWriteLeavesTheEarlierFile) {
+  const std::string path = testing::temp_dir() + "/stopped.csv";
+  std::ofstream(path) << "a\n7\n";
+  const std::vector<double> many(3 * kStopCheckRows, 0.5);
+  std::atomic<bool> stop{true};
+  EXPECT_FALSE(write_csv(path, {"a"}, {many}, "", &stop));
+  std::ifstream in(path);
+  const std::string kept((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(kept, "a\n7\n");
+  EXPECT_FALSE(fs::exists(path + ".partial"));
+  stop = false;
+  EXPECT_TRUE(write_csv(path, {"a"}, {many}, "", &stop));
+  EXPECT_EQ(read_csv(path).rows(), many.size());
 }
 
 TEST(Csv, WriteRefusesInconsistentColumnsAndLeavesNothing) {

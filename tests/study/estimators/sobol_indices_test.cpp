@@ -3,6 +3,7 @@
 // bootstrap interval coverage, failed runs, second order and curves.
 #include "study/estimators/sobol_indices.hpp"
 
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <iostream>
@@ -20,6 +21,7 @@
 #include <gtest/gtest.h>
 
 #include "study/estimators/test_models.hpp"
+#include "study/estimators/work_stopped.hpp"
 
 namespace rover::study {
 namespace {
@@ -199,6 +201,20 @@ TEST(SobolIndices, AnInputThatDoesNotEnterTheModelHasZeroIndicesAndAPointInterva
     EXPECT_LT(s.ST_lower[2], s.ST[2]);  // the others have proper intervals
     EXPECT_GT(s.ST_upper[2], s.ST[2]);
   }
+}
+
+// A raised stop flag (a signal) ends the bootstrap with WorkStopped; without
+// a bootstrap the flag is never read.
+TEST(SobolIndices, AStopFlagEndsTheBootstrap) {
+  const std::vector<double> coefficients{1.0, 0.5, 2.0}, sds{1.0, 1.0, 1.0};
+  const BaseDesign base = monte_carlo_base(64, 3, 5);
+  const Eigen::VectorXd y = linear_outputs(pick_freeze_design(base.A, base.B, false), coefficients, sds);
+  std::atomic<bool> stop{true};
+  SobolOptions options;
+  options.stop = &stop;
+  EXPECT_THROW(estimate_sobol_indices({64, 3, false}, y, options), WorkStopped);
+  options.bootstrap_resamples = 0;
+  EXPECT_TRUE(estimate_sobol_indices({64, 3, false}, y, options).S1.allFinite());
 }
 
 TEST(SobolIndices, MeanAndVarianceAreThoseOfTheOutput) {

@@ -3,8 +3,11 @@
 // tests/study/runtime/task_farm_probe.cpp under mpiexec (see tests/CMakeLists.txt).
 #include "study/runtime/task_farm.hpp"
 
+#include "study/estimators/work_stopped.hpp"
+
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <set>
 #include <sstream>
@@ -55,6 +58,29 @@ TEST(TaskFarm, IndexIsTheTasksWhateverComputeReturns) {
       run_task_farm({5}, [](int) { return TaskResult{}; }, nullptr, {.progress = nullptr});
   ASSERT_EQ(results.size(), 1u);
   EXPECT_EQ(results[0].index, 5);
+}
+
+// A task that a stop request ends midway (compute throws WorkStopped) is not
+// done: no result and no failure; the tasks before it stand, none follows.
+TEST(TaskFarm, ATaskStoppedMidwayIsNotDone) {
+  std::atomic<bool> stop{false};
+  std::vector<int> computed;
+  const auto compute = [&](int i) {
+    computed.push_back(i);
+    if (i == 2) {
+      stop = true;  // the signal arrives during task 2
+      stop_if_requested(&stop, "task 2");
+    }
+    return TaskResult{i, 0, "", {static_cast<double>(i)}};
+  };
+  std::ostringstream progress;
+  const std::vector<TaskResult> results =
+      run_task_farm({0, 1, 2, 3, 4}, compute, nullptr, {.label = "sweep", .progress = &progress, .stop = &stop});
+  EXPECT_EQ(computed, (std::vector<int>{0, 1, 2}));
+  ASSERT_EQ(results.size(), 2u);
+  EXPECT_EQ(results[0].index, 0);
+  EXPECT_EQ(results[1].index, 1);
+  EXPECT_NE(progress.str().find("sweep: 2/5 done (0 failed)"), std::string::npos) << progress.str();
 }
 
 TEST(TaskFarm, InvalidTaskListsAreRefused) {
