@@ -1233,7 +1233,7 @@ TEST_F(Audit, InputsNamedInConfigs) {
   const std::string cp_study = w().montecarlo([&](Json& j) { j["scenario"] = checkpoint_named; });
   refused("montecarlo's checkpoint over the study's scenario",
           "montecarlo --no-plot --restart --study " + cp_study + " --out " + dir + "/cp.h5", checkpoint_named,
-          {"--out", "checkpoint", "'scenario' in " + cp_study});
+          {dir + "/cp.h5.checkpoint", "is no checkpoint of rover", "never removes such a file"});
   // The default --out, results/<name>.h5, is checked as well.
   fs::create_directories(dir + "/results");
   const std::string default_target = dir + "/results/named.h5";
@@ -1529,7 +1529,8 @@ TEST_F(Audit, InputsListedByLoaders) {
   cases.push_back({"evaluate's checkpoint over its design",
                    "evaluate --no-plot --restart --scenario " + w().quick() + " --design " + design_checkpoint +
                        " --qoi t_min --out " + dir + "/ev.csv",
-                   Want::kError, {"--out", "checkpoint", "--design"}, unchanged(design_checkpoint)});
+                   Want::kError, {design_checkpoint, "is no checkpoint of rover", "never removes such a file"},
+                   unchanged(design_checkpoint)});
   // The surface's reference file, named like a plot beside --out.
   const std::string reference_png = simulated_curve(dir + "/surf_summary.png");
   const std::string surface = w().surface([&](Json& j) { j["reference"] = {{"file", reference_png}}; });
