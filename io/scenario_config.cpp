@@ -401,6 +401,27 @@ bool slip_tolerance_out(const IntegratorSettings& s) {
 
 }  // namespace
 
+// A key the chosen method does not use is refused: a slip_tol on dopri5 or an
+// rtol on rk4 would look like a setting while changing nothing.
+void refuse_keys_the_method_ignores(const JsonReader& r, IntegratorMethod method) {
+  static constexpr std::array<const char*, 5> kAdaptiveKeys = {"rtol", "atol", "initial_step", "min_step", "max_step"};
+  const bool stiff = method == IntegratorMethod::kRosenbrockW || method == IntegratorMethod::kRodas4;
+  const std::string name = integrator_name(method);
+  if (method == IntegratorMethod::kRungeKutta4) {
+    for (const char* key : kAdaptiveKeys)
+      if (r.has(key)) r.fail(key, "rk4 takes fixed steps and uses only fixed_step; remove '" + std::string(key) +
+                                      "' or choose an adaptive method (dopri5, rosenbrock, rodas4)");
+    if (r.has("slip_tol")) r.fail("slip_tol", "only rosenbrock and rodas4 use slip_tol; remove it for rk4");
+    return;
+  }
+  if (r.has("fixed_step"))
+    r.fail("fixed_step", name + " chooses its own steps; fixed_step is used only by rk4: remove it, or bound the "
+                                "steps with min_step and max_step");
+  if (!stiff && r.has("slip_tol"))
+    r.fail("slip_tol", "only rosenbrock and rodas4 use slip_tol; " + name + " holds the slip speed to rtol and atol "
+                                                                       "like every state: remove it");
+}
+
 IntegratorSettings parse_integrator_settings(const JsonReader& r, IntegratorSettings s) {
   if (r.has("method")) {
     IntegratorMethod method = s.method;
@@ -427,6 +448,7 @@ IntegratorSettings parse_integrator_settings(const JsonReader& r, IntegratorSett
   if (r.has("fixed_step")) s.fixed_step_s = r.positive("fixed_step");
   if (r.has("slip_tol")) s.slip_tolerance = r.positive("slip_tol");
   r.finish();
+  refuse_keys_the_method_ignores(r, s.method);
   if (std::string why; !s.IsValid(&why)) {
     const bool rtol_out = !(s.relative_tolerance >= IntegratorSettings::kMinRelativeTolerance &&
                             s.relative_tolerance <= IntegratorSettings::kMaxRelativeTolerance);

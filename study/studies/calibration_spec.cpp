@@ -21,6 +21,7 @@
 #include "io/csv.hpp"
 #include "io/hdf5_file.hpp"
 #include "study/model/distribution_json.hpp"
+#include "study/studies/measurement_noise_scale.hpp"
 #include "study/studies/report_number.hpp"
 
 namespace rover::study {
@@ -35,18 +36,6 @@ constexpr double kSpanTolerance = 1e-9;
 // How far bounds.time_offset may reach past the offsets at which the data
 // meet the run, at least (check_offsets_meet_the_data).
 constexpr double kOffsetMargin_s = 1.0;
-// A measurement noise sd the likelihood can use: heights are below 1e3 m
-// (io::kMeasuredCurveMaxAbsHeight_m), and below 1e-12 m the noise is under
-// the rounding of the data's digits; far outside these bounds the
-// likelihood's residual^2 / sd^2 is not a finite number.
-constexpr double kMinNoiseSd_m = 1e-12;
-constexpr double kMaxNoiseSd_m = 1e3;
-
-std::string noise_scale_problem(double sd_m) {
-  return format_number(sd_m, 6) + " m, outside the noise sds from " + format_number(kMinNoiseSd_m, 6) + " to " +
-         format_number(kMaxNoiseSd_m, 6) + " m that the likelihood resolves (heights are in metres)";
-}
-
 // The reference integrator of the integration check: Dormand-Prince at the
 // tightest tolerances that run through every contact event of the drops.
 constexpr double kReferenceRelativeTolerance = 1e-8;
@@ -414,7 +403,7 @@ void read_mcmc_settings(const io::JsonReader& r, CalibrationStudy& s) {
       if (m.raw("noise_sd").is_number()) {
         s.mcmc.sample_noise = false;
         s.mcmc.known_noise_sd_m = m.positive("noise_sd");
-        if (!(s.mcmc.known_noise_sd_m >= kMinNoiseSd_m && s.mcmc.known_noise_sd_m <= kMaxNoiseSd_m))
+        if (!noise_sd_resolved(s.mcmc.known_noise_sd_m))
           m.fail("noise_sd", noise_scale_problem(s.mcmc.known_noise_sd_m));
       } else {
         const io::JsonReader noise = m.child("noise_sd");

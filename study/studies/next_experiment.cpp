@@ -19,6 +19,7 @@
 #include "study/runtime/study_runner.hpp"
 #include "study/studies/calibration_fit.hpp"
 #include "study/studies/calibration_program.hpp"
+#include "study/studies/measurement_noise_scale.hpp"
 #include "study/studies/study_output.hpp"
 
 namespace rover::study {
@@ -59,6 +60,7 @@ NextExperimentCandidate read_candidate(const io::JsonReader& c, const std::strin
   out.rate_hz = c.positive("rate_hz");
   if (out.rate_hz > kMaxRateHz) c.fail("rate_hz", "must be at most 1e5 Hz, got " + number(out.rate_hz, 6));
   out.noise_sd_m = c.positive("noise_sd");
+  if (!noise_sd_resolved(out.noise_sd_m)) c.fail("noise_sd", noise_scale_problem(out.noise_sd_m));
   out.sources = io::read_scenario_sources(out.scenario_path);
   if (c.has("set")) {
     const io::JsonReader set = c.child("set");

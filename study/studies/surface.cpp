@@ -20,6 +20,9 @@ constexpr double kMaxGridPoints = 1e6;
 constexpr double kMaxReferenceHeightM = 1e3;
 // Neighbouring grid values closer than this (relative) are one value to the model.
 constexpr double kMinRelativeSpacing = 1e-12;
+// A line through two points fits them exactly (r^2 = 1 whatever the timing):
+// the sweep's regression is judged on three f values or more.
+constexpr int kMinSweepPoints = 3;
 const std::vector<std::string> kSurfaceInputs{"s_structure.f", "s_structure.c_q"};
 
 std::vector<double> parse_axis(const io::JsonReader& parent, const std::string& key, bool* log_spacing = nullptr) {
@@ -266,7 +269,8 @@ LinearFit linear_regression(const std::vector<double>& x, const std::vector<doub
     syy += (y[i] - my) * (y[i] - my);
   }
   const double b = sxy / sxx, a = my - b * mx;
-  const double r2 = syy > 0 ? (sxy * sxy) / (sxx * syy) : 1.0;
+  // r^2 of fewer than 3 points, or of a constant t_c, says nothing: none.
+  const double r2 = x.size() >= static_cast<std::size_t>(kMinSweepPoints) && syy > 0 ? (sxy * sxy) / (sxx * syy) : std::nan("");
   return {a, b, r2};
 }
 
@@ -302,6 +306,9 @@ SurfaceStudy load_surface_study(const std::string& path) {
   if (r.has("sweep")) {
     const io::JsonReader sw = r.child("sweep");
     s.sweep_f = parse_axis(sw, "f");
+    if (s.sweep_f.size() < static_cast<std::size_t>(kMinSweepPoints))
+      sw.child("f").fail("count", std::to_string(s.sweep_f.size()) + " point(s): a line through " +
+                                      "fewer than 3 fits them exactly (r^2 = 1 whatever t_c does); give count 3 or more");
     s.sweep_c_q = sw.non_negative("c_q");
     sw.finish();
   }

@@ -4,6 +4,7 @@
 // over (f, c_q) and the sweep on its own. A kriged surface (surface_kriging.hpp)
 // shows the predicted RMS error and t_c, and their predictive sd, in place of
 // the grid's runs.
+#include <cmath>
 #include <iostream>
 
 #include "core/number_text.hpp"
@@ -36,7 +37,9 @@ io::LinePlot sweep_plot(const SurfaceResult& r) {
   p.x_label = "f [1/rad]";
   p.y_label = "t_c [s]";
   io::Series points{"runs", r.study.sweep_f, r.sweep_t_c, io::SeriesStyle::points};
-  io::Series fit{"t_c = a + b f (r^2 = " + number_text(r.regression.r_squared) + ")"};
+  const std::string r_squared =
+      std::isnan(r.regression.r_squared) ? "none: under 3 timed runs" : number_text(r.regression.r_squared);
+  io::Series fit{"t_c = a + b f (r^2 " + r_squared + ")"};
   for (double f : r.study.sweep_f) {
     fit.x.push_back(f);
     fit.y.push_back(r.regression.intercept + r.regression.slope * f);

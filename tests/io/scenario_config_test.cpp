@@ -466,5 +466,28 @@ TEST(ResolveRelative, FollowsLinkedFoldersAsTheSystemDoes) {
   EXPECT_EQ(io::resolve_relative(config, "/abs/x.json"), "/abs/x.json");
 }
 
+TEST(ScenarioConfig, KeysTheMethodDoesNotUseAreRefusedByName) {
+  const auto error_of = [](const Json& integrator) -> std::string {
+    Json j = base_scenario();
+    j["integrator"] = integrator;
+    try {
+      io::load_scenario(write_scenario(j));
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  const std::string slip_on_dopri5 = error_of({{"method", "dopri5"}, {"slip_tol", 0.01}});
+  EXPECT_NE(slip_on_dopri5.find("'integrator.slip_tol'"), std::string::npos) << slip_on_dopri5;
+  const std::string rtol_on_rk4 = error_of({{"method", "rk4"}, {"fixed_step", 2e-5}, {"rtol", 1e-8}});
+  EXPECT_NE(rtol_on_rk4.find("'integrator.rtol'"), std::string::npos) << rtol_on_rk4;
+  EXPECT_NE(rtol_on_rk4.find("fixed_step"), std::string::npos) << rtol_on_rk4;
+  const std::string step_on_rodas4 = error_of({{"method", "rodas4"}, {"fixed_step", 1e-5}});
+  EXPECT_NE(step_on_rodas4.find("'integrator.fixed_step'"), std::string::npos) << step_on_rodas4;
+  // The keys each method uses are accepted.
+  EXPECT_EQ(error_of({{"method", "rodas4"}, {"slip_tol", 0.02}, {"max_step", 1e-3}}), "accepted");
+  EXPECT_EQ(error_of({{"method", "dopri5"}, {"rtol", 1e-8}, {"atol", 1e-11}, {"initial_step", 1e-6}}), "accepted");
+}
+
 }  // namespace
 }  // namespace rover
