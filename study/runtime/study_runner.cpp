@@ -93,6 +93,15 @@ Handler restorable(Handler previous) {
   return previous == SIG_ERR || previous == on_interrupt_before_guard ? SIG_DFL : previous;
 }
 
+// "12 of 600 runs are saved in <checkpoint>", or, before any run finished,
+// that nothing is (no checkpoint file exists to resume from).
+std::string saved_runs_text(const io::ResultCheckpoint& checkpoint, int task_count) {
+  if (checkpoint.size() == 0)
+    return "none of the " + std::to_string(task_count) + " runs had finished, so nothing is saved";
+  return std::to_string(checkpoint.size()) + " of " + std::to_string(task_count) + " runs are saved in " +
+         checkpoint.path();
+}
+
 }  // namespace
 
 void exit_on_interrupt_until_guarded() {
@@ -170,9 +179,9 @@ void stream_study_tasks(int task_count, const std::function<TaskResult(int)>& co
   // every arriving run is written as it comes.
   farm.on_stop = [&] {
     checkpoint->save();
-    std::cerr << options.label << ": interrupt: no new runs are handed out; " << checkpoint->size() << " of "
-              << task_count << " runs are saved in " << checkpoint->path()
-              << "; runs still in progress are added if they finish. " << resume_hint << std::endl;
+    std::cerr << options.label << ": interrupt: no new runs are handed out; "
+              << saved_runs_text(*checkpoint, task_count) << "; runs still in progress are added if they finish"
+              << (checkpoint->size() == 0 ? "." : ". " + resume_hint) << std::endl;
   };
   run_task_farm(
       todo, compute,
@@ -185,9 +194,8 @@ void stream_study_tasks(int task_count, const std::function<TaskResult(int)>& co
   if (!root) return;
   checkpoint->save();
   if (g_interrupted.load()) {
-    throw StudyInterrupted(options.label + ": interrupted; " + std::to_string(checkpoint->size()) + " of " +
-                           std::to_string(task_count) + " runs are saved in " + checkpoint->path() + ". " +
-                           resume_hint);
+    throw StudyInterrupted(options.label + ": interrupted; " + saved_runs_text(*checkpoint, task_count) + ". " +
+                           (checkpoint->size() == 0 ? std::string("Run the same command again.") : resume_hint));
   }
   if (sink.buffered() != 0)
     throw std::logic_error(options.label + ": " + std::to_string(sink.buffered()) +

@@ -63,6 +63,7 @@ PceChannelResult channel_indices(const std::string& name, const DesignMatrix& x_
   if (!c.undefined_reason.empty()) return c;
   PolynomialChaosCurvesSettings settings;
   settings.pce = options.settings;
+  settings.pce.stop = &InterruptGuard::flag();  // a signal ends the fit at its next step
   settings.explained_variance = kCurveExplainedVariance;
   try {
     c.curves = fit_polynomial_chaos_curves(x_ok, y_ok, inputs, settings, name);
@@ -272,7 +273,9 @@ PceQoiResult pce_qoi_indices(const std::string& name, const DesignMatrix& x_ok, 
   q.undefined_reason = undefined_because_non_finite(y_ok);
   if (!q.undefined_reason.empty()) return q;
   try {
-    q.expansion = fit_polynomial_chaos(x_ok, y_ok, inputs, options.settings, name);
+    PolynomialChaosSettings settings = options.settings;
+    settings.stop = &InterruptGuard::flag();  // a signal ends the fit at its next step
+    q.expansion = fit_polynomial_chaos(x_ok, y_ok, inputs, settings, name);
   } catch (const std::invalid_argument& e) {
     q.undefined_reason = e.what();
     return q;

@@ -7,6 +7,7 @@
 
 #include <Eigen/Cholesky>
 
+#include "study/estimators/work_stopped.hpp"
 #include "study/surrogate/least_squares_loo.hpp"
 
 namespace rover::study {
@@ -151,7 +152,7 @@ int append_next_column(LarsPath* path, const Eigen::MatrixXd& psi, int max_colum
 }  // namespace
 
 SparseSelection hybrid_lars(const Eigen::MatrixXd& psi, const Eigen::VectorXd& y,
-                            double y_variance) {
+                            double y_variance, const std::atomic<bool>* stop) {
   SparseSelection best;
   best.corrected_loo = kInf;
   const int max_columns = static_cast<int>(std::min<Eigen::Index>(psi.cols(), psi.rows() - 1));
@@ -161,6 +162,7 @@ SparseSelection hybrid_lars(const Eigen::MatrixXd& psi, const Eigen::VectorXd& y
   if (ls.add_column(psi.col(0))) columns.push_back(0);
   int since_best = 0;
   for (int step = 0;; ++step) {
+    stop_if_requested(stop, "LARS basis selection");
     const LeastSquaresLoo fit = ls.fit();
     if (fit.ok && fit.corrected_loo < best.corrected_loo) {
       best.ok = true;

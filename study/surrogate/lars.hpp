@@ -8,6 +8,7 @@
 // columns centred and scaled to unit norm, and on the centred output.
 #pragma once
 
+#include <atomic>
 #include <vector>
 
 #include <Eigen/Core>
@@ -56,7 +57,9 @@ struct SparseSelection {
 // Hybrid LARS on psi (runs x P) for y. y_variance > 0: the variance the errors
 // are relative to. Stops following the path once the error has not improved
 // for a number of steps (see the .cpp), or at N - 2 active terms.
+// `stop`, when set, is read at every step: once true, WorkStopped is thrown
+// (study/estimators/work_stopped.hpp).
 SparseSelection hybrid_lars(const Eigen::MatrixXd& psi, const Eigen::VectorXd& y,
-                            double y_variance);
+                            double y_variance, const std::atomic<bool>* stop = nullptr);
 
 }  // namespace rover::study

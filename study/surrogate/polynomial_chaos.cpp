@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "study/estimators/work_stopped.hpp"
 #include "study/surrogate/lars.hpp"
 #include "study/surrogate/least_squares_loo.hpp"
 #include "study/surrogate/pce_basis.hpp"
@@ -87,7 +88,7 @@ DegreeFit fit_degree(const DesignMatrix& x, const Eigen::VectorXd& y,
     fit = DegreeFit{true, false, candidates, ls.coefficients, ls.corrected_loo, fit.candidates};
     return fit;
   }
-  const SparseSelection sel = hybrid_lars(psi, y, variance);
+  const SparseSelection sel = hybrid_lars(psi, y, variance, s.stop);
   if (!sel.ok) return fit;
   fit.ok = true;
   for (const int c : sel.columns) fit.terms.push_back(candidates[c]);
@@ -180,6 +181,7 @@ PolynomialChaosExpansion fit_polynomial_chaos(const DesignMatrix& x, const Eigen
     if (s.selection == BasisSelection::kFullLeastSquares &&
         candidate_count(inputs, p, s.q_norm, s.max_candidate_terms) >= y.size())
       break;
+    stop_if_requested(s.stop, "polynomial chaos fit");
     DegreeFit fit = fit_degree(x, y, inputs, s, p, variance);
     if (fit.too_large) {
       if (!best.ok) throw std::invalid_argument(too_large_message(name, p, s));

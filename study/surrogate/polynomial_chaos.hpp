@@ -11,6 +11,7 @@
 // (or at max_degree); the best expansion is kept (Blatman & Sudret 2011, sec. 5).
 #pragma once
 
+#include <atomic>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,9 @@ struct PolynomialChaosSettings {
   // Candidate sets larger than this are not built (memory runs x terms):
   // degrees beyond it are not tried. 1 .. kMaxPceCandidateTerms.
   int max_candidate_terms = 10000;
+  // Read at every degree and every LARS step when set: once true, the fit
+  // throws WorkStopped (study/estimators/work_stopped.hpp).
+  const std::atomic<bool>* stop = nullptr;
 };
 
 struct PolynomialChaosExpansion {

@@ -3,6 +3,7 @@
 // bootstrap intervals, validation and refused settings.
 #include "study/surrogate/polynomial_chaos.hpp"
 
+#include <atomic>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -11,6 +12,9 @@
 #include <gtest/gtest.h>
 
 #include "study/estimators/test_models.hpp"
+#include "study/estimators/work_stopped.hpp"
+#include "study/surrogate/lars.hpp"
+#include "study/surrogate/multi_index_set.hpp"
 #include "study/surrogate/pce_basis.hpp"
 #include "study/surrogate/pce_sobol.hpp"
 #include "surrogate_test_designs.hpp"
@@ -304,6 +308,28 @@ TEST(PolynomialChaos, RefusesBadSettingsAndData) {
   b.confidence = 1.0;
   EXPECT_NE(thrown_message([&] { bootstrap_pce_sobol(e, x, y, b); }).find("confidence 1"),
             std::string::npos);
+}
+
+// A stop request ends the fit, LARS or least squares, with WorkStopped (not
+// an expansion, not an invalid_argument that a study would report as a
+// failed QoI); without one the same fit completes.
+TEST(PolynomialChaos, AStopRequestEndsTheFit) {
+  const std::vector<Distribution> inputs(3, uniform(-kPi, kPi));
+  const DesignMatrix x = to_inputs(latin_hypercube(200, 3, 7), inputs);
+  const Eigen::VectorXd y = apply(x, ishigami_default);
+  std::atomic<bool> stop{true};
+  for (const BasisSelection selection : {BasisSelection::kHybridLars, BasisSelection::kFullLeastSquares}) {
+    PolynomialChaosSettings s;
+    s.max_degree = 6;
+    s.selection = selection;
+    s.stop = &stop;
+    EXPECT_THROW(fit_polynomial_chaos(x, y, inputs, s, "ishigami"), WorkStopped);
+    stop = false;
+    EXPECT_GT(fit_polynomial_chaos(x, y, inputs, s, "ishigami").validation.q2_loo, 0.5);
+    stop = true;
+  }
+  const Eigen::MatrixXd psi = pce_basis_matrix(x, inputs, hyperbolic_multi_indices(3, 4, 1.0, {true, true, true}));
+  EXPECT_THROW(hybrid_lars(psi, y, 13.8, &stop), WorkStopped);
 }
 
 }  // namespace
