@@ -58,8 +58,8 @@ io::InputFiles calibration_inputs(const CalibrateOptions& o, const study::Calibr
 }
 
 // Flags the chosen program would not use are refused, never dropped:
-// --next-experiment ranks after a least-squares fit (no posterior), a
-// posterior (mcmc) computes no profile, and the sampler's sizes apply to
+// --next-experiment ranks after a least-squares fit (no posterior, no
+// profiles), a posterior (mcmc) computes no profile, and the sampler's sizes apply to
 // mcmc only.
 void refuse_flags_that_do_not_apply(const CalibrateOptions& o, const study::CalibrationStudy& s) {
   FlagChecks checks;
@@ -72,6 +72,12 @@ void refuse_flags_that_do_not_apply(const CalibrateOptions& o, const study::Cali
   if (ranking && v.method == "mcmc")
     checks.add("--next-experiment ranks the candidates after a least-squares fit and samples no posterior: it "
                "does not go with --method mcmc; drop one of them");
+  if (ranking && v.profile)
+    checks.add("--profile: --next-experiment ranks the candidates from the fit's Jacobian and computes no profile "
+               "likelihoods: drop --profile, or run the calibration alone with --profile");
+  else if (ranking && s.profile)
+    std::cerr << "rover calibrate: note: the profile likelihoods that " << o.study_path
+              << " asks for (\"profile\": true) are not computed: --next-experiment ranks from the fit's Jacobian\n";
   if (v.profile && posterior)
     checks.add("--profile: profile likelihoods follow a least-squares fit, and " + method +
                " samples the posterior instead, computing none: drop --profile or give --method optimize");

@@ -39,6 +39,15 @@ void check_state_scale(const io::JsonReader& state, const RoverModel& model, con
   for (int index = 0; index < kNumCoordinates; ++index)
     if (const std::string p = io::speed_beyond_scale(index, u[index], scale); !p.empty())
       state.fail("u", "entry " + std::to_string(index) + " (" + kCoordinateNames[index] + ") = " + p);
+  // The contact law models a rim pressed into the ground; a wheel deeper than
+  // its own radius is buried, and its forces mean nothing.
+  if (const io::WheelPenetration deepest = io::deepest_wheel_penetration(model, q);
+      deepest.depth_m > model.parameters.geometry.wheel_radius_m)
+    state.fail("q", std::string("wheel ") + kWheelNames[static_cast<std::size_t>(deepest.leg)] + " is " +
+                        number_text(deepest.depth_m) + " m deep in the ground, more than its radius " +
+                        number_text(model.parameters.geometry.wheel_radius_m) +
+                        " m: the contact law holds for a rim pressed into the ground, not a buried wheel; "
+                        "raise q[2] (z)");
   if (!state.has("params")) return;
   const io::JsonReader params = state.child("params");
   const double limit = model.parameters.steering.limit_rad;

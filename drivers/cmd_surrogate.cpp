@@ -12,6 +12,8 @@
 #include "io/csv.hpp"
 #include "study/estimators/work_stopped.hpp"
 #include "study/runtime/study_runner.hpp"
+#include "io/hdf5_file.hpp"
+#include "io/input_files.hpp"
 #include "study/studies/surrogate_prediction.hpp"
 #include "study/studies/surrogate_study.hpp"
 
@@ -36,6 +38,20 @@ study::StudyProgram<study::SurrogateStudyResult> load(const SurrogateOptions& o)
   return study::surrogate_program(std::move(s));
 }
 
+// The files a saved surrogate was trained on, as its root attributes name
+// them (relative to where it was trained): a prediction's --csv must not
+// replace them either, though --predict does not read them.
+io::InputFiles training_files(const std::string& model_path) {
+  io::InputFiles files;
+  const io::Hdf5Reader h5(model_path);
+  for (const char* attribute : {"study_file", "scenario_file", "rover_file", "terrain_file"})
+    if (h5.has_attribute("/", attribute))
+      if (const std::string path = h5.attribute_string("/", attribute); !path.empty())
+        files.add(path, "the attribute " + std::string(attribute) + " of --predict '" + model_path +
+                            "' (the surrogate was trained on it)");
+  return files;
+}
+
 int predict(const SurrogateOptions& o) {
   FlagChecks checks;
   // One table to write: the other subcommands that run on one process are
@@ -49,6 +65,8 @@ int predict(const SurrogateOptions& o) {
   checks.distinct_files("--csv", o.csv_path, "--predict", o.predict_path);
   checks.throw_if_any();
   const study::SurrogateSet set = study::read_surrogate_set(o.predict_path);
+  checks.not_an_input("--csv", o.csv_path, training_files(o.predict_path));
+  checks.throw_if_any();
   const study::DesignMatrix x = study::surrogate_points(set, study::read_design_csv(o.design_path));
   // From here a signal ends the prediction or the writing with a word, and
   // nothing written (the lock and the temporary go as the exception unwinds).

@@ -8,6 +8,7 @@
 
 #include "study/runtime/calibration_mpi.hpp"
 #include "study/runtime/mpi_session.hpp"
+#include "study/studies/calibration_fit_flaw.hpp"
 #include "study/studies/report_number.hpp"
 #include "study/studies/study_output.hpp"
 
@@ -87,7 +88,7 @@ CalibrationPosteriorResult run_calibration_posterior(const CalibrationStudy& s, 
   std::vector<double> all_failed{counts.runs > 0 && counts.failed == counts.runs ? 1.0 : 0.0};
   broadcast_from_rank0(all_failed);
   if (all_failed[0] != 0.0) {
-    if (world_rank() != 0) return {checked.study, true, {}};
+    if (world_rank() != 0) return {checked.study, true, "", {}};
     // The fit's record holds its own verdict; one run at the start says why the runs fail.
     const CalibrationCurve start = simulate_calibration_curve(checked.study, 0, checked.study.initial_values());
     throw std::runtime_error("every one of the fit's " + std::to_string(counts.runs) + " runs failed (" +
@@ -95,7 +96,8 @@ CalibrationPosteriorResult run_calibration_posterior(const CalibrationStudy& s, 
                              "); the posterior has no point to start from: nothing was written");
   }
   const McmcStart start = posterior_start(checked);
-  CalibrationPosteriorResult r{checked.study, start.values.empty(), {}};
+  CalibrationPosteriorResult r{checked.study, start.values.empty(), world_rank() == 0 ? checked_fit_flaw(checked) : "",
+                               {}};
   r.posterior = run_calibration_mcmc(checked.study, control, start);
   return r;
 }
@@ -104,6 +106,9 @@ void report_calibration_posterior_run(const CalibrationPosteriorResult& r, std::
   out << "calibrate: the posterior started "
       << (r.started_at_initial_values ? "at the initial values (the fit has no intervals)" : "at the converged fit")
       << ", on " << describe_integrator(r.study.integrator) << "\n";
+  if (!r.start_fit_flaw.empty())
+    out << "calibrate: note: the least-squares fit the chains started from would be NOT VALID on its own: "
+        << r.start_fit_flaw << "; the posterior's own checks below judge the chains\n";
   report_calibration_posterior(r.posterior, r.study, out);
 }
 
@@ -131,6 +136,8 @@ StudyProgram<CalibrationPosteriorResult> calibration_posterior_program(Calibrati
   p.run = [study](const StudyRuntime& runtime) { return run_calibration_posterior(study, runtime.options); };
   p.write = [](const CalibrationPosteriorResult& r, io::Hdf5Writer& h5) {
     write_calibration_posterior(r.posterior, r.study, h5);
+    h5.attribute("/posterior", "start", std::string(r.started_at_initial_values ? "initial values" : "converged fit"));
+    h5.attribute("/posterior", "start_fit_flaw", r.start_fit_flaw);
   };
   p.counts = [](const CalibrationPosteriorResult&) { return RunCounts{}; };
   p.report = report_calibration_posterior_run;

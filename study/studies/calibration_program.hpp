@@ -24,6 +24,7 @@ inline constexpr int kUntrustedStatus = 2;
 struct CalibrationPosteriorResult {
   CalibrationStudy study;
   bool started_at_initial_values = false;  // the fit had no intervals to start from
+  std::string start_fit_flaw;               // why the fit started from is not to be trusted (rank 0)
   CalibrationPosterior posterior;
 };
 

@@ -870,8 +870,11 @@ TEST_F(Audit, SurfaceStudy) {
   s_case("reference with a negative f", [](Json& j) { j["reference"] = {{"simulate", {{"f", -1.0}}}}; },
          Want::kError, {"'reference.simulate.f'", "-1"});
   s_case("sweep c_q a word",
-         [](Json& j) { j["sweep"] = {{"f", {{"min", 1e2}, {"max", 1e4}, {"count", 2}}}, {"c_q", "x"}}; },
+         [](Json& j) { j["sweep"] = {{"f", {{"min", 1e2}, {"max", 1e4}, {"count", 3}}}, {"c_q", "x"}}; },
          Want::kError, {"'sweep.c_q'", "x"});
+  s_case("sweep of two points (r^2 = 1 by construction)",
+         [](Json& j) { j["sweep"] = {{"f", {{"min", 1e2}, {"max", 1e4}, {"count", 2}}}, {"c_q", 0.14}}; },
+         Want::kError, {"'sweep.f.count'", "count 3 or more"});
   s_case("sweep of no points",
          [](Json& j) { j["sweep"] = {{"f", {{"min", 1e2}, {"max", 1e4}, {"count", 0}}}, {"c_q", 0.14}}; },
          Want::kError, {"'sweep.f.count'", "0"});
@@ -3646,8 +3649,10 @@ TEST_F(Audit, ASignalEndsTheRunInProgress) {
       dir, "evaluate --scenario " + slow + " --design " + design + " --out " + out + " --qoi t_min",
       dir + "/slow.log", file_exists(out + ".lock"), 1.0);
   expect_clean_interrupt(output, out, false);
-  EXPECT_NE(output.find("0 of 1 runs"), std::string::npos) << output;
-  EXPECT_NE(output.find("--resume"), std::string::npos) << output;
+  // No run finished: nothing is saved, and no checkpoint is claimed.
+  EXPECT_NE(output.find("none of the 1 runs had finished, so nothing is saved"), std::string::npos) << output;
+  EXPECT_NE(output.find("Run the same command again"), std::string::npos) << output;
+  EXPECT_EQ(output.find("0 of 1 runs"), std::string::npos) << output;
   EXPECT_EQ(output.find("1 failed"), std::string::npos) << output;
 }
 
@@ -3660,7 +3665,7 @@ TEST_F(Audit, ASignalEndsAGlobalSearch) {
   const std::string output = signalled_run(dir, study_args("calibrate", calibration, out) + " --algorithm GN_DIRECT_L",
                                            dir + "/direct.log", file_exists(out + ".lock"), 1.0);
   expect_clean_interrupt(output, out, false);
-  EXPECT_NE(output.find("0 of 1 runs"), std::string::npos) << output;
+  EXPECT_NE(output.find("none of the 1 runs had finished"), std::string::npos) << output;
 }
 
 // Class 4: `surrogate --predict` interrupted while it writes its table: 130,
@@ -3687,6 +3692,76 @@ TEST_F(Audit, ASignalEndsAPredictionWithNothingWritten) {
                          dir + "/predict.log", file_exists(out + ".partial"));
   expect_clean_interrupt(output, out, false);
   EXPECT_NE(output.find("nothing written"), std::string::npos) << output;
+}
+
+// A next-experiment noise sd below what the likelihood resolves, integrator
+// keys the method does not use, --profile with --next-experiment and a buried
+// eom state are refused by name; a prediction's CSV never replaces a file the
+// surrogate was trained on; a posterior that starts from a fit held by its
+// bound says so; an interrupt before any run finished claims no saved runs.
+TEST_F(Audit, EleventhAuditLeftovers) {
+  std::vector<Case> cases;
+  const LandingDrop drop = landing_drop(w());
+  const std::string bounded = landing_fit(w(), drop, 0.2);
+  const std::string tiny_noise = w().json_file(
+      "tiny_noise", Json{{"candidates", {{{"scenario", drop.scenario}, {"rate_hz", 500}, {"noise_sd", 1e-13}}}}});
+  cases.push_back({"a candidate's noise sd of 1e-13 m",
+                   study("calibrate", bounded) + " --dry-run --next-experiment " + tiny_noise, Want::kError,
+                   {tiny_noise, "'candidates[0].noise_sd'", "1e-13 m, outside the noise sds from 1e-12 to 1000 m"}});
+  const std::string good = w().json_file(
+      "good", Json{{"candidates", {{{"scenario", drop.scenario}, {"rate_hz", 500}, {"noise_sd", 1e-4}}}}});
+  cases.push_back({"--profile with --next-experiment",
+                   study("calibrate", bounded) + " --dry-run --profile --next-experiment " + good, Want::kError,
+                   {"--profile", "computes no profile likelihoods"}});
+  cases.push_back({"slip_tol on dopri5",
+                   simulate(w().scenario([](Json& j) { j["integrator"] = {{"method", "dopri5"}, {"slip_tol", 0.01}}; })),
+                   Want::kError, {"'integrator.slip_tol'", "only rosenbrock and rodas4 use slip_tol"}});
+  cases.push_back({"rtol on rk4",
+                   simulate(w().scenario([](Json& j) {
+                     j["integrator"] = {{"method", "rk4"}, {"fixed_step", 1e-4}, {"rtol", 1e-8}};
+                   })),
+                   Want::kError, {"'integrator.rtol'", "rk4 takes fixed steps"}});
+  std::vector<double> buried(23, 0.0);
+  buried[2] = -5.0;
+  cases.push_back({"eom: wheels 5 m in the ground",
+                   "eom --state " + w().json_file("buried", Json{{"q", buried}, {"u", std::vector<double>(23, 0.0)}}),
+                   Want::kError, {"field 'q'", "m deep in the ground, more than its radius 0.085 m"}});
+  const std::string posterior = w().calibration([&](Json& j) {
+    j["scenario"] = drop.scenario;
+    j["data"] = drop.data;
+    j["bounds"]["c_q"] = {0.02, 0.2};
+    j["max_evaluations"] = 40;
+    j["method"] = "mcmc";
+    j["mcmc"] = {{"walkers", 8}, {"steps", 4}, {"discard", 0}, {"target_ess", 0}, {"predictive_draws", 0},
+                 {"noise_sd", 1e-4}};
+  });
+  const std::string posterior_out = w().out();
+  cases.push_back({"a posterior starting at a fit on its bound", study_args("calibrate", posterior, posterior_out),
+                   Want::kRunsOrFails,
+                   {"the least-squares fit the chains started from would be NOT VALID on its own",
+                    "c_q = 0.2 is on its bound"},
+                   [=] {
+                     const io::Hdf5Reader h5(posterior_out);
+                     const std::string flaw = h5.attribute_string("/posterior", "start_fit_flaw");
+                     return flaw.find("on its bound") != std::string::npos ? std::string()
+                                                                           : "start_fit_flaw '" + flaw + "'";
+                   }});
+  const std::string study_file = w().json_file(
+      "linear_surrogate", Json{{"type", "surrogate"},
+                               {"name", "lin"},
+                               {"model", "linear"},
+                               {"parameters", {{"x1", {{"distribution", "uniform"}, {"min", 0.0}, {"max", 1.0}}}}},
+                               {"design", {{"samples", 20}, {"seed", 1}}},
+                               {"pce", {{"max_degree", 1}, {"bootstrap", 0}}}});
+  const std::string trained = w().out();
+  std::string log;
+  ASSERT_EQ(run_command(rover_binary() + " " + study_args("surrogate", study_file, trained), &log), 0) << log;
+  cases.push_back({"--predict --csv over the study file the surrogate was trained on",
+                   "surrogate --predict " + trained + " --design " +
+                       w().text_file("design", "x1,x2,x3,x4\n0.5,0,0,0\n", "csv") + " --csv " + study_file,
+                   Want::kError, {"--csv", "the attribute study_file of --predict", "writing it would destroy it"},
+                   unchanged(study_file)});
+  run_table(w().dir(), cases);
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 
 #include "core/equations_of_motion.hpp"
 #include "io/model_config.hpp"
+#include "io/scenario_config.hpp"
 #include "model_fixtures.hpp"
 #include "test_support.hpp"
 
@@ -54,11 +55,15 @@ json run_eom(const std::string& state_path, const std::string& extra = "") {
 
 double max_abs(const Eigen::Ref<const Eigen::MatrixXd>& m) { return m.cwiseAbs().maxCoeff(); }
 
-// A state with some wheels in the ground and everything moving.
+// A state with some wheels in the ground and everything moving: the deepest
+// wheel 2 cm in (rover eom refuses a wheel buried deeper than its radius).
 void ground_state(Coordinates& q, Coordinates& u, unsigned seed) {
+  constexpr double kDeepestPenetration_m = 0.02;
   std::mt19937 rng(seed);
   testing::random_state(rng, q, u);
   q[coord::z] = 0.21;
+  const RoverModel model = io::load_rover_model(source_path("configs/rover.json"));
+  q[coord::z] += io::deepest_wheel_penetration(model, q).depth_m - kDeepestPenetration_m;
 }
 
 void expect_vector(const json& a, const Eigen::Ref<const Eigen::VectorXd>& expected, double tol,
