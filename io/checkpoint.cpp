@@ -215,8 +215,9 @@ std::vector<TaskRecord> ResultCheckpoint::load() {
       std::string(magic, 8) + std::string(fixed, 8) + fingerprint + std::string(crc, 4))
     refuse("damaged checkpoint header (checksum mismatch)");
   if (fingerprint != fingerprint_)
-    refuse("checkpoint of a different study configuration (fingerprint " + fingerprint +
-           ", this study " + fingerprint_ + ")");
+    refuse("checkpoint of a different study configuration: the study file or a file it names (scenario, rover, "
+           "terrain, data, design, reference) differs from the one its runs were made with, in some byte (a "
+           "description or a space counts; fingerprint " + fingerprint + ", this study " + fingerprint_ + ")");
 
   // Records up to the first one that is incomplete or fails its checksum:
   // appends only ever add at the end, so that one is a torn tail.

@@ -15,6 +15,7 @@
 #include "io/json_reader.hpp"
 #include "io/output_target.hpp"
 #include "study/runtime/calibration_mpi.hpp"
+#include "study/studies/calibration.hpp"
 #include "study/studies/study_output.hpp"
 #include "study/studies/summary_figure.hpp"
 #include "study/runtime/study_runner.hpp"
@@ -322,6 +323,9 @@ StudyProgram<EvaluateResult> evaluate_program(EvaluateStudy study) {
   p.command = "evaluate";
   p.name = "evaluate";
   p.fingerprint = study.fingerprint;
+  p.banner = std::to_string(study.design.values.rows()) + " rows of " + study.design.path + ", each a run of " +
+             study.request.scenario_path + " on " + describe_integrator(study.model->nominal().scenario.integrator) +
+             ", on " + std::to_string(world_size()) + " rank(s)";
   p.inputs = study.files;
   p.run = [study](const StudyRuntime& runtime) { return run_evaluate(study, runtime); };
   p.write = write_evaluate;

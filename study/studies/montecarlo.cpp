@@ -137,7 +137,7 @@ StudyProgram<MonteCarloResult> montecarlo_program(MonteCarloStudy study) {
   p.banner = std::to_string(spec.design.samples) + " runs of " + runs_description(spec) + " over " +
              std::to_string(spec.inputs.size()) + " inputs (" + design_type_name(spec.design.type) + ", seed " +
              std::to_string(spec.design.seed) + ") on " + std::to_string(world_size()) + " rank(s)";
-  p.warnings = spec.warnings;
+  p.warnings = design_warnings(spec);
   p.memory = montecarlo_memory(study);
   p.run = [study](const StudyRuntime& runtime) { return run_montecarlo(study, runtime); };
   p.provenance = [spec = study.spec](io::Hdf5Writer& h5) { write_study_provenance(h5, spec, spec.fingerprint); };

@@ -3,6 +3,7 @@
 #include "core/name_list.hpp"
 #include "core/accuracy_choice.hpp"
 
+#include <bit>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -520,6 +521,16 @@ DesignSpec parse_design(const io::JsonReader& d, const std::vector<UncertainInpu
 }
 
 }  // namespace
+
+std::vector<std::string> design_warnings(const StudySpec& spec) {
+  std::vector<std::string> warnings = spec.warnings;
+  const auto n = static_cast<std::uint64_t>(spec.design.samples);
+  if (spec.design.type == DesignType::kSobol && n > 0 && !std::has_single_bit(n))
+    warnings.push_back("design: " + std::to_string(n) + " Sobol' points are not a power of two; the sequence is "
+                       "balanced at 2^k points (" + std::to_string(std::bit_floor(n)) + " or " +
+                       std::to_string(std::bit_ceil(n)) + "), where its error is smallest");
+  return warnings;
+}
 
 std::string file_text(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

@@ -81,6 +81,10 @@ StudySpec parse_study_spec(const io::JsonReader& r, const std::vector<std::strin
 // The design in physical units: samples x inputs (fixed inputs are constant
 // columns). Row i depends only on the seed and i (LHS: on the seed).
 DesignMatrix study_design(const StudySpec& spec);
+// The spec's warnings about its inputs, and one when a Sobol' design's size
+// is not a power of two (the sequence is balanced at 2^k points): read at
+// the run, after any --samples override.
+std::vector<std::string> design_warnings(const StudySpec& spec);
 
 // Labels of the inputs, in order (for /inputs/names and CSV headers).
 std::vector<std::string> input_labels(const StudySpec& spec);

@@ -10,6 +10,7 @@
 #include "io/output_target.hpp"
 #include "study/design/design.hpp"
 #include "study/runtime/study_runner.hpp"
+#include "study/studies/calibration.hpp"
 #include "study/studies/study_output.hpp"
 
 namespace rover::study {
@@ -370,7 +371,8 @@ StudyProgram<SurfaceResult> surface_program(SurfaceStudy study) {
                                           std::to_string(study.kriging.runs) + " Latin hypercube runs)"
                                     : std::string()) +
              " + " + std::to_string(study.sweep_f.size()) + " sweep runs of " + study.sources.scenario_path +
-             " on " + std::to_string(world_size()) + " rank(s)";
+             " on " + describe_integrator(study.integrator.value_or(io::build_scenario(study.sources).scenario.integrator)) +
+             ", on " + std::to_string(world_size()) + " rank(s)";
   p.run = [study](const StudyRuntime& runtime) { return run_surface(study, runtime); };
   p.write = write_surface;
   p.counts = [](const SurfaceResult& r) {

@@ -274,7 +274,7 @@ StudyProgram<SurrogateStudyResult> surrogate_program(SurrogateStudy study) {
                         design_type_name(study.spec.design.type) + ") on " + std::to_string(world_size()) +
                         " rank(s)"
                   : study.training_file);
-  p.warnings = study.spec.warnings;
+  p.warnings = design_warnings(study.spec);
   const auto s = std::make_shared<const SurrogateStudy>(std::move(study));
   p.run = [s](const StudyRuntime& runtime) { return run_surrogate_study(*s, runtime); };
   p.write = [s](const SurrogateStudyResult& r, io::Hdf5Writer& h5) { write_surrogate_study(h5, *s, r); };
