@@ -60,8 +60,9 @@ bool IntegratorSettings::IsValid(std::string* why) const {
   if (!(relative_tolerance >= kMinRelativeTolerance && relative_tolerance <= kMaxRelativeTolerance))
     return fail(why, method_name + ": rtol must lie in [" + number_text(kMinRelativeTolerance) + ", " +
                          number_text(kMaxRelativeTolerance) + "], got " + number_text(relative_tolerance));
-  if (!(absolute_tolerance <= kMaxAbsoluteTolerance))
-    return fail(why, method_name + ": atol must be at most " + number_text(kMaxAbsoluteTolerance) + ", got " +
+  if (!(absolute_tolerance >= kMinAbsoluteTolerance && absolute_tolerance <= kMaxAbsoluteTolerance))
+    return fail(why, method_name + ": atol must lie in [" + number_text(kMinAbsoluteTolerance) + ", " +
+                         number_text(kMaxAbsoluteTolerance) + "] m (below, less than round-off), got " +
                          number_text(absolute_tolerance));
   const bool stiff = method == IntegratorMethod::kRosenbrockW || method == IntegratorMethod::kRodas4;
   if (stiff && !(slip_tolerance > 0.0 && slip_tolerance <= kMaxSlipTolerance))

@@ -42,7 +42,9 @@ struct IntegratorSettings {
   // every state be wrong by its own size; an atol above 1 cm is larger than
   // the deflections studied) or ask for less than round-off.
   static constexpr double kMinRelativeTolerance = 1e-14, kMaxRelativeTolerance = 0.1;
-  static constexpr double kMaxAbsoluteTolerance = 1e-2;
+  // An atol below 1e-18 m is below the round-off of every state at the
+  // rover's scale (a 0.3 m height resolves 6e-17 m): the step size collapses.
+  static constexpr double kMinAbsoluteTolerance = 1e-18, kMaxAbsoluteTolerance = 1e-2;
   // A slip tolerance of the whole speed scale lets the friction force be
   // wrong by its whole range.
   static constexpr double kMaxSlipTolerance = 1.0;

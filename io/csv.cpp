@@ -306,7 +306,9 @@ std::string declared_channel(const std::string& path) {
   constexpr int kHeaderLinesRead = 32;  // the declaration stands in the leading comment block
   std::ifstream in(path, std::ios::binary);
   std::string line;
-  for (int k = 0; k < kHeaderLinesRead && std::getline(in, line) && line.starts_with("#"); ++k) {
+  for (int k = 0; k < kHeaderLinesRead && std::getline(in, line); ++k) {
+    if (k == 0 && line.starts_with(kUtf8ByteOrderMark)) line.erase(0, kUtf8ByteOrderMark.size());  // as read_csv
+    if (!line.starts_with("#")) break;
     const std::size_t at = line.find(kDeclaration);
     if (at == std::string::npos) continue;
     // A name, then a comma: "= B_r_z, the world z ..." (a description, "= world z of ...", names none).

@@ -454,7 +454,8 @@ IntegratorSettings parse_integrator_settings(const JsonReader& r, IntegratorSett
                             s.relative_tolerance <= IntegratorSettings::kMaxRelativeTolerance);
     const char* key = s.method == IntegratorMethod::kRungeKutta4                     ? "fixed_step"
                       : rtol_out                                                     ? "rtol"
-                      : !(s.absolute_tolerance <= IntegratorSettings::kMaxAbsoluteTolerance) ? "atol"
+                      : !(s.absolute_tolerance >= IntegratorSettings::kMinAbsoluteTolerance &&
+                          s.absolute_tolerance <= IntegratorSettings::kMaxAbsoluteTolerance) ? "atol"
                       : slip_tolerance_out(s)                                        ? "slip_tol"
                                                                                      : misordered_step_key(r, s);
     r.fail(key, why);

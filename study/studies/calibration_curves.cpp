@@ -48,7 +48,7 @@ double best_offset(const std::vector<double>& t, const std::vector<double>& z,
   const int n = static_cast<int>(std::clamp(std::ceil((hi - lo) / kOffsetScanStep_s), 2.0, kMaxOffsetScanSteps));
   double best = lo, best_rms = std::numeric_limits<double>::infinity();
   for (int i = 0; i <= n; ++i) {
-    const double o = lo + (hi - lo) * i / n;
+    const double o = std::min(hi, lo + (hi - lo) * i / n);  // lo + (hi - lo) may round above hi
     const double r = shifted_rms(t, z, t_d, z_d, o);
     if (r < best_rms) {
       best_rms = r;

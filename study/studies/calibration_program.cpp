@@ -87,22 +87,29 @@ CalibrationPosteriorResult run_calibration_posterior(const CalibrationStudy& s, 
   const RunCounts counts = world_rank() == 0 ? history_run_counts(checked.study, history) : RunCounts{};
   std::vector<double> all_failed{counts.runs > 0 && counts.failed == counts.runs ? 1.0 : 0.0};
   broadcast_from_rank0(all_failed);
+  CalibrationPosteriorResult r{checked.study, true, "", {}, "", counts};
   if (all_failed[0] != 0.0) {
-    if (world_rank() != 0) return {checked.study, true, "", {}};
-    // The fit's record holds its own verdict; one run at the start says why the runs fail.
+    if (world_rank() != 0) return r;
+    // One run at the start says why the runs fail.
     const CalibrationCurve start = simulate_calibration_curve(checked.study, 0, checked.study.initial_values());
-    throw std::runtime_error("every one of the fit's " + std::to_string(counts.runs) + " runs failed (" +
-                             (start.ok ? counts.first_failure : "at the initial values: " + start.message) +
-                             "); the posterior has no point to start from: nothing was written");
+    r.not_sampled_because = "every one of the fit's " + std::to_string(counts.runs) + " runs failed (" +
+                            (start.ok ? counts.first_failure : "at the initial values: " + start.message) +
+                            "): the chains have no point to start from";
+    r.fit_counts.first_failure = start.ok ? counts.first_failure : start.message;
+    return r;
   }
   const McmcStart start = posterior_start(checked);
-  CalibrationPosteriorResult r{checked.study, start.values.empty(), world_rank() == 0 ? checked_fit_flaw(checked) : "",
-                               {}};
+  r.started_at_initial_values = start.values.empty();
+  if (world_rank() == 0) r.start_fit_flaw = checked_fit_flaw(checked);
   r.posterior = run_calibration_mcmc(checked.study, control, start);
   return r;
 }
 
 void report_calibration_posterior_run(const CalibrationPosteriorResult& r, std::ostream& out) {
+  if (!r.not_sampled_because.empty()) {
+    out << "calibrate: no posterior: " << r.not_sampled_because << "\n";
+    return;
+  }
   out << "calibrate: the posterior started "
       << (r.started_at_initial_values ? "at the initial values (the fit has no intervals)" : "at the converged fit")
       << ", on " << describe_integrator(r.study.integrator) << "\n";
@@ -135,16 +142,26 @@ StudyProgram<CalibrationPosteriorResult> calibration_posterior_program(Calibrati
   auto p = calibration_program<CalibrationPosteriorResult>(study, posterior_banner(study));
   p.run = [study](const StudyRuntime& runtime) { return run_calibration_posterior(study, runtime.options); };
   p.write = [](const CalibrationPosteriorResult& r, io::Hdf5Writer& h5) {
+    if (!r.not_sampled_because.empty()) {
+      h5.attribute("/", "not_sampled_because", r.not_sampled_because);
+      return;
+    }
     write_calibration_posterior(r.posterior, r.study, h5);
     h5.attribute("/posterior", "start", std::string(r.started_at_initial_values ? "initial values" : "converged fit"));
     h5.attribute("/posterior", "start_fit_flaw", r.start_fit_flaw);
   };
-  p.counts = [](const CalibrationPosteriorResult&) { return RunCounts{}; };
+  // The chains' proposals that fail are rejected moves, not failed runs; the
+  // fit's runs count when every one failed and no chain started.
+  p.counts = [](const CalibrationPosteriorResult& r) {
+    return r.not_sampled_because.empty() ? RunCounts{} : r.fit_counts;
+  };
   p.report = report_calibration_posterior_run;
   p.plot = [](const CalibrationPosteriorResult& r, const std::string& path, PlotSelection) {
     plot_calibration_posterior(r.posterior, r.study, path.substr(0, path.size() - 3));
   };
-  p.verdict = [](const CalibrationPosteriorResult& r) { return r.posterior.valid() ? 0 : kUntrustedStatus; };
+  p.verdict = [](const CalibrationPosteriorResult& r) {
+    return r.not_sampled_because.empty() && r.posterior.valid() ? 0 : kUntrustedStatus;
+  };
   return p;
 }
 

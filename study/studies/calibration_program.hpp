@@ -26,6 +26,10 @@ struct CalibrationPosteriorResult {
   bool started_at_initial_values = false;  // the fit had no intervals to start from
   std::string start_fit_flaw;               // why the fit started from is not to be trusted (rank 0)
   CalibrationPosterior posterior;
+  // When every run of the fit failed, no chain starts: why (rank 0), and the
+  // fit's runs, which the study then reports as failed (exit status 2).
+  std::string not_sampled_because;
+  RunCounts fit_counts;
 };
 
 // Collective: the checked fit, then the chains from it.

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <limits>
 #include <string>
@@ -294,6 +295,19 @@ const CalibrationChannel& calibration_channel(const std::string& name) {
 
 namespace {
 
+// A curve listed twice (by any name: a link, another spelling) would count
+// its measurements twice and narrow every interval by sqrt(2).
+void refuse_curve_listed_twice(const io::JsonReader& item, const std::string& file,
+                               const std::vector<CalibrationDataset>& earlier) {
+  for (std::size_t j = 0; j < earlier.size(); ++j) {
+    std::error_code error;
+    if (!std::filesystem::equivalent(file, earlier[j].path, error) || error) continue;
+    item.fail("file", "the same file as data[" + std::to_string(j) + "] ('" + earlier[j].path +
+                          "'): a curve listed twice counts its measurements twice and narrows every interval by "
+                          "a factor sqrt(2); list each measured curve once");
+  }
+}
+
 // The measured curves: "data" (a file, or a list of {file, scenario,
 // channel}) or --data, each with its scenario, checked before any run.
 void read_datasets(const io::JsonReader& r, const std::string& path, const CalibrationOverrides& o,
@@ -337,6 +351,7 @@ void read_datasets(const io::JsonReader& r, const std::string& path, const Calib
       const std::string scenario =
           item.has("scenario") ? io::resolve_relative(path, item.string("scenario")) : study_scenario;
       const std::string channel = item.string_or("channel", "B_l_z");
+      refuse_curve_listed_twice(item, file, s.datasets);
       try {
         (void)calibration_channel(channel);
       } catch (const std::invalid_argument& e) {

@@ -47,7 +47,18 @@ double candidate_duration_s(const io::JsonReader& c, const NextExperimentCandida
   }
 }
 
-NextExperimentCandidate read_candidate(const io::JsonReader& c, const std::string& path, std::size_t index) {
+// A fitted parameter in a candidate's "set" would be ignored: the candidate
+// is simulated at the estimate, whatever it sets.
+void refuse_setting_a_fitted_parameter(const io::JsonReader& set, const std::string& name,
+                                       const std::string& canonical, const CalibrationStudy& study) {
+  for (const FitParameter& f : study.fit)
+    if (!f.canonical.empty() && f.canonical == canonical)
+      set.fail(name, "'" + f.name + "' is fitted by the study: a candidate is simulated at its estimate, so a value "
+                     "set here would be ignored; remove it, or set only parameters the study does not fit");
+}
+
+NextExperimentCandidate read_candidate(const io::JsonReader& c, const std::string& path, std::size_t index,
+                                       const CalibrationStudy& study) {
   NextExperimentCandidate out;
   out.name = c.string_or("name", "candidate " + std::to_string(index));
   out.scenario_path = io::resolve_relative(path, c.string("scenario"));
@@ -73,6 +84,7 @@ NextExperimentCandidate read_candidate(const io::JsonReader& c, const std::strin
       } catch (const std::invalid_argument& e) {
         set.fail(name, e.what());
       }
+      refuse_setting_a_fitted_parameter(set, name, canonical, study);
       space.apply(canonical, set.number(name), out.sources.rover, out.sources.scenario);
     }
     set.finish();
@@ -131,7 +143,7 @@ std::vector<NextExperimentCandidate> load_next_experiment_candidates(const std::
   for (std::size_t i = 0; i < list.size(); ++i) {
     if (!list[i].is_object()) r.fail("candidates", "entry " + std::to_string(i) + " is not an object");
     const io::JsonReader c(list[i], path, r.field("candidates") + "[" + std::to_string(i) + "]");
-    out.push_back(read_candidate(c, path, i));
+    out.push_back(read_candidate(c, path, i, study));
     c.finish();
   }
   r.finish();

@@ -3764,5 +3764,62 @@ TEST_F(Audit, EleventhAuditLeftovers) {
   run_table(w().dir(), cases);
 }
 
+// Calibration inputs: a byte-order mark does not hide a curve's declared
+// channel; a time-offset bound reached by the offset scan's last point is a
+// bound, not an internal error; a curve listed twice, a candidate setting a
+// fitted parameter and an atol below round-off are refused; a posterior
+// whose fit's every run failed exits 2, as the fit does.
+TEST_F(Audit, TwelfthAuditCalibrationInputs) {
+  std::vector<Case> cases;
+  const LandingDrop drop = landing_drop(w());
+  std::string log;
+  const std::string g_z = w().out("csv");
+  ASSERT_EQ(run_command(rover_binary() + " synthesize --scenario " + drop.scenario + " --channel G_z --cq 0.25 --out " +
+                            g_z, &log), 0) << log;
+  std::ifstream g_z_file(g_z, std::ios::binary);
+  const std::string g_z_text((std::istreambuf_iterator<char>(g_z_file)), std::istreambuf_iterator<char>());
+  const std::string marked = w().text_file("marked", "\xEF\xBB\xBF" + g_z_text, "csv");
+  cases.push_back({"a G_z curve behind a byte-order mark, fitted as B_l_z",
+                   study("calibrate", w().calibration([&](Json& j) {
+                     j["scenario"] = drop.scenario;
+                     j["data"] = marked;
+                   })) + " --dry-run",
+                   Want::kError, {marked, "declares its z to be G_z"}});
+  cases.push_back({"a time-offset bound the scan ends on (upper 0.04 s, offset 0.05 s)",
+                   study("calibrate", w().calibration([&](Json& j) {
+                     j["scenario"] = drop.scenario;
+                     j["data"] = drop.data;
+                     j["bounds"]["time_offset"] = {-0.2, 0.04};
+                     j["max_evaluations"] = 40;
+                   })),
+                   Want::kAllFailed, {"time_offset = 0.04 is on its bound (widen bounds.time_offset)"},
+                   {}, {}, {"levenberg_marquardt: parameter"}});
+  cases.push_back({"the same curve listed twice",
+                   study("calibrate", w().calibration([&](Json& j) {
+                     j["scenario"] = drop.scenario;
+                     j["data"] = Json::array({{{"file", drop.data}}, {{"file", drop.data}}});
+                   })) + " --dry-run",
+                   Want::kError, {"'data[1].file'", "the same file as data[0]", "sqrt(2)"}});
+  const std::string sets_c_q = w().json_file(
+      "sets_c_q", Json{{"candidates", {{{"scenario", drop.scenario}, {"rate_hz", 500}, {"noise_sd", 1e-4},
+                                        {"set", {{"c_q", 0.5}}}}}}});
+  cases.push_back({"a candidate setting the fitted c_q",
+                   study("calibrate", landing_fit(w(), drop, 1.0)) + " --dry-run --next-experiment " + sets_c_q,
+                   Want::kError, {"'candidates[0].set.c_q'", "'c_q' is fitted by the study"}});
+  cases.push_back({"atol 1e-300",
+                   simulate(w().scenario([](Json& j) { j["integrator"] = {{"method", "dopri5"}, {"atol", 1e-300}}; })),
+                   Want::kError, {"'integrator.atol'", "1e-300", "[1e-18, 0.01]"}});
+  const std::string failing = w().scenario([](Json& j) { j["wall_time_budget"] = 1e-6; });
+  cases.push_back({"a posterior whose fit's every run failed",
+                   study("calibrate", w().calibration([&](Json& j) {
+                     j["scenario"] = failing;
+                     j["method"] = "mcmc";
+                     j["mcmc"] = {{"walkers", 8}, {"steps", 4}, {"discard", 0}, {"target_ess", 0},
+                                  {"predictive_draws", 0}, {"noise_sd", 1e-4}};
+                   })),
+                   Want::kAllFailed, {"no posterior: every one of the fit's", "every run failed"}});
+  run_table(w().dir(), cases);
+}
+
 }  // namespace
 }  // namespace rover

@@ -263,6 +263,11 @@ TEST(DeclaredChannel, ReadsWhatTheHeaderDeclares) {
             "Columns: t [s], z [m] = world z of the left bogie pin B_l.");
   EXPECT_EQ(declared_channel(dir + "/described.csv"), "");
   EXPECT_EQ(declared_channel(dir + "/absent.csv"), "");
+  // A byte-order mark before the header (a "CSV UTF-8" save) hides nothing.
+  std::ifstream right(dir + "/right.csv", std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(right)), std::istreambuf_iterator<char>());
+  std::ofstream(dir + "/marked.csv", std::ios::binary) << "\xEF\xBB\xBF" << text;
+  EXPECT_EQ(declared_channel(dir + "/marked.csv"), "B_r_z");
 }
 
 }  // namespace
