@@ -548,6 +548,13 @@ CalibrationPosterior run_calibration_mcmc(const CalibrationStudy& s, const Study
     posterior.diagnostics =
         diagnose_chain(chain.samples, chain.accepted_moves, static_cast<int>(posterior.discard), space.names);
     posterior.summary = summarise(posterior.samples, posterior.log_posterior, posterior.discard);
+    // Without a target the chains run a fixed length; one too short for its
+    // autocorrelation time (or that never moves) has no intervals to trust.
+    if (s.mcmc.target_ess <= 0 && posterior.diagnostics.chain_too_short) {
+      posterior.mixed = false;
+      posterior.not_mixed_because = "target_ess 0 ran a fixed " + std::to_string(run.steps) +
+                                    " steps, too few: " + posterior.diagnostics.warning;
+    }
   }
   const PredictiveRuns runs = run_predictive(s, predictive_draws(posterior, s.mcmc.predictive_draws, space.size()), control);
   if (world_rank() != 0) return posterior;

@@ -236,6 +236,11 @@ TEST(CmdCalibrate, NextExperimentRanksByExpectedIntervalWidth) {
   EXPECT_NE(log.find("'candidates[0].set.scenario.initial_q.zz'"), std::string::npos) << log;
 }
 
+// A quick posterior's exit status: its few steps are too short for its
+// autocorrelation time, so it is written flagged NOT VALID (status 2); a
+// complete run of a valid one is 0. Either way the file holds the chains.
+bool posterior_written(int status) { return status == 0 || status == 2; }
+
 // A quick posterior: a 0.25 s drop with the stiff integrator, 4 walkers.
 std::string mcmc_study(const std::string& dir, int walkers = 4, int steps = 6,
                        const std::string& sampler = "independence") {
@@ -261,10 +266,12 @@ TEST(CmdCalibrate, PosteriorIsIdenticalOnOneAndTwoRanks) {
   const std::string dir = rover::testing::temp_dir();
   const std::string study = mcmc_study(dir);
   std::string log1, log2;
-  ASSERT_EQ(run_command(rover_binary() + " calibrate --study " + study + " --no-plot --out " + dir + "/np1.h5", &log1), 0)
+  ASSERT_TRUE(posterior_written(
+      run_command(rover_binary() + " calibrate --study " + study + " --no-plot --out " + dir + "/np1.h5", &log1)))
       << log1;
-  ASSERT_EQ(run_command(mpiexec() + " -np 2 " + rover_binary() + " calibrate --study " + study +
-                            " --no-plot --out " + dir + "/np2.h5", &log2), 0) << log2;
+  ASSERT_TRUE(posterior_written(run_command(mpiexec() + " -np 2 " + rover_binary() + " calibrate --study " + study +
+                                                " --no-plot --out " + dir + "/np2.h5", &log2)))
+      << log2;
   const io::Hdf5Reader a(dir + "/np1.h5"), b(dir + "/np2.h5");
   EXPECT_EQ(a.shape("/chain"), (std::vector<std::size_t>{6, 4 * 2}));
   EXPECT_EQ(a.read_doubles("/chain"), b.read_doubles("/chain"));
@@ -305,7 +312,8 @@ TEST(CmdCalibrate, WidePriorIsTruncatedToTheBounds) {
     text.replace(text.find(uniform), uniform.size(), R"({"distribution": "normal", "mean": 0.25, "sd": 5})");
     const std::string study = write_file(dir + "/wide.json", text);
     std::string log;
-    ASSERT_EQ(run_command(rover_binary() + " calibrate --study " + study + " --no-plot --out " + dir + "/w.h5", &log), 0)
+    ASSERT_TRUE(posterior_written(
+        run_command(rover_binary() + " calibrate --study " + study + " --no-plot --out " + dir + "/w.h5", &log)))
         << sampler << "\n" << log;
     const auto chain = io::Hdf5Reader(dir + "/w.h5").read_doubles("/chain");
     for (std::size_t i = 0; i < chain.size(); i += 2) {
@@ -319,7 +327,8 @@ TEST(CmdCalibrate, KilledPosteriorResumesToTheUninterruptedChain) {
   const std::string dir = rover::testing::temp_dir();
   const std::string study = mcmc_study(dir, 8, 30);
   std::string log;
-  ASSERT_EQ(run_command(rover_binary() + " calibrate --study " + study + " --no-plot --out " + dir + "/whole.h5", &log), 0)
+  ASSERT_TRUE(posterior_written(
+      run_command(rover_binary() + " calibrate --study " + study + " --no-plot --out " + dir + "/whole.h5", &log)))
       << log;
   // SIGKILL once some steps are checkpointed (the ensemble is saved every step).
   run_command("cd " + dir + " && " +
@@ -329,8 +338,9 @@ TEST(CmdCalibrate, KilledPosteriorResumesToTheUninterruptedChain) {
               &log);
   ASSERT_FALSE(std::ifstream(dir + "/part.h5").good()) << "the study finished before the kill: " << log;
   ASSERT_TRUE(std::ifstream(dir + "/part.h5.checkpoint").good()) << log;
-  ASSERT_EQ(run_command(rover_binary() + " calibrate --study " + study + " --no-plot --resume --out " + dir +
-                            "/part.h5", &log), 0) << log;
+  ASSERT_TRUE(posterior_written(run_command(rover_binary() + " calibrate --study " + study +
+                                                " --no-plot --resume --out " + dir + "/part.h5", &log)))
+      << log;
   EXPECT_NE(log.find("resuming the chains after step"), std::string::npos) << log;
   const io::Hdf5Reader whole(dir + "/whole.h5"), part(dir + "/part.h5");
   EXPECT_EQ(whole.read_doubles("/chain"), part.read_doubles("/chain"));
