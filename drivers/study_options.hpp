@@ -60,13 +60,16 @@ inline void add_plots_flags(CLI::App& app, study::StudyRunOptions& o) {
   static const std::map<std::string, study::PlotSelection> kPlots{{"none", study::PlotSelection::kNone},
                                                                    {"summary", study::PlotSelection::kSummary},
                                                                    {"all", study::PlotSelection::kAll}};
-  app.add_option_function<std::string>(
-         "--plots", [&o](const std::string& value) { o.plots = kPlots.at(value); },
-         "Figures beside the result file: summary (one figure), all (also one per QoI and channel) or none")
-      ->check(CLI::IsMember({"summary", "all", "none"}))
-      ->type_name("WHICH")
-      ->default_str("summary");
-  app.add_flag_callback("--no-plot", [&o] { o.plots = study::PlotSelection::kNone; }, "Same as --plots none");
+  CLI::Option* plots =
+      app.add_option_function<std::string>(
+             "--plots", [&o](const std::string& value) { o.plots = kPlots.at(value); },
+             "Figures beside the result file: summary (one figure), all (also one per QoI and channel) or none")
+          ->check(CLI::IsMember({"summary", "all", "none"}))
+          ->type_name("WHICH")
+          ->default_str("summary");
+  // Both given, the later one would win silently: "--plots all --no-plot" is refused.
+  app.add_flag_callback("--no-plot", [&o] { o.plots = study::PlotSelection::kNone; }, "Same as --plots none")
+      ->excludes(plots);
 }
 
 // The flags of every study subcommand: --out, --resume, --restart, --dry-run,

@@ -144,6 +144,9 @@ std::vector<NextExperimentCandidate> load_next_experiment_candidates(const std::
     if (!list[i].is_object()) r.fail("candidates", "entry " + std::to_string(i) + " is not an object");
     const io::JsonReader c(list[i], path, r.field("candidates") + "[" + std::to_string(i) + "]");
     out.push_back(read_candidate(c, path, i, study));
+    for (std::size_t j = 0; j < i; ++j)  // the ranking names each candidate: two of one name could not be told apart
+      if (out[j].name == out[i].name)
+        c.fail("name", "candidates[" + std::to_string(j) + "] has this name too: give each candidate its own name");
     c.finish();
   }
   r.finish();

@@ -3820,6 +3820,16 @@ TEST_F(Audit, TwelfthAuditCalibrationInputs) {
                                   {"predictive_draws", 0}, {"noise_sd", 1e-4}};
                    })),
                    Want::kAllFailed, {"no posterior: every one of the fit's", "every run failed"}});
+  const std::string twins = w().json_file(
+      "twins", Json{{"candidates", {{{"name", "drop"}, {"scenario", drop.scenario}, {"rate_hz", 500}, {"noise_sd", 1e-4}},
+                                    {{"name", "drop"}, {"scenario", drop.scenario}, {"rate_hz", 1000}, {"noise_sd", 1e-4}}}}});
+  cases.push_back({"two candidates of one name",
+                   study("calibrate", landing_fit(w(), drop, 1.0)) + " --dry-run --next-experiment " + twins,
+                   Want::kError, {"'candidates[1].name'", "candidates[0] has this name too"}});
+  cases.push_back({"--plots all with --no-plot",
+                   "montecarlo --study " + w().montecarlo([](Json&) {}) + " --out " + w().out() +
+                       " --plots all --no-plot --dry-run",
+                   Want::kError, {"--plots cannot be given together with --no-plot"}});
   run_table(w().dir(), cases);
 }
 
