@@ -140,25 +140,28 @@ std::string write_scenario(const Json& j) {
   return path;
 }
 
+// The base scenario with this "integrator" block: the error it is refused
+// with, or "accepted".
+std::string integrator_error(const Json& integrator) {
+  Json j = base_scenario();
+  j["integrator"] = integrator;
+  try {
+    io::load_scenario(write_scenario(j));
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "accepted";
+}
+
 // Integrator settings that cannot work are refused when the file is read,
 // naming the field and the numbers as written.
 TEST(ScenarioConfig, InvalidIntegratorSettingsAreRefused) {
-  auto error_of = [](const Json& integrator) -> std::string {
-    Json j = base_scenario();
-    j["integrator"] = integrator;
-    try {
-      io::load_scenario(write_scenario(j));
-    } catch (const std::exception& e) {
-      return e.what();
-    }
-    return "accepted";
-  };
-  const std::string steps = error_of({{"min_step", 1e-3}});  // above initial_step 1e-5
+  const std::string steps = integrator_error({{"min_step", 1e-3}});  // above initial_step 1e-5
   EXPECT_NE(steps.find("min_step"), std::string::npos) << steps;
   EXPECT_NE(steps.find("0.001 <= 1e-05"), std::string::npos) << steps;
-  const std::string rk4 = error_of({{"method", "rk4"}, {"fixed_step", 0.5}});  // 1 kHz output
+  const std::string rk4 = integrator_error({{"method", "rk4"}, {"fixed_step", 0.5}});  // 1 kHz output
   EXPECT_NE(rk4.find("does not divide the output period"), std::string::npos) << rk4;
-  EXPECT_EQ(error_of({{"method", "rk4"}, {"fixed_step", 2e-5}}), "accepted");
+  EXPECT_EQ(integrator_error({{"method", "rk4"}, {"fixed_step", 2e-5}}), "accepted");
 }
 
 TEST(ScenarioConfig, OverridesAreRead) {
@@ -467,26 +470,16 @@ TEST(ResolveRelative, FollowsLinkedFoldersAsTheSystemDoes) {
 }
 
 TEST(ScenarioConfig, KeysTheMethodDoesNotUseAreRefusedByName) {
-  const auto error_of = [](const Json& integrator) -> std::string {
-    Json j = base_scenario();
-    j["integrator"] = integrator;
-    try {
-      io::load_scenario(write_scenario(j));
-    } catch (const std::exception& e) {
-      return e.what();
-    }
-    return "accepted";
-  };
-  const std::string slip_on_dopri5 = error_of({{"method", "dopri5"}, {"slip_tol", 0.01}});
+  const std::string slip_on_dopri5 = integrator_error({{"method", "dopri5"}, {"slip_tol", 0.01}});
   EXPECT_NE(slip_on_dopri5.find("'integrator.slip_tol'"), std::string::npos) << slip_on_dopri5;
-  const std::string rtol_on_rk4 = error_of({{"method", "rk4"}, {"fixed_step", 2e-5}, {"rtol", 1e-8}});
+  const std::string rtol_on_rk4 = integrator_error({{"method", "rk4"}, {"fixed_step", 2e-5}, {"rtol", 1e-8}});
   EXPECT_NE(rtol_on_rk4.find("'integrator.rtol'"), std::string::npos) << rtol_on_rk4;
   EXPECT_NE(rtol_on_rk4.find("fixed_step"), std::string::npos) << rtol_on_rk4;
-  const std::string step_on_rodas4 = error_of({{"method", "rodas4"}, {"fixed_step", 1e-5}});
+  const std::string step_on_rodas4 = integrator_error({{"method", "rodas4"}, {"fixed_step", 1e-5}});
   EXPECT_NE(step_on_rodas4.find("'integrator.fixed_step'"), std::string::npos) << step_on_rodas4;
   // The keys each method uses are accepted.
-  EXPECT_EQ(error_of({{"method", "rodas4"}, {"slip_tol", 0.02}, {"max_step", 1e-3}}), "accepted");
-  EXPECT_EQ(error_of({{"method", "dopri5"}, {"rtol", 1e-8}, {"atol", 1e-11}, {"initial_step", 1e-6}}), "accepted");
+  EXPECT_EQ(integrator_error({{"method", "rodas4"}, {"slip_tol", 0.02}, {"max_step", 1e-3}}), "accepted");
+  EXPECT_EQ(integrator_error({{"method", "dopri5"}, {"rtol", 1e-8}, {"atol", 1e-11}, {"initial_step", 1e-6}}), "accepted");
 }
 
 }  // namespace
