@@ -31,7 +31,7 @@ ContactForceDerivatives contact_force_derivatives(const ContactPoint& c,
   Vec3 mu_e = Vec3::Zero();
   if (s > 0.0) {
     const Vec3 e = c.slip_velocity_mps / s;
-    const MakkarMuAndDerivative m = makkar_mu_and_derivative(s, friction.gammas);
+    const MakkarMuAndDerivative m = makkar_mu_and_derivative(s, friction.gammas, c.friction_tanh);
     const double mu_over_s = m.mu / s;
     friction_gain = m.d_mu_d_v * e * e.transpose() + mu_over_s * (tangent - e * e.transpose());
     mu_e = m.mu * e;
