@@ -67,7 +67,8 @@ Eigen::Matrix<double, N, 1> fixed_size_product(const Eigen::Matrix<double, N, N>
     const double* column = a.data() + j * N;
     const Packet b = pset1<Packet>(x[j]);
     for (int p = 0; p < kFull; ++p) sums[p] = pmadd(ploadu<Packet>(column + p * kPacket), b, sums[p]);
-    for (int r = 0; r < kRest; ++r) rest[r] = detail::packet_multiply_add(column[kFull * kPacket + r], x[j], rest[r]);
+    for (int r = 0; r < kRest; ++r)
+      rest[r] = detail::packet_multiply_add(column[kFull * kPacket + r], x[j], rest[r]);
     if constexpr (N % 2 == 1) scalar_sum += detail::unfused_product(column[N - 1], x[j]);
   }
   double sums_out[kFull > 0 ? kFull * kPacket : 1];
