@@ -115,9 +115,7 @@ class BranchInducedLLT {
   // (a NaN there counts as coupling).
   static bool legs_uncoupled(const Matrix& a) {
     static constexpr std::array<int, kNumCouplingEntries> kEntries = coupling_entries();
-    double magnitude = 0.0;
-    for (const int e : kEntries) magnitude += std::abs(a.data()[e]);
-    return magnitude == 0.0;
+    return entries_all_zero(a, kEntries);
   }
 
   // The leg coordinates come after the trunk's and rise down each leg, so the

@@ -34,6 +34,8 @@
 #pragma once
 
 #include <array>
+#include <bit>
+#include <cstdint>
 
 #include <Eigen/Core>
 #include <Eigen/LU>
@@ -43,6 +45,17 @@
 #include "core/rover_parameters.hpp"
 
 namespace rover {
+
+// Whether the entries of `a` at the positions `entries` (in its column-major
+// storage) are all zero (+0 or -0; a NaN is not), by or-ing the bits of their
+// magnitudes: one pass without a branch per entry.
+template <std::size_t Count>
+bool entries_all_zero(const CoordinateMatrix& a, const std::array<int, Count>& entries) {
+  constexpr std::uint64_t kMagnitude = ~(std::uint64_t{1} << 63);
+  std::uint64_t bits = 0;
+  for (const int e : entries) bits |= std::bit_cast<std::uint64_t>(a.data()[e]) & kMagnitude;
+  return bits == 0;
+}
 
 class BranchInducedLU {
  public:
@@ -111,16 +124,24 @@ class BranchInducedLU {
   using TrunkLeg = Eigen::Matrix<double, kTrunk, kLeg>;
 
 
+  // The positions, in the column-major storage of a 23 x 23 matrix, of its
+  // entries that couple two different legs.
+  static constexpr int kNumCouplingEntries = kLeg * kLeg * kNumLegs * (kNumLegs - 1);
+  static constexpr std::array<int, kNumCouplingEntries> coupling_entries() {
+    std::array<int, kNumCouplingEntries> entries{};
+    int n = 0;
+    for (int l = 0; l < kNumLegs; ++l)
+      for (int m = 0; m < kNumLegs; ++m)
+        if (l != m)
+          for (const int i : leg_coordinates(l))
+            for (const int j : leg_coordinates(m)) entries[n++] = j * kNumCoordinates + i;
+    return entries;
+  }
+
   // Entries between two different legs must be zero.
   static bool legs_uncoupled(const Matrix& a) {
-    for (int l = 0; l < kNumLegs; ++l)
-      for (int m = 0; m < kNumLegs; ++m) {
-        if (l == m) continue;
-        for (const int i : leg_coordinates(l))
-          for (const int j : leg_coordinates(m))
-            if (a(i, j) != 0.0) return false;
-      }
-    return true;
+    static constexpr std::array<int, kNumCouplingEntries> kEntries = coupling_entries();
+    return entries_all_zero(a, kEntries);
   }
 
   bool eliminate(const Matrix& a) {

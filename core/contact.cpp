@@ -327,9 +327,12 @@ void compute_contact_forces(const TreeKinematics& kin, int wheel_node,
     ContactPoint& c = contacts.points[k];
     const double slip = c.slip_velocity_mps.norm();
     c.friction_force_N.setZero();
-    if (slip > 0.0 && c.normal_force_N > 0.0)
+    c.friction_tanh = {};
+    if (slip > 0.0 && c.normal_force_N > 0.0) {
+      c.friction_tanh = makkar_tanh(slip, friction.gammas);
       c.friction_force_N =
-          -(makkar_mu(slip, friction.gammas) * c.normal_force_N / slip) * c.slip_velocity_mps;
+          -(makkar_mu(slip, friction.gammas, c.friction_tanh) * c.normal_force_N / slip) * c.slip_velocity_mps;
+    }
   }
 }
 

@@ -11,6 +11,7 @@
 #include <array>
 #include <numbers>
 
+#include "core/friction.hpp"
 #include "core/kinematic_tree.hpp"
 #include "core/rover_parameters.hpp"
 #include "core/terrain.hpp"
@@ -30,6 +31,9 @@ struct ContactPoint {
   Vec3 slip_velocity_mps = Vec3::Zero();  // v_t = v_P - (v_P . n) n
   double normal_force_N = 0.0;          // F_n >= 0
   Vec3 friction_force_N = Vec3::Zero();   // F_t
+  // makkar_tanh(|v_t|): set with F_t where there is friction (|v_t| > 0 and
+  // F_n > 0), for mu and mu' at this state without new tanh.
+  MakkarTanh friction_tanh;
 };
 
 struct WheelContacts {

@@ -31,7 +31,7 @@ ContactForceDerivatives contact_force_derivatives(const ContactPoint& c,
   Vec3 mu_e = Vec3::Zero();
   if (s > 0.0) {
     const Vec3 e = c.slip_velocity_mps / s;
-    const MakkarMuAndDerivative m = makkar_mu_and_derivative(s, friction.gammas);
+    const MakkarMuAndDerivative m = makkar_mu_and_derivative(s, friction.gammas, c.friction_tanh);
     const double mu_over_s = m.mu / s;
     friction_gain = m.d_mu_d_v * e * e.transpose() + mu_over_s * (tangent - e * e.transpose());
     mu_e = m.mu * e;
@@ -85,15 +85,15 @@ void stiff_force_jacobian(const RoverModel& model, const DynamicsWorkspace& work
   d_speed.diagonal() = joints.d_speed;
   d_position.diagonal() = joints.d_position;
   spring_d_position_diagonal = joints.d_position;
-  using Columns = Eigen::Matrix<double, 3, kNumCoordinates>;
   // A wheel's J_P and dv_P/dq have non-zero columns only for the coordinates
   // on its path to the root (one node per coordinate there): every product is
   // formed on those columns alone (11 of 23), at a size fixed at compile time
   // (the ones past the path length are zero), coefficient by coefficient, and
   // added into D and K there. The path columns are kept transposed (PathRows,
-  // one row per coordinate): then each component is a contiguous column and
-  // Eigen forms the products by packets.
-  using PathRows = Eigen::Matrix<double, kMaxTreeDepth, 3>;
+  // one row per coordinate, as kinematic_tree.hpp's path Jacobians give
+  // them): then each component is a contiguous column and Eigen forms the
+  // products by packets.
+  using PathRows = PathJacobian;
   using PathBlock = Eigen::Matrix<double, kMaxTreeDepth, kMaxTreeDepth>;
   using PathVector = Eigen::Matrix<double, kMaxTreeDepth, 1>;
   for (int leg = 0; leg < kNumLegs; ++leg) {
@@ -106,11 +106,6 @@ void stiff_force_jacobian(const RoverModel& model, const DynamicsWorkspace& work
     const int path_length = model.tree.path_length[node];
     std::array<int, kMaxTreeDepth> path_coordinate{};
     for (int a = 0; a < path_length; ++a) path_coordinate[a] = model.tree.nodes[model.tree.path[node][a]].coordinate;
-    const auto on_path_transposed = [&](const Columns& full) {
-      PathRows compact = PathRows::Zero();
-      for (int a = 0; a < path_length; ++a) compact.row(a) = full.col(path_coordinate[a]).transpose();
-      return compact;
-    };
     const auto add_on_path = [&](const PathBlock& d_speed_on_path, const PathBlock& d_position_on_path) {
       for (int b = 0; b < path_length; ++b)
         for (int a = 0; a < path_length; ++a) {
@@ -118,11 +113,12 @@ void stiff_force_jacobian(const RoverModel& model, const DynamicsWorkspace& work
           d_position(path_coordinate[a], path_coordinate[b]) += d_position_on_path(a, b);
         }
     };
-    const PathRows centre_jacobian_t = on_path_transposed(point_jacobian(model.tree, kin, node, wheel.origin));
-    const PathRows omega_jacobian_t = on_path_transposed(angular_jacobian(model.tree, kin, node));
-    const FrameVelocityPositionDerivative frame = frame_velocity_position_derivative(model.tree, kin, node);
-    const PathRows d_origin_velocity_t = on_path_transposed(frame.d_origin_velocity);
-    const PathRows d_omega_t = on_path_transposed(frame.d_omega);
+    const PathRows centre_jacobian_t = point_jacobian_on_path(model.tree, kin, node, wheel.origin);
+    const PathRows omega_jacobian_t = angular_jacobian_on_path(model.tree, kin, node);
+    const FrameVelocityPositionDerivativeOnPath frame =
+        frame_velocity_position_derivative_on_path(model.tree, kin, node);
+    const PathRows& d_origin_velocity_t = frame.d_origin_velocity;
+    const PathRows& d_omega_t = frame.d_omega;
     for (int k = 0; k < at_wheel.count; ++k) {
       const ContactPoint& c = at_wheel.points[k];
       if (!(c.normal_force_N > 0.0)) continue;

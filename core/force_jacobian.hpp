@@ -43,6 +43,8 @@ struct ContactForceDerivatives {
 
 // Zero where the normal force is clamped at 0 (no contact force). At zero slip
 // the friction derivative is its limit mu'(0) F_n on the tangent plane.
+// `contact` as compute_contact_forces() left it (mu and mu' come from its
+// friction_tanh).
 ContactForceDerivatives contact_force_derivatives(const ContactPoint& contact,
                                                   const ContactParameters& parameters,
                                                   const FrictionParameters& friction);

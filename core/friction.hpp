@@ -7,7 +7,8 @@
 // level, g6 v viscous dissipation. mu is odd in v and mu(0) = 0, so the
 // friction force -mu(|v_t|) F_n v_t/|v_t| is continuous at zero slip.
 // Hot path: evaluated for every contact in every right-hand side; where both
-// mu and mu' are wanted, makkar_mu_and_derivative() shares the three tanh.
+// mu and mu' are wanted, makkar_mu_and_derivative() shares the three tanh
+// (makkar_tanh()).
 #pragma once
 
 #include <array>
@@ -19,21 +20,36 @@ namespace rover {
 using MakkarGammas = std::array<double, 6>;
 
 // Friction coefficient at slip speed v [m/s].
-inline double makkar_mu(double slip_speed_mps, const MakkarGammas& g) {
+// The three transcendental terms of mu and mu' at one slip speed v:
+// tanh(g2 v), tanh(g3 v) and tanh(g5 v). A contact's force evaluation keeps
+// them (ContactPoint::friction_tanh), so that the Jacobian and the step
+// control at the same state take mu and mu' from them without new tanh.
+struct MakkarTanh {
+  double t2 = 0.0, t3 = 0.0, t5 = 0.0;
+};
+
+inline MakkarTanh makkar_tanh(double slip_speed_mps, const MakkarGammas& g) {
   const double v = slip_speed_mps;
-  return g[0] * (std::tanh(g[1] * v) - std::tanh(g[2] * v)) + g[3] * std::tanh(g[4] * v) +
-         g[5] * v;
+  return {std::tanh(g[1] * v), std::tanh(g[2] * v), std::tanh(g[4] * v)};
 }
 
-// d mu / d v [s/m]; uses d tanh(x)/dx = 1 - tanh(x)^2.
-inline double makkar_mu_derivative(double slip_speed_mps, const MakkarGammas& g) {
-  const double v = slip_speed_mps;
-  const auto sech2 = [](double x) {
-    const double t = std::tanh(x);
-    return 1.0 - t * t;
-  };
-  return g[0] * (g[1] * sech2(g[1] * v) - g[2] * sech2(g[2] * v)) + g[3] * g[4] * sech2(g[4] * v) +
+// mu(v) from makkar_tanh(v, g).
+inline double makkar_mu(double slip_speed_mps, const MakkarGammas& g, const MakkarTanh& t) {
+  return g[0] * (t.t2 - t.t3) + g[3] * t.t5 + g[5] * slip_speed_mps;
+}
+
+inline double makkar_mu(double slip_speed_mps, const MakkarGammas& g) {
+  return makkar_mu(slip_speed_mps, g, makkar_tanh(slip_speed_mps, g));
+}
+
+// mu'(v) from makkar_tanh(v, g).
+inline double makkar_mu_derivative(const MakkarGammas& g, const MakkarTanh& t) {
+  return g[0] * (g[1] * (1.0 - t.t2 * t.t2) - g[2] * (1.0 - t.t3 * t.t3)) + g[3] * g[4] * (1.0 - t.t5 * t.t5) +
          g[5];
+}
+
+inline double makkar_mu_derivative(double slip_speed_mps, const MakkarGammas& g) {
+  return makkar_mu_derivative(g, makkar_tanh(slip_speed_mps, g));
 }
 
 struct MakkarMuAndDerivative {
@@ -41,12 +57,13 @@ struct MakkarMuAndDerivative {
   double d_mu_d_v = 0.0;  // makkar_mu_derivative() [s/m]
 };
 
-// Both at once, from one tanh per term (the same values as the two functions).
+inline MakkarMuAndDerivative makkar_mu_and_derivative(double slip_speed_mps, const MakkarGammas& g,
+                                                      const MakkarTanh& t) {
+  return {makkar_mu(slip_speed_mps, g, t), makkar_mu_derivative(g, t)};
+}
+
 inline MakkarMuAndDerivative makkar_mu_and_derivative(double slip_speed_mps, const MakkarGammas& g) {
-  const double v = slip_speed_mps;
-  const double t2 = std::tanh(g[1] * v), t3 = std::tanh(g[2] * v), t5 = std::tanh(g[4] * v);
-  return {g[0] * (t2 - t3) + g[3] * t5 + g[5] * v,
-          g[0] * (g[1] * (1.0 - t2 * t2) - g[2] * (1.0 - t3 * t3)) + g[3] * g[4] * (1.0 - t5 * t5) + g[5]};
+  return makkar_mu_and_derivative(slip_speed_mps, g, makkar_tanh(slip_speed_mps, g));
 }
 
 }  // namespace rover

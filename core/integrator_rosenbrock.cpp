@@ -305,10 +305,13 @@ struct SlipRows {
   double friction_speed_scale_mps = 0.0;  // s(v_t)
 };
 
-double friction_speed_scale(double slip_speed_mps, const FrictionParameters& friction) {
+// At a pushing contact `c` with slip speed |v_t| = `slip_speed_mps`, mu and
+// mu' from the tanh its force evaluation kept.
+double friction_speed_scale(const ContactPoint& c, double slip_speed_mps, const FrictionParameters& friction) {
   const double v = std::abs(slip_speed_mps);
-  const double along = std::abs(makkar_mu_derivative(v, friction.gammas));
-  const double across = v > 0.0 ? makkar_mu(v, friction.gammas) / v : along;
+  const MakkarTanh t = v > 0.0 ? c.friction_tanh : makkar_tanh(v, friction.gammas);
+  const double along = std::abs(makkar_mu_derivative(friction.gammas, t));
+  const double across = v > 0.0 ? makkar_mu(v, friction.gammas, t) / v : along;
   return friction.mu_static / std::max(along, across);
 }
 
@@ -330,7 +333,7 @@ void slip_rows(const RoverModel& model, const StepPoint& e, SlipRowSet& out) {
       const double slip = c.slip_velocity_mps.norm();
       out.rows[static_cast<std::size_t>(out.count++)] = {
           tangent * point_jacobian(model.tree, e.dynamics.kinematics, node::wheel(leg), c.point_m), slip,
-          friction_speed_scale(slip, model.parameters.friction)};
+          friction_speed_scale(c, slip, model.parameters.friction)};
     }
 }
 

@@ -130,15 +130,25 @@ inline Vec3 point_velocity(const TreeKinematics& kin, int node_index, const Vec3
   return n.velocity + n.omega.cross(p - n.origin);
 }
 
+// A 3 x 23 Jacobian of a node's motion on the node's path alone: row a is
+// its column of the coordinate of KinematicTree::path[node][a] (the other
+// columns are zero: only the joints above a node move it); the rows past the
+// path length are zero. The forms below write these rows; the 3 x 23 forms
+// spread them into their columns.
+using PathJacobian = Eigen::Matrix<double, kMaxTreeDepth, 3>;
+
 // Partial velocities (Jacobian d v_P / d u, 3 x 23) of the material point at
 // world position p fixed to `node`.
 Eigen::Matrix<double, 3, kNumCoordinates> point_jacobian(const KinematicTree& tree,
                                                          const TreeKinematics& kin,
                                                          int node_index, const Vec3& p);
+PathJacobian point_jacobian_on_path(const KinematicTree& tree, const TreeKinematics& kin, int node_index,
+                                    const Vec3& p);
 
 // Angular-velocity Jacobian d omega / d u (3 x 23) of the frame of `node`.
 Eigen::Matrix<double, 3, kNumCoordinates> angular_jacobian(const KinematicTree& tree,
                                                            const TreeKinematics& kin, int node_index);
+PathJacobian angular_jacobian_on_path(const KinematicTree& tree, const TreeKinematics& kin, int node_index);
 
 // How the velocity of a node frame changes with the coordinates at fixed
 // speeds: d v_o / dq and d omega / dq (3 x 23 each), o the node origin.
@@ -157,6 +167,12 @@ struct FrameVelocityPositionDerivative {
 FrameVelocityPositionDerivative frame_velocity_position_derivative(const KinematicTree& tree,
                                                                    const TreeKinematics& kin,
                                                                    int node_index);
+struct FrameVelocityPositionDerivativeOnPath {
+  PathJacobian d_origin_velocity, d_omega;
+};
+FrameVelocityPositionDerivativeOnPath frame_velocity_position_derivative_on_path(const KinematicTree& tree,
+                                                                               const TreeKinematics& kin,
+                                                                               int node_index);
 
 // The matrix [v]x with [v]x w = v x w.
 inline Mat3 cross_matrix(const Vec3& v) {

@@ -38,6 +38,8 @@
 #include <Eigen/Core>
 #include <Eigen/LU>
 
+#include "core/fixed_size_product.hpp"
+
 namespace rover {
 
 // The system linearized at the start (t0, q0, u0) of a step.
@@ -191,24 +193,26 @@ RosenbrockWStep<N> rosenbrock_step(const RosenbrockTableau<Stages>& tab, const M
     // Stage point x + sum_j a_ij U_j and the right-hand side r of the stage.
     Vector q = q0, u = u0, rq, ru_correction = Vector::Zero();
     for (int j = 0; j < i; ++j) {
-      q += tab.a[i][j] * Uq[j];
-      u += tab.a[i][j] * Uu[j];
+      add_scaled(q, tab.a[i][j], Uq[j]);
+      add_scaled(u, tab.a[i][j], Uu[j]);
     }
     rq = u;
     for (int j = 0; j < i; ++j) {
-      rq += (tab.c[i][j] / h) * Uq[j];
-      ru_correction += (tab.c[i][j] / h) * Uu[j];
+      add_scaled(rq, tab.c[i][j] / h, Uq[j]);
+      add_scaled(ru_correction, tab.c[i][j] / h, Uu[j]);
     }
     // M0 r_u, where for the first stage M0 f_u(x) = M0 M0^{-1} F0 = F0.
     const Vector mass_ru =
         i == 0 ? lin.force
-               : Vector(lin.mass * (acceleration(t0 + tab.stage_time[i] * h, q, u) + ru_correction));
-    Uu[i] = iteration.solve(Vector(hg * (mass_ru + hg * (lin.d_force_d_position * rq))));
+               : fixed_size_product(lin.mass, Vector(acceleration(t0 + tab.stage_time[i] * h, q, u) + ru_correction),
+                                    1.0);
+    const Vector stiffness_rq = fixed_size_product(lin.d_force_d_position, rq, hg);  // hg K r_q
+    Uu[i] = iteration.solve(Vector(hg * (mass_ru + stiffness_rq)));
     Uq[i] = hg * (rq + Uu[i]);
-    out.q += tab.m[i] * Uq[i];
-    out.u += tab.m[i] * Uu[i];
-    out.error_q += tab.m_error[i] * Uq[i];
-    out.error_u += tab.m_error[i] * Uu[i];
+    add_scaled(out.q, tab.m[i], Uq[i]);
+    add_scaled(out.u, tab.m[i], Uu[i]);
+    add_scaled(out.error_q, tab.m_error[i], Uq[i]);
+    add_scaled(out.error_u, tab.m_error[i], Uu[i]);
   }
   return out;
 }
