@@ -6,7 +6,9 @@
 // multiply-adds (fused where the processor has FMA) for the rows that fill
 // Eigen's packets and by a separate product and sum for the N mod 2 rows left
 // over; the sum is then scaled, alpha c + 0. The results are those of
-// Eigen's product to the last bit.
+// Eigen's product to the last bit (tests/core/fixed_size_product_test.cpp)
+// at sizes where Eigen calls that kernel; below about 8 it evaluates a
+// fixed-size product coefficient by coefficient instead.
 //
 // Eigen's kernel takes the sizes at run time and runs the rows a packet or
 // two at a time, each chain of N dependent multiply-adds after the previous
