@@ -3833,5 +3833,31 @@ TEST_F(Audit, TwelfthAuditCalibrationInputs) {
   run_table(w().dir(), cases);
 }
 
+// ---- The twelfth audit -------------------------------------------------------
+
+// Class 4 (P5): a config nested thousands of levels deep is refused at once,
+// naming the file, line and column and the limit, wherever the nesting is
+// (not after memory growing with the square of the depth).
+TEST_F(Audit, DeeplyNestedJsonIsRefusedAtOnce) {
+  std::vector<Case> cases;
+  const std::string deep_array = std::string(3000, '[') + std::string(3000, ']');
+  const std::string bare = w().text_file("deep", deep_array);
+  cases.push_back({"a study file of 3000 nested arrays", study("montecarlo", bare) + " --dry-run", Want::kError,
+                   {bare + ":1:101: ", "nested deeper than 100 levels"}});
+  std::string described = w().montecarlo([](Json&) {});
+  const std::string study_text = file_bytes(described);
+  described = w().text_file("deep_description",
+                            "{\n\"description\": " + deep_array + "," + study_text.substr(study_text.find('{') + 1));
+  cases.push_back({"a study whose description nests 3000 arrays", study("montecarlo", described) + " --dry-run",
+                   Want::kError, {described + ":2:115: ", "nested deeper than 100 levels"}});
+  std::string objects;
+  for (int i = 0; i < 2000; ++i) objects += "{\"a\": ";
+  objects += "1" + std::string(2000, '}');
+  const std::string scenario = w().text_file("deep_scenario", objects);
+  cases.push_back({"a scenario of 2000 nested objects", simulate(scenario), Want::kError,
+                   {scenario + ":1:", "nested deeper than 100 levels"}});
+  run_table(w().dir(), cases);
+}
+
 }  // namespace
 }  // namespace rover
