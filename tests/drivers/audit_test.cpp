@@ -3859,5 +3859,43 @@ TEST_F(Audit, DeeplyNestedJsonIsRefusedAtOnce) {
   run_table(w().dir(), cases);
 }
 
+// Class 8 (P11): an HDF5 input that another program holds open for writing
+// (HDF5's file locking, here flock(1) holding the same exclusive lock while
+// rover runs) is said to be locked, not damaged; every HDF5 reader.
+TEST_F(Audit, AnInputHeldOpenForWritingIsLockedNotDamaged) {
+  const std::string dir = w().dir();
+  const std::string curve = simulated_curve(dir + "/curve.h5");
+  const std::string model_study = w().json_file(
+      "linear_surrogate", Json{{"type", "surrogate"},
+                               {"name", "lin"},
+                               {"model", "linear"},
+                               {"parameters", {{"x1", {{"distribution", "uniform"}, {"min", 0.0}, {"max", 1.0}}}}},
+                               {"design", {{"samples", 20}, {"seed", 1}}},
+                               {"pce", {{"max_degree", 1}, {"bootstrap", 0}}}});
+  const std::string model = w().out();
+  std::string log;
+  ASSERT_EQ(run_command(rover_binary() + " " + study_args("surrogate", model_study, model), &log), 0) << log;
+  const std::string design = w().text_file("design", "x1,x2,x3,x4\n0.5,0,0,0\n", "csv");
+  struct Reader {
+    std::string id, held, args;
+  };
+  const std::vector<Reader> readers = {
+      {"compare, the curve judged", curve, "compare " + curve + " " + simulated_curve(dir + "/other.h5")},
+      {"compare, the reference", curve, "compare " + simulated_curve(dir + "/judged.h5") + " " + curve},
+      {"surrogate --predict", model, "surrogate --predict " + model + " --design " + design + " --csv " + w().out("csv")},
+  };
+  for (const Reader& r : readers) {
+    std::string output;
+    const int status = run_command("cd " + dir + " && OMPI_MCA_ess_singleton_isolated=1 flock -x " + r.held +
+                                       " timeout -k 2 30 " + rover_binary() + " " + r.args,
+                                   &output);
+    SCOPED_TRACE(r.id + ": rover " + r.args + "\n" + output);
+    EXPECT_EQ(status, 1);
+    EXPECT_NE(output.find(r.held + " is locked by another program that has it open for writing"), std::string::npos);
+    EXPECT_NE(output.find("close it there"), std::string::npos);
+    EXPECT_EQ(output.find("damaged"), std::string::npos);
+  }
+}
+
 }  // namespace
 }  // namespace rover
