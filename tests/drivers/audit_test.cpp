@@ -3571,18 +3571,18 @@ TEST_F(Audit, FilesAndThePlotterAreCheckedBeforeAnyRun) {
 }
 
 // Runs `rover <args>` in `dir` in the background (log in `log`), waits until
-// the shell condition `ready` holds and `settle_s` more, sends SIGTERM and
-// waits for the end; the output ends with "status N" and the log, and holds
+// the shell condition `ready` holds and `settle_s` more, sends SIGTERM (or
+// SIG`signal`) and waits for the end; the output ends with "status N" and the log, and holds
 // "still running" if rover outlived the signal by kSignalGrace_s (`timeout`,
 // which forwards the signal, then kills it).
 constexpr int kSignalGrace_s = 8;
 std::string signalled_run(const std::string& dir, const std::string& args, const std::string& log,
-                          const std::string& ready, double settle_s = 0.0) {
+                          const std::string& ready, double settle_s = 0.0, const std::string& signal = "TERM") {
   std::string output;
   run_command("cd " + dir + " && (OMPI_MCA_ess_singleton_isolated=1 timeout -k " + std::to_string(kSignalGrace_s + 2) +
                   " 60 " + rover_binary() + " " + args +
                   " > " + log + " 2>&1 & pid=$!; for i in $(seq 3000); do " + ready +
-                  " && break; sleep 0.01; done; sleep " + std::to_string(settle_s) + "; kill -TERM $pid; for i in $(seq " +
+                  " && break; sleep 0.01; done; sleep " + std::to_string(settle_s) + "; kill -" + signal + " $pid; for i in $(seq " +
                   std::to_string(10 * kSignalGrace_s) +
                   "); do kill -0 $pid 2>/dev/null || break; sleep 0.1; done; "
                   "kill -0 $pid 2>/dev/null && echo 'still running after the grace'; wait $pid; echo \"status $?\"; cat " +
@@ -3895,6 +3895,43 @@ TEST_F(Audit, AnInputHeldOpenForWritingIsLockedNotDamaged) {
     EXPECT_NE(output.find("close it there"), std::string::npos);
     EXPECT_EQ(output.find("damaged"), std::string::npos);
   }
+}
+
+// Class 4 (P14): SIGHUP (a closed terminal or ssh session) stops a study as
+// SIGTERM does, with its checkpoint and --resume line, also while it reads
+// its inputs; progress into a pipe whose reader has gone (`| head`) stops it
+// the same way (at its start if the banner already met the closed pipe)
+// instead of killing it without a word.
+TEST_F(Audit, HangupAndAClosedPipeStopAStudyWithItsCheckpoint) {
+  const std::string dir = w().dir();
+  const std::string many = w().montecarlo([](Json& j) { j["design"]["samples"] = 100000; });
+  const std::string out = dir + "/hangup.h5";
+  const std::string output = signalled_run(dir, study_args("montecarlo", many, out), dir + "/hangup.log",
+                                           file_exists(out + ".lock"), 1.0, "HUP");
+  expect_clean_interrupt(output, out, true);
+  EXPECT_NE(output.find("interrupted (SIGHUP)"), std::string::npos) << output;
+
+  const std::string piped = dir + "/piped.h5", status_file = dir + "/piped.status";
+  std::string pipe_output;
+  run_command("cd " + dir + " && { OMPI_MCA_ess_singleton_isolated=1 timeout -k 2 60 " + rover_binary() + " " +
+                  study_args("montecarlo", many, piped) + " --progress-interval 1 2>&1; echo \"status $?\" > " +
+                  status_file + "; } | head -c 1",
+              &pipe_output);
+  const std::string piped_status = file_bytes(status_file);
+  EXPECT_EQ(piped_status, "status 130\n") << pipe_output;
+  EXPECT_FALSE(fs::exists(piped)) << piped_status;
+  EXPECT_FALSE(fs::exists(piped + ".partial")) << piped_status;
+  EXPECT_FALSE(fs::exists(piped + ".lock")) << piped_status;
+
+  const std::string pipe = dir + "/unwritten.csv";
+  ASSERT_EQ(run_command("mkfifo " + pipe), 0);
+  std::string waiting;
+  run_command("cd " + dir + " && (OMPI_MCA_ess_singleton_isolated=1 timeout -k 2 30 " + rover_binary() + " " +
+                  study_args("calibrate", w().calibration([](Json&) {}), dir + "/waiting.h5") + " --data " + pipe +
+                  " 2>&1 & pid=$!; sleep 1; kill -HUP $pid; wait $pid; echo \"status $?\")",
+              &waiting);
+  EXPECT_NE(waiting.find("status 130"), std::string::npos) << waiting;
+  EXPECT_NE(waiting.find("interrupted (SIGHUP); nothing written"), std::string::npos) << waiting;
 }
 
 }  // namespace
