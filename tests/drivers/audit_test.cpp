@@ -3897,6 +3897,66 @@ TEST_F(Audit, AnInputHeldOpenForWritingIsLockedNotDamaged) {
   }
 }
 
+// Class 4/2 (P4): a one-process command signalled while it writes its files
+// ends with 130 and says what was written and what not; no temporary and no
+// lock stays, and an earlier file at an unwritten path is left as it was.
+TEST_F(Audit, ASignalWhileACommandWritesLeavesNoPartialFile) {
+  const std::string dir = w().dir();
+  // 0.5 s of a drop at 200 kHz: 100 000 rows, written in about a second.
+  const std::string dense = w().scenario([](Json& j) {
+    j["duration"] = 0.5;
+    j["output_rate"] = 2e5;
+  });
+  const auto earlier = [](const std::string& path) {
+    std::ofstream(path) << "an earlier result";
+    return unchanged(path);
+  };
+  const auto no_leftovers = [](const std::string& output, const std::string& path) {
+    EXPECT_FALSE(fs::exists(path + ".partial")) << output;
+    EXPECT_FALSE(fs::exists(path + ".lock")) << output;
+  };
+  {  // while the HDF5 file is written: nothing written
+    const std::string out = dir + "/dense.h5", csv = dir + "/dense.csv";
+    const auto kept = earlier(out);
+    const std::string output = signalled_run(dir, "simulate --no-plot --scenario " + dense + " --out " + out +
+                                                      " --csv " + csv, dir + "/dense.log", file_exists(out + ".partial"));
+    EXPECT_NE(output.find("status 130"), std::string::npos) << output;
+    EXPECT_NE(output.find("interrupted (SIGTERM) while writing " + out + "; nothing written"), std::string::npos)
+        << output;
+    EXPECT_EQ(kept(), "") << output;
+    EXPECT_FALSE(fs::exists(csv)) << output;
+    no_leftovers(output, out);
+    no_leftovers(output, csv);
+  }
+  {  // while the CSV is written, by SIGHUP: the HDF5 file stands, the CSV is not written
+    const std::string out = dir + "/dense2.h5", csv = dir + "/dense2.csv";
+    const auto kept = earlier(csv);
+    const std::string output =
+        signalled_run(dir, "simulate --no-plot --scenario " + dense + " --out " + out + " --csv " + csv,
+                      dir + "/dense2.log", file_exists(csv + ".partial"), 0.0, "HUP");
+    EXPECT_NE(output.find("status 130"), std::string::npos) << output;
+    EXPECT_NE(output.find("interrupted (SIGHUP) while writing " + csv + "; wrote " + out + "; not written: " + csv),
+              std::string::npos)
+        << output;
+    EXPECT_EQ(kept(), "") << output;
+    EXPECT_EQ(io::Hdf5Reader(out).shape("/t"), (std::vector<std::size_t>{100001})) << output;
+    no_leftovers(output, out);
+    no_leftovers(output, csv);
+  }
+  {  // synthesize's curve: 0.3 s at 2 MHz, 600 000 rows
+    const std::string out = dir + "/curve.csv";
+    const auto kept = earlier(out);
+    const std::string output = signalled_run(
+        dir, "synthesize --scenario " + w().scenario([](Json& j) { j["duration"] = 0.3; }) + " --rate 2e6 --out " + out,
+        dir + "/curve.log", file_exists(out + ".partial"));
+    EXPECT_NE(output.find("status 130"), std::string::npos) << output;
+    EXPECT_NE(output.find("interrupted (SIGTERM) while writing " + out + "; nothing written"), std::string::npos)
+        << output;
+    EXPECT_EQ(kept(), "") << output;
+    no_leftovers(output, out);
+  }
+}
+
 // Class 4 (P14): SIGHUP (a closed terminal or ssh session) stops a study as
 // SIGTERM does, with its checkpoint and --resume line, also while it reads
 // its inputs; progress into a pipe whose reader has gone (`| head`) stops it
