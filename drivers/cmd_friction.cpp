@@ -16,6 +16,7 @@
 #include "core/model_scale.hpp"
 #include "drivers/command_registry.hpp"
 #include "drivers/held_outputs.hpp"
+#include "drivers/interruptible_outputs.hpp"
 #include "drivers/options.hpp"
 #include "io/json_reader.hpp"
 #include "io/plot.hpp"
@@ -140,6 +141,7 @@ int run_friction(const FrictionOptions& o) {
     throw CommandLineError({"no usable Makkar gammas for " + friction_values_text(p) + ": " + e.what() +
                             "; friction coefficients are of order 1"});
   }
+  InterruptibleOutputs outputs({o.png});  // a signal while the plot is drawn ends the command with a word
   HeldOutputs held;  // no other process writes the plot while this one does
   held.hold("--png", o.png);
   std::cout << out.dump(2) << "\n";
@@ -150,8 +152,13 @@ int run_friction(const FrictionOptions& o) {
 
   if (!o.png.empty()) {
     try {
+      outputs.stop_if_signalled();
       write_friction_png(p, gammas, quality, o.png);
+      outputs.written(o.png);
+    } catch (const study::StudyInterrupted&) {
+      throw;
     } catch (const std::exception& e) {  // the numbers above stand without the plot
+      outputs.stop_if_signalled();  // gnuplot ended by the same Ctrl-C: said as the interrupt it is
       std::cerr << "warning: no plot: " << e.what() << "\n";
     }
   }

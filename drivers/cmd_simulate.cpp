@@ -13,6 +13,7 @@
 #include "core/friction_synthesis.hpp"
 #include "drivers/command_registry.hpp"
 #include "drivers/held_outputs.hpp"
+#include "drivers/interruptible_outputs.hpp"
 #include "drivers/interruptible_simulation.hpp"
 #include "drivers/options.hpp"
 #include "io/trajectory_io.hpp"
@@ -93,17 +94,62 @@ void check_outputs_over_inputs(const SimulateOptions& o, const io::ScenarioSetup
 // the failure and why) goes to --out only when nothing is there, and no CSV
 // or plot is written. Exit status 2.
 int record_failed_run(const SimulateOptions& o, const std::string& out, const Trajectory& tr,
-                      const io::ScenarioSetup& setup, const ModelInputs& inputs) {
+                      const io::ScenarioSetup& setup, const ModelInputs& inputs, InterruptibleOutputs& outputs) {
   std::cerr << "simulate: the run failed: " << tr.message << "\n";
+  for (const std::string& unwritten : {o.csv, plot_stem(out) + ".png", plot_stem(out) + "_attitude.png"})
+    outputs.dropped(unwritten);
   if (std::error_code error; std::filesystem::exists(out, error)) {
     std::cerr << "simulate: the earlier result " << out << " was kept and nothing was written (give a new "
               << "--out to keep the failed run's record)\n";
     return 2;
   }
-  io::write_trajectory_hdf5(out, tr, setup, inputs);
+  if (!io::write_trajectory_hdf5(out, tr, setup, inputs, outputs.stop()))
+    outputs.interrupted_while("writing " + out);
+  outputs.written(out);
   std::cerr << "simulate: wrote the failed run's record to " << out
             << (o.csv.empty() && o.no_plot ? "" : "; no CSV or plot of a failed run") << "\n";
   return 2;
+}
+
+// Whether the rover travelled (obstacle runs, turns): such a run also gets
+// plots of B_r, G and the attitude; a drop test only of B_l z.
+bool travelled(const Trajectory& tr) {
+  const auto last = tr.q.rows() - 1;
+  return last > 0 &&
+         std::hypot(tr.q(last, coord::x) - tr.q(0, coord::x), tr.q(last, coord::y) - tr.q(0, coord::y)) > 0.01;
+}
+
+// Writes the successful run `tr`: HDF5, the CSV if asked for, the plots.
+int write_run(const SimulateOptions& o, const std::string& out, const Trajectory& tr, const io::ScenarioSetup& setup,
+              const ModelInputs& inputs, InterruptibleOutputs& outputs) {
+  if (!io::write_trajectory_hdf5(out, tr, setup, inputs, outputs.stop()))
+    outputs.interrupted_while("writing " + out);
+  std::cerr << "simulate: ok; wall " << tr.wall_time_s << " s, " << tr.rhs_evaluations << " right-hand sides, "
+            << tr.steps << " steps; wrote " << out << "\n";
+  outputs.written(out);
+  if (!o.csv.empty()) {
+    if (!io::write_trajectory_csv(o.csv, tr, outputs.stop())) outputs.interrupted_while("writing " + o.csv);
+    std::cerr << "simulate: wrote " << o.csv << "\n";
+    outputs.written(o.csv);
+  }
+  if (o.no_plot) return 0;
+  const std::string stem = plot_stem(out);
+  const bool obstacle = travelled(tr);
+  if (!obstacle) outputs.dropped(stem + "_attitude.png");
+  try {
+    for (const auto& png : io::write_trajectory_plots(stem, tr, setup.scenario.name, obstacle, outputs.stop())) {
+      std::cerr << "simulate: wrote " << png << "\n";
+      outputs.written(png);
+    }
+  } catch (const study::StudyInterrupted&) {
+    throw;
+  } catch (const std::exception& e) {
+    outputs.stop_if_signalled();  // gnuplot ended by the same Ctrl-C: said as the interrupt it is
+    std::cerr << "simulate: warning: no plot (" << e.what() << "); the data are in " << out << "\n";
+    return 0;
+  }
+  outputs.stop_if_signalled();
+  return 0;
 }
 
 int run_simulate(const SimulateOptions& o) {
@@ -129,6 +175,10 @@ int run_simulate(const SimulateOptions& o) {
               << friction.mu_static << " within " << 100 * kFrictionMaxPeakError
               << " %); check `rover friction` for these mu_s, v_s, mu_k, v_k (recorded as "
                  "friction_fit_acceptable = 0 in the file)\n";
+  // From the run to the last plot a signal ends the command with a word and
+  // no partial file; the locks go as the exception unwinds.
+  InterruptibleOutputs outputs({out, o.csv, o.no_plot ? "" : plot_stem(out) + ".png",
+                                o.no_plot ? "" : plot_stem(out) + "_attitude.png"});
   HeldOutputs held;  // the run begins: its folders are made, and no other process writes its outputs
   held.hold(out_flag, out);
   held.hold("--csv", o.csv);
@@ -143,29 +193,9 @@ int run_simulate(const SimulateOptions& o) {
   const Trajectory tr = simulate_interruptibly(setup.model, setup.scenario, inputs, observer);
   for (const std::string& note : {no_wheel_touched_note(tr), chassis_through_ground_note(tr, setup.model.terrain)})
     if (!note.empty()) std::cerr << "simulate: warning: " << note << "\n";
-  if (!tr.ok()) return record_failed_run(o, out, tr, setup, inputs);
-  io::write_trajectory_hdf5(out, tr, setup, inputs);
-  std::cerr << "simulate: ok; wall " << tr.wall_time_s << " s, " << tr.rhs_evaluations << " right-hand sides, "
-            << tr.steps << " steps; wrote " << out << "\n";
-  if (!o.csv.empty()) {
-    io::write_trajectory_csv(o.csv, tr);
-    std::cerr << "simulate: wrote " << o.csv << "\n";
-  }
-  if (!o.no_plot) {
-    const std::string stem = plot_stem(out);
-    // A run where the rover travels (obstacle runs, turns) also gets B_r, G
-    // and the attitude; a drop test only B_l z.
-    const auto last = tr.q.rows() - 1;
-    const bool obstacle = last > 0 && std::hypot(tr.q(last, coord::x) - tr.q(0, coord::x),
-                                                 tr.q(last, coord::y) - tr.q(0, coord::y)) > 0.01;
-    try {
-      for (const auto& png : io::write_trajectory_plots(stem, tr, setup.scenario.name, obstacle))
-        std::cerr << "simulate: wrote " << png << "\n";
-    } catch (const std::exception& e) {
-      std::cerr << "simulate: warning: no plot (" << e.what() << "); the data are in " << out << "\n";
-    }
-  }
-  return 0;
+  outputs.stop_if_signalled();
+  if (!tr.ok()) return record_failed_run(o, out, tr, setup, inputs, outputs);
+  return write_run(o, out, tr, setup, inputs, outputs);
 }
 
 const RegisterCommand simulate_command{

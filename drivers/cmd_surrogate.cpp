@@ -7,6 +7,7 @@
 
 #include "drivers/command_registry.hpp"
 #include "drivers/held_outputs.hpp"
+#include "drivers/interruptible_outputs.hpp"
 #include "drivers/launcher.hpp"
 #include "drivers/study_options.hpp"
 #include "io/csv.hpp"
@@ -70,24 +71,20 @@ int predict(const SurrogateOptions& o) {
   const study::DesignMatrix x = study::surrogate_points(set, study::read_design_csv(o.design_path));
   // From here a signal ends the prediction or the writing with a word, and
   // nothing written (the lock and the temporary go as the exception unwinds).
-  const study::InterruptGuard interrupts;
-  const std::atomic<bool>& signalled = study::InterruptGuard::flag();
+  InterruptibleOutputs outputs({o.csv_path});
   const auto start = std::chrono::steady_clock::now();
   study::PredictionTable table;
   try {
-    table = study::predict_surrogate_set(set, x, &signalled);
+    table = study::predict_surrogate_set(set, x, outputs.stop());
   } catch (const study::WorkStopped&) {
-    throw study::StudyInterrupted("interrupted (SIGINT or SIGTERM) while predicting; nothing written");
+    outputs.interrupted_while("predicting");
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   HeldOutputs held;
   held.hold("--csv", o.csv_path);
-  if (!io::write_csv(o.csv_path, table.header, table.columns, "", &signalled))
-    throw study::StudyInterrupted("interrupted (SIGINT or SIGTERM) while writing " + o.csv_path +
-                                  "; nothing written, an earlier file there left as it was");
-  if (signalled.load())
-    throw study::StudyInterrupted("interrupted (SIGINT or SIGTERM); " + o.csv_path +
-                                  " was written in full before the signal took effect");
+  if (!io::write_csv(o.csv_path, table.header, table.columns, "", outputs.stop()))
+    outputs.interrupted_while("writing " + o.csv_path);
+  outputs.written(o.csv_path);
   std::cerr << "surrogate: " << x.rows() << " points of " << set.models.size() << " " << study::surrogate_kind_name(set.kind)
             << " model(s) in " << 1e6 * seconds / static_cast<double>(x.rows()) << " us per point; wrote "
             << o.csv_path << "\n";

@@ -20,6 +20,7 @@
 #include "core/metrics.hpp"
 #include "drivers/command_registry.hpp"
 #include "drivers/held_outputs.hpp"
+#include "drivers/interruptible_outputs.hpp"
 #include "drivers/interruptible_simulation.hpp"
 #include "drivers/options.hpp"
 #include "io/csv.hpp"
@@ -181,6 +182,7 @@ int run_synthesize(const SynthesizeOptions& o) {
   setup.scenario.integrator = data_integrator(
       setup.scenario.integrator, o.integrator.empty() ? "the scenario's integrator" : "--integrator", o.noise_m);
   const ModelInputs in = apply_overrides(o.overrides, setup.inputs);
+  InterruptibleOutputs outputs({o.out});  // from the run on, a signal ends the command with a word
   HeldOutputs held;  // before the run: a file another process writes is refused at once
   held.hold("--out", o.out);
   const Trajectory tr = simulate_interruptibly(setup.model, setup.scenario, in);
@@ -210,8 +212,10 @@ int run_synthesize(const SynthesizeOptions& o) {
                               "that; nothing was written"});
   warn_if_noise_hides_the_motion(o.noise_m, clean);
   const std::string comment = provenance_comment(o, scenario_path, in, setup.scenario.integrator, channel, seed);
-  io::write_csv(o.out, {"t", "z"}, {t, z}, comment);
+  if (!io::write_csv(o.out, {"t", "z"}, {t, z}, comment, outputs.stop()))
+    outputs.interrupted_while("writing " + o.out);
   std::cerr << "synthesize: wrote " << t.size() << " points of " << channel.name << " to " << o.out << "\n";
+  outputs.written(o.out);
   return 0;
 }
 

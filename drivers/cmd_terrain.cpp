@@ -13,7 +13,7 @@
 #include "core/obstacle.hpp"
 #include "drivers/command_registry.hpp"
 #include "drivers/held_outputs.hpp"
-#include "study/runtime/study_runner.hpp"
+#include "drivers/interruptible_outputs.hpp"
 #include "drivers/options.hpp"
 #include "io/plot.hpp"
 #include "io/terrain_json.hpp"
@@ -31,7 +31,7 @@ struct ObstacleOptions {
 };
 
 // The grid's heights as a PNG; a plot that cannot be drawn is a warning.
-void plot_obstacle(const HeightGrid& grid, const std::string& png) {
+void plot_obstacle(const HeightGrid& grid, const std::string& png, InterruptibleOutputs& outputs) {
   io::SurfacePlot plot;
   plot.title = "Trapezoid obstacle (docs/model.md §7): terrain height [m]";
   plot.x_label = "x [m]";
@@ -46,8 +46,11 @@ void plot_obstacle(const HeightGrid& grid, const std::string& png) {
     io::write_png(plot, png);
     std::cout << "wrote " << png << "\n";
   } catch (const io::PlotError& e) {
+    outputs.stop_if_signalled();  // gnuplot ended by the same Ctrl-C: said as the interrupt it is
     std::cerr << "rover terrain: warning: no plot: " << e.what() << "\n";
+    return;
   }
+  outputs.written(png);
 }
 
 // A length flag within the scale every terrain reader accepts (core/model_scale.hpp).
@@ -85,12 +88,6 @@ void require_readable_extent(const HeightGrid& grid) {
   checks.throw_if_any();
 }
 
-// After a signal (SIGINT, SIGTERM) during the work: stops, saying what stands.
-void stop_if_signalled(const std::string& what_stands) {
-  if (study::InterruptGuard::flag().load())
-    throw study::StudyInterrupted("interrupted (SIGINT or SIGTERM); " + what_stands);
-}
-
 int run_obstacle(const ObstacleOptions& o) {
   // Each flag by name (core/obstacle checks the same ranges by field name).
   FlagChecks checks;
@@ -121,7 +118,7 @@ int run_obstacle(const ObstacleOptions& o) {
   TrapezoidObstacle obstacle = o.obstacle;
   obstacle.ramp_angle_rad = o.ramp_angle_deg * std::numbers::pi / 180.0;
   require_resolved(obstacle, o);
-  const study::InterruptGuard interrupts;  // a signal stops the work with a word, never halfway through a file
+  InterruptibleOutputs outputs({o.out, o.png});  // a signal stops the work with a word, never halfway through a file
   HeightGrid grid;
   try {
     grid = trapezoid_obstacle_grid(obstacle, o.spacing_m, o.margin_m);
@@ -158,16 +155,16 @@ int run_obstacle(const ObstacleOptions& o) {
   HeldOutputs held;
   held.hold("--out", o.out);
   held.hold("--png", o.png);
-  stop_if_signalled("nothing written");
+  outputs.stop_if_signalled();
   io::save_terrain_grid(grid, o.out, provenance);
-  stop_if_signalled(o.out + " was written in full before the signal took effect; no plot");
+  outputs.written(o.out);
 
   std::cout << "wrote " << o.out << ": " << grid.nx << " x " << grid.ny << " grid, spacing "
             << grid.spacing_x_m << " x " << grid.spacing_y_m << " m, x in [" << grid.node_x(0)
             << ", " << grid.node_x(grid.nx - 1) << "], y in [" << grid.node_y(0) << ", "
             << grid.node_y(grid.ny - 1) << "], ramp length " << obstacle.ramp_length_m()
             << " m, " << std::filesystem::file_size(o.out) << " bytes\n";
-  if (!o.png.empty()) plot_obstacle(grid, o.png);
+  if (!o.png.empty()) plot_obstacle(grid, o.png, outputs);
   return 0;
 }
 

@@ -8,8 +8,9 @@ namespace rover::cli {
 namespace {
 
 [[noreturn]] void throw_interrupted(double t_s, double duration_s) {
-  throw study::StudyInterrupted("interrupted (SIGINT or SIGTERM) at t = " + number_text(t_s) + " of the run's " +
-                                number_text(duration_s) + " s; nothing written");
+  throw study::StudyInterrupted("interrupted (" + study::InterruptGuard::signal_name() + ") at t = " +
+                                number_text(t_s) + " of the run's " + number_text(duration_s) +
+                                " s; nothing written");
 }
 
 }  // namespace

@@ -1,7 +1,8 @@
-// One simulation run by a one-process command (simulate, synthesize) that
-// Ctrl-C or SIGTERM stops as they stop a study (docs/reliability.md, exit
-// status 130): at the next step after the signal (the simulation reads the
-// flag at every step), with a message and nothing written.
+// One simulation run by a one-process command (simulate, synthesize) that a
+// signal (study::InterruptGuard: Ctrl-C, SIGTERM, SIGHUP, a closed output
+// pipe) stops as it stops a study (docs/reliability.md, exit status 130): at
+// the next step after the signal (the simulation reads the flag at every
+// step), with a message and nothing written.
 #pragma once
 
 #include <string>
@@ -11,8 +12,8 @@
 namespace rover::cli {
 
 // simulate(model, scenario, inputs, observer); throws
-// study::StudyInterrupted ("interrupted by SIGTERM at t = 2.1 of 168 s of
-// the run; nothing written") when a SIGINT or SIGTERM arrives during the run.
+// study::StudyInterrupted ("interrupted (SIGTERM) at t = 2.1 of the run's
+// 168 s; nothing written") when such a signal arrives during the run.
 // A second signal kills as usual.
 Trajectory simulate_interruptibly(const RoverModel& model, const Scenario& scenario, const ModelInputs& inputs,
                                   const SimulationObserver& observer = {});

@@ -195,7 +195,8 @@ int run_subcommand(CLI::App& sub, const std::function<int()>& run, bool shares_r
     return 1;
   }
   std::cout.flush();
-  if (!std::cout) {
+  // A study stopped by a closed output pipe (SIGPIPE) keeps its status 130.
+  if (!std::cout && status != rover::study::StudyInterrupted::kExitCode) {
     std::cerr << prefix << "cannot write to standard output" << (errno ? std::string(" (") + std::strerror(errno) + ")" : "") << "\n";
     return 1;
   }
@@ -208,7 +209,9 @@ int run_subcommand(CLI::App& sub, const std::function<int()>& run, bool shares_r
 int main(int argc, char** argv) {
   using namespace rover::cli;
   keep_freed_memory();
-  rover::study::exit_on_interrupt_until_guarded();  // reading inputs, perhaps from a pipe: 130 and a word
+  // Reading inputs, perhaps from a pipe: a signal gives 130 and a word; a
+  // closed output pipe fails the write (reported), instead of killing.
+  rover::study::exit_on_interrupt_until_guarded();
   CLI::App app{
       "rover: semi-analytical dynamics of the Archimede rover (Caruso et al.) and the\n"
       "uncertainty/sensitivity studies built on it. Model: docs/model.md.\n"

@@ -136,7 +136,7 @@ inline std::string study_results_path(const study::StudyRunOptions& c, const std
   } catch (const std::exception&) {
     return "";
   }
-  const io::Json json = io::Json::parse(text, nullptr, /*allow_exceptions=*/false, /*ignore_comments=*/true);
+  const io::Json json = io::parse_json_quietly(text);
   if (!json.is_object() || !json.contains("name") || !json["name"].is_string()) return "";
   const std::string name = json["name"].get<std::string>();
   return name.empty() ? "" : "results/" + name + ".h5";

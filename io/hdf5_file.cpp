@@ -2,6 +2,9 @@
 #include "io/hdf5_file.hpp"
 
 #include <hdf5.h>
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -100,6 +103,22 @@ std::string unopenable_input(const std::string& file, const Hdf5ErrorDetail& det
   const std::string want = text.substr(stored + 13, text.find_first_not_of("0123456789", stored + 13) - stored - 13);
   return file + " is not a complete HDF5 file: it ends after " + have + " of its " + want +
          " bytes (cut short while written or copied?)";
+}
+
+// Whether another program holds `path` open for writing through HDF5, whose
+// file locking (HDF5 1.10 and later, also h5py and HDFView) keeps an
+// exclusive flock(2) on a file open for writing: a shared lock cannot be had.
+bool locked_for_writing(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return false;
+  const bool locked = ::flock(fd, LOCK_SH | LOCK_NB) != 0 && (errno == EWOULDBLOCK || errno == EAGAIN);
+  ::close(fd);  // and the lock with it, if taken
+  return locked;
+}
+
+std::string locked_input(const std::string& file) {
+  return file + " is locked by another program that has it open for writing (HDF5 file locking): close it there "
+                "(or let that program finish), then run again";
 }
 
 // Whose file an HDF5 call failed on: one rover writes, or an input it reads.
@@ -552,12 +571,18 @@ Hdf5Reader::Hdf5Reader(const std::string& path) : path_(path) {
   std::error_code error;
   if (!std::filesystem::is_regular_file(path_, error))
     throw std::runtime_error(path_ + ": no such file");
-  if (H5Fis_hdf5(path_.c_str()) <= 0) {
+  if (const htri_t hdf5 = H5Fis_hdf5(path_.c_str()); hdf5 <= 0) {
     H5Eclear2(H5E_DEFAULT);
+    if (hdf5 < 0 && locked_for_writing(path_)) throw std::runtime_error(locked_input(path_));
     throw std::runtime_error(path_ + ": not an HDF5 file");
   }
   file_ = H5Fopen(path_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (file_ < 0) throw std::runtime_error(unopenable_input(path_, hdf5_error_detail()));
+  if (file_ < 0) {
+    const Hdf5ErrorDetail detail = hdf5_error_detail();
+    if (detail.system_error == EWOULDBLOCK || detail.system_error == EAGAIN || locked_for_writing(path_))
+      throw std::runtime_error(locked_input(path_));
+    throw std::runtime_error(unopenable_input(path_, detail));
+  }
 }
 
 Hdf5Reader::~Hdf5Reader() {

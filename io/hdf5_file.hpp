@@ -118,7 +118,10 @@ bool is_hdf5_file(const std::string& path);
 
 class Hdf5Reader {
  public:
-  explicit Hdf5Reader(const std::string& path);  // throws if missing or not HDF5
+  // Throws if the file is missing, no HDF5 file, damaged, or held open for
+  // writing by another program (HDF5's file locking: "<path> is locked by
+  // another program that has it open for writing ...: close it there").
+  explicit Hdf5Reader(const std::string& path);
   ~Hdf5Reader();
   Hdf5Reader(const Hdf5Reader&) = delete;
   Hdf5Reader& operator=(const Hdf5Reader&) = delete;

@@ -77,7 +77,7 @@ void InputFiles::add_named_in(const std::string& config, int depth) {
   } catch (const std::exception&) {
     return;  // unreadable: its loader says so
   }
-  const Json json = Json::parse(content, nullptr, /*allow_exceptions=*/false, /*ignore_comments=*/true);
+  const Json json = parse_json_quietly(content);
   if (json.is_discarded()) return;
   each_string(json, "", [&](const std::string& key, const std::string& name) {
     if (name.empty() || name.size() > 4096 || name.find('\0') != std::string::npos) return;

@@ -157,7 +157,36 @@ class StrictDomBuilder final : public nlohmann::json_sax<Json> {
 
 }  // namespace
 
+std::size_t json_nesting_excess(const std::string& text) {
+  std::size_t depth = 0;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '"') {  // a string: up to its unescaped closing quote
+      for (++i; i < text.size() && text[i] != '"'; ++i)
+        if (text[i] == '\\') ++i;
+    } else if (c == '/' && i + 1 < text.size() && text[i + 1] == '/') {  // a comment to the end of the line
+      i = std::min(text.find('\n', i), text.size());
+    } else if (c == '/' && i + 1 < text.size() && text[i + 1] == '*') {  // a block comment
+      i = std::min(text.find("*/", i + 2), text.size()) + 1;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxJsonNesting) return i;
+    } else if ((c == ']' || c == '}') && depth > 0) {
+      --depth;
+    }
+  }
+  return std::string::npos;
+}
+
+Json parse_json_quietly(const std::string& text) {
+  if (json_nesting_excess(text) != std::string::npos) return Json(Json::value_t::discarded);
+  return Json::parse(text, nullptr, /*allow_exceptions=*/false, /*ignore_comments=*/true);
+}
+
 Json parse_json_text(const std::string& text, const std::string& source) {
+  // Refused before any parsing: the builder's field paths grow with the depth.
+  if (const std::size_t excess = json_nesting_excess(text); excess != std::string::npos)
+    throw ConfigError(source + ":" + line_and_column(text, excess) + ": objects and arrays nested deeper than " +
+                      std::to_string(kMaxJsonNesting) + " levels (a rover config nests a few): not a config file");
   StrictDomBuilder builder(text, source);
   const bool ok = Json::sax_parse(text, &builder, Json::input_format_t::json, /*strict=*/true,
                                   /*ignore_comments=*/true);

@@ -47,6 +47,22 @@ std::string input_path_problem(const std::string& path, const std::string& kind)
 // The same for JSON text; `source` names it in messages (a file name).
 Json parse_json_text(const std::string& text, const std::string& source);
 
+// Objects and arrays nested deeper than this are refused before parsing (a
+// rover config nests a few levels; a file of thousands would cost memory
+// growing with the square of its depth): "path:line:column: ... nested
+// deeper than 100 levels".
+inline constexpr std::size_t kMaxJsonNesting = 100;
+
+// The byte offset in `text` of the bracket that opens a level beyond
+// kMaxJsonNesting, or std::string::npos; brackets inside strings and
+// comments do not count.
+std::size_t json_nesting_excess(const std::string& text);
+
+// `text` parsed (comments allowed) for a reader that only looks into a file
+// its loader reads later and reports on: a discarded value for text that is
+// no JSON or nests deeper than kMaxJsonNesting.
+Json parse_json_quietly(const std::string& text);
+
 // The value of a JSON number as an unsigned 64-bit integer, if it is one
 // exactly: a JSON integer in [0, 2^64 - 1], or an integral floating-point
 // number (1e3) up to 2^53, beyond which a double need not hold the integer

@@ -41,23 +41,9 @@ void refuse_failed_run_record(const Hdf5Reader& h5, const std::string& path) {
                     "), not a trajectory; give the file of a run that succeeded");
 }
 
-}  // namespace
-
-void write_trajectory_hdf5(const std::string& path, const Trajectory& tr, const ScenarioSetup& setup,
-                           const ModelInputs& inputs) {
-  Hdf5Writer h5(path);
-  h5.write("/t", tr.t);
-  h5.write("/B_l_z", tr.B_l_z);
-  h5.write("/B_r_z", tr.B_r_z);
-  h5.write("/G_z", tr.G_z);
-  h5.write("/pitch", tr.pitch);
-  h5.write("/roll", tr.roll);
-  h5.write("/q", Eigen::MatrixXd(tr.q));
-  h5.write("/u", Eigen::MatrixXd(tr.u));
-  h5.write("/Fn", Eigen::MatrixXd(tr.normal_force_N));
-  std::vector<std::string> names(std::begin(kCoordinateNames), std::end(kCoordinateNames));
-  h5.write("/coordinate_names", names);
-
+// The attributes of a trajectory file: the inputs, the integrator and the run's outcome.
+void write_run_attributes(Hdf5Writer& h5, const Trajectory& tr, const ScenarioSetup& setup,
+                          const ModelInputs& inputs) {
   const Scenario& s = setup.scenario;
   const IntegratorSettings& integ = s.integrator;
   h5.attribute("/", "project_version", ROVER_VERSION);
@@ -94,10 +80,36 @@ void write_trajectory_hdf5(const std::string& path, const Trajectory& tr, const 
   h5.attribute("/", "steps", static_cast<long long>(tr.steps));
   h5.attribute("/", "smallest_step_s", tr.min_step_s);
   h5.attribute("/", "largest_step_s", tr.max_step_s);
-  h5.commit();
 }
 
-void write_trajectory_csv(const std::string& path, const Trajectory& tr) {
+bool stopped(const std::atomic<bool>* stop) { return stop != nullptr && stop->load(); }
+
+}  // namespace
+
+bool write_trajectory_hdf5(const std::string& path, const Trajectory& tr, const ScenarioSetup& setup,
+                           const ModelInputs& inputs, const std::atomic<bool>* stop) {
+  Hdf5Writer h5(path);  // destroyed uncommitted on a stop: its temporary goes
+  const std::pair<const char*, const std::vector<double>*> curves[] = {
+      {"/t", &tr.t}, {"/B_l_z", &tr.B_l_z}, {"/B_r_z", &tr.B_r_z}, {"/G_z", &tr.G_z}, {"/pitch", &tr.pitch},
+      {"/roll", &tr.roll}};
+  for (const auto& [name, values] : curves) {
+    if (stopped(stop)) return false;
+    h5.write(name, *values);
+  }
+  const std::pair<const char*, const RowMatrix*> matrices[] = {{"/q", &tr.q}, {"/u", &tr.u}, {"/Fn", &tr.normal_force_N}};
+  for (const auto& [name, values] : matrices) {
+    if (stopped(stop)) return false;
+    h5.write(name, Eigen::MatrixXd(*values));
+  }
+  std::vector<std::string> names(std::begin(kCoordinateNames), std::end(kCoordinateNames));
+  h5.write("/coordinate_names", names);
+  write_run_attributes(h5, tr, setup, inputs);
+  if (stopped(stop)) return false;
+  h5.commit();
+  return true;
+}
+
+bool write_trajectory_csv(const std::string& path, const Trajectory& tr, const std::atomic<bool>* stop) {
   std::vector<std::string> header{"t", "B_l_z", "B_r_z", "G_z", "pitch", "roll"};
   std::vector<std::vector<double>> columns{tr.t, tr.B_l_z, tr.B_r_z, tr.G_z, tr.pitch, tr.roll};
   auto add_matrix = [&](const RowMatrix& m, const std::string& prefix, auto name_of) {
@@ -110,11 +122,12 @@ void write_trajectory_csv(const std::string& path, const Trajectory& tr) {
   add_matrix(tr.q, "q_", [](int c) { return std::string(kCoordinateNames[c]); });
   add_matrix(tr.u, "u_", [](int c) { return std::string(kCoordinateNames[c]); });
   add_matrix(tr.normal_force_N, "Fn_", [](int c) { return std::to_string(c + 1); });
-  write_csv(path, header, columns);
+  return write_csv(path, header, columns, "", stop);
 }
 
 std::vector<std::string> write_trajectory_plots(const std::string& png_stem, const Trajectory& tr,
-                                                const std::string& title, bool obstacle_run) {
+                                                const std::string& title, bool obstacle_run,
+                                                const std::atomic<bool>* stop) {
   std::vector<std::string> written;
   auto mm = [](const std::vector<double>& z) {
     std::vector<double> out(z.size());
@@ -137,9 +150,10 @@ std::vector<std::string> write_trajectory_plots(const std::string& png_stem, con
     heights.series.push_back(series("B_r z", tr.t, mm(tr.B_r_z)));
     heights.series.push_back(series("G z", tr.t, mm(tr.G_z)));
   }
+  if (stopped(stop)) return written;
   write_png(heights, png_stem + ".png");
   written.push_back(png_stem + ".png");
-  if (obstacle_run) {
+  if (obstacle_run && !stopped(stop)) {
     LinePlot attitude;
     attitude.title = title + ": attitude";
     attitude.x_label = "t [s]";

@@ -7,6 +7,7 @@
 // back for `rover compare` and calibration data.
 #pragma once
 
+#include <atomic>
 #include <string>
 #include <vector>
 
@@ -15,15 +16,24 @@
 
 namespace rover::io {
 
-void write_trajectory_hdf5(const std::string& path, const Trajectory& trajectory,
-                           const ScenarioSetup& setup, const ModelInputs& inputs);
-void write_trajectory_csv(const std::string& path, const Trajectory& trajectory);
+// Both written atomically (temporary file + rename). `stop` (if given) is
+// read between the datasets and before the commit (HDF5), every
+// kStopCheckRows rows (CSV, see write_csv): once it is set, the temporary is
+// removed, nothing is written at `path` (an earlier file there stays) and
+// false is returned; true when the file was written.
+bool write_trajectory_hdf5(const std::string& path, const Trajectory& trajectory,
+                           const ScenarioSetup& setup, const ModelInputs& inputs,
+                           const std::atomic<bool>* stop = nullptr);
+bool write_trajectory_csv(const std::string& path, const Trajectory& trajectory,
+                          const std::atomic<bool>* stop = nullptr);
 
 // Drop tests: B_l z(t) (Fig. 11a-b). Obstacle runs: B_l, B_r, G z(t) and a
-// second file with pitch and roll (Fig. 11c-h). Returns the files written.
+// second file with pitch and roll (Fig. 11c-h). Returns the files written:
+// once `stop` (if given) is set, no further plot is begun.
 std::vector<std::string> write_trajectory_plots(const std::string& png_stem,
                                                 const Trajectory& trajectory,
-                                                const std::string& title, bool obstacle_run);
+                                                const std::string& title, bool obstacle_run,
+                                                const std::atomic<bool>* stop = nullptr);
 
 // A named curve (t, y) from a trajectory file: HDF5 (/t and /<column>) or CSV
 // with a header (column "t" and the named one, or "z" for measured drop data,

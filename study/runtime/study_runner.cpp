@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <iostream>
+#include <iterator>
 
 #include <mpi.h>
 
@@ -42,14 +43,32 @@ std::vector<TaskResult> run_study_tasks(int task_count,
 namespace {
 
 // The one piece of process-wide state: a signal handler can only reach a
-// static. Set by SIGINT/SIGTERM while an InterruptGuard is alive.
+// static. Set by a stop signal (kStopSignals) while an InterruptGuard is alive.
 std::atomic<bool> g_interrupted{false};
-// CLOCK_MONOTONIC time of the signal that set the flag; 0 while none did (the
-// task farm raises the flag when a worker rank was signalled alone).
+// The signal that raised the flag first; 0 while none did (the task farm
+// raises the flag when a worker rank was signalled alone).
+std::atomic<int> g_signal{0};
+// CLOCK_MONOTONIC time of the signal that set the flag; 0 while none did.
 std::atomic<long long> g_first_signal_ns{0};
 using Handler = void (*)(int);
-Handler g_previous_int = SIG_DFL, g_previous_term = SIG_DFL;
+// The signals a guard turns into a request to stop: Ctrl-C, kill, a closed
+// terminal or ssh session, and a write to a pipe whose reader is gone
+// (`rover ... | head`). SIGQUIT keeps its default action: it asks for a core
+// dump, and gets one.
+constexpr int kStopSignals[] = {SIGINT, SIGTERM, SIGHUP, SIGPIPE};
+constexpr std::size_t kStopSignalCount = std::size(kStopSignals);
+Handler g_previous[kStopSignalCount] = {SIG_DFL, SIG_DFL, SIG_DFL, SIG_DFL};  // restored by the outermost guard
 int g_guard_depth = 0;  // guards alive; only the outermost installs and restores the handlers
+// A SIGPIPE outside the guards: an output pipe's reader has gone. The write
+// failed (EPIPE) and the stream stays failed, writing nothing more that could
+// raise it again: the next guard starts with its flag raised.
+std::atomic<bool> g_output_pipe_closed{false};
+
+std::size_t slot_of(int signal_number) {  // async-signal-safe
+  for (std::size_t i = 0; i < kStopSignalCount; ++i)
+    if (kStopSignals[i] == signal_number) return i;
+  return 0;
+}
 
 long long monotonic_ns() {  // clock_gettime is async-signal-safe
   constexpr long long kNanosecondsPerSecond = 1'000'000'000;
@@ -59,6 +78,14 @@ long long monotonic_ns() {  // clock_gettime is async-signal-safe
 }
 
 extern "C" void on_interrupt(int signal_number) {
+  int none = 0;
+  g_signal.compare_exchange_strong(none, signal_number);
+  if (signal_number == SIGPIPE) {
+    // Every later write to the closed pipe raises it again (the message of the
+    // stop included): a request to stop, never a second one that kills.
+    g_interrupted.store(true);
+    return;
+  }
   const long long now_ns = monotonic_ns();
   const bool raised = g_interrupted.exchange(true);
   if (!raised || g_first_signal_ns.load() == 0) {  // this process's first signal
@@ -69,8 +96,7 @@ extern "C" void on_interrupt(int signal_number) {
   const auto since_first_ns = static_cast<double>(now_ns - g_first_signal_ns.load());
   if (since_first_ns < InterruptGuard::kSignalRepeatWindow_s * kNanosecondsPerSecond) return;
   // A later second signal kills as it would have without the guard.
-  const Handler previous = signal_number == SIGINT ? g_previous_int : g_previous_term;
-  std::signal(signal_number, previous);
+  std::signal(signal_number, g_previous[slot_of(signal_number)]);
   std::raise(signal_number);
 }
 
@@ -79,13 +105,16 @@ extern "C" void on_interrupt(int signal_number) {
 extern "C" void on_interrupt_before_guard(int signal_number) {
   static constexpr char kInt[] = "rover: interrupted (SIGINT); nothing written\n";
   static constexpr char kTerm[] = "rover: interrupted (SIGTERM); nothing written\n";
+  static constexpr char kHup[] = "rover: interrupted (SIGHUP); nothing written\n";
   // write(2) and _exit are async-signal-safe; a short write only shortens the message.
-  const bool by_int = signal_number == SIGINT;
-  const char* message = by_int ? kInt : kTerm;
-  const std::size_t length = by_int ? sizeof kInt - 1 : sizeof kTerm - 1;
+  const char* message = signal_number == SIGINT ? kInt : signal_number == SIGHUP ? kHup : kTerm;
+  const std::size_t length = signal_number == SIGINT ? sizeof kInt - 1 : signal_number == SIGHUP ? sizeof kHup - 1
+                                                                                                   : sizeof kTerm - 1;
   [[maybe_unused]] const ssize_t written = write(STDERR_FILENO, message, length);
   _exit(StudyInterrupted::kExitCode);
 }
+
+extern "C" void on_pipe_outside_guards(int) { g_output_pipe_closed.store(true); }
 
 // The handler a guard restores: the system's default in place of the one of
 // exit_on_interrupt_until_guarded(), which is retired by the first guard.
@@ -105,12 +134,14 @@ std::string saved_runs_text(const io::ResultCheckpoint& checkpoint, int task_cou
 }  // namespace
 
 void exit_on_interrupt_until_guarded() {
-  std::signal(SIGINT, on_interrupt_before_guard);
-  std::signal(SIGTERM, on_interrupt_before_guard);
+  for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) std::signal(signal_number, on_interrupt_before_guard);
+  // A write to a closed pipe fails (EPIPE), and is reported, instead of
+  // ending the process without a word.
+  std::signal(SIGPIPE, on_pipe_outside_guards);
 }
 
 void retire_exit_on_interrupt() {
-  for (const int signal_number : {SIGINT, SIGTERM}) {
+  for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) {
     const Handler current = std::signal(signal_number, SIG_DFL);
     if (current != on_interrupt_before_guard && current != SIG_ERR) std::signal(signal_number, current);
   }
@@ -119,18 +150,32 @@ void retire_exit_on_interrupt() {
 InterruptGuard::InterruptGuard() {
   if (g_guard_depth++ > 0) return;
   g_interrupted.store(false);
+  g_signal.store(0);
   g_first_signal_ns.store(0);
-  g_previous_int = restorable(std::signal(SIGINT, on_interrupt));
-  g_previous_term = restorable(std::signal(SIGTERM, on_interrupt));
+  for (std::size_t i = 0; i < kStopSignalCount; ++i)
+    g_previous[i] = restorable(std::signal(kStopSignals[i], on_interrupt));
+  if (g_output_pipe_closed.load()) {  // the banner went into a closed pipe: stop at once
+    g_signal.store(SIGPIPE);
+    g_interrupted.store(true);
+  }
 }
 
 InterruptGuard::~InterruptGuard() {
   if (--g_guard_depth > 0) return;
-  std::signal(SIGINT, g_previous_int);
-  std::signal(SIGTERM, g_previous_term);
+  for (std::size_t i = 0; i < kStopSignalCount; ++i) std::signal(kStopSignals[i], g_previous[i]);
 }
 
 std::atomic<bool>& InterruptGuard::flag() { return g_interrupted; }
+
+std::string InterruptGuard::signal_name() {
+  switch (g_signal.load()) {
+    case SIGINT: return "SIGINT";
+    case SIGTERM: return "SIGTERM";
+    case SIGHUP: return "SIGHUP";
+    case SIGPIPE: return "SIGPIPE: an output pipe was closed";
+    default: return "a signal to another rank";
+  }
+}
 
 void stream_study_tasks(int task_count, const std::function<TaskResult(int)>& compute,
                         const std::function<void(TaskResult&&)>& consume,
@@ -194,7 +239,8 @@ void stream_study_tasks(int task_count, const std::function<TaskResult(int)>& co
   if (!root) return;
   checkpoint->save();
   if (g_interrupted.load()) {
-    throw StudyInterrupted(options.label + ": interrupted; " + saved_runs_text(*checkpoint, task_count) + ". " +
+    throw StudyInterrupted(options.label + ": interrupted (" + InterruptGuard::signal_name() + "); " +
+                           saved_runs_text(*checkpoint, task_count) + ". " +
                            (checkpoint->size() == 0 ? std::string("Run the same command again.") : resume_hint));
   }
   if (sink.buffered() != 0)

@@ -48,7 +48,7 @@ std::vector<TaskResult> run_study_tasks(int task_count,
 
 void remove_checkpoint(const std::string& results_path);
 
-// A study stopped by SIGINT or SIGTERM: what is done is in the checkpoint.
+// A study stopped by a signal (InterruptGuard): what is done is in the checkpoint.
 // what() says so and gives the --resume hint; the program exits with
 // kExitCode.
 class StudyInterrupted : public std::runtime_error {
@@ -57,12 +57,17 @@ class StudyInterrupted : public std::runtime_error {
   static constexpr int kExitCode = 130;
 };
 
-// While alive, SIGINT and SIGTERM set a flag that makes the running study stop
-// handing out work instead of killing the process (the finished runs are kept).
+// While alive, SIGINT, SIGTERM and SIGHUP (a closed terminal or ssh
+// session) set a flag that makes the running study stop handing out work
+// instead of killing the process (the finished runs are kept), and so does
+// SIGPIPE (output into a pipe whose reader is gone, `rover ... | head`).
 // A second signal kills as usual, unless it comes within kSignalRepeatWindow_s
 // of the first: `timeout`, batch systems and process groups often deliver one
-// request twice, and that is still the one request to stop. Guards nest: an inner one (a study run
-// inside the study driver's) keeps the outer one's flag and handlers.
+// request twice, and that is still the one request to stop. SIGPIPE never
+// kills (every write to the closed pipe raises it again). SIGQUIT keeps its
+// default action (a core dump, which is what it asks for). Guards nest: an
+// inner one (a study run inside the study driver's) keeps the outer one's
+// flag and handlers.
 class InterruptGuard {
  public:
   static constexpr double kSignalRepeatWindow_s = 1.0;
@@ -73,11 +78,19 @@ class InterruptGuard {
   // The flag; the task farm also raises it on rank 0 when a worker rank was
   // signalled alone (task_farm.hpp, TaskFarmOptions::stop).
   static std::atomic<bool>& flag();
+  // The signal that raised the flag, for messages: "SIGINT", "SIGTERM",
+  // "SIGHUP", "SIGPIPE: an output pipe was closed", or "a signal" (raised
+  // for a worker rank's signal).
+  static std::string signal_name();
 };
 
-// Until the first InterruptGuard, SIGINT or SIGTERM ends the process at once
-// with StudyInterrupted::kExitCode and a one-line message: the program is
-// reading its inputs (perhaps waiting on a pipe) and has written nothing.
+// Until the first InterruptGuard, SIGINT, SIGTERM or SIGHUP ends the process
+// at once with StudyInterrupted::kExitCode and a one-line message: the
+// program is reading its inputs (perhaps waiting on a pipe) and has written
+// nothing. Outside the guards SIGPIPE only fails the write to the closed
+// pipe (reported as an error, drivers/main.cpp), and is remembered: the next
+// guard starts with its flag raised (a study whose banner went into a pipe
+// whose reader has gone stops at its start).
 // The first guard retires this (the handlers it restores are the system's),
 // and so does retire_exit_on_interrupt(), called by a command that begins to
 // write without a guard: a signal then ends it as the system does.

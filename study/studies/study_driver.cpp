@@ -200,7 +200,8 @@ StudyInterrupted interruption(const StudyRunOptions& options) {
   const bool kept = std::filesystem::exists(checkpoint, error);
   const std::string resume =
       options.resume_command.empty() ? std::string("the same command with --resume") : options.resume_command;
-  return StudyInterrupted("interrupted before the study was complete; nothing was written" +
+  return StudyInterrupted("interrupted (" + InterruptGuard::signal_name() +
+                          ") before the study was complete; nothing was written" +
                           (kept ? "; the finished runs are kept in " + checkpoint + ". Continue with:\n  " + resume
                                 : std::string("; run the same command again")));
 }

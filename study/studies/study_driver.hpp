@@ -6,7 +6,8 @@
 //     and no plot beside it is a link or read-only;
 //   * the memory estimate, refused up front beyond the limit;
 //   * the checkpoint beside the result file, its fingerprint and --resume;
-//   * SIGINT and SIGTERM: stop handing out runs, end the runs in progress
+//   * SIGINT, SIGTERM, SIGHUP and SIGPIPE (InterruptGuard): stop handing out
+//     runs, end the runs in progress
 //     (not done: --resume computes them again) or the analysis after the runs
 //     (WorkStopped), save the checkpoint, print the resume command, exit
 //     status 130;

@@ -108,7 +108,7 @@ void check_scenario(const FileErrors& errors, const io::Hdf5Reader& h5, const Su
       unrecorded.push_back(what);
       continue;
     }
-    const io::Json recorded = io::Json::parse(h5.attribute_string("/", attribute), nullptr, /*allow_exceptions=*/false);
+    const io::Json recorded = io::parse_json_quietly(h5.attribute_string("/", attribute));
     if (const std::string difference = first_difference(recorded, *config); !difference.empty())
       errors.fail(std::string("were made on another ") + what + " than the study's " +
                   (what == std::string("scenario") ? sources.scenario_path : sources.rover_path) + ": " + difference +

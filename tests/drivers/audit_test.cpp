@@ -3571,18 +3571,18 @@ TEST_F(Audit, FilesAndThePlotterAreCheckedBeforeAnyRun) {
 }
 
 // Runs `rover <args>` in `dir` in the background (log in `log`), waits until
-// the shell condition `ready` holds and `settle_s` more, sends SIGTERM and
-// waits for the end; the output ends with "status N" and the log, and holds
+// the shell condition `ready` holds and `settle_s` more, sends SIGTERM (or
+// SIG`signal`) and waits for the end; the output ends with "status N" and the log, and holds
 // "still running" if rover outlived the signal by kSignalGrace_s (`timeout`,
 // which forwards the signal, then kills it).
 constexpr int kSignalGrace_s = 8;
 std::string signalled_run(const std::string& dir, const std::string& args, const std::string& log,
-                          const std::string& ready, double settle_s = 0.0) {
+                          const std::string& ready, double settle_s = 0.0, const std::string& signal = "TERM") {
   std::string output;
   run_command("cd " + dir + " && (OMPI_MCA_ess_singleton_isolated=1 timeout -k " + std::to_string(kSignalGrace_s + 2) +
                   " 60 " + rover_binary() + " " + args +
                   " > " + log + " 2>&1 & pid=$!; for i in $(seq 3000); do " + ready +
-                  " && break; sleep 0.01; done; sleep " + std::to_string(settle_s) + "; kill -TERM $pid; for i in $(seq " +
+                  " && break; sleep 0.01; done; sleep " + std::to_string(settle_s) + "; kill -" + signal + " $pid; for i in $(seq " +
                   std::to_string(10 * kSignalGrace_s) +
                   "); do kill -0 $pid 2>/dev/null || break; sleep 0.1; done; "
                   "kill -0 $pid 2>/dev/null && echo 'still running after the grace'; wait $pid; echo \"status $?\"; cat " +
@@ -3831,6 +3831,167 @@ TEST_F(Audit, TwelfthAuditCalibrationInputs) {
                        " --plots all --no-plot --dry-run",
                    Want::kError, {"--plots cannot be given together with --no-plot"}});
   run_table(w().dir(), cases);
+}
+
+// ---- The twelfth audit -------------------------------------------------------
+
+// Class 4 (P5): a config nested thousands of levels deep is refused at once,
+// naming the file, line and column and the limit, wherever the nesting is
+// (not after memory growing with the square of the depth).
+TEST_F(Audit, DeeplyNestedJsonIsRefusedAtOnce) {
+  std::vector<Case> cases;
+  const std::string deep_array = std::string(3000, '[') + std::string(3000, ']');
+  const std::string bare = w().text_file("deep", deep_array);
+  cases.push_back({"a study file of 3000 nested arrays", study("montecarlo", bare) + " --dry-run", Want::kError,
+                   {bare + ":1:101: ", "nested deeper than 100 levels"}});
+  std::string described = w().montecarlo([](Json&) {});
+  const std::string study_text = file_bytes(described);
+  described = w().text_file("deep_description",
+                            "{\n\"description\": " + deep_array + "," + study_text.substr(study_text.find('{') + 1));
+  cases.push_back({"a study whose description nests 3000 arrays", study("montecarlo", described) + " --dry-run",
+                   Want::kError, {described + ":2:115: ", "nested deeper than 100 levels"}});
+  std::string objects;
+  for (int i = 0; i < 2000; ++i) objects += "{\"a\": ";
+  objects += "1" + std::string(2000, '}');
+  const std::string scenario = w().text_file("deep_scenario", objects);
+  cases.push_back({"a scenario of 2000 nested objects", simulate(scenario), Want::kError,
+                   {scenario + ":1:", "nested deeper than 100 levels"}});
+  run_table(w().dir(), cases);
+}
+
+// Class 8 (P11): an HDF5 input that another program holds open for writing
+// (HDF5's file locking, here flock(1) holding the same exclusive lock while
+// rover runs) is said to be locked, not damaged; every HDF5 reader.
+TEST_F(Audit, AnInputHeldOpenForWritingIsLockedNotDamaged) {
+  const std::string dir = w().dir();
+  const std::string curve = simulated_curve(dir + "/curve.h5");
+  const std::string model_study = w().json_file(
+      "linear_surrogate", Json{{"type", "surrogate"},
+                               {"name", "lin"},
+                               {"model", "linear"},
+                               {"parameters", {{"x1", {{"distribution", "uniform"}, {"min", 0.0}, {"max", 1.0}}}}},
+                               {"design", {{"samples", 20}, {"seed", 1}}},
+                               {"pce", {{"max_degree", 1}, {"bootstrap", 0}}}});
+  const std::string model = w().out();
+  std::string log;
+  ASSERT_EQ(run_command(rover_binary() + " " + study_args("surrogate", model_study, model), &log), 0) << log;
+  const std::string design = w().text_file("design", "x1,x2,x3,x4\n0.5,0,0,0\n", "csv");
+  struct Reader {
+    std::string id, held, args;
+  };
+  const std::vector<Reader> readers = {
+      {"compare, the curve judged", curve, "compare " + curve + " " + simulated_curve(dir + "/other.h5")},
+      {"compare, the reference", curve, "compare " + simulated_curve(dir + "/judged.h5") + " " + curve},
+      {"surrogate --predict", model, "surrogate --predict " + model + " --design " + design + " --csv " + w().out("csv")},
+  };
+  for (const Reader& r : readers) {
+    std::string output;
+    const int status = run_command("cd " + dir + " && OMPI_MCA_ess_singleton_isolated=1 flock -x " + r.held +
+                                       " timeout -k 2 30 " + rover_binary() + " " + r.args,
+                                   &output);
+    SCOPED_TRACE(r.id + ": rover " + r.args + "\n" + output);
+    EXPECT_EQ(status, 1);
+    EXPECT_NE(output.find(r.held + " is locked by another program that has it open for writing"), std::string::npos);
+    EXPECT_NE(output.find("close it there"), std::string::npos);
+    EXPECT_EQ(output.find("damaged"), std::string::npos);
+  }
+}
+
+// Class 4/2 (P4): a one-process command signalled while it writes its files
+// ends with 130 and says what was written and what not; no temporary and no
+// lock stays, and an earlier file at an unwritten path is left as it was.
+TEST_F(Audit, ASignalWhileACommandWritesLeavesNoPartialFile) {
+  const std::string dir = w().dir();
+  // 0.5 s of a drop at 200 kHz: 100 000 rows, written in about a second.
+  const std::string dense = w().scenario([](Json& j) {
+    j["duration"] = 0.5;
+    j["output_rate"] = 2e5;
+  });
+  const auto earlier = [](const std::string& path) {
+    std::ofstream(path) << "an earlier result";
+    return unchanged(path);
+  };
+  const auto no_leftovers = [](const std::string& output, const std::string& path) {
+    EXPECT_FALSE(fs::exists(path + ".partial")) << output;
+    EXPECT_FALSE(fs::exists(path + ".lock")) << output;
+  };
+  {  // while the HDF5 file is written: nothing written
+    const std::string out = dir + "/dense.h5", csv = dir + "/dense.csv";
+    const auto kept = earlier(out);
+    const std::string output = signalled_run(dir, "simulate --no-plot --scenario " + dense + " --out " + out +
+                                                      " --csv " + csv, dir + "/dense.log", file_exists(out + ".partial"));
+    EXPECT_NE(output.find("status 130"), std::string::npos) << output;
+    EXPECT_NE(output.find("interrupted (SIGTERM) while writing " + out + "; nothing written"), std::string::npos)
+        << output;
+    EXPECT_EQ(kept(), "") << output;
+    EXPECT_FALSE(fs::exists(csv)) << output;
+    no_leftovers(output, out);
+    no_leftovers(output, csv);
+  }
+  {  // while the CSV is written, by SIGHUP: the HDF5 file stands, the CSV is not written
+    const std::string out = dir + "/dense2.h5", csv = dir + "/dense2.csv";
+    const auto kept = earlier(csv);
+    const std::string output =
+        signalled_run(dir, "simulate --no-plot --scenario " + dense + " --out " + out + " --csv " + csv,
+                      dir + "/dense2.log", file_exists(csv + ".partial"), 0.0, "HUP");
+    EXPECT_NE(output.find("status 130"), std::string::npos) << output;
+    EXPECT_NE(output.find("interrupted (SIGHUP) while writing " + csv + "; wrote " + out + "; not written: " + csv),
+              std::string::npos)
+        << output;
+    EXPECT_EQ(kept(), "") << output;
+    EXPECT_EQ(io::Hdf5Reader(out).shape("/t"), (std::vector<std::size_t>{100001})) << output;
+    no_leftovers(output, out);
+    no_leftovers(output, csv);
+  }
+  {  // synthesize's curve: 0.3 s at 2 MHz, 600 000 rows
+    const std::string out = dir + "/curve.csv";
+    const auto kept = earlier(out);
+    const std::string output = signalled_run(
+        dir, "synthesize --scenario " + w().scenario([](Json& j) { j["duration"] = 0.3; }) + " --rate 2e6 --out " + out,
+        dir + "/curve.log", file_exists(out + ".partial"));
+    EXPECT_NE(output.find("status 130"), std::string::npos) << output;
+    EXPECT_NE(output.find("interrupted (SIGTERM) while writing " + out + "; nothing written"), std::string::npos)
+        << output;
+    EXPECT_EQ(kept(), "") << output;
+    no_leftovers(output, out);
+  }
+}
+
+// Class 4 (P14): SIGHUP (a closed terminal or ssh session) stops a study as
+// SIGTERM does, with its checkpoint and --resume line, also while it reads
+// its inputs; progress into a pipe whose reader has gone (`| head`) stops it
+// the same way (at its start if the banner already met the closed pipe)
+// instead of killing it without a word.
+TEST_F(Audit, HangupAndAClosedPipeStopAStudyWithItsCheckpoint) {
+  const std::string dir = w().dir();
+  const std::string many = w().montecarlo([](Json& j) { j["design"]["samples"] = 100000; });
+  const std::string out = dir + "/hangup.h5";
+  const std::string output = signalled_run(dir, study_args("montecarlo", many, out), dir + "/hangup.log",
+                                           file_exists(out + ".lock"), 1.0, "HUP");
+  expect_clean_interrupt(output, out, true);
+  EXPECT_NE(output.find("interrupted (SIGHUP)"), std::string::npos) << output;
+
+  const std::string piped = dir + "/piped.h5", status_file = dir + "/piped.status";
+  std::string pipe_output;
+  run_command("cd " + dir + " && { OMPI_MCA_ess_singleton_isolated=1 timeout -k 2 60 " + rover_binary() + " " +
+                  study_args("montecarlo", many, piped) + " --progress-interval 1 2>&1; echo \"status $?\" > " +
+                  status_file + "; } | head -c 1",
+              &pipe_output);
+  const std::string piped_status = file_bytes(status_file);
+  EXPECT_EQ(piped_status, "status 130\n") << pipe_output;
+  EXPECT_FALSE(fs::exists(piped)) << piped_status;
+  EXPECT_FALSE(fs::exists(piped + ".partial")) << piped_status;
+  EXPECT_FALSE(fs::exists(piped + ".lock")) << piped_status;
+
+  const std::string pipe = dir + "/unwritten.csv";
+  ASSERT_EQ(run_command("mkfifo " + pipe), 0);
+  std::string waiting;
+  run_command("cd " + dir + " && (OMPI_MCA_ess_singleton_isolated=1 timeout -k 2 30 " + rover_binary() + " " +
+                  study_args("calibrate", w().calibration([](Json&) {}), dir + "/waiting.h5") + " --data " + pipe +
+                  " 2>&1 & pid=$!; sleep 1; kill -HUP $pid; wait $pid; echo \"status $?\")",
+              &waiting);
+  EXPECT_NE(waiting.find("status 130"), std::string::npos) << waiting;
+  EXPECT_NE(waiting.find("interrupted (SIGHUP); nothing written"), std::string::npos) << waiting;
 }
 
 }  // namespace

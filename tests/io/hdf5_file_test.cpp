@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -49,6 +51,33 @@ void expect_error_naming(Call call, const std::vector<std::string>& parts) {
       EXPECT_NE(std::string(e.what()).find(part), std::string::npos)
           << "message '" << e.what() << "' does not name '" << part << "'";
   }
+}
+
+// A file another program holds open for writing keeps HDF5's exclusive
+// lock on it (flock, as h5py's "r+" or HDFView take it): reading it is
+// refused as locked, not as damaged; once the lock is gone, or beside another
+// reader's shared lock, it is read.
+TEST(Hdf5File, FileLockedByAWriterIsReportedAsLocked) {
+  const std::string path = testing::temp_dir() + "/held.h5";
+  {
+    Hdf5Writer writer(path);
+    writer.write("/t", std::vector<double>{0.0, 1.0});
+    writer.commit();
+  }
+  const int writer_fd = ::open(path.c_str(), O_RDWR | O_CLOEXEC);
+  ASSERT_GE(writer_fd, 0);
+  ASSERT_EQ(::flock(writer_fd, LOCK_EX | LOCK_NB), 0);
+  expect_error_naming([&] { const Hdf5Reader reader(path); },
+                      {path, "is locked by another program", "open for writing", "close it there"});
+  try {
+    const Hdf5Reader reader(path);
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()).find("damaged"), std::string::npos) << e.what();
+  }
+  ASSERT_EQ(::flock(writer_fd, LOCK_SH), 0);  // now another reader's lock
+  EXPECT_EQ(Hdf5Reader(path).read_doubles("/t"), (std::vector<double>{0.0, 1.0}));
+  ::close(writer_fd);
+  EXPECT_EQ(Hdf5Reader(path).read_doubles("/t"), (std::vector<double>{0.0, 1.0}));
 }
 
 TEST(Hdf5File, RoundTripOfEveryType) {

@@ -107,6 +107,29 @@ TEST(JsonReader, SyntaxErrorsNameLineAndColumn) {
   }
 }
 
+// Nesting: kMaxJsonNesting levels are read; one more is refused at the
+// bracket that opens it, before any parsing; brackets in strings (also after
+// an escaped quote) and in comments do not count.
+TEST(JsonReader, NestingBeyondTheLimitIsRefusedWhereItBegins) {
+  const std::size_t limit = kMaxJsonNesting;
+  const std::string deepest = std::string(limit, '[') + std::string(limit, ']');
+  EXPECT_EQ(json_nesting_excess(deepest), std::string::npos);
+  EXPECT_NO_THROW(parse_json_text(deepest, "deep.json"));
+  const std::string beyond = "{\n \"a\": " + std::string(limit, '[') + std::string(limit, ']') + "}";
+  EXPECT_EQ(json_nesting_excess(beyond), 7 + limit);
+  const std::string message = read_error(write_text(beyond));
+  EXPECT_TRUE(contains(message, "config.json:2:" + std::to_string(6 + limit) + ": ")) << message;
+  EXPECT_TRUE(contains(message, "nested deeper than " + std::to_string(limit) + " levels")) << message;
+  const std::string quoted = std::string(limit, '[') + "\"[{\\\"[{\" // [[[ \n /* [[[ */" + std::string(limit, ']');
+  EXPECT_EQ(json_nesting_excess(quoted), std::string::npos) << quoted;
+  EXPECT_NO_THROW(parse_json_text(quoted, "quoted.json"));
+  // A file of millions of levels is refused at once, never parsed.
+  const std::string huge(3'000'000, '[');
+  EXPECT_EQ(json_nesting_excess(huge), limit);
+  EXPECT_TRUE(parse_json_quietly(huge).is_discarded());
+  EXPECT_TRUE(parse_json_quietly("{\"a\": [1, 2]} // fine").is_object());
+}
+
 TEST(JsonReader, DirectoriesAndMissingFilesAreNamed) {
   const std::string dir = testing::temp_dir();
   EXPECT_EQ(read_error(dir), dir + ": is a directory, not a JSON file");

@@ -4,8 +4,11 @@
 // reads both, and measured t,z data.
 #include "io/trajectory_io.hpp"
 
+#include <atomic>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -207,6 +210,31 @@ TEST(TrajectoryIo, CsvRoundTrip) {
     const std::vector<double>& fn = table.column("Fn_" + std::to_string(leg + 1));
     for (std::size_t i = 0; i < tr.t.size(); ++i) EXPECT_EQ(fn[i], tr.normal_force_N(static_cast<Eigen::Index>(i), leg));
   }
+}
+
+// A stop request (a signal's flag) set when a file is to be written:
+// false, no temporary left, and an earlier file at the path as it was; with
+// the flag down the files are written.
+TEST(TrajectoryIo, AStoppedWriterLeavesTheEarlierFile) {
+  const Trajectory tr = sample_trajectory(5000);  // more rows than one check of the CSV writer
+  const std::string dir = testing::temp_dir();
+  std::atomic<bool> stop{true};
+  for (const std::string& path : {dir + "/run.h5", dir + "/run.csv"}) {
+    SCOPED_TRACE(path);
+    std::ofstream(path) << "an earlier result";
+    const bool written = path.ends_with(".h5")
+                             ? io::write_trajectory_hdf5(path, tr, sample_setup(), sample_inputs(), &stop)
+                             : io::write_trajectory_csv(path, tr, &stop);
+    EXPECT_FALSE(written);
+    std::ifstream in(path);
+    EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()), "an earlier result");
+    EXPECT_FALSE(std::filesystem::exists(path + ".partial"));
+  }
+  stop = false;
+  EXPECT_TRUE(io::write_trajectory_hdf5(dir + "/run.h5", tr, sample_setup(), sample_inputs(), &stop));
+  EXPECT_TRUE(io::write_trajectory_csv(dir + "/run.csv", tr, &stop));
+  EXPECT_EQ(io::read_curve(dir + "/run.h5").y, tr.B_l_z);
+  EXPECT_EQ(io::read_curve(dir + "/run.csv").y, tr.B_l_z);
 }
 
 TEST(TrajectoryIo, ReadCurveFromHdf5CsvAndMeasuredData) {

@@ -112,5 +112,28 @@ TEST(InterruptGuard, ASecondSignalAfterTheWindowKills) {
       ::testing::KilledBySignal(SIGINT), "");
 }
 
+// A closed terminal (SIGHUP) is a request to stop like SIGTERM, named in
+// the messages; a closed output pipe (SIGPIPE, raised again by every later
+// write) is one too, and never kills, however late it repeats.
+TEST(InterruptGuard, HangupAndAClosedPipeAreRequestsToStop) {
+  EXPECT_EXIT(
+      {
+        const InterruptGuard guard;
+        std::raise(SIGHUP);
+        std::exit(InterruptGuard::flag().load() && InterruptGuard::signal_name() == "SIGHUP" ? 0 : 1);
+      },
+      ::testing::ExitedWithCode(0), "");
+  EXPECT_EXIT(
+      {
+        const InterruptGuard guard;
+        std::raise(SIGPIPE);
+        std::this_thread::sleep_for(
+            std::chrono::duration<double>(1.2 * InterruptGuard::kSignalRepeatWindow_s));
+        std::raise(SIGPIPE);
+        std::exit(InterruptGuard::flag().load() && InterruptGuard::signal_name().starts_with("SIGPIPE") ? 0 : 1);
+      },
+      ::testing::ExitedWithCode(0), "");
+}
+
 }  // namespace
 }  // namespace rover::study
