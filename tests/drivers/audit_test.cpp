@@ -36,6 +36,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <hdf5.h>
 
 #include "io/csv.hpp"
 #include "io/hdf5_file.hpp"
@@ -3762,6 +3763,104 @@ TEST_F(Audit, EleventhAuditLeftovers) {
                    Want::kError, {"--csv", "the attribute study_file of --predict", "writing it would destroy it"},
                    unchanged(study_file)});
   run_table(w().dir(), cases);
+}
+
+// Sets element `index` (row-major) of the double dataset `dataset` of the
+// HDF5 file `path`, in place, as an editor of the file would.
+void set_dataset_element(const std::string& path, const std::string& dataset, std::size_t index, double value) {
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(file, 0) << path;
+  const hid_t set = H5Dopen2(file, dataset.c_str(), H5P_DEFAULT);
+  ASSERT_GE(set, 0) << dataset;
+  const hid_t space = H5Dget_space(set);
+  std::vector<double> values(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space)));
+  ASSERT_LT(index, values.size()) << dataset;
+  ASSERT_GE(H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), 0);
+  values[index] = value;
+  ASSERT_GE(H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), 0);
+  H5Sclose(space);
+  H5Dclose(set);
+  H5Fclose(file);
+}
+
+// Replaces the numeric attribute `name` of `object` in the HDF5 file `path`
+// by a double of `value`, in place.
+void set_attribute_number(const std::string& path, const std::string& object, const std::string& name, double value) {
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(file, 0) << path;
+  ASSERT_GE(H5Adelete_by_name(file, object.c_str(), name.c_str(), H5P_DEFAULT), 0) << object << " " << name;
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t attribute =
+      H5Acreate_by_name(file, object.c_str(), name.c_str(), H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  ASSERT_GE(attribute, 0) << object << " " << name;
+  ASSERT_GE(H5Awrite(attribute, H5T_NATIVE_DOUBLE, &value), 0);
+  H5Aclose(attribute);
+  H5Sclose(space);
+  H5Fclose(file);
+}
+
+// Class 8/7: `surrogate --predict` checks every number of the model file it
+// reads: multi-indices whole numbers from 0 to the degree, coefficients and
+// the Gaussian process's arrays finite and of consistent shapes, its
+// length-scales positive. An edited file is refused naming the file and the
+// dataset, never crashes, allocates polynomials of degree 1e9 or predicts NaN.
+TEST_F(Audit, ASurrogateFileIsCheckedBeforeItPredicts) {
+  const std::string dir = w().dir();
+  auto trained = [&](const std::string& kind) {
+    Json j{{"type", "surrogate"}, {"surrogate", kind}, {"name", kind}, {"model", "ishigami"},
+           {"design", {{"type", "lhs"}, {"samples", 40}, {"seed", 1}}}};
+    if (kind == "pce") j["pce"] = {{"max_degree", 3}, {"bootstrap", 0}};
+    const std::string model = dir + "/" + kind + ".h5";
+    std::string output;
+    EXPECT_EQ(run_command("cd " + dir + " && OMPI_MCA_ess_singleton_isolated=1 " + rover_binary() + " " +
+                              study_args("surrogate", w().json_file(kind, j), model),
+                          &output),
+              0)
+        << output;
+    return model;
+  };
+  const std::string pce = trained("pce"), gp = trained("gp");
+  const std::string design = w().text_file("points", "x1,x2,x3\n0.5,0.5,0.5\n", "csv");
+  std::vector<Case> cases;
+  auto edited = [&](const std::string& id, const std::string& model, const std::string& dataset, std::size_t index,
+                    double value, std::vector<std::string> mentions) {
+    const std::string copy = w().copy_of(model);
+    set_dataset_element(copy, dataset, index, value);
+    mentions.insert(mentions.begin(), {copy, "not a model written by `rover surrogate --study`, or edited", dataset});
+    const std::string out = w().out("csv");
+    cases.push_back({id, "surrogate --predict " + copy + " --design " + design + " --csv " + out, Want::kError,
+                     mentions, absent_file(out)});
+  };
+  const std::string alpha = "/surrogate/models/y/multi_indices";
+  edited("a multi-index of 1e30", pce, alpha, 1, 1e30, {"1e+30", "whole number from 0 to the expansion's degree"});
+  edited("a multi-index above the degree", pce, alpha, 1, 21.0, {"holds 21", "the expansion's degree"});
+  edited("a multi-index of -1", pce, alpha, 1, -1.0, {"holds -1"});
+  edited("a multi-index of 2.5", pce, alpha, 1, 2.5, {"holds 2.5"});
+  edited("a NaN coefficient", pce, "/surrogate/models/y/coefficients", 0, std::nan(""), {"nan", "finite"});
+  edited("an infinite support", pce, "/surrogate/inputs/support", 1, HUGE_VAL, {"inf"});
+  edited("a negative length-scale", gp, "/surrogate/models/y/length_scales", 0, -1.0, {"holds -1", "above 0"});
+  edited("an infinite training point", gp, "/surrogate/models/y/scaled_inputs", 3, HUGE_VAL, {"inf"});
+  edited("a NaN weight", gp, "/surrogate/models/y/weights", 0, std::nan(""), {"nan"});
+  edited("a zero on the Cholesky diagonal", gp, "/surrogate/models/y/correlation_cholesky", 0, 0.0,
+         {"its diagonal", "above 0"});
+  auto attribute = [&](const std::string& id, const std::string& model, const std::string& object,
+                       const std::string& name, double value, std::vector<std::string> mentions) {
+    const std::string copy = w().copy_of(model);
+    set_attribute_number(copy, object, name, value);
+    mentions.insert(mentions.begin(), {copy, "or edited", object + " attribute " + name});
+    cases.push_back({id, "surrogate --predict " + copy + " --design " + design + " --csv " + w().out("csv"),
+                     Want::kError, mentions});
+  };
+  attribute("a degree of 1e9", pce, "/surrogate/models/y", "degree", 1e9, {"whole number from 0 to 20"});
+  attribute("a NaN process variance", gp, "/surrogate/models/y", "process_variance", std::nan(""), {"nan"});
+  attribute("a NaN Q2 threshold", gp, "/surrogate", "q2_threshold", std::nan(""), {"nan"});
+  cases.push_back({"the unedited model predicts", "surrogate --predict " + pce + " --design " + design + " --csv " +
+                                                       w().out("csv"),
+                   Want::kRuns, {}});
+  cases.push_back({"the unedited process predicts", "surrogate --predict " + gp + " --design " + design + " --csv " +
+                                                         w().out("csv"),
+                   Want::kRuns, {}});
+  run_table(dir, cases);
 }
 
 }  // namespace
