@@ -16,6 +16,7 @@
 #include "core/rover_parameters.hpp"
 #include "io/checkpoint.hpp"
 #include "io/output_target.hpp"
+#include "io/result_label.hpp"
 #include "io/csv.hpp"
 #include "io/trajectory_io.hpp"
 #include "study/model/distribution_json.hpp"
@@ -410,6 +411,7 @@ std::vector<QoiSpec> parse_qois(const io::JsonReader& r, const std::string& stud
           o.fail("name", e.what());
         }
         q.name = o.string_or("label", kind);
+        if (const std::string problem = io::result_label_problem(q.name); !problem.empty()) o.fail("label", problem);
         if (q.kind == QoiKind::kSettlingTime && o.has("band")) {
           q.settling_band = o.positive("band");
           if (q.settling_band > kMaxSettlingBand_m)

@@ -8,6 +8,7 @@
 
 #include "core/number_text.hpp"
 #include "io/json_reader.hpp"
+#include "io/result_label.hpp"
 
 namespace rover::study {
 namespace {
@@ -286,6 +287,9 @@ std::vector<SurrogateInput> read_inputs(const SavedModel& f) {
   for (Eigen::Index j = 0; j < d; ++j) {
     const auto k = static_cast<std::size_t>(j);
     SurrogateInput in{names[k], labels[k], {}, support(j, 0), support(j, 1)};
+    for (const std::string& name : {in.name, in.label})
+      if (const std::string problem = io::result_label_problem(name); !problem.empty())
+        f.refuse("/surrogate/inputs", "names an input " + problem);
     if (!(in.lower <= in.upper))
       f.refuse("/surrogate/inputs/support", "of '" + labels[k] + "' is [" + number_text(in.lower) + ", " +
                                                 number_text(in.upper) + "], reversed");
@@ -355,6 +359,8 @@ SurrogateSet read_surrogate_set(const std::string& path) {
   for (const SurrogateInput& in : set.inputs) distributions.push_back(in.distribution);
   std::vector<std::string> outputs;
   for (const std::string& name : h5.read_strings("/surrogate/outputs")) {
+    if (const std::string problem = io::result_label_problem(name); !problem.empty())
+      f.refuse("/surrogate/outputs", "names a QoI " + problem);
     if (std::find(outputs.begin(), outputs.end(), name) != outputs.end())
       f.refuse("/surrogate/outputs", "names '" + name + "' twice");
     outputs.push_back(name);

@@ -3863,5 +3863,40 @@ TEST_F(Audit, ASurrogateFileIsCheckedBeforeItPredicts) {
   run_table(dir, cases);
 }
 
+// Class 2/7/8: a QoI's "label" names an HDF5 dataset, figure files and CSV
+// columns, and a next-experiment candidate's "name" is shown and saved: both
+// are refused before any run unless they are plain names, naming the field.
+TEST_F(Audit, ResultLabelsArePlainNames) {
+  std::vector<Case> cases;
+  auto label_case = [&](const std::string& id, const std::string& label, std::vector<std::string> mentions) {
+    const std::string path = w().montecarlo([&](Json& j) { j["qoi"] = {{{"name", "t_min"}, {"label", label}}}; });
+    mentions.insert(mentions.begin(), {path, "'qoi[0].label'"});
+    cases.push_back({id, study("montecarlo", path) + " --dry-run", Want::kError, mentions});
+  };
+  label_case("a label with '/'", "a/b", {"'a/b' holds '/'"});
+  label_case("an empty label", "", {"is empty", "1 to 64 characters"});
+  label_case("a label climbing out", "..x", {"holds \"..\""});
+  label_case("a label of 250 characters", std::string(250, 'q'), {"has 250 characters"});
+  label_case("a label with a control character", "a\x01" "b", {"'a\\x01b' holds a control character"});
+  label_case("a label with a comma", "a,b", {"holds ','"});
+  cases.push_back({"a plain label with spaces and brackets",
+                   study("montecarlo", w().montecarlo([&](Json& j) {
+                     j["qoi"] = {{{"name", "t_min"}, {"label", "t min (s) [drop 1]"}}};
+                   })) + " --dry-run",
+                   Want::kRuns, {}});
+  auto candidate_case = [&](const std::string& id, const std::string& name, std::vector<std::string> mentions) {
+    const std::string candidates = w().json_file(
+        "candidates",
+        Json{{"candidates", {{{"name", name}, {"scenario", w().quick()}, {"rate_hz", 500}, {"noise_sd", 1e-4}}}}});
+    mentions.insert(mentions.begin(), {candidates, "'candidates[0].name'"});
+    cases.push_back({id, study("calibrate", w().calibration([](Json&) {})) + " --dry-run --next-experiment " + candidates,
+                     Want::kError, mentions});
+  };
+  candidate_case("a candidate named with a bell", "drop\x07", {"'drop\\x07' holds a control character"});
+  candidate_case("an empty candidate name", "", {"is empty"});
+  candidate_case("a candidate name of 300 characters", std::string(300, 'c'), {"has 300 characters"});
+  run_table(w().dir(), cases);
+}
+
 }  // namespace
 }  // namespace rover
