@@ -3898,5 +3898,30 @@ TEST_F(Audit, ResultLabelsArePlainNames) {
   run_table(w().dir(), cases);
 }
 
+// Class 5: a QoI or channel named twice in a list flag is refused before any
+// run, naming the flag, as a study file refuses a QoI that appears twice.
+TEST_F(Audit, AListFlagNamesEachItemOnce) {
+  std::vector<Case> cases;
+  const std::string design = w().text_file("design", "c_q\n0.1\n", "csv");
+  auto evaluate = [&](const std::string& flags, const std::string& out) {
+    return "evaluate --no-plot --scenario " + w().quick() + " --design " + design + " " + flags + " --out " + out;
+  };
+  for (const std::string ext : {"h5", "csv"}) {
+    const std::string out = w().out(ext);
+    cases.push_back({"evaluate --qoi with a QoI twice, into ." + ext, evaluate("--qoi B_l_z_min,t_min,B_l_z_min", out),
+                     Want::kError, {"--qoi: 'B_l_z_min' is listed twice"}, absent_file(out)});
+  }
+  const std::string out = w().out();
+  cases.push_back({"evaluate --channels with a channel twice", evaluate("--qoi t_min --channels G_z,B_l_z,G_z", out),
+                   Want::kError, {"--channels: 'G_z' is listed twice"}, absent_file(out)});
+  cases.push_back({"calibrate --fit with a parameter by name and alias",
+                   study("calibrate", w().calibration([](Json& j) { j["bounds"]["s_structure.c_q"] = {0.02, 1.0}; })) +
+                       " --fit c_q,s_structure.c_q --dry-run",
+                   Want::kError, {"--fit", "'s_structure.c_q' is listed twice"}});
+  cases.push_back({"evaluate --qoi with distinct QoIs", evaluate("--qoi B_l_z_min,t_min", w().out("csv")), Want::kRuns,
+                   {}});
+  run_table(w().dir(), cases);
+}
+
 }  // namespace
 }  // namespace rover
