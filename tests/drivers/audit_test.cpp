@@ -2609,11 +2609,11 @@ TEST_F(Audit, SixthAuditCases) {
   cases.push_back({"a normal c_q of sd 1e-20", study("montecarlo", w().montecarlo([](Json& j) {
                      j["parameters"]["c_q"] = {{"distribution", "normal"}, {"mean", 0.1}, {"sd", 1e-20}};
                    })),
-                   Want::kError, {"'parameters.c_q", "sd (1e-20)", "use a fixed value"}});
+                   Want::kError, {"'parameters.c_q", "has sd 1e-20", "use a fixed value"}});
   cases.push_back({"a uniform c_q of relative width 1e-15", study("montecarlo", w().montecarlo([](Json& j) {
                      j["parameters"]["c_q"] = {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.1 * (1 + 1e-15)}};
                    })),
-                   Want::kError, {"'parameters.c_q", "narrower than 1e-12 of its size"}});
+                   Want::kError, {"'parameters.c_q", "not above 1e-12 of its mean's size"}});
   cases.push_back({"calibrate --fit naming a parameter twice",
                    study("calibrate", w().calibration([](Json&) {})) + " --fit c_q,c_q --dry-run", Want::kError,
                    {"--fit: parameter 'c_q' is listed twice"}, {}, {}, {"field 'fit'"}});
@@ -3920,6 +3920,45 @@ TEST_F(Audit, AListFlagNamesEachItemOnce) {
                    Want::kError, {"--fit", "'s_structure.c_q' is listed twice"}});
   cases.push_back({"evaluate --qoi with distinct QoIs", evaluate("--qoi B_l_z_min,t_min", w().out("csv")), Want::kRuns,
                    {}});
+  run_table(w().dir(), cases);
+}
+
+// Class 7: one spread rule for every distribution: its sd (and a finite
+// support's width) above 1e-12 of the larger of its mean's size and the
+// parameter's configured value, as a normal's sd already was. A narrower one
+// is refused before any run, naming the parameter, the distribution and the rule.
+TEST_F(Audit, EveryDistributionMustSpreadBeyondRounding) {
+  std::vector<Case> cases;
+  auto spread_case = [&](const std::string& id, const Json& distribution, std::vector<std::string> mentions) {
+    const std::string path = w().montecarlo([&](Json& j) { j["parameters"]["c_q"] = distribution; });
+    mentions.insert(mentions.begin(), {path, "'parameters.c_q", "use a fixed value"});
+    cases.push_back({id, study("montecarlo", path) + " --dry-run", Want::kError, mentions});
+  };
+  spread_case("a uniform c_q on [1e-300, 1e-299]",
+              {{"distribution", "uniform"}, {"min", 1e-300}, {"max", 1e-299}},
+              {"uniform(min 1e-300, max 1e-299)", "not above 1e-12 of the configured value"});
+  spread_case("a log-uniform c_q with min ~ max",
+              {{"distribution", "log_uniform"}, {"min", 0.1}, {"max", 0.1 * (1 + 1e-14)}},
+              {"log_uniform(", "not above 1e-12"});
+  spread_case("a normal c_q truncated to a sliver",
+              {{"distribution", "normal"}, {"mean", 0.14}, {"sd", 0.01}, {"truncate", {0.14, 0.14 + 1e-15}}},
+              {"truncated to", "wide", "not above 1e-12"});
+  spread_case("a lognormal c_q of log_sd 1e-14", {{"distribution", "lognormal"}, {"log_mean", -2.0}, {"log_sd", 1e-14}},
+              {"lognormal(log_mean -2, log_sd 1e-14)", "not above 1e-12"});
+  spread_case("a lognormal c_q of sd 1e-300 around its mean",
+              {{"distribution", "lognormal"}, {"mean", 0.14}, {"sd", 1e-300}}, {"not above 1e-12"});
+  spread_case("a normal c_q of sd 1e-300 around 1e-300",
+              {{"distribution", "normal"}, {"mean", 1e-300}, {"sd", 1e-300}},
+              {"not above 1e-12 of the configured value"});
+  cases.push_back({"the preloads from the rover file with sd_scale 1e-300",
+                   study("montecarlo", w().montecarlo([](Json& j) {
+                     j["parameters"] = {{"M0", {{"from_config", true}, {"sd_scale", 1e-300}}}};
+                   })) + " --dry-run",
+                   Want::kError, {"'parameters.M0", "not above 1e-12"}});
+  cases.push_back({"a uniform c_q narrow but resolved", study("montecarlo", w().montecarlo([](Json& j) {
+                     j["parameters"]["c_q"] = {{"distribution", "uniform"}, {"min", 0.14}, {"max", 0.14 * (1 + 1e-9)}};
+                   })) + " --dry-run",
+                   Want::kRuns, {}});
   run_table(w().dir(), cases);
 }
 
