@@ -3962,5 +3962,55 @@ TEST_F(Audit, EveryDistributionMustSpreadBeyondRounding) {
   run_table(w().dir(), cases);
 }
 
+// Class 8: messages that name the right thing. A parameter given twice names
+// the other entry ("M0", not the preload it expands to); a scenario, rover or
+// candidates file given as a --study says what it is; a constant QoI of
+// 1e308 is printed in a few digits, not 309.
+TEST_F(Audit, MessagesNameWhatWasGiven) {
+  const std::string dir = w().dir();
+  std::vector<Case> cases;
+  const std::string twice = w().montecarlo([](Json& j) {
+    j["parameters"] = {{"M0", {{"from_config", true}}},
+                       {"M0_11", {{"distribution", "uniform"}, {"min", 1.0}, {"max", 2.0}}}};
+  });
+  cases.push_back({"M0 and M0_11 in one study", study("montecarlo", twice) + " --dry-run", Want::kError,
+                   {"'parameters.M0_11'", "is the same parameter as 'M0' (its M0_11)"}});
+  const std::string rover_file = source_path("configs/rover.json");
+  const std::string candidates = w().json_file(
+      "candidates", Json{{"candidates", {{{"scenario", w().quick()}, {"rate_hz", 500}, {"noise_sd", 1e-4}}}}});
+  for (const std::string command : {"montecarlo", "sensitivity", "surrogate", "calibrate", "surface"}) {
+    cases.push_back({command + " --study a scenario file", study(command, w().quick()) + " --dry-run", Want::kError,
+                     {w().quick(), "this is a scenario file", "not a study file"}});
+    cases.push_back({command + " --study a rover file", study(command, rover_file) + " --dry-run", Want::kError,
+                     {"this is a rover file", "not a study file"}});
+  }
+  cases.push_back({"calibrate --study a candidates file", study("calibrate", candidates) + " --dry-run", Want::kError,
+                   {"this is a candidates file of rover calibrate --next-experiment"}});
+  // A surrogate trained on runs whose QoI is 1e308 in every run.
+  const std::string training = dir + "/constant.h5";
+  std::string output;
+  ASSERT_EQ(run_command("cd " + dir + " && OMPI_MCA_ess_singleton_isolated=1 " + rover_binary() + " " +
+                            study_args("montecarlo",
+                                       w().json_file("linear", Json{{"type", "montecarlo"},
+                                                                    {"name", "linear"},
+                                                                    {"model", "linear"},
+                                                                    {"design", {{"type", "monte_carlo"}, {"samples", 20}, {"seed", 1}}}}),
+                                       training),
+                        &output),
+            0)
+      << output;
+  for (std::size_t run = 0; run < 20; ++run) set_dataset_element(training, "/qoi/y", run, 1e308);
+  const std::string constant = w().json_file(
+      "constant", Json{{"type", "surrogate"},
+                       {"surrogate", "pce"},
+                       {"name", "constant"},
+                       {"model", "linear"},
+                       {"training", {{"file", training}}},
+                       {"pce", {{"max_degree", 1}, {"bootstrap", 0}}}});
+  cases.push_back({"a QoI of 1e308 in every run", study("surrogate", constant), Want::kRuns,
+                   {"the QoI is constant over the 20 runs (1e+308)"}, {}, {}, {"0000000000"}});
+  run_table(dir, cases);
+}
+
 }  // namespace
 }  // namespace rover
