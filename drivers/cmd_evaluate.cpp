@@ -2,6 +2,7 @@
 // interface other UQ tools drive the model through. See study/studies/evaluate.hpp.
 // The flags are checked before any row is read: QoI and channel names, the
 // integrator, and an --out that is writable and is neither input file.
+#include <algorithm>
 #include <iostream>
 #include <sstream>
 
@@ -21,6 +22,15 @@ std::vector<std::string> split_list(const std::string& text) {
   while (std::getline(ss, item, ','))
     if (!item.empty()) out.push_back(item);
   return out;
+}
+
+// A name given twice in a list flag: every run would compute it twice, and
+// the results would hold two columns of one name (an .h5 refuses the second
+// after all the runs).
+void refuse_repeated_names(FlagChecks& checks, const std::string& flag, const std::vector<std::string>& names) {
+  for (auto it = names.begin(); it != names.end(); ++it)
+    if (std::count(names.begin(), it, *it) == 1)  // its second mention
+      checks.add(flag + ": '" + *it + "' is listed twice; give each name once");
 }
 
 struct EvaluateOptions {
@@ -48,6 +58,8 @@ study::StudyProgram<study::EvaluateResult> load(EvaluateOptions& o) {
       checks.add("--channels: " + std::string(e.what()));
     }
   }
+  refuse_repeated_names(checks, "--qoi", o.request.qoi_names);
+  refuse_repeated_names(checks, "--channels", o.request.channel_names);
   if (o.request.qoi_names.empty() && o.request.channel_names.empty())
     checks.add("--qoi '" + o.qoi + "' names no quantity of interest (and no --channels are given): nothing to compute");
   check_integrator_flag(checks, o.request.integrator);

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include <boost/math/constants/constants.hpp>
@@ -303,10 +304,33 @@ double Distribution::sd() const {
   return kNaN;
 }
 
-// A spread below this share of a value's size is lost in the rounding of
-// its samples (a double resolves about 2.2e-16 of it; the model's sums lose
-// a few digits more): such an input is a fixed value in all but name.
-constexpr double kMinRelativeWidth = 1e-12;
+std::string negligible_spread_problem(const Distribution& d, double reference) {
+  if (d.kind == DistributionKind::kFixed) return "";
+  const double mean = d.mean(), sd = d.sd();
+  const double scale = std::max(std::abs(mean), std::isnan(reference) ? 0.0 : std::abs(reference));
+  if (!std::isfinite(scale)) return "";  // a mean beyond doubles: refused where the median is tried
+  const double lo = d.support_lower(), hi = d.support_upper();
+  const double width = std::isfinite(lo) && std::isfinite(hi) ? hi - lo : kInf;
+  const double limit = kMinRelativeSpread * scale;
+  if (sd > limit && width > limit) return "";
+  const bool by_reference = !std::isnan(reference) && std::abs(reference) > std::abs(mean);
+  const std::string scale_text =
+      by_reference ? "the configured value " + shortest(reference) : "its mean's size " + shortest(std::abs(mean));
+  const auto approx = [](double x) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.4g", x);
+    return std::string(text);
+  };
+  return d.describe() + " has sd " + approx(sd) +
+         (std::isfinite(width) ? " on a support " + approx(width) + " wide" : std::string()) + ", not above " +
+         shortest(kMinRelativeSpread) + " of " + scale_text + spread_rule_text();
+}
+
+std::string spread_rule_text() {
+  return ": its runs would differ by rounding only (a distribution's sd and support width must exceed " +
+         shortest(kMinRelativeSpread) +
+         " of the larger of its mean's size and the parameter's configured value); use a fixed value";
+}
 
 bool Distribution::IsValid(std::string* why) const {
   const std::string name = distribution_name(kind);
@@ -328,19 +352,12 @@ bool Distribution::IsValid(std::string* why) const {
         return fail_with(why, name + ": min (" + shortest(a) + ") must be less than max (" +
                                   shortest(b) + ")");
       if (!std::isfinite(b - a)) return fail_with(why, name + ": max - min overflows");
-      if (!(b - a > kMinRelativeWidth * std::max(std::abs(a), std::abs(b))))
-        return fail_with(why, name + ": [" + shortest(a) + ", " + shortest(b) + "] is narrower than " +
-                                  shortest(kMinRelativeWidth) + " of its size, below what its samples resolve: " +
-                                  "use a fixed value");
-      return true;
+      break;
     case DistributionKind::kNormal:
     case DistributionKind::kLognormal: {
       const std::string sd_name = kind == DistributionKind::kNormal ? "sd" : "log_sd";
       if (!(b > 0.0))
         return fail_with(why, name + ": " + sd_name + " (" + shortest(b) + ") must be positive");
-      if (kind == DistributionKind::kNormal && !(b > kMinRelativeWidth * std::abs(a)))
-        return fail_with(why, "normal: sd (" + shortest(b) + ") is less than " + shortest(kMinRelativeWidth) +
-                                  " of the mean (" + shortest(a) + "), below what its samples resolve: use a fixed value");
       if (!(lower < upper))
         return fail_with(why, name + ": truncation lower bound (" + shortest(lower) +
                                   ") must be less than the upper bound (" + shortest(upper) + ")");
@@ -354,10 +371,11 @@ bool Distribution::IsValid(std::string* why) const {
         return fail_with(why, name + ": the truncation interval [" + shortest(lower) + ", " +
                                   shortest(upper) + "] holds probability " + shortest(mass) +
                                   " (less than 1e-300)");
-      return true;
+      break;
     }
     case DistributionKind::kFixed: break;
   }
+  if (const std::string problem = negligible_spread_problem(*this); !problem.empty()) return fail_with(why, problem);
   return true;
 }
 

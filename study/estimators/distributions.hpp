@@ -60,13 +60,31 @@ struct Distribution {
 
   // Ceres style: true, or false with the reason in *why (if not null):
   // finite parameters, min < max, sd > 0, log_uniform min > 0, truncation
-  // only on normal / lognormal, lower < upper, and a truncation interval
-  // holding a representable probability (>= 1e-300).
+  // only on normal / lognormal, lower < upper, a truncation interval
+  // holding a representable probability (>= 1e-300), and a spread that the
+  // samples resolve (negligible_spread_problem).
   bool IsValid(std::string* why) const;
   // e.g. "normal(mean 1.924, sd 0.039, truncated to [0, inf))"; numbers in
   // their shortest round-trip form.
   std::string describe() const;
 };
+
+// A spread below this share of a value's size is lost in the rounding of
+// the samples (a double resolves about 2.2e-16 of it; the model's sums lose
+// a few digits more): such an input is a fixed value in all but name.
+inline constexpr double kMinRelativeSpread = 1e-12;
+
+// The rule every kind but fixed obeys: "" if the distribution's sd, and the
+// width of its support when finite, exceed kMinRelativeSpread of its scale,
+// the larger of |mean| and |reference| (a parameter's configured value; NaN
+// for none); else why not, naming the distribution and the rule. IsValid()
+// applies it with no reference.
+std::string negligible_spread_problem(const Distribution& d,
+                                      double reference = std::numeric_limits<double>::quiet_NaN());
+
+// The rule's words, for a caller that finds a spread too small before it
+// has a distribution (": its runs would differ ... use a fixed value").
+std::string spread_rule_text();
 
 Distribution fixed_value(double value);
 Distribution uniform(double min, double max);

@@ -97,7 +97,13 @@ Distribution parse_distribution(const io::JsonReader& r, double nominal) {
       const double mean = number_or_nominal(r, "mean", nominal);
       if (!(mean > 0.0))
         r.fail("mean", "the mean of a lognormal must be positive (got " + shortest(mean) + ")");
-      d = lognormal_from_moments(mean, parse_sd(r, mean));
+      const double sd = parse_sd(r, mean);
+      // A spread the logarithm cannot hold (log_sd ~ sd / mean underflows).
+      if (!(sd > kMinRelativeSpread * mean))
+        r.fail(r.has("sd") ? "sd" : "sd_percent", "lognormal(mean " + shortest(mean) + ", sd " + shortest(sd) +
+                                                      ") has sd not above " + shortest(kMinRelativeSpread) +
+                                                      " of its mean " + shortest(mean) + spread_rule_text());
+      d = lognormal_from_moments(mean, sd);
     }
     truncated = parse_truncation(r, 0.0, d);
   } else {
@@ -106,6 +112,9 @@ Distribution parse_distribution(const io::JsonReader& r, double nominal) {
   }
   std::string why;
   if (!d.IsValid(&why)) r.fail(truncated ? "truncate" : "distribution", why);
+  // The rule IsValid applied, with the parameter's configured value as a scale too.
+  if (const std::string problem = negligible_spread_problem(d, nominal); !problem.empty())
+    r.fail(truncated ? "truncate" : "distribution", problem);
   return d;
 }
 

@@ -147,7 +147,7 @@ const char* qoi_unit(const QoiSpec& spec) {
 std::string qoi_description(const QoiSpec& spec) {
   std::string d = info(spec.kind).description;
   if (spec.kind == QoiKind::kSettlingTime)
-    d += " (band " + std::to_string(spec.settling_band) + " m)";
+    d += " (band " + number_text(spec.settling_band) + " m)";
   if (spec.kind == QoiKind::kRmsVs && spec.reference)
     d += " " + spec.reference->path + " (channel " + channel_name(spec.channel) + ")";
   return d;

@@ -89,9 +89,9 @@ io::ScenarioSetup RoverStudyModel::setup_at(const double* x) const {
       try {
         gammas = synthesize_friction(p);
       } catch (const std::invalid_argument& e) {
-        throw io::ConfigError(sources_.rover_path + ": friction (" + std::to_string(key[0]) + ", " +
-                              std::to_string(key[1]) + ", " + std::to_string(key[2]) + ", " +
-                              std::to_string(key[3]) + "): " + e.what());
+        throw io::ConfigError(sources_.rover_path + ": friction (" + number_text(key[0]) + ", " +
+                              number_text(key[1]) + ", " + number_text(key[2]) + ", " +
+                              number_text(key[3]) + "): " + e.what());
       }
       const std::lock_guard<std::mutex> lock(friction_mutex_);
       friction_memo_.emplace(key, gammas);

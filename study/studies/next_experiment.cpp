@@ -13,6 +13,7 @@
 #include "core/number_text.hpp"
 #include "io/csv.hpp"
 #include "io/json_reader.hpp"
+#include "io/result_label.hpp"
 #include "io/scenario_config.hpp"
 #include "study/model/parameter_space.hpp"
 #include "study/runtime/calibration_mpi.hpp"
@@ -61,6 +62,7 @@ NextExperimentCandidate read_candidate(const io::JsonReader& c, const std::strin
                                        const CalibrationStudy& study) {
   NextExperimentCandidate out;
   out.name = c.string_or("name", "candidate " + std::to_string(index));
+  if (const std::string problem = io::display_name_problem(out.name); !problem.empty()) c.fail("name", problem);
   out.scenario_path = io::resolve_relative(path, c.string("scenario"));
   out.channel = c.string_or("channel", "B_l_z");
   try {

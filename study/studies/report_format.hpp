@@ -4,6 +4,8 @@
 // Eigen vectors as the plain vectors plots and result files take.
 #pragma once
 
+#include <cmath>
+#include <cstdio>
 #include <iomanip>
 #include <sstream>
 #include <string>
@@ -29,8 +31,16 @@ inline DisplayUnit display_unit(const std::string& stored_unit) {
   return {1.0, stored_unit};
 }
 
-// x with `digits` decimals: fixed_text(0.12345) == "0.123".
+// x with `digits` decimals: fixed_text(0.12345) == "0.123". A value of a
+// million or more (or not finite) in "%.6g" form: 1e+308 as "1e+308", not
+// as 309 digits.
 inline std::string fixed_text(double x, int digits = 3) {
+  constexpr double kLargestFixed = 1e6;
+  if (!(std::abs(x) < kLargestFixed)) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.6g", x);
+    return text;
+  }
   std::ostringstream os;
   os << std::fixed << std::setprecision(digits) << x;
   return os.str();

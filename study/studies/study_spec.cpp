@@ -16,6 +16,7 @@
 #include "core/rover_parameters.hpp"
 #include "io/checkpoint.hpp"
 #include "io/output_target.hpp"
+#include "io/result_label.hpp"
 #include "io/csv.hpp"
 #include "io/trajectory_io.hpp"
 #include "study/model/distribution_json.hpp"
@@ -279,6 +280,14 @@ std::vector<UncertainInput> parse_rover_parameters_block(const io::JsonReader& r
   if (!block.is_object() || block.empty())
     r.fail("parameters", "expected an object {\"<parameter>\": {\"distribution\": ...}, ...}");
   const io::JsonReader params = r.child("parameters");
+  std::vector<std::string> entries;  // the key of "parameters" each input came from
+  // A parameter given by two keys (an alias and a dotted path, or "M0" and one of its preloads).
+  auto refuse_repeat = [&](const std::string& name, const std::string& label) {
+    for (std::size_t k = 0; k < inputs.size(); ++k)
+      if (inputs[k].name == name)
+        params.fail(label, "is the same parameter as '" + entries[k] + "'" +
+                               (entries[k] != inputs[k].label ? " (its " + inputs[k].label + ")" : ""));
+  };
   for (const auto& [label, spec] : block.items()) {
     const io::JsonReader p = params.child(label);
     const bool from_config = p.boolean_or("from_config", false);
@@ -289,9 +298,11 @@ std::vector<UncertainInput> parse_rover_parameters_block(const io::JsonReader& r
       p.string_or("distribution", "normal");
       for (int i = 0; i < kNumSJoints; ++i) {
         const std::string name = space.canonical(preload_alias(i));
+        refuse_repeat(name, label);
         inputs.push_back({name, preload_alias(i),
                           preload_distribution(p, sources.rover, space.nominal(name), i),
                           space.nominal(name)});
+        entries.push_back(label);
       }
       p.finish();
       continue;
@@ -315,9 +326,9 @@ std::vector<UncertainInput> parse_rover_parameters_block(const io::JsonReader& r
     std::string why;
     if (!d.IsValid(&why)) p.fail("distribution", why);
     p.finish();
-    for (const UncertainInput& seen : inputs)
-      if (seen.name == name) params.fail(label, "is the same parameter as '" + seen.label + "'");
+    refuse_repeat(name, label);
     inputs.push_back({name, label, d, nominal});
+    entries.push_back(label);
   }
   return inputs;
 }
@@ -410,6 +421,7 @@ std::vector<QoiSpec> parse_qois(const io::JsonReader& r, const std::string& stud
           o.fail("name", e.what());
         }
         q.name = o.string_or("label", kind);
+        if (const std::string problem = io::result_label_problem(q.name); !problem.empty()) o.fail("label", problem);
         if (q.kind == QoiKind::kSettlingTime && o.has("band")) {
           q.settling_band = o.positive("band");
           if (q.settling_band > kMaxSettlingBand_m)
@@ -559,7 +571,24 @@ std::optional<IntegratorSettings> study_integrator(const io::JsonReader& r, cons
   return std::nullopt;
 }
 
+// The other configuration files a --study may be given by mistake, told by
+// their keys: a scenario (it names its rover), a rover (its bodies) and a
+// next-experiment candidates file.
+void refuse_other_config_files(const io::JsonReader& r) {
+  if (r.has("type")) return;
+  if (r.has("rover"))
+    r.fail("rover", "this is a scenario file (it names its rover file here), not a study file: give a study file "
+                    "(configs/studies/), whose \"scenario\" names this one");
+  if (r.has("bodies"))
+    r.fail("bodies", "this is a rover file (its bodies), not a study file: give a study file (configs/studies/), "
+                     "whose scenario names this rover");
+  if (r.has("candidates"))
+    r.fail("candidates", "this is a candidates file of rover calibrate --next-experiment, not a study file: give it "
+                         "to --next-experiment, and a calibration study to --study");
+}
+
 StudyIdentity parse_study_identity(const io::JsonReader& r, const std::vector<std::string>& types) {
+  refuse_other_config_files(r);
   StudyIdentity id;
   id.path = r.file();
   id.type = r.string("type");

@@ -12,6 +12,7 @@
 #include "study/runtime/study_runner.hpp"
 #include "study/studies/calibration.hpp"
 #include "study/studies/study_output.hpp"
+#include "study/studies/study_spec.hpp"
 
 namespace rover::study {
 namespace {
@@ -234,8 +235,8 @@ std::string parse_reference(const io::JsonReader& ref, const ModelInputs& nomina
   s.simulate_reference = true;
   s.reference_f = in.sharpness_f;
   s.reference_c_q = in.damping_c_q;
-  s.reference_description = "simulated at f = " + std::to_string(in.sharpness_f) +
-                            ", c_q = " + std::to_string(in.damping_c_q);
+  s.reference_description = "simulated at f = " + number_text(in.sharpness_f) +
+                            ", c_q = " + number_text(in.damping_c_q);
   ref.finish();
   return s.reference_description;
 }
@@ -280,11 +281,7 @@ SurfaceStudy load_surface_study(const std::string& path) {
   const io::JsonReader r(json, path);
   SurfaceStudy s;
   s.path = path;
-  if (r.string("type") != "surface") r.fail("type", "this command runs 'surface' studies");
-  s.name = r.string("name");
-  if (!io::is_plain_file_name(s.name))
-    r.fail("name", "must be a plain file name (results go to results/<name>.h5)");
-  r.string_or("description", "");
+  s.name = parse_study_identity(r, {"surface"}).name;
   const std::string scenario = io::resolve_relative(path, r.string("scenario"));
   io::ScenarioSetup nominal;
   try {

@@ -4,8 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
+#include "core/number_text.hpp"
 #include "io/json_reader.hpp"
+#include "io/result_label.hpp"
 
 namespace rover::study {
 namespace {
@@ -14,12 +17,97 @@ constexpr DistributionKind kDistributionKinds[] = {DistributionKind::kFixed, Dis
                                                    DistributionKind::kLogUniform, DistributionKind::kNormal,
                                                    DistributionKind::kLognormal};
 constexpr int kDistributionParameters = 4;  // a, b, lower, upper
+// The largest run count a design has (1e8 samples): beyond it a count is not one rover wrote.
+constexpr long long kMaxSavedRuns = 100000000;
+constexpr double kMaxAbsSavedNumber = std::numeric_limits<double>::max();
 
 
-Eigen::VectorXd read_vector(const io::Hdf5Reader& h5, const std::string& dataset) {
-  const std::vector<double> v = h5.read_doubles(dataset);
-  return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
-}
+// Every number of a saved model is checked as it is read, before any of it
+// is used: a file that `rover surrogate --study` did not write, or that was
+// edited since, is refused naming the object and the value (a multi-index of
+// 1e9 would build polynomials of that degree; a NaN coefficient predicts NaN).
+class SavedModel {
+ public:
+  static constexpr Eigen::Index kAnySize = -1;
+
+  explicit SavedModel(const std::string& path) : h5_(path) {}
+  const io::Hdf5Reader& h5() const { return h5_; }
+  const std::string& path() const { return h5_.path(); }
+
+  [[noreturn]] void refuse(const std::string& object, const std::string& problem) const {
+    throw io::ConfigError(path() + ": not a model written by `rover surrogate --study`, or edited since: " + object +
+                          " " + problem + " (write it again with rover surrogate --study)");
+  }
+
+  // A 2-D dataset of rows x cols (kAnySize: any), every value finite unless
+  // `infinite_allowed`; its shape is checked before anything is read.
+  Eigen::MatrixXd matrix(const std::string& dataset, Eigen::Index rows, Eigen::Index cols,
+                         bool infinite_allowed = false) const {
+    const std::vector<std::size_t> dims = h5_.shape(dataset);
+    if (dims.size() != 2 || !size_fits(dims[0], rows) || !size_fits(dims[1], cols))
+      refuse(dataset, "has shape " + shape_text(dims) + ", expected " + expected_text({rows, cols}));
+    const Eigen::MatrixXd m = h5_.read_matrix(dataset);
+    if (!infinite_allowed) refuse_non_finite(dataset, Eigen::Map<const Eigen::VectorXd>(m.data(), m.size()));
+    return m;
+  }
+  // A 1-D dataset of `size` values (kAnySize: any), every value finite.
+  Eigen::VectorXd vector(const std::string& dataset, Eigen::Index size) const {
+    const std::vector<std::size_t> dims = h5_.shape(dataset);
+    if (dims.size() != 1 || !size_fits(dims[0], size))
+      refuse(dataset, "has shape " + shape_text(dims) + ", expected " + expected_text({size}));
+    const std::vector<double> v = h5_.read_doubles(dataset);
+    Eigen::VectorXd out = Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
+    refuse_non_finite(dataset, out);
+    return out;
+  }
+  // Every value of `values` (read from `object`) above `minimum` (strict) or at least it.
+  void refuse_below(const std::string& object, const Eigen::Ref<const Eigen::VectorXd>& values, double minimum,
+                    bool strict) const {
+    for (Eigen::Index i = 0; i < values.size(); ++i)
+      if (strict ? !(values(i) > minimum) : !(values(i) >= minimum))
+        refuse(object, "holds " + number_text(values(i)) + " (value " + std::to_string(i) + "), expected a number " +
+                           (strict ? "above " : "of at least ") + number_text(minimum));
+  }
+  // A finite number attribute in [lower, upper].
+  double number(const std::string& object, const std::string& name, double lower, double upper) const {
+    const double v = h5_.attribute_double(object, name);
+    if (!(std::isfinite(v) && v >= lower && v <= upper))
+      refuse(object + " attribute " + name,
+             "holds " + number_text(v) + ", expected a number in [" + number_text(lower) + ", " + number_text(upper) + "]");
+    return v;
+  }
+  // A whole-number attribute in [lower, upper].
+  long long integer(const std::string& object, const std::string& name, long long lower, long long upper) const {
+    const double v = h5_.attribute_double(object, name);
+    if (!(v >= static_cast<double>(lower) && v <= static_cast<double>(upper) && v == std::floor(v)))
+      refuse(object + " attribute " + name, "holds " + number_text(v) + ", expected a whole number from " +
+                                                std::to_string(lower) + " to " + std::to_string(upper));
+    return static_cast<long long>(v);
+  }
+
+ private:
+  static bool size_fits(std::size_t size, Eigen::Index expected) {
+    return expected == kAnySize ? size >= 1 : size == static_cast<std::size_t>(expected);
+  }
+  static std::string shape_text(const std::vector<std::size_t>& dims) {
+    std::string text = "(";
+    for (std::size_t i = 0; i < dims.size(); ++i) text += (i ? " x " : "") + std::to_string(dims[i]);
+    return text + ")";
+  }
+  static std::string expected_text(const std::vector<Eigen::Index>& dims) {
+    std::string text = "(";
+    for (std::size_t i = 0; i < dims.size(); ++i)
+      text += (i ? " x " : "") + (dims[i] == kAnySize ? std::string("n") : std::to_string(dims[i]));
+    return text + ")";
+  }
+  void refuse_non_finite(const std::string& dataset, const Eigen::Ref<const Eigen::VectorXd>& values) const {
+    for (Eigen::Index i = 0; i < values.size(); ++i)
+      if (!std::isfinite(values(i)))
+        refuse(dataset, "holds " + number_text(values(i)) + " (value " + std::to_string(i) + "), expected finite numbers");
+  }
+
+  io::Hdf5Reader h5_;
+};
 
 std::string model_group(const std::string& output) { return "/surrogate/models/" + output; }
 
@@ -35,13 +123,16 @@ void write_validation(io::Hdf5Writer& h5, const std::string& g, const FittedSurr
   h5.attribute(g, "runs", static_cast<long long>(m.runs()));
 }
 
-SurrogateValidation read_validation(const io::Hdf5Reader& h5, const std::string& g) {
+SurrogateValidation read_validation(const SavedModel& f, const std::string& g) {
   SurrogateValidation v;
-  v.q2_loo = h5.attribute_double(g, "q2_loo");
-  v.test_points = static_cast<int>(h5.attribute_integer(g, "test_points"));
-  v.q2_test = h5.attribute_double(g, "q2_test");
-  v.rmse_test = h5.attribute_double(g, "rmse_test");
-  v.warning = h5.attribute_string(g, "warning");
+  v.q2_loo = f.number(g, "q2_loo", -kMaxAbsSavedNumber, 1.0);
+  v.test_points = static_cast<int>(f.integer(g, "test_points", 0, kMaxSavedRuns));
+  // An undefined held-out Q2 (too few or equal held-out values) is saved as NaN.
+  v.q2_test = v.test_points > 0 && std::isnan(f.h5().attribute_double(g, "q2_test"))
+                  ? std::numeric_limits<double>::quiet_NaN()
+                  : f.number(g, "q2_test", -kMaxAbsSavedNumber, 1.0);
+  v.rmse_test = f.number(g, "rmse_test", 0.0, kMaxAbsSavedNumber);
+  v.warning = f.h5().attribute_string(g, "warning");
   return v;
 }
 
@@ -58,29 +149,43 @@ void write_pce(io::Hdf5Writer& h5, const std::string& g, const PolynomialChaosEx
   h5.attribute(g, "constant_output", static_cast<long long>(e.constant_output ? 1 : 0));
 }
 
-PolynomialChaosExpansion read_pce(const io::Hdf5Reader& h5, const std::string& g, const std::string& name,
+// The multi-indices: whole numbers from 0 to the expansion's degree.
+std::vector<MultiIndex> read_multi_indices(const SavedModel& f, const std::string& g, Eigen::Index terms,
+                                           std::size_t inputs, int degree) {
+  const std::string dataset = g + "/multi_indices";
+  const Eigen::MatrixXd alpha = f.matrix(dataset, terms, static_cast<Eigen::Index>(inputs));
+  std::vector<MultiIndex> indices;
+  for (Eigen::Index k = 0; k < alpha.rows(); ++k) {
+    MultiIndex index(inputs);
+    for (Eigen::Index i = 0; i < alpha.cols(); ++i) {
+      const double a = alpha(k, i);
+      if (!(a >= 0.0 && a <= degree && a == std::floor(a)))
+        f.refuse(dataset, "holds " + number_text(a) + " (term " + std::to_string(k) + ", input " + std::to_string(i) +
+                              "), expected a whole number from 0 to the expansion's degree " + std::to_string(degree));
+      index[static_cast<std::size_t>(i)] = static_cast<int>(a);
+    }
+    indices.push_back(std::move(index));
+  }
+  return indices;
+}
+
+PolynomialChaosExpansion read_pce(const SavedModel& f, const std::string& g, const std::string& name,
                                   const std::vector<Distribution>& inputs) {
   PolynomialChaosExpansion e;
   e.output_name = name;
   e.inputs = inputs;
   for (const Distribution& d : inputs) e.families.push_back(polynomial_family_for(d));
-  const Eigen::MatrixXd alpha = h5.read_matrix(g + "/multi_indices");
-  e.coefficients = read_vector(h5, g + "/coefficients");
-  if (alpha.cols() != static_cast<Eigen::Index>(inputs.size()) || alpha.rows() != e.coefficients.size())
-    throw io::ConfigError(h5.path() + ": " + g + ": " + std::to_string(alpha.rows()) + " x " +
-                          std::to_string(alpha.cols()) + " multi-indices for " + std::to_string(e.coefficients.size()) +
-                          " coefficients and " + std::to_string(inputs.size()) + " inputs");
-  for (Eigen::Index k = 0; k < alpha.rows(); ++k) {
-    MultiIndex index(inputs.size());
-    for (Eigen::Index i = 0; i < alpha.cols(); ++i) index[static_cast<std::size_t>(i)] = static_cast<int>(alpha(k, i));
-    e.multi_indices.push_back(std::move(index));
-  }
-  e.degree = static_cast<int>(h5.attribute_integer(g, "degree"));
-  e.q_norm = h5.attribute_double(g, "q_norm");
-  e.candidate_terms = static_cast<int>(h5.attribute_integer(g, "candidate_terms"));
-  e.constant_output = h5.attribute_integer(g, "constant_output") != 0;
-  e.runs = static_cast<int>(h5.attribute_integer(g, "runs"));
-  e.validation = read_validation(h5, g);
+  e.degree = static_cast<int>(f.integer(g, "degree", 0, kMaxPceDegree));
+  e.coefficients = f.vector(g + "/coefficients", SavedModel::kAnySize);
+  if (e.coefficients.size() > kMaxPceCandidateTerms)
+    f.refuse(g + "/coefficients", "holds " + std::to_string(e.coefficients.size()) + " terms, more than a fit keeps (" +
+                                      std::to_string(kMaxPceCandidateTerms) + ")");
+  e.multi_indices = read_multi_indices(f, g, e.coefficients.size(), inputs.size(), e.degree);
+  e.q_norm = f.number(g, "q_norm", std::numeric_limits<double>::min(), 1.0);
+  e.candidate_terms = static_cast<int>(f.integer(g, "candidate_terms", 0, kMaxPceCandidateTerms));
+  e.constant_output = f.integer(g, "constant_output", 0, 1) != 0;
+  e.runs = static_cast<int>(f.integer(g, "runs", 1, kMaxSavedRuns));
+  e.validation = read_validation(f, g);
   return e;
 }
 
@@ -102,26 +207,42 @@ void write_gp(io::Hdf5Writer& h5, const std::string& g, const GaussianProcess& g
   h5.attribute(g, "neg_log_likelihood", gp.neg_log_likelihood);
 }
 
-GaussianProcess read_gp(const io::Hdf5Reader& h5, const std::string& g, const std::string& name) {
+// A lower-triangular Cholesky factor of rows x rows: its diagonal positive.
+Eigen::MatrixXd read_cholesky(const SavedModel& f, const std::string& dataset, Eigen::Index rows) {
+  Eigen::MatrixXd l = f.matrix(dataset, rows, rows);
+  f.refuse_below(dataset + " (its diagonal)", l.diagonal(), 0.0, /*strict=*/true);
+  return l;
+}
+
+GaussianProcess read_gp(const SavedModel& f, const std::string& g, const std::string& name, std::size_t inputs) {
   GaussianProcess gp;
   gp.output_name = name;
-  gp.trend = h5.attribute_string(g, "trend") == "linear" ? KrigingTrend::kLinear : KrigingTrend::kConstant;
-  gp.input_offset = read_vector(h5, g + "/input_offset").transpose();
-  gp.input_scale = read_vector(h5, g + "/input_scale").transpose();
-  gp.length_scales = read_vector(h5, g + "/length_scales");
-  gp.scaled_inputs = h5.read_matrix(g + "/scaled_inputs");
-  gp.trend_coefficients = read_vector(h5, g + "/trend_coefficients");
-  gp.weights = read_vector(h5, g + "/weights");
-  gp.loo_mean = read_vector(h5, g + "/loo_mean");
-  gp.loo_variance = read_vector(h5, g + "/loo_variance");
-  gp.correlation_cholesky = h5.read_matrix(g + "/correlation_cholesky");
-  gp.trend_cholesky = h5.read_matrix(g + "/trend_cholesky");
-  gp.whitened_trend = h5.read_matrix(g + "/whitened_trend");
-  gp.process_variance = h5.attribute_double(g, "process_variance");
-  gp.nugget = h5.attribute_double(g, "nugget");
-  gp.neg_log_likelihood = h5.attribute_double(g, "neg_log_likelihood");
-  gp.runs = static_cast<int>(h5.attribute_integer(g, "runs"));
-  gp.validation = read_validation(h5, g);
+  const std::string trend = f.h5().attribute_string(g, "trend");
+  if (trend != "constant" && trend != "linear")
+    f.refuse(g + " attribute trend", "holds '" + trend + "', expected \"constant\" or \"linear\"");
+  gp.trend = trend == "linear" ? KrigingTrend::kLinear : KrigingTrend::kConstant;
+  const auto d = static_cast<Eigen::Index>(inputs);
+  const Eigen::Index p = gp.trend == KrigingTrend::kLinear ? d + 1 : 1;
+  gp.input_offset = f.vector(g + "/input_offset", d).transpose();
+  gp.input_scale = f.vector(g + "/input_scale", d).transpose();
+  f.refuse_below(g + "/input_scale", gp.input_scale.transpose(), 0.0, /*strict=*/true);
+  gp.length_scales = f.vector(g + "/length_scales", d);
+  f.refuse_below(g + "/length_scales", gp.length_scales, 0.0, /*strict=*/true);
+  gp.scaled_inputs = f.matrix(g + "/scaled_inputs", SavedModel::kAnySize, d);
+  const Eigen::Index n = gp.scaled_inputs.rows();
+  gp.trend_coefficients = f.vector(g + "/trend_coefficients", p);
+  gp.weights = f.vector(g + "/weights", n);
+  gp.loo_mean = f.vector(g + "/loo_mean", n);
+  gp.loo_variance = f.vector(g + "/loo_variance", n);
+  f.refuse_below(g + "/loo_variance", gp.loo_variance, 0.0, /*strict=*/false);
+  gp.correlation_cholesky = read_cholesky(f, g + "/correlation_cholesky", n);
+  gp.trend_cholesky = read_cholesky(f, g + "/trend_cholesky", p);
+  gp.whitened_trend = f.matrix(g + "/whitened_trend", n, p);
+  gp.process_variance = f.number(g, "process_variance", 0.0, kMaxAbsSavedNumber);
+  gp.nugget = f.number(g, "nugget", 0.0, kMaxAbsSavedNumber);
+  gp.neg_log_likelihood = f.number(g, "neg_log_likelihood", -kMaxAbsSavedNumber, kMaxAbsSavedNumber);
+  gp.runs = static_cast<int>(f.integer(g, "runs", n, n));
+  gp.validation = read_validation(f, g);
   return gp;
 }
 
@@ -145,30 +266,41 @@ void write_inputs(io::Hdf5Writer& h5, const std::vector<SurrogateInput>& inputs)
   h5.write("/surrogate/inputs/support", support);
 }
 
-std::vector<SurrogateInput> read_inputs(const io::Hdf5Reader& h5) {
-  const std::vector<std::string> names = h5.read_strings("/surrogate/inputs/names");
-  const std::vector<std::string> labels = h5.read_strings("/surrogate/inputs/labels");
-  const std::vector<std::string> kinds = h5.read_strings("/surrogate/inputs/distribution");
-  const Eigen::MatrixXd parameters = h5.read_matrix("/surrogate/inputs/parameters");
-  const Eigen::MatrixXd support = h5.read_matrix("/surrogate/inputs/support");
+// A string dataset of `size` entries.
+std::vector<std::string> read_names(const SavedModel& f, const std::string& dataset, std::size_t size) {
+  const std::vector<std::string> names = f.h5().read_strings(dataset);
+  if (names.size() != size)
+    f.refuse(dataset, "holds " + std::to_string(names.size()) + " entries for " + std::to_string(size) + " inputs");
+  return names;
+}
+
+std::vector<SurrogateInput> read_inputs(const SavedModel& f) {
+  const std::vector<std::string> names = f.h5().read_strings("/surrogate/inputs/names");
+  if (names.empty()) f.refuse("/surrogate/inputs/names", "is empty: a surrogate has inputs");
+  const std::vector<std::string> labels = read_names(f, "/surrogate/inputs/labels", names.size());
+  const std::vector<std::string> kinds = read_names(f, "/surrogate/inputs/distribution", names.size());
   const auto d = static_cast<Eigen::Index>(names.size());
-  if (labels.size() != names.size() || kinds.size() != names.size() || parameters.rows() != d ||
-      parameters.cols() != kDistributionParameters || support.rows() != d || support.cols() != 2)
-    throw io::ConfigError(h5.path() + ": /surrogate/inputs: the names, labels, distributions, parameters and "
-                          "support disagree in size");
+  // Untruncated sides are saved as infinite bounds (Distribution::IsValid checks the rest).
+  const Eigen::MatrixXd parameters = f.matrix("/surrogate/inputs/parameters", d, kDistributionParameters, true);
+  const Eigen::MatrixXd support = f.matrix("/surrogate/inputs/support", d, 2);
   std::vector<SurrogateInput> inputs;
   for (Eigen::Index j = 0; j < d; ++j) {
     const auto k = static_cast<std::size_t>(j);
     SurrogateInput in{names[k], labels[k], {}, support(j, 0), support(j, 1)};
+    for (const std::string& name : {in.name, in.label})
+      if (const std::string problem = io::result_label_problem(name); !problem.empty())
+        f.refuse("/surrogate/inputs", "names an input " + problem);
+    if (!(in.lower <= in.upper))
+      f.refuse("/surrogate/inputs/support", "of '" + labels[k] + "' is [" + number_text(in.lower) + ", " +
+                                                number_text(in.upper) + "], reversed");
     const auto kind = std::find_if(std::begin(kDistributionKinds), std::end(kDistributionKinds),
                                    [&](DistributionKind c) { return kinds[k] == distribution_name(c); });
     if (kind == std::end(kDistributionKinds))
-      throw io::ConfigError(h5.path() + ": /surrogate/inputs/distribution: unknown distribution '" + kinds[k] +
-                            "' of input '" + labels[k] + "'");
+      f.refuse("/surrogate/inputs/distribution", "holds the unknown distribution '" + kinds[k] + "' of input '" +
+                                                     labels[k] + "'");
     in.distribution = {*kind, parameters(j, 0), parameters(j, 1), parameters(j, 2), parameters(j, 3)};
     std::string why;
-    if (!in.distribution.IsValid(&why))
-      throw io::ConfigError(h5.path() + ": /surrogate/inputs/parameters of '" + labels[k] + "': " + why);
+    if (!in.distribution.IsValid(&why)) f.refuse("/surrogate/inputs/parameters", "of '" + labels[k] + "': " + why);
     inputs.push_back(std::move(in));
   }
   return inputs;
@@ -210,7 +342,8 @@ void write_surrogate_set(io::Hdf5Writer& h5, const SurrogateSet& set) {
 }
 
 SurrogateSet read_surrogate_set(const std::string& path) {
-  const io::Hdf5Reader h5(path);
+  const SavedModel f(path);
+  const io::Hdf5Reader& h5 = f.h5();
   if (!h5.exists("/surrogate/inputs") || !h5.exists("/surrogate/outputs"))
     throw io::ConfigError(path + ": no /surrogate/inputs and /surrogate/outputs: not a model written by "
                           "`rover surrogate --study`, or one damaged since it was written (write it again)");
@@ -220,17 +353,23 @@ SurrogateSet read_surrogate_set(const std::string& path) {
   } catch (const std::invalid_argument& e) {
     throw io::ConfigError(path + ": /surrogate attribute kind: " + e.what());
   }
-  set.q2_threshold = h5.attribute_double("/surrogate", "q2_threshold");
-  set.inputs = read_inputs(h5);
+  set.q2_threshold = f.number("/surrogate", "q2_threshold", std::numeric_limits<double>::min(), 1.0);
+  set.inputs = read_inputs(f);
   std::vector<Distribution> distributions;
   for (const SurrogateInput& in : set.inputs) distributions.push_back(in.distribution);
+  std::vector<std::string> outputs;
   for (const std::string& name : h5.read_strings("/surrogate/outputs")) {
+    if (const std::string problem = io::result_label_problem(name); !problem.empty())
+      f.refuse("/surrogate/outputs", "names a QoI " + problem);
+    if (std::find(outputs.begin(), outputs.end(), name) != outputs.end())
+      f.refuse("/surrogate/outputs", "names '" + name + "' twice");
+    outputs.push_back(name);
     const std::string g = model_group(name);
     FittedSurrogate m;
     m.kind = set.kind;
     m.inputs = distributions;
-    if (set.kind == SurrogateKind::kPolynomialChaos) m.pce = read_pce(h5, g, name, distributions);
-    else m.gp = read_gp(h5, g, name);
+    if (set.kind == SurrogateKind::kPolynomialChaos) m.pce = read_pce(f, g, name, distributions);
+    else m.gp = read_gp(f, g, name, distributions.size());
     set.models.push_back(std::move(m));
   }
   if (set.models.empty())

@@ -48,7 +48,12 @@ SurrogateInput surrogate_input(const std::string& name, const std::string& label
 void write_surrogate_set(io::Hdf5Writer& h5, const SurrogateSet& set);
 
 // Throws io::ConfigError naming the file if it holds no /surrogate, or an
-// object of the layout above is missing or malformed.
+// object of the layout above is missing or malformed: every array of the
+// shape the layout gives it, every number finite (a truncation bound may be
+// infinite) and in its range: multi-indices whole numbers from 0 to the
+// degree (at most kMaxPceDegree), length-scales, input scales and Cholesky
+// diagonals positive, variances not negative. Shapes are checked before the
+// data are read.
 SurrogateSet read_surrogate_set(const std::string& path);
 
 }  // namespace rover::study

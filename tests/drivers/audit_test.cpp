@@ -36,6 +36,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <hdf5.h>
 
 #include "io/csv.hpp"
 #include "io/hdf5_file.hpp"
@@ -2608,11 +2609,11 @@ TEST_F(Audit, SixthAuditCases) {
   cases.push_back({"a normal c_q of sd 1e-20", study("montecarlo", w().montecarlo([](Json& j) {
                      j["parameters"]["c_q"] = {{"distribution", "normal"}, {"mean", 0.1}, {"sd", 1e-20}};
                    })),
-                   Want::kError, {"'parameters.c_q", "sd (1e-20)", "use a fixed value"}});
+                   Want::kError, {"'parameters.c_q", "has sd 1e-20", "use a fixed value"}});
   cases.push_back({"a uniform c_q of relative width 1e-15", study("montecarlo", w().montecarlo([](Json& j) {
                      j["parameters"]["c_q"] = {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.1 * (1 + 1e-15)}};
                    })),
-                   Want::kError, {"'parameters.c_q", "narrower than 1e-12 of its size"}});
+                   Want::kError, {"'parameters.c_q", "not above 1e-12 of its mean's size"}});
   cases.push_back({"calibrate --fit naming a parameter twice",
                    study("calibrate", w().calibration([](Json&) {})) + " --fit c_q,c_q --dry-run", Want::kError,
                    {"--fit: parameter 'c_q' is listed twice"}, {}, {}, {"field 'fit'"}});
@@ -3992,6 +3993,253 @@ TEST_F(Audit, HangupAndAClosedPipeStopAStudyWithItsCheckpoint) {
               &waiting);
   EXPECT_NE(waiting.find("status 130"), std::string::npos) << waiting;
   EXPECT_NE(waiting.find("interrupted (SIGHUP); nothing written"), std::string::npos) << waiting;
+}
+
+// Sets element `index` (row-major) of the double dataset `dataset` of the
+// HDF5 file `path`, in place, as an editor of the file would.
+void set_dataset_element(const std::string& path, const std::string& dataset, std::size_t index, double value) {
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(file, 0) << path;
+  const hid_t set = H5Dopen2(file, dataset.c_str(), H5P_DEFAULT);
+  ASSERT_GE(set, 0) << dataset;
+  const hid_t space = H5Dget_space(set);
+  std::vector<double> values(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space)));
+  ASSERT_LT(index, values.size()) << dataset;
+  ASSERT_GE(H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), 0);
+  values[index] = value;
+  ASSERT_GE(H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), 0);
+  H5Sclose(space);
+  H5Dclose(set);
+  H5Fclose(file);
+}
+
+// Replaces the numeric attribute `name` of `object` in the HDF5 file `path`
+// by a double of `value`, in place.
+void set_attribute_number(const std::string& path, const std::string& object, const std::string& name, double value) {
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(file, 0) << path;
+  ASSERT_GE(H5Adelete_by_name(file, object.c_str(), name.c_str(), H5P_DEFAULT), 0) << object << " " << name;
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t attribute =
+      H5Acreate_by_name(file, object.c_str(), name.c_str(), H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  ASSERT_GE(attribute, 0) << object << " " << name;
+  ASSERT_GE(H5Awrite(attribute, H5T_NATIVE_DOUBLE, &value), 0);
+  H5Aclose(attribute);
+  H5Sclose(space);
+  H5Fclose(file);
+}
+
+// Class 8/7: `surrogate --predict` checks every number of the model file it
+// reads: multi-indices whole numbers from 0 to the degree, coefficients and
+// the Gaussian process's arrays finite and of consistent shapes, its
+// length-scales positive. An edited file is refused naming the file and the
+// dataset, never crashes, allocates polynomials of degree 1e9 or predicts NaN.
+TEST_F(Audit, ASurrogateFileIsCheckedBeforeItPredicts) {
+  const std::string dir = w().dir();
+  auto trained = [&](const std::string& kind) {
+    Json j{{"type", "surrogate"}, {"surrogate", kind}, {"name", kind}, {"model", "ishigami"},
+           {"design", {{"type", "lhs"}, {"samples", 40}, {"seed", 1}}}};
+    if (kind == "pce") j["pce"] = {{"max_degree", 3}, {"bootstrap", 0}};
+    const std::string model = dir + "/" + kind + ".h5";
+    std::string output;
+    EXPECT_EQ(run_command("cd " + dir + " && OMPI_MCA_ess_singleton_isolated=1 " + rover_binary() + " " +
+                              study_args("surrogate", w().json_file(kind, j), model),
+                          &output),
+              0)
+        << output;
+    return model;
+  };
+  const std::string pce = trained("pce"), gp = trained("gp");
+  const std::string design = w().text_file("points", "x1,x2,x3\n0.5,0.5,0.5\n", "csv");
+  std::vector<Case> cases;
+  auto edited = [&](const std::string& id, const std::string& model, const std::string& dataset, std::size_t index,
+                    double value, std::vector<std::string> mentions) {
+    const std::string copy = w().copy_of(model);
+    set_dataset_element(copy, dataset, index, value);
+    mentions.insert(mentions.begin(), {copy, "not a model written by `rover surrogate --study`, or edited", dataset});
+    const std::string out = w().out("csv");
+    cases.push_back({id, "surrogate --predict " + copy + " --design " + design + " --csv " + out, Want::kError,
+                     mentions, absent_file(out)});
+  };
+  const std::string alpha = "/surrogate/models/y/multi_indices";
+  edited("a multi-index of 1e30", pce, alpha, 1, 1e30, {"1e+30", "whole number from 0 to the expansion's degree"});
+  edited("a multi-index above the degree", pce, alpha, 1, 21.0, {"holds 21", "the expansion's degree"});
+  edited("a multi-index of -1", pce, alpha, 1, -1.0, {"holds -1"});
+  edited("a multi-index of 2.5", pce, alpha, 1, 2.5, {"holds 2.5"});
+  edited("a NaN coefficient", pce, "/surrogate/models/y/coefficients", 0, std::nan(""), {"nan", "finite"});
+  edited("an infinite support", pce, "/surrogate/inputs/support", 1, HUGE_VAL, {"inf"});
+  edited("a negative length-scale", gp, "/surrogate/models/y/length_scales", 0, -1.0, {"holds -1", "above 0"});
+  edited("an infinite training point", gp, "/surrogate/models/y/scaled_inputs", 3, HUGE_VAL, {"inf"});
+  edited("a NaN weight", gp, "/surrogate/models/y/weights", 0, std::nan(""), {"nan"});
+  edited("a zero on the Cholesky diagonal", gp, "/surrogate/models/y/correlation_cholesky", 0, 0.0,
+         {"its diagonal", "above 0"});
+  auto attribute = [&](const std::string& id, const std::string& model, const std::string& object,
+                       const std::string& name, double value, std::vector<std::string> mentions) {
+    const std::string copy = w().copy_of(model);
+    set_attribute_number(copy, object, name, value);
+    mentions.insert(mentions.begin(), {copy, "or edited", object + " attribute " + name});
+    cases.push_back({id, "surrogate --predict " + copy + " --design " + design + " --csv " + w().out("csv"),
+                     Want::kError, mentions});
+  };
+  attribute("a degree of 1e9", pce, "/surrogate/models/y", "degree", 1e9, {"whole number from 0 to 20"});
+  attribute("a NaN process variance", gp, "/surrogate/models/y", "process_variance", std::nan(""), {"nan"});
+  attribute("a NaN Q2 threshold", gp, "/surrogate", "q2_threshold", std::nan(""), {"nan"});
+  cases.push_back({"the unedited model predicts", "surrogate --predict " + pce + " --design " + design + " --csv " +
+                                                       w().out("csv"),
+                   Want::kRuns, {}});
+  cases.push_back({"the unedited process predicts", "surrogate --predict " + gp + " --design " + design + " --csv " +
+                                                         w().out("csv"),
+                   Want::kRuns, {}});
+  run_table(dir, cases);
+}
+
+// Class 2/7/8: a QoI's "label" names an HDF5 dataset, figure files and CSV
+// columns, and a next-experiment candidate's "name" is shown and saved: both
+// are refused before any run unless they are plain names, naming the field.
+TEST_F(Audit, ResultLabelsArePlainNames) {
+  std::vector<Case> cases;
+  auto label_case = [&](const std::string& id, const std::string& label, std::vector<std::string> mentions) {
+    const std::string path = w().montecarlo([&](Json& j) { j["qoi"] = {{{"name", "t_min"}, {"label", label}}}; });
+    mentions.insert(mentions.begin(), {path, "'qoi[0].label'"});
+    cases.push_back({id, study("montecarlo", path) + " --dry-run", Want::kError, mentions});
+  };
+  label_case("a label with '/'", "a/b", {"'a/b' holds '/'"});
+  label_case("an empty label", "", {"is empty", "1 to 64 characters"});
+  label_case("a label climbing out", "..x", {"holds \"..\""});
+  label_case("a label of 250 characters", std::string(250, 'q'), {"has 250 characters"});
+  label_case("a label with a control character", "a\x01" "b", {"'a\\x01b' holds a control character"});
+  label_case("a label with a comma", "a,b", {"holds ','"});
+  cases.push_back({"a plain label with spaces and brackets",
+                   study("montecarlo", w().montecarlo([&](Json& j) {
+                     j["qoi"] = {{{"name", "t_min"}, {"label", "t min (s) [drop 1]"}}};
+                   })) + " --dry-run",
+                   Want::kRuns, {}});
+  auto candidate_case = [&](const std::string& id, const std::string& name, std::vector<std::string> mentions) {
+    const std::string candidates = w().json_file(
+        "candidates",
+        Json{{"candidates", {{{"name", name}, {"scenario", w().quick()}, {"rate_hz", 500}, {"noise_sd", 1e-4}}}}});
+    mentions.insert(mentions.begin(), {candidates, "'candidates[0].name'"});
+    cases.push_back({id, study("calibrate", w().calibration([](Json&) {})) + " --dry-run --next-experiment " + candidates,
+                     Want::kError, mentions});
+  };
+  candidate_case("a candidate named with a bell", "drop\x07", {"'drop\\x07' holds a control character"});
+  candidate_case("an empty candidate name", "", {"is empty"});
+  candidate_case("a candidate name of 300 characters", std::string(300, 'c'), {"has 300 characters"});
+  run_table(w().dir(), cases);
+}
+
+// Class 5: a QoI or channel named twice in a list flag is refused before any
+// run, naming the flag, as a study file refuses a QoI that appears twice.
+TEST_F(Audit, AListFlagNamesEachItemOnce) {
+  std::vector<Case> cases;
+  const std::string design = w().text_file("design", "c_q\n0.1\n", "csv");
+  auto evaluate = [&](const std::string& flags, const std::string& out) {
+    return "evaluate --no-plot --scenario " + w().quick() + " --design " + design + " " + flags + " --out " + out;
+  };
+  for (const std::string ext : {"h5", "csv"}) {
+    const std::string out = w().out(ext);
+    cases.push_back({"evaluate --qoi with a QoI twice, into ." + ext, evaluate("--qoi B_l_z_min,t_min,B_l_z_min", out),
+                     Want::kError, {"--qoi: 'B_l_z_min' is listed twice"}, absent_file(out)});
+  }
+  const std::string out = w().out();
+  cases.push_back({"evaluate --channels with a channel twice", evaluate("--qoi t_min --channels G_z,B_l_z,G_z", out),
+                   Want::kError, {"--channels: 'G_z' is listed twice"}, absent_file(out)});
+  cases.push_back({"calibrate --fit with a parameter by name and alias",
+                   study("calibrate", w().calibration([](Json& j) { j["bounds"]["s_structure.c_q"] = {0.02, 1.0}; })) +
+                       " --fit c_q,s_structure.c_q --dry-run",
+                   Want::kError, {"--fit", "'s_structure.c_q' is listed twice"}});
+  cases.push_back({"evaluate --qoi with distinct QoIs", evaluate("--qoi B_l_z_min,t_min", w().out("csv")), Want::kRuns,
+                   {}});
+  run_table(w().dir(), cases);
+}
+
+// Class 7: one spread rule for every distribution: its sd (and a finite
+// support's width) above 1e-12 of the larger of its mean's size and the
+// parameter's configured value, as a normal's sd already was. A narrower one
+// is refused before any run, naming the parameter, the distribution and the rule.
+TEST_F(Audit, EveryDistributionMustSpreadBeyondRounding) {
+  std::vector<Case> cases;
+  auto spread_case = [&](const std::string& id, const Json& distribution, std::vector<std::string> mentions) {
+    const std::string path = w().montecarlo([&](Json& j) { j["parameters"]["c_q"] = distribution; });
+    mentions.insert(mentions.begin(), {path, "'parameters.c_q", "use a fixed value"});
+    cases.push_back({id, study("montecarlo", path) + " --dry-run", Want::kError, mentions});
+  };
+  spread_case("a uniform c_q on [1e-300, 1e-299]",
+              {{"distribution", "uniform"}, {"min", 1e-300}, {"max", 1e-299}},
+              {"uniform(min 1e-300, max 1e-299)", "not above 1e-12 of the configured value"});
+  spread_case("a log-uniform c_q with min ~ max",
+              {{"distribution", "log_uniform"}, {"min", 0.1}, {"max", 0.1 * (1 + 1e-14)}},
+              {"log_uniform(", "not above 1e-12"});
+  spread_case("a normal c_q truncated to a sliver",
+              {{"distribution", "normal"}, {"mean", 0.14}, {"sd", 0.01}, {"truncate", {0.14, 0.14 + 1e-15}}},
+              {"truncated to", "wide", "not above 1e-12"});
+  spread_case("a lognormal c_q of log_sd 1e-14", {{"distribution", "lognormal"}, {"log_mean", -2.0}, {"log_sd", 1e-14}},
+              {"lognormal(log_mean -2, log_sd 1e-14)", "not above 1e-12"});
+  spread_case("a lognormal c_q of sd 1e-300 around its mean",
+              {{"distribution", "lognormal"}, {"mean", 0.14}, {"sd", 1e-300}}, {"not above 1e-12"});
+  spread_case("a normal c_q of sd 1e-300 around 1e-300",
+              {{"distribution", "normal"}, {"mean", 1e-300}, {"sd", 1e-300}},
+              {"not above 1e-12 of the configured value"});
+  cases.push_back({"the preloads from the rover file with sd_scale 1e-300",
+                   study("montecarlo", w().montecarlo([](Json& j) {
+                     j["parameters"] = {{"M0", {{"from_config", true}, {"sd_scale", 1e-300}}}};
+                   })) + " --dry-run",
+                   Want::kError, {"'parameters.M0", "not above 1e-12"}});
+  cases.push_back({"a uniform c_q narrow but resolved", study("montecarlo", w().montecarlo([](Json& j) {
+                     j["parameters"]["c_q"] = {{"distribution", "uniform"}, {"min", 0.14}, {"max", 0.14 * (1 + 1e-9)}};
+                   })) + " --dry-run",
+                   Want::kRuns, {}});
+  run_table(w().dir(), cases);
+}
+
+// Class 8: messages that name the right thing. A parameter given twice names
+// the other entry ("M0", not the preload it expands to); a scenario, rover or
+// candidates file given as a --study says what it is; a constant QoI of
+// 1e308 is printed in a few digits, not 309.
+TEST_F(Audit, MessagesNameWhatWasGiven) {
+  const std::string dir = w().dir();
+  std::vector<Case> cases;
+  const std::string twice = w().montecarlo([](Json& j) {
+    j["parameters"] = {{"M0", {{"from_config", true}}},
+                       {"M0_11", {{"distribution", "uniform"}, {"min", 1.0}, {"max", 2.0}}}};
+  });
+  cases.push_back({"M0 and M0_11 in one study", study("montecarlo", twice) + " --dry-run", Want::kError,
+                   {"'parameters.M0_11'", "is the same parameter as 'M0' (its M0_11)"}});
+  const std::string rover_file = source_path("configs/rover.json");
+  const std::string candidates = w().json_file(
+      "candidates", Json{{"candidates", {{{"scenario", w().quick()}, {"rate_hz", 500}, {"noise_sd", 1e-4}}}}});
+  for (const std::string command : {"montecarlo", "sensitivity", "surrogate", "calibrate", "surface"}) {
+    cases.push_back({command + " --study a scenario file", study(command, w().quick()) + " --dry-run", Want::kError,
+                     {w().quick(), "this is a scenario file", "not a study file"}});
+    cases.push_back({command + " --study a rover file", study(command, rover_file) + " --dry-run", Want::kError,
+                     {"this is a rover file", "not a study file"}});
+  }
+  cases.push_back({"calibrate --study a candidates file", study("calibrate", candidates) + " --dry-run", Want::kError,
+                   {"this is a candidates file of rover calibrate --next-experiment"}});
+  // A surrogate trained on runs whose QoI is 1e308 in every run.
+  const std::string training = dir + "/constant.h5";
+  std::string output;
+  ASSERT_EQ(run_command("cd " + dir + " && OMPI_MCA_ess_singleton_isolated=1 " + rover_binary() + " " +
+                            study_args("montecarlo",
+                                       w().json_file("linear", Json{{"type", "montecarlo"},
+                                                                    {"name", "linear"},
+                                                                    {"model", "linear"},
+                                                                    {"design", {{"type", "monte_carlo"}, {"samples", 20}, {"seed", 1}}}}),
+                                       training),
+                        &output),
+            0)
+      << output;
+  for (std::size_t run = 0; run < 20; ++run) set_dataset_element(training, "/qoi/y", run, 1e308);
+  const std::string constant = w().json_file(
+      "constant", Json{{"type", "surrogate"},
+                       {"surrogate", "pce"},
+                       {"name", "constant"},
+                       {"model", "linear"},
+                       {"training", {{"file", training}}},
+                       {"pce", {{"max_degree", 1}, {"bootstrap", 0}}}});
+  cases.push_back({"a QoI of 1e308 in every run", study("surrogate", constant), Want::kRuns,
+                   {"the QoI is constant over the 20 runs (1e+308)"}, {}, {}, {"0000000000"}});
+  run_table(dir, cases);
 }
 
 }  // namespace

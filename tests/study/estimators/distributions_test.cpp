@@ -346,6 +346,36 @@ TEST(Distributions, IsValidRejectsWithAReason) {
   EXPECT_DOUBLE_EQ(lognormal(0, 1, -5, kInf).mean(), lognormal(0, 1).mean());
 }
 
+// One rule for every kind: sd and a finite support's width above 1e-12 of
+// the larger of |mean| and a reference scale (a configured value).
+TEST(Distributions, ASpreadTheSamplesCannotResolveIsRefused) {
+  const std::vector<Distribution> negligible = {
+      uniform(0.1, 0.1 * (1.0 + 1e-15)),
+      log_uniform(1.0, 1.0 + 1e-14),
+      normal(1.0, 1e-13),
+      normal(0.14, 0.01, 0.14, 0.14 + 1e-15),  // a truncation keeping a sliver
+      lognormal(0.0, 1e-14),
+      lognormal(0.0, 1.0, 1.0, 1.0 + 1e-15),
+  };
+  for (const Distribution& d : negligible) {
+    std::string why;
+    EXPECT_FALSE(d.IsValid(&why)) << d.describe();
+    EXPECT_NE(why.find("not above 1e-12 of its mean's size"), std::string::npos) << why;
+    EXPECT_NE(why.find(d.describe()), std::string::npos) << why;
+  }
+  // Wide relative to itself, negligible next to the parameter's configured value.
+  const Distribution tiny = uniform(1e-300, 1e-299);
+  EXPECT_TRUE(tiny.IsValid(nullptr));
+  EXPECT_EQ(negligible_spread_problem(tiny), "");
+  EXPECT_NE(negligible_spread_problem(tiny, 0.14).find("not above 1e-12 of the configured value 0.14"),
+            std::string::npos);
+  // Spreads just above the rule pass.
+  EXPECT_TRUE(uniform(1.0, 1.0 + 1e-10).IsValid(nullptr));
+  EXPECT_TRUE(normal(0.14, 0.01, 0.14, 0.14 + 1e-9).IsValid(nullptr));
+  EXPECT_TRUE(lognormal(0.0, 1e-10).IsValid(nullptr));
+  EXPECT_EQ(negligible_spread_problem(normal(0.0, 1e-300)), "");  // no scale to compare with
+}
+
 TEST(Distributions, Describe) {
   EXPECT_EQ(normal(1.924, 0.039, 0.0, kInf).describe(),
             "normal(mean 1.924, sd 0.039, truncated to [0, inf))");
