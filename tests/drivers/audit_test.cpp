@@ -3697,6 +3697,27 @@ TEST_F(Audit, ASignalEndsAPredictionWithNothingWritten) {
   EXPECT_NE(output.find("nothing written"), std::string::npos) << output;
 }
 
+// A degree-1 PCE of the linear test model in x1, trained: its study file
+// and its model file (for --predict).
+struct LinearSurrogate {
+  std::string study, model;
+};
+LinearSurrogate linear_surrogate(Workshop& w) {
+  LinearSurrogate out;
+  out.study = w.json_file(
+      "linear_surrogate", Json{{"type", "surrogate"},
+                               {"name", "lin"},
+                               {"model", "linear"},
+                               {"parameters", {{"x1", {{"distribution", "uniform"}, {"min", 0.0}, {"max", 1.0}}}}},
+                               {"design", {{"samples", 20}, {"seed", 1}}},
+                               {"pce", {{"max_degree", 1}, {"bootstrap", 0}}}});
+  out.model = w.out();
+  std::string log;
+  EXPECT_EQ(run_command(rover_binary() + " surrogate --no-plot --study " + out.study + " --out " + out.model, &log), 0)
+      << log;
+  return out;
+}
+
 // A next-experiment noise sd below what the likelihood resolves, integrator
 // keys the method does not use, --profile with --next-experiment and a buried
 // eom state are refused by name; a prediction's CSV never replaces a file the
@@ -3749,16 +3770,8 @@ TEST_F(Audit, EleventhAuditLeftovers) {
                      return flaw.find("on its bound") != std::string::npos ? std::string()
                                                                            : "start_fit_flaw '" + flaw + "'";
                    }});
-  const std::string study_file = w().json_file(
-      "linear_surrogate", Json{{"type", "surrogate"},
-                               {"name", "lin"},
-                               {"model", "linear"},
-                               {"parameters", {{"x1", {{"distribution", "uniform"}, {"min", 0.0}, {"max", 1.0}}}}},
-                               {"design", {{"samples", 20}, {"seed", 1}}},
-                               {"pce", {{"max_degree", 1}, {"bootstrap", 0}}}});
-  const std::string trained = w().out();
-  std::string log;
-  ASSERT_EQ(run_command(rover_binary() + " " + study_args("surrogate", study_file, trained), &log), 0) << log;
+  const LinearSurrogate linear = linear_surrogate(w());
+  const std::string &study_file = linear.study, &trained = linear.model;
   cases.push_back({"--predict --csv over the study file the surrogate was trained on",
                    "surrogate --predict " + trained + " --design " +
                        w().text_file("design", "x1,x2,x3,x4\n0.5,0,0,0\n", "csv") + " --csv " + study_file,
@@ -3866,16 +3879,9 @@ TEST_F(Audit, DeeplyNestedJsonIsRefusedAtOnce) {
 TEST_F(Audit, AnInputHeldOpenForWritingIsLockedNotDamaged) {
   const std::string dir = w().dir();
   const std::string curve = simulated_curve(dir + "/curve.h5");
-  const std::string model_study = w().json_file(
-      "linear_surrogate", Json{{"type", "surrogate"},
-                               {"name", "lin"},
-                               {"model", "linear"},
-                               {"parameters", {{"x1", {{"distribution", "uniform"}, {"min", 0.0}, {"max", 1.0}}}}},
-                               {"design", {{"samples", 20}, {"seed", 1}}},
-                               {"pce", {{"max_degree", 1}, {"bootstrap", 0}}}});
-  const std::string model = w().out();
+  const LinearSurrogate linear = linear_surrogate(w());
+  const std::string& model = linear.model;
   std::string log;
-  ASSERT_EQ(run_command(rover_binary() + " " + study_args("surrogate", model_study, model), &log), 0) << log;
   const std::string design = w().text_file("design", "x1,x2,x3,x4\n0.5,0,0,0\n", "csv");
   struct Reader {
     std::string id, held, args;
