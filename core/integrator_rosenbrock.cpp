@@ -306,10 +306,11 @@ struct SlipRows {
 };
 
 // At a pushing contact `c` with slip speed |v_t| = `slip_speed_mps`, mu and
-// mu' from the tanh its force evaluation kept.
+// mu' from the tanh its force evaluation kept (all 0 at zero slip, as
+// tanh(0) is).
 double friction_speed_scale(const ContactPoint& c, double slip_speed_mps, const FrictionParameters& friction) {
   const double v = std::abs(slip_speed_mps);
-  const MakkarTanh t = v > 0.0 ? c.friction_tanh : makkar_tanh(v, friction.gammas);
+  const MakkarTanh& t = c.friction_tanh;
   const double along = std::abs(makkar_mu_derivative(friction.gammas, t));
   const double across = v > 0.0 ? makkar_mu(v, friction.gammas, t) / v : along;
   return friction.mu_static / std::max(along, across);
