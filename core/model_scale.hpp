@@ -57,6 +57,9 @@ inline constexpr double kMaxCoordinate_m = 1e6;
 inline constexpr double kMinTerrainSpacing_m = 1e-6;
 inline constexpr double kMaxDriveSpeed_mps = 10.0;
 inline constexpr double kMaxYawRate_radps = 10.0;
+// An S-structure joint deflects by degrees under the rover's weight; a
+// quarter turn folds the leg into the chassis.
+inline constexpr double kMaxSStructureDeflection_rad = std::numbers::pi / 2.0;
 inline constexpr double kMaxSharpness_per_rad = 1e8;
 // Below this the transition of atan(f b) is wider than any joint angle: the
 // preload never acts (paper: f 1e2 .. 1e5 1/rad).
@@ -135,6 +138,9 @@ inline const std::string kStribeckBelowScaleReason =
     "a unit mistake (km/s)?";
 inline const std::string kWheelRadiusBelowScaleReason =
     "far below the rover's wheels (8.5 cm radius); a unit mistake (kilometres)?";
+inline const std::string kDeflectionScaleReason =
+    "a quarter turn, where the leg folds into the chassis (an S-structure deflects by degrees); an angle in "
+    "degrees?";
 inline const std::string kDriveScaleReason =
     "far beyond what the rover drives (decimetres per second); a unit mistake?";
 

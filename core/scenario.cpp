@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/integrators.hpp"
 #include "core/number_text.hpp"
 
 namespace rover {
@@ -94,6 +95,13 @@ bool scenario_is_valid(const Scenario& scenario, std::string* why) {
       return fail(why, "rk4: fixed_step " + number_text(scenario.integrator.fixed_step_s) +
                            " s does not divide the output period " + number_text(period) +
                            " s (use the period divided by a whole number)");
+    // The stall watch ends any run slower than this pace as collapsed.
+    const double max_steps = static_cast<double>(StallWatch::kWindowSteps) / StallWatch::kWindowFraction;
+    if (const double run_steps = scenario.duration_s / scenario.integrator.fixed_step_s; run_steps > max_steps)
+      return fail(why, "rk4: fixed_step " + number_text(scenario.integrator.fixed_step_s) + " s takes " +
+                           number_text(run_steps) + " steps over the duration " + number_text(scenario.duration_s) +
+                           " s, more than the " + number_text(max_steps) + " a run may take; use at least " +
+                           number_text(scenario.duration_s / max_steps) + " s");
   }
   return true;
 }

@@ -95,6 +95,7 @@ int run_friction(const FrictionOptions& o) {
           !problem.empty())
         checks.add(std::string(flag) + " " + problem);
   checks.output_file("--png", o.png, /*regular_only=*/true);
+  checks.output_format("--png", o.png, "PNG", ".png");
   checks.distinct_files("--png", o.png, "--config", o.config);
   if (!o.png.empty()) checks.plotter("--png", "give no --png");
   checks.throw_if_any();

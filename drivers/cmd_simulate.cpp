@@ -72,6 +72,7 @@ void check_flags(const SimulateOptions& o) {
   check_overrides(o.overrides, checks);
   check_integrator_flag(checks, o.integrator);
   checks.output_file("--csv", o.csv);
+  checks.output_format("--csv", o.csv, "CSV", ".csv");
   if (!o.out.empty()) check_output_targets(o, "--out", o.out, checks);
   checks.throw_if_any();
 }

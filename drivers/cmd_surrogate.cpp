@@ -62,6 +62,7 @@ int predict(const SurrogateOptions& o) {
   if (o.design_path.empty() || o.csv_path.empty()) checks.add("--predict needs --design X.csv and --csv Y.csv");
   if (o.samples) checks.add("--samples applies to --study, not to --predict");
   checks.output_file("--csv", o.csv_path);
+  checks.output_format("--csv", o.csv_path, "CSV", ".csv");
   checks.distinct_files("--csv", o.csv_path, "--design", o.design_path);
   checks.distinct_files("--csv", o.csv_path, "--predict", o.predict_path);
   checks.throw_if_any();

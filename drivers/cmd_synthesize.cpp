@@ -154,6 +154,7 @@ std::string provenance_comment(const SynthesizeOptions& o, const std::string& sc
 int run_synthesize(const SynthesizeOptions& o) {
   FlagChecks checks;
   checks.output_file("--out", o.out);
+  checks.output_format("--out", o.out, "CSV", ".csv");
   checks.non_negative("--noise", o.noise_m);
   checks.finite("--offset", o.offset_s);
   checks.positive("--rate", o.rate_hz);

@@ -92,7 +92,9 @@ int run_obstacle(const ObstacleOptions& o) {
   // Each flag by name (core/obstacle checks the same ranges by field name).
   FlagChecks checks;
   checks.output_file("--out", o.out, /*regular_only=*/true);
+  checks.output_format("--out", o.out, "JSON", ".json");
   checks.output_file("--png", o.png, /*regular_only=*/true);
+  checks.output_format("--png", o.png, "PNG", ".png");
   checks.distinct_files("--png", o.png, "--out", o.out);
   if (!o.png.empty()) checks.plotter("--png", "give no --png");
   checks.positive("--spacing", o.spacing_m);

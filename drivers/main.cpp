@@ -95,7 +95,8 @@ void collect_empty_values(const CLI::App& app, FlagChecks& checks) {
 // An integer flag takes what a JSON config takes for a count or a seed
 // (io::exact_unsigned_integer): digits, or an integral number written in
 // exponent or decimal form up to 2^53 (--samples 1e3 is 1000, as --seed 1e3
-// and "samples": 1e3 are); 2.5 or 1e-3 are refused as not whole.
+// and "samples": 1e3 are); 2.5 or 1e-3 are refused as not whole, and 0x10 or
+// 0b11 (which CLI11 reads as hexadecimal or binary) as not decimal.
 void read_integral_numbers_as_integers(CLI::App& app) {
   for (CLI::Option* option : app.get_options()) {
     const std::string type = option->get_type_name();  // "INT:INT in [2 - 100000000]" with a range
@@ -106,10 +107,11 @@ void read_integral_numbers_as_integers(CLI::App& app) {
           io::Json number;
           try {
             number = io::parse_json_text(text.substr(negative ? 1 : 0), "flag");
-          } catch (const io::ConfigError&) {  // not a number: CLI11 refuses it as before
-            return std::string();
+          } catch (const io::ConfigError&) {  // 0x10, 1_000: CLI11 would read some of these
+            number = io::Json();
           }
-          if (!number.is_number()) return std::string();
+          if (!number.is_number())
+            return text.empty() ? std::string() : "must be a whole number in decimal digits (as 1000 or 1e3), got " + text;
           const auto value = io::exact_unsigned_integer(number);
           if (!value)  // beyond 2^53 (1e30) the flag's range says so
             return std::trunc(number.get<double>()) == number.get<double>() ? std::string()

@@ -17,7 +17,9 @@
 //     print NaN as null).
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -25,6 +27,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <system_error>
 #include <utility>
 #include <vector>
@@ -103,6 +106,31 @@ class FlagChecks {
       if (const std::string refusal = io::parent_directory_refusal(path); !refusal.empty())
         add(flag + " '" + path + "': " + refusal);
     }
+  }
+
+  // An output named for another format than the one written ("x.h5" for
+  // CSV text): the next program to open it by its name would fail. Names
+  // without one of these extensions (.txt, /dev/stdout) are any format's.
+  // `written`: "CSV", and its extension `written_extension`: ".csv".
+  void output_format(const std::string& flag, const std::string& path, std::string_view written,
+                     std::string_view written_extension) {
+    struct NamedFormat {
+      std::string_view extension, format, article;
+    };
+    static constexpr std::array<NamedFormat, 6> kFormatOfExtension{{{".h5", "HDF5", "an"},
+                                                                    {".hdf5", "HDF5", "an"},
+                                                                    {".csv", "CSV", "a"},
+                                                                    {".json", "JSON", "a"},
+                                                                    {".png", "PNG", "a"},
+                                                                    {".pdf", "PDF", "a"}}};
+    std::string extension = std::filesystem::path(path).extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    for (const auto& [known, format, article] : kFormatOfExtension)
+      if (extension == known && format != written)
+        add(flag + " '" + path + "' ends in " + extension + ", the name of " + std::string(article) + " " +
+            std::string(format) + " file, but " +
+            flag + " writes " + std::string(written) + ": give a name ending in " + std::string(written_extension));
   }
 
   // The plots beside a result file `path` (io::plots_beside_refused): each

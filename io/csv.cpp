@@ -22,6 +22,7 @@
 
 #include "io/json_reader.hpp"
 #include "io/output_target.hpp"
+#include "io/text_encoding.hpp"
 
 namespace rover::io {
 namespace {
@@ -160,6 +161,9 @@ CsvTable read_csv(const std::string& path, const std::vector<std::string>& requi
   while (std::getline(in, line)) {
     ++line_number;
     std::string_view content(line);
+    if (const std::string problem = text_encoding_problem(content); !problem.empty())
+      throw ConfigError(path + ":" + std::to_string(line_number) + ": " + problem +
+                        ": save a CSV file as UTF-8 (plain text)");
     if (line_number == 1 && content.substr(0, kUtf8ByteOrderMark.size()) == kUtf8ByteOrderMark)
       content.remove_prefix(kUtf8ByteOrderMark.size());
     content = trim(content.substr(0, content.find('#')));

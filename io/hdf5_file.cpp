@@ -16,6 +16,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "io/json_reader.hpp"
 #include "io/output_target.hpp"
 
 namespace rover::io {
@@ -568,9 +569,8 @@ bool is_hdf5_file(const std::string& path) {
 
 Hdf5Reader::Hdf5Reader(const std::string& path) : path_(path) {
   prepare_hdf5_library();
-  std::error_code error;
-  if (!std::filesystem::is_regular_file(path_, error))
-    throw std::runtime_error(path_ + ": no such file");
+  if (const std::string problem = input_path_problem(path_, "an HDF5 file"); !problem.empty())
+    throw std::runtime_error(path_ + ": " + problem);
   if (const htri_t hdf5 = H5Fis_hdf5(path_.c_str()); hdf5 <= 0) {
     H5Eclear2(H5E_DEFAULT);
     if (hdf5 < 0 && locked_for_writing(path_)) throw std::runtime_error(locked_input(path_));

@@ -156,10 +156,10 @@ std::vector<std::string> outputs_over_inputs(const std::string& flag, const std:
     destroys(": a plot written beside it (" + plots + ") would replace", *input);
   } else if (const InputFiles::File* next_to = inputs.named_like(dir, name + ".", "")) {
     destroys(": its checkpoint or temporary file (" + output + ".*) would replace", *next_to);
-  } else if (const auto [entry, input] = input_beside(inputs, dir, stem, name); input != nullptr) {
+  } else if (const auto [entry, linked] = input_beside(inputs, dir, stem, name); linked != nullptr) {
     destroys(": " + entry + (entry.ends_with(".png") ? ", a plot written beside it (" + plots + ")," :
                                                       ", its checkpoint or temporary file (" + output + ".*),") +
-                 " is a link to", *input);
+                 " is a link to", *linked);
   }
   return problems;
 }

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "io/nearest_name.hpp"
+#include "io/text_encoding.hpp"
 
 namespace rover::io {
 namespace {
@@ -155,6 +156,15 @@ class StrictDomBuilder final : public nlohmann::json_sax<Json> {
   std::string error_;
 };
 
+// "a pipe", "a device", ... for a file that exists and is not a regular file.
+std::string special_file_kind(const std::filesystem::file_status& status) {
+  namespace fs = std::filesystem;
+  if (fs::is_fifo(status)) return "a pipe";
+  if (fs::is_character_file(status) || fs::is_block_file(status)) return "a device";
+  if (fs::is_socket(status)) return "a socket";
+  return "a special file";
+}
+
 }  // namespace
 
 std::size_t json_nesting_excess(const std::string& text) {
@@ -182,7 +192,10 @@ Json parse_json_quietly(const std::string& text) {
   return Json::parse(text, nullptr, /*allow_exceptions=*/false, /*ignore_comments=*/true);
 }
 
+
 Json parse_json_text(const std::string& text, const std::string& source) {
+  if (const std::string problem = text_encoding_problem(text); !problem.empty())
+    throw ConfigError(source + ": " + problem + ": save a config as UTF-8 (plain JSON text)");
   // Refused before any parsing: the builder's field paths grow with the depth.
   if (const std::size_t excess = json_nesting_excess(text); excess != std::string::npos)
     throw ConfigError(source + ":" + line_and_column(text, excess) + ": objects and arrays nested deeper than " +
@@ -206,6 +219,10 @@ std::string input_path_problem(const std::string& path, const std::string& kind)
     return "cannot be reached (" + error.message() +
            (error == std::errc::too_many_symbolic_link_levels ? ": a symbolic link that leads back to itself?)" : ")");
   if (!fs::exists(status)) return "no such file";
+  if (!fs::is_regular_file(status))
+    return "is " + special_file_kind(status) + ", not " + kind +
+           ": rover reads an input more than once (on every MPI rank, and again for the fingerprint --resume "
+           "checks), which only a file can give; save it to a file";
   return "";
 }
 

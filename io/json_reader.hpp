@@ -41,7 +41,8 @@ Json read_json_file(const std::string& path);
 
 // Why `path` names no file to read, or empty: "no such file", "is a
 // directory, not <kind>" ("a JSON file"), "cannot be reached (Too many levels
-// of symbolic links: a link that leads back to itself?)".
+// of symbolic links: a link that leads back to itself?)", "is a pipe, not
+// <kind>: ..." (an input is read more than once: only a regular file will do).
 std::string input_path_problem(const std::string& path, const std::string& kind);
 
 // The same for JSON text; `source` names it in messages (a file name).

@@ -370,6 +370,20 @@ WheelPenetration deepest_wheel_penetration(const RoverModel& model, const Coordi
   return deepest;
 }
 
+std::string joint_angle_problem(const RoverModel& model, const Coordinates& q) {
+  for (int leg = 0; leg < kNumLegs; ++leg) {
+    for (const int joint : {coord::s_joint(leg, 0), coord::s_joint(leg, 1)})
+      if (const std::string p = beyond_scale(q[joint], kMaxSStructureDeflection_rad, "rad", kDeflectionScaleReason);
+          !p.empty())
+        return std::string(kCoordinateNames[joint]) + " = " + p;
+    const int steer = coord::steer(leg);
+    if (const double limit = model.parameters.steering.limit_rad; !(std::abs(q[steer]) <= limit))
+      return std::string(kCoordinateNames[steer]) + " = " + number_text(q[steer]) +
+             " rad is beyond the steering end-stop +-" + number_text(limit) + " rad";
+  }
+  return "";
+}
+
 std::string resolve_relative(const std::string& config_path, const std::string& path) {
   const std::filesystem::path p(path);
   if (p.is_absolute()) return path;
@@ -540,6 +554,8 @@ void parse_initial_state(const JsonReader& r, const ScenarioSources& sources, Sc
   } else {
     s.initial_q = parse_named_coordinates(r, "initial_q");
   }
+  if (const std::string problem = joint_angle_problem(setup.model, s.initial_q); !problem.empty())
+    r.fail("initial_q", problem);
   s.initial_u = parse_named_coordinates(r, "initial_u", s.initial_u);
   if (r.has("forward_speed")) {
     const double v = r.number("forward_speed");

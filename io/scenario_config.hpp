@@ -75,6 +75,11 @@ struct WheelPenetration {
 };
 WheelPenetration deepest_wheel_penetration(const RoverModel& model, const Coordinates& q);
 
+// What is wrong with the joint angles of pose q ("b12 = 100 rad is beyond
+// ..."): an S-structure deflection beyond kMaxSStructureDeflection_rad or a
+// steering angle beyond the end-stop; "" when nothing is.
+std::string joint_angle_problem(const RoverModel& model, const Coordinates& q);
+
 // The "drive" block (see above) for a rover with these driving kinematics.
 struct DriveConfig {
   DriveSchedule schedule;

@@ -194,6 +194,12 @@ int interrupted(const std::string& command, const StudyInterrupted& e) {
   return StudyInterrupted::kExitCode;
 }
 
+int interrupted_after_commit(const std::string& command, const std::string& results_path) {
+  std::cerr << "rover " << command << ": interrupted (" << InterruptGuard::signal_name() << ") after "
+            << results_path << " was written: it is complete; plots not yet drawn were skipped\n";
+  return StudyInterrupted::kExitCode;
+}
+
 StudyInterrupted interruption(const StudyRunOptions& options) {
   const std::string checkpoint = io::ResultCheckpoint::path_for(options.results_path);
   std::error_code error;

@@ -192,6 +192,10 @@ StudyInterrupted interruption(const StudyRunOptions& options);
 // std::invalid_argument on every rank if another process holds it.
 std::unique_ptr<io::OutputLock> lock_output(const std::string& results_path);
 
+// Rank 0: says that a signal came once `results_path` was complete (while the
+// report or the plots were made); returns the interrupted exit status.
+int interrupted_after_commit(const std::string& command, const std::string& results_path);
+
 // Rank 0: says that a dry run checked everything and ran nothing.
 void report_dry_run(const std::string& command, const std::string& results_path);
 
@@ -241,12 +245,16 @@ int drive_study(const StudyProgram<Result>& study, const StudyRunOptions& option
     } else {
       if (study.provenance) study.provenance(*h5);
       study.write(result, *h5);
+      driver_detail::stop_if_interrupted(runtime.options);  // while writing: uncommitted, the checkpoint kept
     }
     driver_detail::commit(study.command, out, h5.get(), counts);
     if (study.report) study.report(result, std::cerr);
     const bool every_run_failed = counts.runs > 0 && counts.failed == counts.runs;
-    if (study.plot && options.plots != PlotSelection::kNone && !every_run_failed)
+    if (study.plot && options.plots != PlotSelection::kNone && !every_run_failed) {
+      if (InterruptGuard::flag().load()) return driver_detail::interrupted_after_commit(study.command, out);
       study.plot(result, out, options.plots);
+    }
+    if (InterruptGuard::flag().load()) return driver_detail::interrupted_after_commit(study.command, out);
     const int status = driver_detail::exit_status(study.command, out, counts, study.status_when_some_failed);
     return study.verdict ? std::max(status, study.verdict(result)) : status;
   } catch (const StudyInterrupted& e) {

@@ -13,6 +13,7 @@
 
 #include "study/estimators/splitmix64.hpp"
 #include "study/surrogate/matern_kernel.hpp"
+#include "study/surrogate/output_magnitude.hpp"
 
 namespace rover::study {
 namespace {
@@ -86,6 +87,8 @@ void check_data(const DesignMatrix& x, const Eigen::VectorXd& y, const GaussianP
       throw std::invalid_argument("Gaussian process: output '" + name + "' or its inputs are not "
                                   "finite at run " + std::to_string(r) +
                                   "; drop failed runs before fitting");
+  if (const std::string problem = output_magnitude_problem(y, name); !problem.empty())
+    throw std::invalid_argument("Gaussian process: " + problem);
   const double variance = (y.array() - y.mean()).square().mean();
   if (!(variance > kConstantOutputRelativeVariance * y.squaredNorm() / static_cast<double>(y.size())))
     throw std::invalid_argument("Gaussian process: output '" + name + "' is constant over its " +

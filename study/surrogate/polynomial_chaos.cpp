@@ -10,6 +10,7 @@
 #include "study/estimators/work_stopped.hpp"
 #include "study/surrogate/lars.hpp"
 #include "study/surrogate/least_squares_loo.hpp"
+#include "study/surrogate/output_magnitude.hpp"
 #include "study/surrogate/pce_basis.hpp"
 
 namespace rover::study {
@@ -37,7 +38,14 @@ double sample_variance(const Eigen::VectorXd& y) {
   return (y.array() - y.mean()).square().sum() / static_cast<double>(y.size());
 }
 
+// The mean of y without overflow: of 1e308 in every run, 1e308.
+double scaled_mean(const Eigen::VectorXd& y) {
+  const double scale = y.cwiseAbs().maxCoeff();
+  return scale > 0.0 ? scale * (y / scale).mean() : 0.0;
+}
+
 bool is_constant(const Eigen::VectorXd& y) {
+  if (y.minCoeff() == y.maxCoeff()) return true;
   const double v = sample_variance(y);
   return v == 0.0 || v <= kConstantOutputRelativeVariance * y.squaredNorm() / static_cast<double>(y.size());
 }
@@ -120,12 +128,12 @@ PolynomialChaosExpansion constant_expansion(const Eigen::VectorXd& y,
   e.inputs = inputs;
   for (const Distribution& d : inputs) e.families.push_back(polynomial_family_for(d));
   e.multi_indices.push_back(MultiIndex(inputs.size(), 0));
-  e.coefficients = Eigen::VectorXd::Constant(1, y.mean());
+  e.coefficients = Eigen::VectorXd::Constant(1, scaled_mean(y));
   e.candidate_terms = 1;
   e.runs = static_cast<int>(y.size());
   e.constant_output = true;
   e.validation.q2_loo = 1.0;
-  e.validation.warning = "output '" + name + "' is constant (" + value_text(y.mean()) + ") over " +
+  e.validation.warning = "output '" + name + "' is constant (" + value_text(scaled_mean(y)) + ") over " +
                          std::to_string(y.size()) +
                          " runs: its variance is zero and its sensitivity indices are undefined";
   return e;
@@ -174,6 +182,8 @@ PolynomialChaosExpansion fit_polynomial_chaos(const DesignMatrix& x, const Eigen
                                 name + "'; the requested basis needs at least " +
                                 std::to_string(needed));
   if (is_constant(y)) return constant_expansion(y, inputs, name);
+  if (const std::string problem = output_magnitude_problem(y, name); !problem.empty())
+    throw std::invalid_argument("polynomial chaos: " + problem);
   const double variance = sample_variance(y);
   DegreeFit best;
   int best_degree = 0, without_improvement = 0;

@@ -1,0 +1,22 @@
+// See text_encoding.hpp.
+#include "io/text_encoding.hpp"
+
+namespace rover::io {
+namespace {
+
+// A NUL byte among a text's first 4 bytes: UTF-16 or UTF-32 without a byte-order mark.
+constexpr std::size_t kEncodingProbeBytes = 4;
+
+}  // namespace
+
+std::string text_encoding_problem(std::string_view text) {
+  using namespace std::string_view_literals;
+  if (text.starts_with("\x00\x00\xFE\xFF"sv) || text.starts_with("\xFF\xFE\x00\x00"sv)) return "is UTF-32 text";
+  if (text.starts_with("\xFE\xFF"sv) || text.starts_with("\xFF\xFE"sv)) return "is UTF-16 text";
+  const std::size_t nul = text.find('\0');
+  if (nul == std::string_view::npos) return "";
+  if (nul < kEncodingProbeBytes) return "holds NUL bytes from its first characters on (UTF-16 or UTF-32 text?)";
+  return "holds a NUL byte at byte " + std::to_string(nul + 1) + " (a binary file?)";
+}
+
+}  // namespace rover::io

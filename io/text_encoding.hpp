@@ -1,0 +1,15 @@
+// The encoding of text inputs. JSON configs and CSV curves are UTF-8 (RFC 8259,
+// section 8.1); a file saved as UTF-16 or UTF-32, as some Windows editors do,
+// holds NUL bytes and would otherwise reach the parsers as garbled names.
+#pragma once
+
+#include <string>
+#include <string_view>
+
+namespace rover::io {
+
+// What is wrong with `text` as UTF-8 text ("is UTF-16 text", "holds a NUL
+// byte ..."), or "" when nothing is. `text` is a whole file or its first line.
+std::string text_encoding_problem(std::string_view text);
+
+}  // namespace rover::io
