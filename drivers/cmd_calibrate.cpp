@@ -94,9 +94,9 @@ void refuse_flags_that_do_not_apply(const CalibrateOptions& o, const study::Cali
 study::CalibrationStudy load_study(const CalibrateOptions& o) {
   check_flag_inputs(o);
   study::CalibrationOverrides overrides = o.overrides;
-  std::stringstream names(o.fit);
-  for (std::string name; std::getline(names, name, ',');)
-    if (!name.empty()) overrides.fit.push_back(name);
+  FlagChecks checks;
+  overrides.fit = split_names("--fit", o.fit, checks);
+  checks.throw_if_any();
   return study::load_calibration_study(o.study_path, overrides);
 }
 

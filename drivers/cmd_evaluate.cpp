@@ -15,15 +15,6 @@
 namespace rover::cli {
 namespace {
 
-std::vector<std::string> split_list(const std::string& text) {
-  std::vector<std::string> out;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ','))
-    if (!item.empty()) out.push_back(item);
-  return out;
-}
-
 // A name given twice in a list flag: every run would compute it twice, and
 // the results would hold two columns of one name (an .h5 refuses the second
 // after all the runs).
@@ -40,10 +31,10 @@ struct EvaluateOptions {
 };
 
 study::StudyProgram<study::EvaluateResult> load(EvaluateOptions& o) {
-  o.request.qoi_names = split_list(o.qoi);
-  o.request.channel_names = split_list(o.channels);
-  o.request.out_path = o.run.results_path;
   FlagChecks checks;
+  o.request.qoi_names = split_names("--qoi", o.qoi, checks);
+  o.request.channel_names = split_names("--channels", o.channels, checks);
+  o.request.out_path = o.run.results_path;
   for (const std::string& q : o.request.qoi_names) {
     try {
       study::qoi_kind_from_name(q);

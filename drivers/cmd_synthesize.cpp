@@ -104,8 +104,7 @@ IntegratorSettings data_integrator(const IntegratorSettings& asked, const std::s
   const std::optional<double> expected = expected_error_m(asked);
   if (expected && *expected <= accuracy_m) return asked;
   const IntegratorChoice chosen = integrator_for_accuracy(accuracy_m);
-  std::cerr << "synthesize: " << asked_by << " (" << integrator_name(asked.method) << ", rtol "
-            << asked.relative_tolerance << ", atol " << asked.absolute_tolerance << ") "
+  std::cerr << "synthesize: " << asked_by << " (" << study::describe_integrator(asked) << ") "
             << (expected ? "errs by up to " + number_text(*expected) + " m RMS on the paper's five scenarios"
                          : std::string("has no measured error"))
             << "; the data need an integration error below " << number_text(accuracy_m) << " m ("

@@ -177,7 +177,8 @@ const RegisterCommand terrain_command{
       app.footer(
           "Terrain files are JSON: {\"type\": \"flat\", \"height\": 0}, {\"type\": \"grid\", "
           "\"origin\", \"spacing\", \"counts\", \"heights\"} or {\"type\": \"control_points\", "
-          "...}; see io/terrain_json.hpp. Any simulation takes one with --terrain FILE.");
+          "...} (docs/configuration.md, \"Terrain files\"). A scenario names one in its \"terrain\" field; "
+          "rover eom takes one with --terrain FILE.");
 
       auto o = std::make_shared<ObstacleOptions>();
       CLI::App* obstacle = app.add_subcommand(

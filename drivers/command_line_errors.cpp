@@ -118,6 +118,7 @@ std::string extras_text(const std::string& list, const CLI::App* sub, bool after
 // "--study 'x.json': no such file", "--progress-interval must be from 1 to 86400, got 0", ...
 std::string validation_text(const std::string& what) {
   const auto [name, message] = name_and_message(what);
+  if (message.starts_with(kGivenNoValue)) return name + " " + message;  // as collect_empty_values says it
   std::string rest;
   if (after(message, "File does not exist: ", &rest)) {  // or cannot be reached: a link loop, a closed folder
     const std::string problem = io::input_path_problem(rest, "a file");

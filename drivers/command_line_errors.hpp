@@ -21,6 +21,11 @@ namespace rover::cli {
 // The nearest known name to a mistyped one (io/nearest_name.hpp).
 using io::nearest_name;
 
+// How an option whose value is missing is reported ("--out was given no
+// value: the word after it, '--no-plot', is an option of its own"), whether
+// CLI11 took the next option as its value or a validator refused it.
+inline constexpr std::string_view kGivenNoValue = "was given no value";
+
 // The lines to print for `error`, raised while parsing the command line of
 // `command` (the subcommands typed, "terrain obstacle"; empty when none was
 // recognised): "rover <command>: error: ...", then a pointer to --help.

@@ -24,7 +24,7 @@ int launcher_rank() {
 
 std::string one_process_refusal(int size) {
   return "runs on one process, but mpirun started " + std::to_string(size) +
-         " (every one would write the same outputs): run it without mpirun";
+         " (every one would do the same work and print or write the same): run it without mpirun";
 }
 
 }  // namespace rover::cli

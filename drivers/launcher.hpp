@@ -17,8 +17,8 @@ int launcher_size();
 // 1 beside it (one set by hand, say) is no job: the messages stay printed.
 int launcher_rank();
 
-// "runs on one process, but mpirun started 2 (every one would write the
-// same outputs): run it without mpirun".
+// "runs on one process, but mpirun started 2 (every one would do the same
+// work and print or write the same): run it without mpirun".
 std::string one_process_refusal(int size);
 
 }  // namespace rover::cli

@@ -86,7 +86,7 @@ void collect_empty_values(const CLI::App& app, FlagChecks& checks) {
       if (value.find_first_not_of(" \t") == std::string::npos)
         checks.add(option->get_name() + " was given an empty value");
       else if (is_option_name(app, value))
-        checks.add(option->get_name() + " was given no value: the word after it, '" + value +
+        checks.add(option->get_name() + " " + std::string(kGivenNoValue) + ": the word after it, '" + value +
                    "', is an option of its own");
   }
   for (const CLI::App* sub : app.get_subcommands()) collect_empty_values(*sub, checks);
@@ -110,6 +110,8 @@ void read_integral_numbers_as_integers(CLI::App& app) {
           } catch (const io::ConfigError&) {  // 0x10, 1_000: CLI11 would read some of these
             number = io::Json();
           }
+          if (text.starts_with("--"))  // `--samples --dry-run`: CLI11 took the next option as the value
+            return std::string(kGivenNoValue) + ": the word after it, '" + text + "', is an option of its own";
           if (!number.is_number())
             return text.empty() ? std::string() : "must be a whole number in decimal digits (as 1000 or 1e3), got " + text;
           const auto value = io::exact_unsigned_integer(number);

@@ -93,9 +93,11 @@ class FlagChecks {
     // The files a study keeps beside its result (io/checkpoint.hpp, io/output_lock.hpp).
     for (const std::string suffix : {".checkpoint", ".lock"})
       if (path.ends_with(suffix)) {
-        add(flag + " '" + path + "' ends in " + suffix + ", the name of a study's " +
-            (suffix == ".lock" ? "lock" : "checkpoint (its finished runs)") +
-            " beside its result, which a study reads, replaces and removes: give another name");
+        add(flag + " '" + path + "' ends in " + suffix + ", the name of " +
+            (suffix == ".lock" ? "the lock rover holds beside an output while it writes it"
+                               : "a study's checkpoint (its finished runs) beside its result, which a study "
+                                 "reads, replaces and removes") +
+            ": give another name");
         return;
       }
     const io::OutputTarget target =
@@ -247,6 +249,25 @@ inline void check_integrator_flag(FlagChecks& checks, const std::string& name) {
   }
 }
 
+// The names of a comma-separated list flag (--qoi B_l_z_min,t_min), each
+// trimmed of spaces; an empty name (a stray comma) is a problem added to
+// `checks`.
+inline std::vector<std::string> split_names(const std::string& flag, const std::string& text, FlagChecks& checks) {
+  std::vector<std::string> names;
+  std::stringstream ss(text + ",");  // a trailing comma leaves an empty last item
+  std::size_t position = 0;
+  for (std::string item; std::getline(ss, item, ',');) {
+    ++position;
+    const std::size_t begin = item.find_first_not_of(" \t"), end = item.find_last_not_of(" \t");
+    if (begin == std::string::npos) {
+      if (!text.empty()) checks.add(flag + " '" + text + "': name " + std::to_string(position) + " is empty (a stray comma?)");
+      continue;
+    }
+    names.push_back(item.substr(begin, end - begin + 1));
+  }
+  return names;
+}
+
 // The 8 preloads of --M0, or the problems with them added to `checks`.
 inline std::optional<std::array<double, kNumSJoints>> parse_preloads(const std::string& text,
                                                                       FlagChecks& checks) {
@@ -331,10 +352,10 @@ inline std::string resolve_default_path(const std::string& relative, const std::
   std::error_code error;
   if (fs::exists(relative, error)) return relative;
   const fs::path executable = fs::read_symlink("/proc/self/exe", error);
+  constexpr int kSearchedLevels = 4;  // build/drivers/rover and deeper build trees
   if (!error) {
-    constexpr int kLevelsAbove = 4;  // build/drivers/rover and deeper build trees
     fs::path dir = executable.parent_path();
-    for (int level = 0; level < kLevelsAbove && !dir.empty(); ++level, dir = dir.parent_path()) {
+    for (int level = 0; level < kSearchedLevels && !dir.empty(); ++level, dir = dir.parent_path()) {
       const fs::path candidate = dir / relative;
       if (fs::is_regular_file(candidate, error)) return candidate.lexically_normal().string();
       if (dir == dir.root_path()) break;
@@ -343,8 +364,10 @@ inline std::string resolve_default_path(const std::string& relative, const std::
   throw std::invalid_argument("the default " + flag + " " + relative +
                               " exists neither in the working directory (" +
                               fs::current_path(error).string() +
-                              ") nor in the repository of this program (" +
-                              executable.string() + "); run from the repository root or pass " +
+                              ") nor in the " + std::to_string(kSearchedLevels) +
+                              " directories above this program (" + executable.string() +
+                              ", which a build of the repository puts in build/drivers/); run from the "
+                              "repository root or pass " +
                               flag + " FILE");
 }
 

@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "io/json_syntax_message.hpp"
 #include "io/nearest_name.hpp"
 #include "io/text_encoding.hpp"
 
@@ -103,7 +104,7 @@ class StrictDomBuilder final : public nlohmann::json_sax<Json> {
     if (const std::size_t column = reason.find("column "); column != std::string::npos)
       if (const std::size_t colon = reason.find(": ", column); colon != std::string::npos)
         reason = reason.substr(colon + 2);
-    error_ = where + "invalid JSON: " + reason;
+    error_ = where + "invalid JSON: " + json_syntax_problem(reason, text_, offending);
     return false;
   }
 
@@ -194,8 +195,11 @@ Json parse_json_quietly(const std::string& text) {
 
 
 Json parse_json_text(const std::string& text, const std::string& source) {
-  if (const std::string problem = text_encoding_problem(text); !problem.empty())
-    throw ConfigError(source + ": " + problem + ": save a config as UTF-8 (plain JSON text)");
+  if (const std::string problem = text_encoding_problem(text); !problem.empty()) {
+    const bool binary = problem.starts_with("holds a NUL byte");  // not UTF-16: where it is helps
+    throw ConfigError(source + (binary ? ":" + line_and_column(text, text.find('\0')) : std::string()) + ": " +
+                      problem + ": save a config as UTF-8 (plain JSON text)");
+  }
   // Refused before any parsing: the builder's field paths grow with the depth.
   if (const std::size_t excess = json_nesting_excess(text); excess != std::string::npos)
     throw ConfigError(source + ":" + line_and_column(text, excess) + ": objects and arrays nested deeper than " +

@@ -195,6 +195,10 @@ std::string parent_directory_refusal(const std::string& output) {
   // and removing it again (permissions alone do not tell: root, /proc).
   fs::path first = dir;
   while (first.parent_path() != existing && !first.parent_path().empty()) first = first.parent_path();
+  if (fs::is_symlink(fs::symlink_status(first, error)))  // exists() followed it to nothing
+    return "cannot create the directory '" + dir.string() + "': '" + first.string() +
+           "' is a symbolic link to '" + fs::read_symlink(first, error).string() +
+           "', which does not exist; create its target or give another path";
   if (::mkdir(first.c_str(), 0777) != 0)
     return "cannot create the directory '" + dir.string() + "' (" + std::strerror(errno) + ")";
   fs::remove(first, error);

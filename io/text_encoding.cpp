@@ -16,7 +16,7 @@ std::string text_encoding_problem(std::string_view text) {
   const std::size_t nul = text.find('\0');
   if (nul == std::string_view::npos) return "";
   if (nul < kEncodingProbeBytes) return "holds NUL bytes from its first characters on (UTF-16 or UTF-32 text?)";
-  return "holds a NUL byte at byte " + std::to_string(nul + 1) + " (a binary file?)";
+  return "holds a NUL byte (a binary file?)";
 }
 
 }  // namespace rover::io

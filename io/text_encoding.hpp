@@ -9,7 +9,8 @@
 namespace rover::io {
 
 // What is wrong with `text` as UTF-8 text ("is UTF-16 text", "holds a NUL
-// byte ..."), or "" when nothing is. `text` is a whole file or its first line.
+// byte ..."), or "" when nothing is. `text` is a whole file or one line; the
+// caller says where its first NUL byte is.
 std::string text_encoding_problem(std::string_view text);
 
 }  // namespace rover::io

@@ -173,9 +173,9 @@ std::string ParameterSpace::canonical(const std::string& name) const {
   const std::string target = table.count(name) ? table.at(name) : name;
   if (std::binary_search(names_.begin(), names_.end(), target)) return target;
   if (target.rfind(kScenarioPrefix, 0) == 0 && time_grid_key(target.substr(std::string(kScenarioPrefix).size())))
-    throw std::invalid_argument("parameter '" + name + "' sets the length or rate of the runs, which every run of " +
-                                "a study shares (one time grid for the curves and bands): it cannot vary; run " +
-                                "a study per value instead");
+    throw std::invalid_argument("parameter '" + name + "' sets the length or output rate of the runs, which "
+                                "cannot vary from run to run (every run is recorded on its scenario's one time "
+                                "grid): set it in the scenario file, or run one study per value");
   std::vector<std::string> all = names_;
   for (const auto& [alias, t] : table) all.push_back(alias);
   std::sort(all.begin(), all.end(), [&](const std::string& a, const std::string& b) {

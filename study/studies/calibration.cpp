@@ -150,10 +150,13 @@ CalibrationEstimate estimate_calibration(const CalibrationStudy& s, const StudyR
 }
 
 std::string describe_integrator(const IntegratorSettings& i) {
+  if (i.method == IntegratorMethod::kRungeKutta4)
+    return std::string(integrator_name(i.method)) + " with fixed step " + format_number(i.fixed_step_s, 3) +
+           " s (no error control)";
   std::string text = std::string(integrator_name(i.method)) + " at rtol " + format_number(i.relative_tolerance, 3) +
                      ", atol " + format_number(i.absolute_tolerance, 3);
   // The slip tolerance only where a stiff method runs at another than its default.
-  if (i.method != IntegratorMethod::kDormandPrince45 && i.method != IntegratorMethod::kRungeKutta4 &&
+  if (i.method != IntegratorMethod::kDormandPrince45 &&
       i.slip_tolerance != default_integrator_settings(i.method).slip_tolerance)
     text += ", slip_tol " + format_number(i.slip_tolerance, 3);
   return text;

@@ -422,10 +422,10 @@ TEST_F(Audit, RoverFile) {
   // Syntax errors: "file:line:column: field '...'".
   std::string trailing = shipped;
   trailing.replace(trailing.find("\"sigma\": 1.8}"), 13, "\"sigma\": 1.8,}");
-  raw_case("trailing comma", trailing, {"'contact.sigma'", "syntax error"});
+  raw_case("trailing comma", trailing, {"'contact.sigma'", "a comma before '}'"});
   std::string nul = shipped;
   nul[nul.find("9.81")] = '\0';
-  raw_case("NUL byte", nul, {"'gravity'", "syntax error"});
+  raw_case("NUL byte", nul, {"holds a NUL byte"});
   raw_case("empty file", "", {":1:1:"});
   raw_case("a top-level array", "[" + shipped + "]", {"<top level>"});
   std::string beyond = shipped;
@@ -512,7 +512,7 @@ TEST_F(Audit, ScenarioFile) {
   }
   raw_case("byte-order mark and CRLF", crlf, Want::kRuns, {});
   raw_case("a top-level string", "\"quick\"", Want::kError, {"<top level>"});
-  raw_case("NUL inside a string", std::string("{\"name\": \"q\0x\"}", 15), Want::kError, {"'name'", "syntax error"});
+  raw_case("NUL inside a string", std::string("{\"name\": \"q\0x\"}", 15), Want::kError, {":1:13:", "holds a NUL byte"});
   // Paths that are not regular readable JSON files.
   cases.push_back({"scenario is missing", simulate(w().dir() + "/none.json"), Want::kError,
                    {"--scenario", w().dir() + "/none.json"}});
@@ -3448,9 +3448,10 @@ TEST_F(Audit, NoiseFarAboveTheResidualsAndTheReferenceUnchecked) {
 // channel: a study's rms_vs reference, a surface's reference file, compare,
 // a calibration's data.
 TEST_F(Audit, CurvesAreReadAsTheChannelTheyDeclare) {
-  for (const auto& entry : fs::directory_iterator(source_path("configs/data")))
-    if (entry.path().extension() == ".csv")
-      EXPECT_NE(io::declared_channel(entry.path().string()), "") << entry.path() << " declares no channel";
+  for (const auto& entry : fs::directory_iterator(source_path("configs/data"))) {
+    if (entry.path().extension() != ".csv") continue;
+    EXPECT_NE(io::declared_channel(entry.path().string()), "") << entry.path() << " declares no channel";
+  }
   std::vector<Case> cases;
   const std::string g_z = w().out("csv");
   std::string log;
@@ -4248,6 +4249,109 @@ TEST_F(Audit, MessagesNameWhatWasGiven) {
                        {"pce", {{"max_degree", 1}, {"bootstrap", 0}}}});
   cases.push_back({"a QoI of 1e308 in every run", study("surrogate", constant), Want::kRuns,
                    {"the QoI is constant over the 20 runs (1e+308)"}, {}, {}, {"0000000000"}});
+  run_table(dir, cases);
+}
+
+// Inputs in the wrong encoding, numbers in the wrong base, outputs under the
+// wrong format's name, and settings no run can finish: refused before any run,
+// by what was typed and where.
+TEST_F(Audit, EncodingsFormatsAndUnfinishableSettings) {
+  const std::string dir = w().dir();
+  std::vector<Case> cases;
+  // UTF-16 text (with and without a byte-order mark) and NUL bytes.
+  const std::string mc_text = file_bytes(w().montecarlo([](Json&) {}));
+  std::string utf16 = "\xFF\xFE", utf16_bare;
+  for (const char c : mc_text) {
+    utf16 += c, utf16 += '\0';
+    utf16_bare += c, utf16_bare += '\0';
+  }
+  const std::string utf16_study = w().text_file("utf16", utf16), bare_study = w().text_file("bare16", utf16_bare);
+  cases.push_back({"a UTF-16 study", study("montecarlo", utf16_study), Want::kError,
+                   {utf16_study + ": is UTF-16 text", "save a config as UTF-8"}, {}, {}, {"invalid JSON", "literal"}});
+  cases.push_back({"a UTF-16 study without a mark", study("montecarlo", bare_study), Want::kError,
+                   {bare_study + ": holds NUL bytes from its first characters on"}});
+  std::string data16 = "\xFF\xFE";
+  for (const char c : measured_text("\n")) data16 += c, data16 += '\0';
+  const std::string data16_path = w().text_file("data16", data16, "csv");
+  cases.push_back({"UTF-16 measured data", study("calibrate", w().calibration([&](Json& j) { j["data"] = data16_path; })),
+                   Want::kError, {data16_path + ":1: is UTF-16 text", "save a CSV file as UTF-8"}, {}, {},
+                   {"missing column"}});
+  // Integer flags in decimal only; a missing value named as such.
+  const std::string mc = w().montecarlo([](Json&) {});
+  cases.push_back({"--samples 0x10", study("montecarlo", mc) + " --samples 0x10 --dry-run", Want::kError,
+                   {"--samples", "decimal digits", "0x10"}});
+  cases.push_back({"--samples 0b11", study("montecarlo", mc) + " --samples 0b11 --dry-run", Want::kError,
+                   {"--samples", "0b11"}});
+  cases.push_back({"--samples --dry-run", study("montecarlo", mc) + " --samples --dry-run", Want::kError,
+                   {"--samples was given no value: the word after it, '--dry-run', is an option of its own"}});
+  // Outputs named for another format.
+  cases.push_back({"simulate --csv x.h5", simulate(w().quick()) + " --csv " + dir + "/x.h5", Want::kError,
+                   {"--csv '" + dir + "/x.h5' ends in .h5, the name of an HDF5 file", "give a name ending in .csv"},
+                   absent_file(dir + "/x.h5")});
+  cases.push_back({"synthesize --out x.PNG", "synthesize --scenario " + w().quick() + " --out " + dir + "/x.PNG",
+                   Want::kError, {"ends in .png, the name of a PNG file", "--out writes CSV"}});
+  cases.push_back({"terrain --out t.csv", "terrain obstacle --out " + dir + "/t.csv", Want::kError,
+                   {"--out '" + dir + "/t.csv'", "writes JSON"}});
+  cases.push_back({"simulate --csv x.txt", simulate(w().quick()) + " --csv " + dir + "/x.txt", Want::kRuns, {}});
+  // Settings no run can finish, and angles no rover reaches.
+  cases.push_back({"rk4 at 1e-12 s", simulate(w().scenario([](Json& j) {
+                     j["integrator"] = {{"method", "rk4"}, {"fixed_step", 1e-12}};
+                   })),
+                   Want::kError, {"rk4: fixed_step 1e-12 s takes", "use at least"}, {}, {}, {"collapsed"}});
+  cases.push_back({"an S-structure deflection of 100 rad", simulate(w().scenario([](Json& j) {
+                     j["initial_q"]["b12"] = 100;
+                   })),
+                   Want::kError, {"'initial_q'", "b12 = 100 rad is beyond", "a quarter turn"}});
+  cases.push_back({"a steering angle beyond the end-stop", simulate(w().scenario([](Json& j) {
+                     j["initial_q"]["d3"] = 2.5;
+                   })),
+                   Want::kError, {"'initial_q'", "d3 = 2.5 rad is beyond the steering end-stop"}});
+  std::vector<double> q(23, 0.0);
+  q[2] = 0.281, q[9] = -100.0;
+  cases.push_back({"eom at a deflection of 100 rad",
+                   "eom --state " + w().json_file("state", Json{{"q", q}, {"u", std::vector<double>(23, 0.0)}}),
+                   Want::kError, {"'q'", "b21 = -100 rad is beyond"}});
+  cases.push_back({"rk4 named in the banner", study("montecarlo", w().montecarlo([](Json& j) {
+                     j["integrator"] = {{"method", "rk4"}, {"fixed_step", 1e-3}};
+                   })) + " --dry-run",
+                   Want::kRuns, {}, {}, {}, {"rk4 at rtol"}});
+  run_table(dir, cases);
+}
+
+// Plain words for JSON typos; lists, links, locks and launchers named as
+// they are.
+TEST_F(Audit, PlainWordsForTyposLinksAndLaunchers) {
+  const std::string dir = w().dir();
+  std::vector<Case> cases;
+  const std::string trailing = w().text_file("trailing", "{\"type\": \"montecarlo\", \"name\": \"x\",}");
+  cases.push_back({"a trailing comma", study("montecarlo", trailing), Want::kError,
+                   {trailing + ":1:", "a comma before '}'"}, {}, {}, {"syntax error while", "string literal"}});
+  const std::string quotes = w().text_file("quotes", "{'type': 'montecarlo'}");
+  cases.push_back({"single quotes", study("montecarlo", quotes), Want::kError, {"single quotes"}, {}, {},
+                   {"last read"}});
+  const std::string nan_value = w().text_file("nan", "{\"type\": \"montecarlo\", \"seed\": NaN}");
+  cases.push_back({"NaN", study("montecarlo", nan_value), Want::kError, {"'NaN' is not a JSON number"}});
+  const std::string design = w().text_file("design", "c_q,c_q\n0.1,0.2\n", "csv");
+  cases.push_back({"a design column twice", "evaluate --scenario " + w().quick() + " --design " + design + " --out " +
+                                                w().out("csv"),
+                   Want::kError, {design + ":1:", "column 'c_q' is given twice (columns 1 and 2)"}});
+  cases.push_back({"--qoi with a stray comma", "evaluate --scenario " + w().quick() + " --design " +
+                                                   w().text_file("d", "c_q\n0.1\n", "csv") + " --qoi B_l_z_min, --out " +
+                                                   w().out("csv"),
+                   Want::kError, {"--qoi 'B_l_z_min,': name 2 is empty"}});
+  ASSERT_EQ(::symlink((dir + "/no_such_dir").c_str(), (dir + "/dangling").c_str()), 0);
+  cases.push_back({"--out under a dangling link", "simulate --no-plot --scenario " + w().quick() + " --out " + dir + "/dangling/r.h5",
+                   Want::kError, {"is a symbolic link to", "which does not exist"}, {}, {}, {"File exists"}});
+  cases.push_back({"--out x.h5.lock", "simulate --no-plot --scenario " + w().quick() + " --out " + dir + "/x.h5.lock", Want::kError,
+                   {"the lock rover holds beside an output while it writes it"}, {}, {}, {"removes"}});
+  cases.push_back({"compare under a launcher of 2",
+                   "compare " + w().quick() + " " + w().quick(), Want::kError,
+                   {"runs on one process, but mpirun started 2", "do the same work"}, {}, "OMPI_COMM_WORLD_SIZE=2"});
+  cases.push_back({"a time-grid parameter in a design",
+                   "evaluate --scenario " + w().quick() + " --design " +
+                       w().text_file("dur", "scenario.duration\n0.1\n", "csv") + " --out " + w().out("csv"),
+                   Want::kError, {"cannot vary from run to run", "set it in the scenario file"}, {}, {},
+                   {"curves and bands"}});
   run_table(dir, cases);
 }
 

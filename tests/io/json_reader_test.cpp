@@ -107,6 +107,40 @@ TEST(JsonReader, SyntaxErrorsNameLineAndColumn) {
   }
 }
 
+// Each kind of typo gets plain words saying what to change, and none of the
+// JSON library's own ("syntax error while parsing", "literal", "last read").
+TEST(JsonReader, SyntaxErrorsSayWhatToChange) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"{\"type\": \"montecarlo\", \"name\": \"x\",}", "a comma before '}'"},
+      {"{\"a\": [1, 2,]}", "a comma before ']'"},
+      {"{'a': 1}", "single quotes"},
+      {"{\"a\": 'x'}", "single quotes"},
+      {"{\"a\" 1}", "expected ':' after the key, found a number"},
+      {"{\"a\": 1 \"b\": 2}", "expected ',' or '}' after a value, found a string (a missing comma?)"},
+      {"[1 2]", "expected ',' or ']' after a value, found a number (a missing comma?)"},
+      {"{\"a\": NaN}", "'NaN' is not a JSON number"},
+      {"{\"a\": Infinity}", "'Infinity' is not a JSON number"},
+      {"{\"a\": True}", "'True': JSON writes true, false and null in lower case"},
+      {"{\"a\": yes}", "'yes' is not a JSON value: a string takes double quotes (\"yes\")"},
+      {"{\"a\": .5}", "'.5' is not a JSON number: write a digit before the point"},
+      {"{\"a\": 5.}", "'5.' is not a JSON number"},
+      {"{\"a\": 1e}", "'1e' is not a JSON number"},
+      {"{\"a\": \"x\ty\"}", "a control character (a tab or a line break) inside a string"},
+      {"{\"a\": \"x", "a string without its closing '\"'"},
+      {"{\"a\": \"C:\\new\\q\"}", "a backslash in a string starts an escape"},
+      {"{\"a\": 1", "the text ends before the JSON does"},
+      {"  \n", "the file holds no JSON (it is empty)"},
+      {"{\"a\": 1}}", "text after the end of the JSON"},
+      {"{\"a\": }", "expected a value"},
+  };
+  for (const auto& [text, words] : cases) {
+    const std::string message = read_error(write_text(text));
+    EXPECT_TRUE(contains(message, "invalid JSON: " + words)) << text << " -> " << message;
+    for (const std::string library : {"syntax error while", "literal", "last read", "parse error"})
+      EXPECT_FALSE(contains(message, library)) << text << " -> " << message;
+  }
+}
+
 // Nesting: kMaxJsonNesting levels are read; one more is refused at the
 // bracket that opens it, before any parsing; brackets in strings (also after
 // an escaped quote) and in comments do not count.
