@@ -4260,7 +4260,7 @@ TEST_F(Audit, PredictionFlagsCoverageAndFigureNames) {
   const std::string dir = w().dir();
   std::vector<Case> cases;
   const LinearSurrogate lin = linear_surrogate(w());
-  const std::string design = w().text_file("x", "x1\n0.5\n0.25\n", "csv");
+  const std::string design = w().text_file("x", "x1,x2,x3,x4\n0.5,0,0,0\n0.25,0,0,0\n", "csv");
   const std::string predict = "surrogate --predict " + lin.model + " --design " + design + " --csv ";
   std::string csv = w().out("csv");
   cases.push_back({"--predict --dry-run", predict + csv + " --dry-run", Want::kRuns, {"dry run", "2 points"}, absent_file(csv)});
@@ -4313,7 +4313,7 @@ TEST_F(Audit, PredictionFlagsCoverageAndFigureNames) {
   const std::string widened = w().copy_of(lin.model);
   set_dataset_element(widened, "/surrogate/inputs/support", 1, 2.0);
   set_dataset_element(widened, "/surrogate/inputs/parameters", 1, 2.0);
-  const std::string far = w().text_file("far", "x1\n1.9\n", "csv");
+  const std::string far = w().text_file("far", "x1,x2,x3,x4\n1.9,0,0,0\n", "csv");
   csv = w().out("csv");
   cases.push_back({"a prediction beyond the training runs", "surrogate --predict " + widened + " --design " + far +
                                                                  " --csv " + csv,
@@ -4323,12 +4323,14 @@ TEST_F(Audit, PredictionFlagsCoverageAndFigureNames) {
   cases.push_back({"a prediction inside the training runs",
                    "surrogate --predict " + widened + " --design " + design + " --csv " + csv, Want::kRuns, {}});
   // A QoI labelled like the figures of a channel.
+  const Json drop_inputs{{"c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.2}}},
+                         {"f", {{"distribution", "log_uniform"}, {"min", 1e3}, {"max", 1e5}}}};
   auto drop_sensitivity = [&](const std::string& method, const Json& qoi) {
     Json j{{"type", "sensitivity"},
            {"method", method},
            {"name", "sobl"},
            {"scenario", w().quick()},
-           {"parameters", {{"c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.2}}}}},
+           {"parameters", drop_inputs},
            {"design", {{"type", method == "sobol" ? "sobol" : "lhs"}, {"samples", 8}, {"seed", 1}}},
            {"qoi", qoi},
            {"channels", {"B_l_z"}}};
@@ -4340,7 +4342,7 @@ TEST_F(Audit, PredictionFlagsCoverageAndFigureNames) {
   const std::string sobol = drop_sensitivity("sobol", clashing);
   cases.push_back({"sobol: QoI labels like a channel's figures",
                    "sensitivity --study " + sobol + " --out " + w().out() + " --plots all --dry-run", Want::kError,
-                   {"QoI 't_B_l_z' and of channel 'B_l_z' (its indices along time)", "_sobl_sobol_t_B_l_z.png",
+                   {"QoI 't_B_l_z' and of channel 'B_l_z' (its indices along time)", "_sobol_t_B_l_z.png;",
                     "QoI 't_B_l_z_variance'", "give the QoI another \"label\""}});
   cases.push_back({"sobol: the same labels, summary only",
                    "sensitivity --study " + sobol + " --out " + w().out() + " --plots summary --dry-run", Want::kRuns, {}});
@@ -4348,12 +4350,13 @@ TEST_F(Audit, PredictionFlagsCoverageAndFigureNames) {
   cases.push_back({"pce: a QoI label like a channel's figure",
                    "sensitivity --study " + pce + " --out " + w().out() + " --plots all --dry-run", Want::kError,
                    {"QoI 't_B_l_z' and of channel 'B_l_z'", "_pce_t_B_l_z.png"}});
-  // A surrogate's figure of a channel is announced by `surrogate`.
+  // A surrogate's figure of a channel is announced by `surrogate` (a 0.3 s
+  // drop: the wheels land, so the curve varies).
   const std::string curves = w().json_file(
       "curves", Json{{"type", "surrogate"},
                      {"name", "curves"},
-                     {"scenario", w().quick()},
-                     {"parameters", {{"c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.2}}}}},
+                     {"scenario", w().scenario([](Json& j) { j["duration"] = 0.3; })},
+                     {"parameters", drop_inputs},
                      {"design", {{"type", "lhs"}, {"samples", 12}, {"seed", 1}}},
                      {"qoi", {"B_l_z_min"}},
                      {"channels", {"B_l_z"}},
