@@ -53,14 +53,20 @@ io::InputFiles training_files(const std::string& model_path) {
   return files;
 }
 
-int predict(const SurrogateOptions& o) {
+// The flags of --study that a prediction has no use for: refused, not dropped.
+constexpr const char* kStudyOnlyFlags[] = {"--samples", "--out", "--resume", "--restart", "--plots", "--no-plot",
+                                           "--checkpoint-every", "--progress-interval"};
+
+int predict(const CLI::App& app, const SurrogateOptions& o) {
   FlagChecks checks;
+  for (const char* flag : kStudyOnlyFlags)
+    if (app.count(flag) > 0)
+      checks.add(std::string(flag) + " applies to --study, not to --predict (which writes only --csv, and no plot)");
   // One table to write: the other subcommands that run on one process are
   // refused under mpirun before they start (drivers/main.cpp).
   if (const int size = launcher_size(); size > 1)
     checks.add("--predict " + one_process_refusal(size) + " (--study shares its runs among processes)");
   if (o.design_path.empty() || o.csv_path.empty()) checks.add("--predict needs --design X.csv and --csv Y.csv");
-  if (o.samples) checks.add("--samples applies to --study, not to --predict");
   checks.output_file("--csv", o.csv_path);
   checks.output_format("--csv", o.csv_path, "CSV", ".csv");
   checks.distinct_files("--csv", o.csv_path, "--design", o.design_path);
@@ -70,6 +76,12 @@ int predict(const SurrogateOptions& o) {
   checks.not_an_input("--csv", o.csv_path, training_files(o.predict_path));
   checks.throw_if_any();
   const study::DesignMatrix x = study::surrogate_points(set, study::read_design_csv(o.design_path));
+  if (o.run.dry_run) {
+    std::cerr << "surrogate: dry run: " << x.rows() << " points of " << set.models.size() << " "
+              << study::surrogate_kind_name(set.kind) << " model(s) checked, " << o.csv_path
+              << " can be written; nothing was predicted or written\n";
+    return 0;
+  }
   // From here a signal ends the prediction or the writing with a word, and
   // nothing written (the lock and the temporary go as the exception unwinds).
   InterruptibleOutputs outputs({o.csv_path});
@@ -95,9 +107,12 @@ int predict(const SurrogateOptions& o) {
 int run_surrogate_command(const CLI::App& app, const SurrogateOptions& o) {
   if (o.predict_path.empty() == o.study_path.empty())
     throw CommandLineError({"give --study S.json (train) or --predict model.h5 (evaluate a saved surrogate)"});
-  if (!o.predict_path.empty()) return predict(o);
-  if (!o.design_path.empty() || !o.csv_path.empty())
-    throw CommandLineError({"--design and --csv go with --predict"});
+  if (!o.predict_path.empty()) return predict(app, o);
+  std::vector<std::string> refused;
+  for (const char* flag : {"--design", "--csv"})
+    if (app.count(flag) > 0)
+      refused.push_back(std::string(flag) + " applies to --predict, not to --study (a study's result goes to --out)");
+  if (!refused.empty()) throw CommandLineError(refused);
   return run_study_command(app, o.run, o.study_path, [&] { return load(o); });
 }
 
@@ -116,7 +131,8 @@ const RegisterCommand surrogate_command{
           "Writes the model under /surrogate of --out and PNGs\n"
           "<out>_surrogate.png (surrogate against model) and <out>_surrogate_indices.png.\n"
           "--predict: the saved model at the rows of a design CSV (header of input names), mean and,\n"
-          "for a GP, sd per QoI; a point outside the training support is refused.\n\n"
+          "for a GP, sd per QoI; a point outside the training support is refused. --dry-run checks\n"
+          "the model, the design and --csv and writes nothing; the study's other flags are refused.\n\n"
           "Examples:\n"
           "  mpirun -np 2 rover surrogate --study configs/studies/surrogate_drop.json\n"
           "  rover surrogate --study configs/studies/surrogate_f_cq_gp.json --out results/gp.h5\n"

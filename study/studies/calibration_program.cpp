@@ -123,6 +123,32 @@ void write_calibration_provenance(io::Hdf5Writer& h5, const CalibrationStudy& s)
   write_base_provenance(h5, s.identity.type, s.identity.name, s.identity.path, &s.integrator, s.fingerprint);
 }
 
+namespace {
+
+// The figures of a fit: the data and fit of each curve (<stem>.png,
+// <stem>_1.png, ...) and the profile of each fitted parameter.
+std::vector<PlannedFigure> fit_figures(const CalibrationStudy& s) {
+  std::vector<PlannedFigure> figures;
+  for (std::size_t k = 0; k < s.datasets.size(); ++k)
+    figures.push_back({(k == 0 ? "" : "_" + std::to_string(k)) + ".png", "curve " + std::to_string(k)});
+  for (const FitParameter& f : s.fit) figures.push_back({"_profile_" + f.name + ".png", "the profile of " + f.name});
+  return figures;
+}
+
+// The figures of a posterior named by the fitted parameters and the curves:
+// traces, the corner plot, the predictive bands.
+std::vector<PlannedFigure> posterior_figures(const CalibrationStudy& s) {
+  std::vector<PlannedFigure> figures;
+  for (const FitParameter& f : s.fit) figures.push_back({"_trace_" + f.name + ".png", "the trace of " + f.name});
+  figures.push_back({"_corner.png", "the corner plot"});
+  for (std::size_t c = 0; c < s.datasets.size(); ++c)
+    figures.push_back({"_predictive" + (c == 0 ? std::string() : "_" + std::to_string(c)) + ".png",
+                       "the predictive band of curve " + std::to_string(c)});
+  return figures;
+}
+
+}  // namespace
+
 StudyProgram<CalibrationFitResult> calibration_fit_program(CalibrationStudy study) {
   auto p = calibration_program<CalibrationFitResult>(study, fit_banner(study));
   p.run = [study](const StudyRuntime& runtime) {
@@ -134,6 +160,7 @@ StudyProgram<CalibrationFitResult> calibration_fit_program(CalibrationStudy stud
   p.plot = [study](const CalibrationFitResult& r, const std::string& path, PlotSelection) {
     plot_calibration_fit(r, study, path.substr(0, path.size() - 3));
   };
+  p.figures = [study](PlotSelection) { return fit_figures(study); };
   p.verdict = [](const CalibrationFitResult& r) { return r.trusted ? 0 : kUntrustedStatus; };
   return p;
 }
@@ -159,6 +186,7 @@ StudyProgram<CalibrationPosteriorResult> calibration_posterior_program(Calibrati
   p.plot = [](const CalibrationPosteriorResult& r, const std::string& path, PlotSelection) {
     plot_calibration_posterior(r.posterior, r.study, path.substr(0, path.size() - 3));
   };
+  p.figures = [study](PlotSelection) { return posterior_figures(study); };
   p.verdict = [](const CalibrationPosteriorResult& r) {
     return r.not_sampled_because.empty() && r.posterior.valid() ? 0 : kUntrustedStatus;
   };

@@ -338,6 +338,10 @@ StudyProgram<EvaluateResult> evaluate_program(EvaluateStudy study) {
   p.write = write_evaluate;
   p.write_csv = write_evaluate_csv;
   p.plot = plot_evaluate;
+  p.figures = [](PlotSelection plots) {
+    return plots == PlotSelection::kNone ? std::vector<PlannedFigure>{}
+                                         : std::vector<PlannedFigure>{{"_summary.png", "the summary"}};
+  };
   p.report = report_evaluate;
   p.counts = [](const EvaluateResult& r) { return count_runs(r.status, r.messages); };
   p.status_when_some_failed = kSomeRunsFailedStatus;

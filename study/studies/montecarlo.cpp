@@ -145,6 +145,7 @@ StudyProgram<MonteCarloResult> montecarlo_program(MonteCarloStudy study) {
   p.counts = [](const MonteCarloResult& r) { return count_runs(r.status, r.messages); };
   p.report = report_montecarlo;
   p.plot = plot_montecarlo;
+  p.figures = [study](PlotSelection plots) { return montecarlo_figures(study, plots); };
   return p;
 }
 

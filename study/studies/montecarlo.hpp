@@ -83,6 +83,8 @@ void report_montecarlo(const MonteCarloResult& result, std::ostream& out);
 // running mean); with PlotSelection::kAll also <results>_band_<channel>.png,
 // <results>_hist_<qoi>.png and <results>_convergence_<qoi>_{mean,sd}.png.
 void plot_montecarlo(const MonteCarloResult& result, const std::string& results_path, PlotSelection plots);
+// The figures plot_montecarlo writes with `plots`, one entry per file.
+std::vector<PlannedFigure> montecarlo_figures(const MonteCarloStudy& study, PlotSelection plots);
 
 // The study as the driver runs it.
 StudyProgram<MonteCarloResult> montecarlo_program(MonteCarloStudy study);

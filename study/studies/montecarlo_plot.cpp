@@ -61,6 +61,32 @@ std::vector<io::LinePlot> summary_panels(const MonteCarloResult& result) {
 
 }  // namespace
 
+namespace {
+
+// The file names of the figures, shared by plot_montecarlo and montecarlo_figures.
+std::string band_suffix(const std::string& channel) { return "_band_" + channel + ".png"; }
+std::string hist_suffix(const std::string& qoi) { return "_hist_" + qoi + ".png"; }
+std::string convergence_suffix(const std::string& qoi, const char* moment) {
+  return "_convergence_" + qoi + "_" + moment + ".png";
+}
+
+}  // namespace
+
+std::vector<PlannedFigure> montecarlo_figures(const MonteCarloStudy& study, PlotSelection plots) {
+  std::vector<PlannedFigure> figures;
+  if (plots == PlotSelection::kNone) return figures;
+  figures.push_back({"_summary.png", "the summary"});
+  if (plots != PlotSelection::kAll) return figures;
+  const StudyModel& model = *study.spec.model;
+  for (const std::string& c : model.channel_names()) figures.push_back({band_suffix(c), "channel '" + c + "'"});
+  for (const std::string& q : model.qoi_names()) {
+    figures.push_back({hist_suffix(q), "QoI '" + q + "' (histogram)"});
+    for (const char* moment : {"mean", "sd"})
+      figures.push_back({convergence_suffix(q, moment), "QoI '" + q + "' (running " + moment + ")"});
+  }
+  return figures;
+}
+
 void plot_montecarlo(const MonteCarloResult& result, const std::string& results_path, PlotSelection plots) {
   if (plots == PlotSelection::kNone) return;
   const StudySpec& spec = result.study.spec;
@@ -75,16 +101,16 @@ void plot_montecarlo(const MonteCarloResult& result, const std::string& results_
     const std::string& name = model.channel_names()[c];
     io::write_png_or_warn(band_plot(spec.name, name, channel_unit(channel_from_name(name)), model.time_s(),
                                     result.bands[c]),
-                          png("_band_" + name + ".png"), "montecarlo", std::cerr);
+                          png(band_suffix(name)), "montecarlo", std::cerr);
   }
   for (std::size_t q = 0; q < result.qoi.size(); ++q) {
     const std::string& name = model.qoi_names()[q];
     const std::string& unit = model.qoi_units()[q];
     if (const auto h = histogram_panel(name, unit, result.qoi[q], &result.summaries[q], confidence))
-      io::write_png_or_warn(*h, png("_hist_" + name + ".png"), "montecarlo", std::cerr);
+      io::write_png_or_warn(*h, png(hist_suffix(name)), "montecarlo", std::cerr);
     if (const auto c = convergence_panels(name, unit, result.qoi[q], confidence)) {
-      io::write_png_or_warn(c->mean, png("_convergence_" + name + "_mean.png"), "montecarlo", std::cerr);
-      io::write_png_or_warn(c->sd, png("_convergence_" + name + "_sd.png"), "montecarlo", std::cerr);
+      io::write_png_or_warn(c->mean, png(convergence_suffix(name, "mean")), "montecarlo", std::cerr);
+      io::write_png_or_warn(c->sd, png(convergence_suffix(name, "sd")), "montecarlo", std::cerr);
     }
   }
 }

@@ -193,7 +193,7 @@ void plot_qoi(const std::string& png, const PceQoiResult& q, const std::vector<s
 }
 
 void plot_channel(const std::string& png, const PceChannelResult& c, const std::vector<double>& t,
-                  const std::vector<std::string>& labels) {
+                  const std::vector<std::string>& labels, const std::string& command) {
   io::LinePlot plot;
   plot.title = c.name + ": first-order (solid) and total (dashed) indices along time, from PCE";
   plot.x_label = "t [s]";
@@ -205,7 +205,7 @@ void plot_channel(const std::string& png, const PceChannelResult& c, const std::
     plot.series.push_back({name + " S1", t, to_vector(c.indices.S1.col(i))});
     plot.series.push_back({name + " ST", t, to_vector(c.indices.ST.col(i)), io::SeriesStyle::dashed});
   }
-  if (!plot.series.empty()) io::write_png_or_warn(plot, png, "sensitivity", std::cerr);
+  if (!plot.series.empty()) io::write_png_or_warn(plot, png, command, std::cerr);
 }
 
 }  // namespace
@@ -218,8 +218,8 @@ PceChannelResult pce_channel_indices(const std::string& name, const DesignMatrix
 void write_pce_channel(io::Hdf5Writer& h5, const PceChannelResult& channel) { write_channel(h5, channel); }
 
 void plot_pce_channel(const std::string& png, const PceChannelResult& channel, const std::vector<double>& t,
-                      const std::vector<std::string>& labels) {
-  plot_channel(png, channel, t, labels);
+                      const std::vector<std::string>& labels, const std::string& command) {
+  plot_channel(png, channel, t, labels, command);
 }
 
 namespace {
@@ -369,14 +369,30 @@ void print_pce_sensitivity(std::ostream& out, const StudySpec& spec, const PceSe
   }
 }
 
+namespace {
+
+// The file names of the figures, shared by plot_pce_sensitivity and pce_sensitivity_figures.
+std::string pce_qoi_suffix(const std::string& qoi) { return "_pce_" + qoi + ".png"; }
+std::string pce_channel_suffix(const std::string& channel) { return "_pce_t_" + channel + ".png"; }
+
+}  // namespace
+
+std::vector<PlannedFigure> pce_sensitivity_figures(const StudySpec& spec, std::vector<PlannedFigure> figures) {
+  for (const std::string& q : spec.model->qoi_names()) figures.push_back({pce_qoi_suffix(q), "QoI '" + q + "'"});
+  for (const std::string& c : spec.model->channel_names())
+    figures.push_back({pce_channel_suffix(c), "channel '" + c + "' (its indices along time)"});
+  return figures;
+}
+
 void plot_pce_sensitivity(const std::string& results_path, const StudySpec& spec,
                           const PceSensitivityResult& result) {
   const std::vector<std::string> labels = input_labels(spec);
   for (const PceQoiResult& q : result.qoi)
-    if (q.indices.defined) plot_qoi(sibling_path(results_path, "_pce_" + q.name + ".png"), q, labels);
+    if (q.indices.defined) plot_qoi(sibling_path(results_path, pce_qoi_suffix(q.name)), q, labels);
   for (const PceChannelResult& c : result.channels)
     if (c.defined)
-      plot_channel(sibling_path(results_path, "_pce_t_" + c.name + ".png"), c, spec.model->time_s(), labels);
+      plot_channel(sibling_path(results_path, pce_channel_suffix(c.name)), c, spec.model->time_s(), labels,
+                   "sensitivity");
 }
 
 }  // namespace rover::study

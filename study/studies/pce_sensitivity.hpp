@@ -36,6 +36,7 @@
 #include "io/hdf5_file.hpp"
 #include "io/json_reader.hpp"
 #include "study/runtime/run_record.hpp"
+#include "study/studies/study_output.hpp"
 #include "study/studies/study_spec.hpp"
 #include "study/surrogate/pce_curves.hpp"
 #include "study/surrogate/pce_sobol.hpp"
@@ -102,9 +103,10 @@ PceChannelResult pce_channel_indices(const std::string& name, const DesignMatrix
                                      const std::vector<Distribution>& inputs, const PceSensitivityOptions& options);
 // /indices_t/<channel>/..., /aggregated/<channel>/... and /pce_t/<channel>/... (layout above).
 void write_pce_channel(io::Hdf5Writer& h5, const PceChannelResult& channel);
-// S1(t) and ST(t) of the inputs that matter, one PNG; labels: one per input.
+// S1(t) and ST(t) of the inputs that matter, one PNG; labels: one per input;
+// `command` labels the line that says it was written ("sensitivity", "surrogate").
 void plot_pce_channel(const std::string& png, const PceChannelResult& channel, const std::vector<double>& t,
-                      const std::vector<std::string>& labels);
+                      const std::vector<std::string>& labels, const std::string& command);
 
 // Every QoI and channel from the run records (in run order; failed runs are
 // left out). Prints nothing.
@@ -117,6 +119,8 @@ void write_pce_sensitivity(io::Hdf5Writer& h5, const StudySpec& spec, const PceS
 void print_pce_sensitivity(std::ostream& out, const StudySpec& spec, const PceSensitivityOptions& options,
                            const PceSensitivityResult& result);
 // <results>_pce_<qoi>.png bar charts and <results>_pce_t_<channel>.png.
+// pce_sensitivity_figures: `figures` with those of plot_pce_sensitivity added.
+std::vector<PlannedFigure> pce_sensitivity_figures(const StudySpec& spec, std::vector<PlannedFigure> figures);
 void plot_pce_sensitivity(const std::string& results_path, const StudySpec& spec,
                           const PceSensitivityResult& result);
 

@@ -460,6 +460,7 @@ StudyProgram<SensitivityResult> sensitivity_program(SensitivityStudy study) {
   p.counts = [](const SensitivityResult& r) { return count_runs(r.status, r.messages); };
   p.report = report_sensitivity;
   p.plot = plot_sensitivity;
+  p.figures = [study](PlotSelection plots) { return sensitivity_figures(study, plots); };
   return p;
 }
 

@@ -116,6 +116,8 @@ void report_sensitivity(const SensitivityResult& result, std::ostream& out);
 // _variance.png), <results>_morris_<qoi>.png, or the PCE's figures
 // (plot_pce_sensitivity).
 void plot_sensitivity(const SensitivityResult& result, const std::string& results_path, PlotSelection plots);
+// The figures plot_sensitivity writes with `plots`, one entry per file.
+std::vector<PlannedFigure> sensitivity_figures(const SensitivityStudy& study, PlotSelection plots);
 
 // The study as the driver runs it.
 StudyProgram<SensitivityResult> sensitivity_program(SensitivityStudy study);

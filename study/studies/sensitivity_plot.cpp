@@ -135,6 +135,34 @@ std::vector<io::LinePlot> summary_panels(const SensitivityResult& result) {
 
 }  // namespace
 
+namespace {
+
+// The file names of the figures, shared by plot_sensitivity and sensitivity_figures.
+std::string sobol_suffix(const std::string& qoi) { return "_sobol_" + qoi + ".png"; }
+std::string sobol_t_suffix(const std::string& channel) { return "_sobol_t_" + channel + ".png"; }
+std::string sobol_variance_suffix(const std::string& channel) { return "_sobol_t_" + channel + "_variance.png"; }
+std::string morris_suffix(const std::string& qoi) { return "_morris_" + qoi + ".png"; }
+
+}  // namespace
+
+std::vector<PlannedFigure> sensitivity_figures(const SensitivityStudy& study, PlotSelection plots) {
+  std::vector<PlannedFigure> figures;
+  if (plots == PlotSelection::kNone) return figures;
+  figures.push_back({"_summary.png", "the summary"});
+  if (plots != PlotSelection::kAll) return figures;
+  const StudyModel& model = *study.spec.model;
+  if (study.method == SensitivityMethod::kPce) return pce_sensitivity_figures(study.spec, figures);
+  for (const std::string& q : model.qoi_names())
+    if (study.method == SensitivityMethod::kSobol) figures.push_back({sobol_suffix(q), "QoI '" + q + "'"});
+    else figures.push_back({morris_suffix(q), "QoI '" + q + "'"});
+  if (study.method != SensitivityMethod::kSobol) return figures;
+  for (const std::string& c : model.channel_names()) {
+    figures.push_back({sobol_t_suffix(c), "channel '" + c + "' (its indices along time)"});
+    figures.push_back({sobol_variance_suffix(c), "channel '" + c + "' (its variance along time)"});
+  }
+  return figures;
+}
+
 void plot_sensitivity(const SensitivityResult& result, const std::string& results_path, PlotSelection plots) {
   if (plots == PlotSelection::kNone) return;
   const SensitivityStudy& study = result.study;
@@ -148,19 +176,19 @@ void plot_sensitivity(const SensitivityResult& result, const std::string& result
   if (study.method == SensitivityMethod::kPce) plot_pce_sensitivity(results_path, study.spec, result.pce);
   for (std::size_t q = 0; q < result.sobol.size(); ++q)
     if (result.sobol[q].S1.size() != 0)
-      plot_sobol(png("_sobol_" + model.qoi_names()[q] + ".png"), model.qoi_names()[q], result.sobol[q], labels,
+      plot_sobol(png(sobol_suffix(model.qoi_names()[q])), model.qoi_names()[q], result.sobol[q], labels,
                  study.sobol.confidence);
   for (std::size_t c = 0; c < result.sobol_t.size(); ++c) {
     const std::string& channel = model.channel_names()[c];
     if (const auto p = indices_along_time(channel, result.sobol_t[c], model.time_s(), labels))
-      io::write_png_or_warn(*p, png("_sobol_t_" + channel + ".png"), "sensitivity", std::cerr);
+      io::write_png_or_warn(*p, png(sobol_t_suffix(channel)), "sensitivity", std::cerr);
     io::write_png_or_warn(variance_along_time(channel, result.sobol_t[c], model.time_s()),
-                          png("_sobol_t_" + channel + "_variance.png"), "sensitivity", std::cerr);
+                          png(sobol_variance_suffix(channel)), "sensitivity", std::cerr);
   }
   for (std::size_t q = 0; q < result.morris.size(); ++q)
     if (result.morris[q].mu_star.size() != 0)
       io::write_png_or_warn(morris_plane(model.qoi_names()[q], result.morris[q], labels),
-                            png("_morris_" + model.qoi_names()[q] + ".png"), "sensitivity", std::cerr);
+                            png(morris_suffix(model.qoi_names()[q])), "sensitivity", std::cerr);
 }
 
 }  // namespace rover::study

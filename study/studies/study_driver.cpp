@@ -99,12 +99,16 @@ void check_resumable(const std::string& results_path, const std::string& fingerp
 
 StudyRunOptions prepare(const std::string& command, const std::string& name, const std::string& fingerprint,
                         const MemoryEstimate& memory, const std::string& banner, bool csv_allowed,
-                        const io::InputFiles& inputs, StudyRunOptions options) {
+                        const io::InputFiles& inputs, const std::vector<PlannedFigure>& figures,
+                        StudyRunOptions options) {
   const bool given = !options.results_path.empty();
   // An input the output would destroy comes first, before the path's form.
   check_outputs(given ? "--out" : "--out (default)", given ? options.results_path : "results/" + name + ".h5", inputs,
                 options.plots);
   options.results_path = checked_results_path(name, options.results_path, csv_allowed);
+  if (const std::string shared = shared_figure_names(options.results_path, figures); !shared.empty())
+    throw std::invalid_argument("--plots: " + shared + ", one replacing the other: give the QoI another \"label\", "
+                                "or pass --plots summary or --plots none");
   if (options.resume) check_resumable(options.results_path, fingerprint);
   if (memory.bytes > 0.0) require_memory(memory.what, memory.bytes);
   options.label = command;

@@ -45,6 +45,7 @@
 #include "io/output_target.hpp"
 #include "study/estimators/work_stopped.hpp"
 #include "study/runtime/study_runner.hpp"
+#include "study/studies/study_output.hpp"
 
 namespace rover::study {
 
@@ -111,6 +112,9 @@ struct StudyProgram {
   std::function<RunCounts(const Result&)> counts;
   std::function<void(const Result&, std::ostream&)> report;
   std::function<void(const Result&, const std::string& results_path, PlotSelection)> plot;
+  // The figures `plot` writes with a selection (one entry per file it may
+  // write): two that share a file name are refused before any run.
+  std::function<std::vector<PlannedFigure>(PlotSelection)> figures;
   // The exit status when some runs, but not all, failed.
   int status_when_some_failed = 0;
   // The exit status the result asks for whatever its runs did (0: none); the
@@ -141,12 +145,13 @@ inline constexpr int kHoldsNothingStatus = 2;
 namespace driver_detail {
 
 // Checks the results path (neither it, nor a plot or the checkpoint beside
-// it, may replace one of `inputs`; a plot beside it must be writable) and
-// the memory estimate, completes `options` (results path, label,
-// fingerprint) and prints the banner on rank 0.
+// it, may replace one of `inputs`; a plot beside it must be writable; no two
+// of `figures` share a file name) and the memory estimate, completes
+// `options` (results path, label, fingerprint) and prints the banner on rank 0.
 StudyRunOptions prepare(const std::string& command, const std::string& name, const std::string& fingerprint,
                         const MemoryEstimate& memory, const std::string& banner, bool csv_allowed,
-                        const io::InputFiles& inputs, StudyRunOptions options);
+                        const io::InputFiles& inputs, const std::vector<PlannedFigure>& figures,
+                        StudyRunOptions options);
 
 bool is_csv_path(const std::string& path);
 
@@ -209,8 +214,11 @@ template <class Result>
 int drive_study(const StudyProgram<Result>& study, const StudyRunOptions& options) {
   StudyRuntime runtime;
   if (study.plot && options.plots != PlotSelection::kNone) driver_detail::require_plotter();
+  const bool plots = study.plot && options.plots != PlotSelection::kNone;
   runtime.options = driver_detail::prepare(study.command, study.name, study.fingerprint, study.memory,
                                            study.banner, static_cast<bool>(study.write_csv), study.inputs,
+                                           plots && study.figures ? study.figures(options.plots)
+                                                                  : std::vector<PlannedFigure>{},
                                            options);
   if (world_rank() == 0)
     for (const std::string& warning : study.warnings) std::cerr << study.command << ": warning: " << warning << "\n";

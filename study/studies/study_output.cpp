@@ -47,6 +47,18 @@ void require_memory(const std::string& what, double bytes, double max_bytes) {
   throw std::invalid_argument(text);
 }
 
+std::string shared_figure_names(const std::string& results_path, const std::vector<PlannedFigure>& figures) {
+  std::string problems;
+  for (std::size_t i = 0; i < figures.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j) {
+      if (figures[i].suffix != figures[j].suffix) continue;
+      problems += (problems.empty() ? "" : "; ") + std::string("the figures of ") + figures[j].shows + " and of " +
+                  figures[i].shows + " would both be written to " + sibling_path(results_path, figures[i].suffix);
+      break;
+    }
+  return problems;
+}
+
 std::string sibling_path(const std::string& results_path, const std::string& suffix) {
   std::filesystem::path p(results_path);
   const std::string stem = p.stem().string();

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "io/hdf5_file.hpp"
 #include "study/studies/study_spec.hpp"
@@ -22,6 +23,18 @@ void require_memory(const std::string& what, double bytes, double max_bytes = 8.
 
 // "results/x.h5" + "_band_B_l_z.png" -> "results/x_band_B_l_z.png".
 std::string sibling_path(const std::string& results_path, const std::string& suffix);
+
+// A figure a study writes beside its result: <stem><suffix> (sibling_path),
+// and what it shows ("the Sobol' indices of QoI 't_B_l_z'").
+struct PlannedFigure {
+  std::string suffix;
+  std::string shows;
+};
+
+// Empty when the figures have distinct file names; else, for every two that
+// share one, "the figures of <one> and of <other> would both be written to
+// <path>", joined by "; ".
+std::string shared_figure_names(const std::string& results_path, const std::vector<PlannedFigure>& figures);
 
 // The root attributes every study result carries: study (its type), name,
 // study_file, study_json (the file's text), integrator, rtol, atol (when a

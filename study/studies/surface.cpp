@@ -380,6 +380,7 @@ StudyProgram<SurfaceResult> surface_program(SurfaceStudy study) {
     return c;
   };
   p.plot = plot_surface;
+  p.figures = [study](PlotSelection plots) { return surface_figures(study, plots); };
   p.report = [](const SurfaceResult& r, std::ostream& out) {
     if (r.study.kriging.enabled) report_surface_kriging(r.kriging, out);
     if (!r.reference_warning.empty()) out << "surface: warning: " << r.reference_warning << "\n";

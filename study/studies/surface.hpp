@@ -112,6 +112,8 @@ void write_surface(const SurfaceResult& result, io::Hdf5Writer& h5);
 // maps over (f, c_q)) and <results>_sweep.png (t_c over f with its
 // regression).
 void plot_surface(const SurfaceResult& result, const std::string& results_path, PlotSelection plots);
+// The figures plot_surface writes with `plots`, one entry per file.
+std::vector<PlannedFigure> surface_figures(const SurfaceStudy& study, PlotSelection plots);
 
 // The study as the driver runs it.
 StudyProgram<SurfaceResult> surface_program(SurfaceStudy study);

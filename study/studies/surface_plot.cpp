@@ -91,6 +91,19 @@ std::vector<io::LinePlot> summary_panels(const SurfaceResult& r) {
 
 }  // namespace
 
+std::vector<PlannedFigure> surface_figures(const SurfaceStudy& study, PlotSelection plots) {
+  std::vector<PlannedFigure> figures;
+  if (plots == PlotSelection::kNone) return figures;
+  figures.push_back({"_summary.png", "the summary"});
+  if (plots != PlotSelection::kAll) return figures;
+  if (study.runs_grid()) {
+    figures.push_back({"_rms.png", "the RMS error over (f, c_q)"});
+    figures.push_back({"_tc.png", "t_c over (f, c_q)"});
+  }
+  if (study.sweep_f.size() > 1) figures.push_back({"_sweep.png", "the sweep over f"});
+  return figures;
+}
+
 void plot_surface(const SurfaceResult& r, const std::string& results_path, PlotSelection plots) {
   if (plots == PlotSelection::kNone) return;
   auto png = [&](const std::string& suffix) { return sibling_path(results_path, suffix); };

@@ -1,6 +1,7 @@
 // See surrogate_file.hpp.
 #include "study/studies/surrogate_file.hpp"
 #include "study/studies/report_format.hpp"
+#include "study/studies/report_number.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -315,7 +316,76 @@ bool design_fills_support(const Distribution& distribution) {
          distribution.kind == DistributionKind::kFixed;
 }
 
+// The successful training runs the model file keeps (/inputs/names and
+// /inputs/values, /samples/status): where they leave an end of a uniform or
+// log-uniform input's support uncovered, the input accepts only the range
+// they cover. A file without them (or with runs of other inputs) is left as it is.
+void narrow_to_training_runs(const io::Hdf5Reader& h5, std::vector<SurrogateInput>& inputs) {
+  if (!h5.exists("/inputs/names") || !h5.exists("/inputs/values")) return;
+  const std::vector<std::string> names = h5.read_strings("/inputs/names");
+  const Eigen::MatrixXd values = h5.read_matrix("/inputs/values");
+  if (values.cols() != static_cast<Eigen::Index>(names.size())) return;
+  std::vector<int> status = h5.exists("/samples/status") ? h5.read_ints("/samples/status")
+                                                         : std::vector<int>(static_cast<std::size_t>(values.rows()), 0);
+  if (static_cast<Eigen::Index>(status.size()) != values.rows()) return;
+  for (SurrogateInput& in : inputs) {
+    const auto column = std::find_if(names.begin(), names.end(),
+                                     [&](const std::string& n) { return n == in.name || n == in.label; });
+    if (column == names.end()) continue;
+    std::vector<double> ok;
+    for (Eigen::Index i = 0; i < values.rows(); ++i)
+      if (status[static_cast<std::size_t>(i)] == 0) ok.push_back(values(i, column - names.begin()));
+    const Eigen::VectorXd v = Eigen::Map<const Eigen::VectorXd>(ok.data(), static_cast<Eigen::Index>(ok.size()));
+    const std::string problem = support_coverage_problem(in.label, in.distribution, v);
+    if (problem.empty()) continue;
+    in.lower = std::max(in.lower, v.minCoeff());
+    in.upper = std::min(in.upper, v.maxCoeff());
+    in.support_note = "the range its training runs cover, narrower than its declared support [" +
+                      number_text(in.distribution.support_lower()) + ", " +
+                      number_text(in.distribution.support_upper()) + "]";
+  }
+}
+
 }  // namespace
+
+SupportCoverage support_coverage(const Distribution& distribution, const Eigen::VectorXd& training_values) {
+  SupportCoverage c;
+  std::vector<double> values(training_values.data(), training_values.data() + training_values.size());
+  std::sort(values.begin(), values.end());
+  values.erase(std::unique(values.begin(), values.end()), values.end());
+  c.distinct_values = static_cast<long long>(values.size());
+  if (values.empty()) return c;
+  c.covered_lower = values.front();
+  c.covered_upper = values.back();
+  c.share_below = std::clamp(distribution.cdf(c.covered_lower), 0.0, 1.0);
+  c.share_above = std::clamp(1.0 - distribution.cdf(c.covered_upper), 0.0, 1.0);
+  // n independent draws leave more than g at one end with probability (1 - g)^n.
+  c.largest_expected_share =
+      1.0 - std::pow(kUncoveredEndProbability / 2.0, 1.0 / static_cast<double>(c.distinct_values));
+  return c;
+}
+
+std::string support_coverage_problem(const std::string& label, const Distribution& distribution,
+                                     const Eigen::VectorXd& training_values) {
+  if (distribution.kind != DistributionKind::kUniform && distribution.kind != DistributionKind::kLogUniform)
+    return "";
+  const SupportCoverage c = support_coverage(distribution, training_values);
+  if (c.distinct_values == 0) return "";
+  const bool below = c.share_below > c.largest_expected_share, above = c.share_above > c.largest_expected_share;
+  if (!below && !above) return "";
+  auto percent = [](double share) { return format_number(100.0 * share, 2) + " %"; };
+  std::string gaps;
+  if (below) gaps = percent(c.share_below) + " below " + number_text(c.covered_lower);
+  if (above) gaps += (gaps.empty() ? "" : " and ") + percent(c.share_above) + " above " + number_text(c.covered_upper);
+  return "'" + label + "': the training runs cover " + number_text(c.covered_lower) + " to " +
+         number_text(c.covered_upper) + " of its declared support [" + number_text(distribution.support_lower()) +
+         ", " + number_text(distribution.support_upper()) + "] (" + distribution.describe() + "), leaving " + gaps +
+         " of its probability without a run, where " + std::to_string(c.distinct_values) +
+         " draws from it leave at most " + percent(c.largest_expected_share) +
+         " at either end (but once in 2000): the surrogate would extrapolate there, and its mean, sd and indices "
+         "integrate over the whole support. Train on runs that cover the support, or declare the support the runs "
+         "cover";
+}
 
 SurrogateInput surrogate_input(const std::string& name, const std::string& label, const Distribution& distribution,
                                const Eigen::VectorXd& training_values) {
@@ -375,6 +445,7 @@ SurrogateSet read_surrogate_set(const std::string& path) {
   if (set.models.empty())
     throw io::ConfigError(path + ": holds no fitted model (no QoI of its study got a surrogate; its "
                           "`rover surrogate --study` said why): nothing to predict");
+  narrow_to_training_runs(h5, set.inputs);
   return set;
 }
 

@@ -57,7 +57,8 @@ DesignMatrix surrogate_points(const SurrogateSet& set, const DesignTable& design
         throw io::ConfigError(design.path + ":" + std::to_string(design.line_numbers[static_cast<std::size_t>(i)]) +
                               ": row " + std::to_string(i + 1) + ": " + in.label + " = " + number_text(v) +
                               " lies outside the training support [" + number_text(in.lower) + ", " + number_text(in.upper) +
-                              "]; a surrogate is not extrapolated");
+                              "]" + (in.support_note.empty() ? "" : " (" + in.support_note + ")") +
+                              "; a surrogate is not extrapolated");
       x(i, static_cast<Eigen::Index>(input_of[c])) = v;
     }
   }

@@ -252,6 +252,16 @@ void report_surrogate_study(std::ostream& out, const SurrogateStudy& study, cons
   for (const std::string& w : r.warnings) out << "surrogate: warning: " << w << "\n";
 }
 
+std::vector<PlannedFigure> surrogate_figures(const SurrogateStudy& study) {
+  std::vector<PlannedFigure> figures{{"_surrogate.png", "the predictions against the model"}};
+  if (study.kind == SurrogateKind::kPolynomialChaos) figures.push_back({"_surrogate_indices.png", "the indices"});
+  for (const std::string& c : study.spec.model->channel_names()) {
+    figures.push_back({"_surrogate_t_" + c + ".png", "channel '" + c + "' (its indices along time)"});
+    figures.push_back({"_surrogate_band_" + c + ".png", "channel '" + c + "' (its band)"});
+  }
+  return figures;
+}
+
 void plot_surrogate_study(const SurrogateStudy& study, const SurrogateStudyResult& r, std::ostream& log) {
   plot_predicted(sibling_path(r.results_path, "_surrogate.png"), r, log);
   if (study.kind == SurrogateKind::kPolynomialChaos)
@@ -259,7 +269,8 @@ void plot_surrogate_study(const SurrogateStudy& study, const SurrogateStudyResul
   const std::vector<double>& t = study.spec.model->time_s();
   for (const PceChannelResult& c : r.channels) {
     if (!c.defined) continue;
-    plot_pce_channel(sibling_path(r.results_path, "_surrogate_t_" + c.name + ".png"), c, t, input_labels(study.spec));
+    plot_pce_channel(sibling_path(r.results_path, "_surrogate_t_" + c.name + ".png"), c, t, input_labels(study.spec),
+                     "surrogate");
     plot_band(sibling_path(r.results_path, "_surrogate_band_" + c.name + ".png"), c, t, log);
   }
 }

@@ -18,6 +18,7 @@
 
 #include <iosfwd>
 #include <string>
+#include <vector>
 
 #include "io/hdf5_file.hpp"
 #include "study/studies/surrogate_study.hpp"
@@ -31,6 +32,8 @@ void write_surrogate_study(io::Hdf5Writer& h5, const SurrogateStudy& study, cons
 void report_surrogate_study(std::ostream& out, const SurrogateStudy& study, const SurrogateStudyResult& result);
 
 // Writes the PNGs beside result.results_path; a missing gnuplot is a warning on `log`.
+// The figures plot_surrogate_study may write, one entry per file.
+std::vector<PlannedFigure> surrogate_figures(const SurrogateStudy& study);
 void plot_surrogate_study(const SurrogateStudy& study, const SurrogateStudyResult& result, std::ostream& log);
 
 }  // namespace rover::study

@@ -9,6 +9,7 @@
 #include "core/name_list.hpp"
 #include "io/hdf5_file.hpp"
 #include "io/scenario_config.hpp"
+#include "study/studies/surrogate_file.hpp"
 #include "study/studies/surrogate_training.hpp"
 
 namespace rover::study {
@@ -94,6 +95,32 @@ void parse_held_out(const io::JsonReader& r, SurrogateStudy& s) {
       h.fail("fraction", "must lie in (0, 0.5]");
   }
   h.finish();
+}
+
+// The runs of a training file, read before anything runs: their inputs,
+// QoIs, scenario and rover as read_result_runs checks them, and the
+// successful runs cover the support of every uniform or log-uniform input
+// (support_coverage_problem), or the surrogate would extrapolate.
+void check_training_runs(const io::JsonReader& t, const SurrogateStudy& s) {
+  TrainingRuns runs;
+  try {
+    runs = read_result_runs(s.training_file, s, "training");
+  } catch (const std::exception& e) {
+    t.fail("file", e.what());
+  }
+  std::vector<Eigen::Index> ok;
+  for (Eigen::Index i = 0; i < runs.x.rows(); ++i)
+    if (runs.status[static_cast<std::size_t>(i)] == run_status::kOk) ok.push_back(i);
+  std::string problems;
+  for (std::size_t j = 0; j < s.spec.inputs.size(); ++j) {
+    Eigen::VectorXd values(static_cast<Eigen::Index>(ok.size()));
+    for (std::size_t k = 0; k < ok.size(); ++k)
+      values(static_cast<Eigen::Index>(k)) = runs.x(ok[k], static_cast<Eigen::Index>(j));
+    const UncertainInput& in = s.spec.inputs[j];
+    const std::string p = support_coverage_problem(in.label, in.distribution, values);
+    if (!p.empty()) problems += (problems.empty() ? "" : "; ") + p;
+  }
+  if (!problems.empty()) t.fail("file", s.training_file + ": " + problems);
 }
 
 // A held-out Q2 needs kMinHeldOutRuns runs (surrogate_validation.hpp): a
@@ -217,6 +244,7 @@ SurrogateStudy load_surrogate_study(const std::string& path) {
     const io::JsonReader t = r.child("training");
     s.training_file = existing_file(t, path, kRunsResults);
     t.finish();
+    check_training_runs(t, s);
   }
   parse_held_out(r, s);
   check_channels(r, s);

@@ -102,6 +102,24 @@ void check_run_count(const SurrogateStudy& study, const TrainingRuns& training) 
   throw RunsRefused(problem + (counts.failed > 0 ? " (first failure: " + counts.first_failure + ")" : ""));
 }
 
+// The successful training runs cover the support of every uniform or
+// log-uniform input (support_coverage_problem): a result file's runs are an
+// input problem, the study's own runs (their failures gathered at an end)
+// are refused after they ran, as too few successful runs are.
+void check_coverage(const SurrogateStudy& study, const TrainingRuns& training) {
+  const QoiRuns ok = successful_runs(training, 0);
+  std::string problems;
+  for (std::size_t j = 0; j < study.spec.inputs.size(); ++j) {
+    const UncertainInput& in = study.spec.inputs[j];
+    const std::string p = support_coverage_problem(in.label, in.distribution, ok.x.col(static_cast<Eigen::Index>(j)));
+    if (!p.empty()) problems += (problems.empty() ? "" : "; ") + p;
+  }
+  if (problems.empty()) return;
+  if (!study.training_file.empty())
+    throw io::ConfigError(study.spec.path + ": field 'training.file': " + training.source + ": " + problems);
+  throw RunsRefused(training.source + " runs: " + problems);
+}
+
 SurrogateSet surrogate_set(const SurrogateStudy& study, const TrainingRuns& training,
                            const std::vector<SurrogateQoiResult>& qoi) {
   SurrogateSet set;
@@ -221,6 +239,7 @@ TrainingRuns read_named_runs(const SurrogateStudy& study, const std::string& fil
 SurrogateStudyResult fit_surrogate_study(const SurrogateStudy& study, const TrainingRuns& training,
                                          const TrainingRuns& held_out) {
   check_run_count(study, training);
+  check_coverage(study, training);
   SurrogateStudyResult r;
   r.training = training;
   r.held_out = held_out;
@@ -295,6 +314,7 @@ StudyProgram<SurrogateStudyResult> surrogate_program(SurrogateStudy study) {
   p.plot = [s](const SurrogateStudyResult& r, const std::string&, PlotSelection) {
     plot_surrogate_study(*s, r, std::cerr);
   };
+  p.figures = [s](PlotSelection) { return surrogate_figures(*s); };
   return p;
 }
 

@@ -4355,5 +4355,123 @@ TEST_F(Audit, PlainWordsForTyposLinksAndLaunchers) {
   run_table(dir, cases);
 }
 
+// A prediction's dry run writes nothing, and a prediction refuses the flags
+// of a study; a surrogate is not trained on runs that leave part of an
+// input's declared support uncovered, and a saved model whose runs do not
+// cover its support predicts only where they do; two figures of one study
+// never share a file name; a surrogate's figures are announced as its own.
+TEST_F(Audit, PredictionFlagsCoverageAndFigureNames) {
+  const std::string dir = w().dir();
+  std::vector<Case> cases;
+  const LinearSurrogate lin = linear_surrogate(w());
+  const std::string design = w().text_file("x", "x1,x2,x3,x4\n0.5,0,0,0\n0.25,0,0,0\n", "csv");
+  const std::string predict = "surrogate --predict " + lin.model + " --design " + design + " --csv ";
+  std::string csv = w().out("csv");
+  cases.push_back({"--predict --dry-run", predict + csv + " --dry-run", Want::kRuns, {"dry run", "2 points"}, absent_file(csv)});
+  for (const std::string flag : {"--out " + w().out(), std::string("--resume"), std::string("--restart"),
+                                 std::string("--plots all"), std::string("--no-plot"),
+                                 std::string("--checkpoint-every 3"), std::string("--progress-interval 9")}) {
+    csv = w().out("csv");
+    cases.push_back({"--predict with " + flag, predict + csv + " " + flag, Want::kError,
+                     {flag.substr(0, flag.find(' ')) + " applies to --study, not to --predict"}, absent_file(csv)});
+  }
+  cases.push_back({"--design without --predict", study("surrogate", lin.study) + " --dry-run --design " + design,
+                   Want::kError, {"--design applies to --predict, not to --study"}});
+  // Runs of x1 over [0, 0.5] train a surrogate declared over [0, 1]: refused.
+  auto runs_over = [&](double max) {
+    const std::string runs = dir + "/runs_" + std::to_string(max) + ".h5";
+    std::string log;
+    EXPECT_EQ(run_command("cd " + dir + " && OMPI_MCA_ess_singleton_isolated=1 " + rover_binary() + " " +
+                              study_args("montecarlo",
+                                         w().json_file("half", Json{{"type", "montecarlo"},
+                                                                    {"name", "half"},
+                                                                    {"model", "linear"},
+                                                                    {"parameters", {{"x1", {{"distribution", "uniform"},
+                                                                                            {"min", 0.0}, {"max", max}}}}},
+                                                                    {"design", {{"type", "monte_carlo"},
+                                                                                {"samples", 30}, {"seed", 1}}}}),
+                                         runs),
+                          &log),
+              0)
+        << log;
+    return runs;
+  };
+  auto trained_on = [&](const std::string& runs) {
+    return w().json_file("on_runs", Json{{"type", "surrogate"},
+                                         {"name", "on_runs"},
+                                         {"model", "linear"},
+                                         {"parameters", {{"x1", {{"distribution", "uniform"}, {"min", 0.0}, {"max", 1.0}}}}},
+                                         {"training", {{"file", runs}}},
+                                         {"pce", {{"max_degree", 1}, {"bootstrap", 0}}}});
+  };
+  const std::string half = runs_over(0.5), whole = runs_over(1.0);
+  std::string out = w().out();
+  cases.push_back({"training runs over half the support", study_args("surrogate", trained_on(half), out), Want::kError,
+                   {"'training.file'", "'x1': the training runs cover 0.", "declared support [0, 1]", "above 0.4"},
+                   absent_file(out)});
+  cases.push_back({"training runs over half the support, dry run",
+                   study("surrogate", trained_on(half)) + " --dry-run", Want::kError, {"'training.file'", "'x1'"}});
+  cases.push_back({"training runs over the whole support", study("surrogate", trained_on(whole)), Want::kRuns, {}});
+  // A model whose saved support reaches beyond its training runs (x1 in
+  // [0, 2], runs in [0, 1]): a row at 1.9 is refused, one at 0.5 predicted.
+  const std::string widened = w().copy_of(lin.model);
+  set_dataset_element(widened, "/surrogate/inputs/support", 1, 2.0);
+  set_dataset_element(widened, "/surrogate/inputs/parameters", 1, 2.0);
+  const std::string far = w().text_file("far", "x1,x2,x3,x4\n1.9,0,0,0\n", "csv");
+  csv = w().out("csv");
+  cases.push_back({"a prediction beyond the training runs", "surrogate --predict " + widened + " --design " + far +
+                                                                 " --csv " + csv,
+                   Want::kError, {"row 1: x1 = 1.9 lies outside the training support [0", "declared support [0, 2]"},
+                   absent_file(csv)});
+  csv = w().out("csv");
+  cases.push_back({"a prediction inside the training runs",
+                   "surrogate --predict " + widened + " --design " + design + " --csv " + csv, Want::kRuns, {}});
+  // A QoI labelled like the figures of a channel.
+  const Json drop_inputs{{"c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.2}}},
+                         {"f", {{"distribution", "log_uniform"}, {"min", 1e3}, {"max", 1e5}}}};
+  auto drop_sensitivity = [&](const std::string& method, const Json& qoi) {
+    Json j{{"type", "sensitivity"},
+           {"method", method},
+           {"name", "sobl"},
+           {"scenario", w().quick()},
+           {"parameters", drop_inputs},
+           {"design", {{"type", method == "sobol" ? "sobol" : "lhs"}, {"samples", 8}, {"seed", 1}}},
+           {"qoi", qoi},
+           {"channels", {"B_l_z"}}};
+    if (method == "sobol") j["bootstrap"] = 100;
+    return w().json_file("figures", j);
+  };
+  const Json clashing = Json::array({{{"name", "B_l_z_min"}, {"label", "t_B_l_z"}},
+                                     {{"name", "deflection"}, {"label", "t_B_l_z_variance"}}});
+  const std::string sobol = drop_sensitivity("sobol", clashing);
+  cases.push_back({"sobol: QoI labels like a channel's figures",
+                   "sensitivity --study " + sobol + " --out " + w().out() + " --plots all --dry-run", Want::kError,
+                   {"QoI 't_B_l_z' and of channel 'B_l_z' (its indices along time)", "_sobol_t_B_l_z.png;",
+                    "QoI 't_B_l_z_variance'", "give the QoI another \"label\""}});
+  cases.push_back({"sobol: the same labels, summary only",
+                   "sensitivity --study " + sobol + " --out " + w().out() + " --plots summary --dry-run", Want::kRuns, {}});
+  const std::string pce = drop_sensitivity("pce", Json::array({{{"name", "B_l_z_min"}, {"label", "t_B_l_z"}}}));
+  cases.push_back({"pce: a QoI label like a channel's figure",
+                   "sensitivity --study " + pce + " --out " + w().out() + " --plots all --dry-run", Want::kError,
+                   {"QoI 't_B_l_z' and of channel 'B_l_z'", "_pce_t_B_l_z.png"}});
+  // A surrogate's figure of a channel is announced by `surrogate` (a 0.3 s
+  // drop: the wheels land, so the curve varies).
+  const std::string curves = w().json_file(
+      "curves", Json{{"type", "surrogate"},
+                     {"name", "curves"},
+                     {"scenario", w().scenario([](Json& j) { j["duration"] = 0.3; })},
+                     {"parameters", drop_inputs},
+                     {"design", {{"type", "lhs"}, {"samples", 12}, {"seed", 1}}},
+                     {"qoi", {"B_l_z_min"}},
+                     {"channels", {"B_l_z"}},
+                     {"pce", {{"max_degree", 2}, {"bootstrap", 0}}}});
+  out = w().out();
+  cases.push_back({"surrogate --plots all with a channel",
+                   "surrogate --study " + curves + " --out " + out + " --plots all", Want::kRunsOrFails,
+                   {"surrogate: wrote " + out.substr(0, out.size() - 3) + "_surrogate_t_B_l_z.png"}, {}, {},
+                   {"sensitivity: wrote"}});
+  run_table(dir, cases);
+}
+
 }  // namespace
 }  // namespace rover

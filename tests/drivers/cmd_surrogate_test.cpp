@@ -117,7 +117,7 @@ TEST(CmdSurrogate, RefusesBadCommandLinesAndFiles) {
   EXPECT_NE(log.find("s.json"), std::string::npos) << log;
   write_file(dir + "/x.csv", "x1,x2,x3\n0,0,0\n");
   EXPECT_EQ(run_command(surrogate("--study " + study + " --design " + dir + "/x.csv"), &log), 1);
-  EXPECT_NE(log.find("--design and --csv go with --predict"), std::string::npos) << log;
+  EXPECT_NE(log.find("--design applies to --predict, not to --study"), std::string::npos) << log;
 }
 
 }  // namespace
