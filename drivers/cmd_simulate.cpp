@@ -64,6 +64,8 @@ void check_output_names(const SimulateOptions& o, const std::string& out_flag, c
   }
   checks.distinct_outputs(outputs);
   checks.throw_if_any();
+  checks.output_format("--csv", o.csv, "CSV", ".csv");  // after: another output it would replace is named first
+  checks.throw_if_any();
 }
 
 // Checks every flag before the scenario is loaded.
@@ -72,7 +74,6 @@ void check_flags(const SimulateOptions& o) {
   check_overrides(o.overrides, checks);
   check_integrator_flag(checks, o.integrator);
   checks.output_file("--csv", o.csv);
-  checks.output_format("--csv", o.csv, "CSV", ".csv");
   if (!o.out.empty()) check_output_targets(o, "--out", o.out, checks);
   checks.throw_if_any();
 }

@@ -68,12 +68,13 @@ int predict(const CLI::App& app, const SurrogateOptions& o) {
     checks.add("--predict " + one_process_refusal(size) + " (--study shares its runs among processes)");
   if (o.design_path.empty() || o.csv_path.empty()) checks.add("--predict needs --design X.csv and --csv Y.csv");
   checks.output_file("--csv", o.csv_path);
-  checks.output_format("--csv", o.csv_path, "CSV", ".csv");
   checks.distinct_files("--csv", o.csv_path, "--design", o.design_path);
   checks.distinct_files("--csv", o.csv_path, "--predict", o.predict_path);
   checks.throw_if_any();
   const study::SurrogateSet set = study::read_surrogate_set(o.predict_path);
   checks.not_an_input("--csv", o.csv_path, training_files(o.predict_path));
+  checks.throw_if_any();
+  checks.output_format("--csv", o.csv_path, "CSV", ".csv");  // after: an input it would destroy is named first
   checks.throw_if_any();
   const study::DesignMatrix x = study::surrogate_points(set, study::read_design_csv(o.design_path));
   if (o.run.dry_run) {

@@ -153,7 +153,6 @@ std::string provenance_comment(const SynthesizeOptions& o, const std::string& sc
 int run_synthesize(const SynthesizeOptions& o) {
   FlagChecks checks;
   checks.output_file("--out", o.out);
-  checks.output_format("--out", o.out, "CSV", ".csv");
   checks.non_negative("--noise", o.noise_m);
   checks.finite("--offset", o.offset_s);
   checks.positive("--rate", o.rate_hz);
@@ -174,6 +173,8 @@ int run_synthesize(const SynthesizeOptions& o) {
   inputs.add(scenario_path, "--scenario");
   inputs.add_all(setup.files);
   checks.not_an_input("--out", o.out, inputs);
+  checks.throw_if_any();
+  checks.output_format("--out", o.out, "CSV", ".csv");  // after: an input it would destroy is named first
   checks.throw_if_any();
   // A different method comes with its own default tolerances, as in `rover simulate`.
   if (!o.integrator.empty())

@@ -101,8 +101,12 @@ void read_integral_numbers_as_integers(CLI::App& app) {
   for (CLI::Option* option : app.get_options()) {
     const std::string type = option->get_type_name();  // "INT:INT in [2 - 100000000]" with a range
     if (!type.starts_with("INT") && !type.starts_with("UINT")) continue;
+    std::string range;  // ", from 2 to 100000000"
+    if (const std::size_t open = type.find(" in ["), dash = type.find(" - ", open), close = type.find(']', open);
+        open != std::string::npos && dash != std::string::npos && close != std::string::npos)
+      range = ", from " + type.substr(open + 5, dash - open - 5) + " to " + type.substr(dash + 3, close - dash - 3);
     option->transform(CLI::Validator(
-        [](std::string& text) {
+        [range](std::string& text) {
           const bool negative = text.starts_with('-');
           io::Json number;
           try {
@@ -113,7 +117,8 @@ void read_integral_numbers_as_integers(CLI::App& app) {
           if (text.starts_with("--"))  // `--samples --dry-run`: CLI11 took the next option as the value
             return std::string(kGivenNoValue) + ": the word after it, '" + text + "', is an option of its own";
           if (!number.is_number())
-            return text.empty() ? std::string() : "must be a whole number in decimal digits (as 1000 or 1e3), got " + text;
+            return text.empty() ? std::string()
+                                : "must be a whole number in decimal digits (as 1000 or 1e3)" + range + ", got " + text;
           const auto value = io::exact_unsigned_integer(number);
           if (!value)  // beyond 2^53 (1e30) the flag's range says so
             return std::trunc(number.get<double>()) == number.get<double>() ? std::string()

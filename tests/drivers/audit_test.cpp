@@ -512,7 +512,7 @@ TEST_F(Audit, ScenarioFile) {
   }
   raw_case("byte-order mark and CRLF", crlf, Want::kRuns, {});
   raw_case("a top-level string", "\"quick\"", Want::kError, {"<top level>"});
-  raw_case("NUL inside a string", std::string("{\"name\": \"q\0x\"}", 15), Want::kError, {":1:13:", "holds a NUL byte"});
+  raw_case("NUL inside a string", std::string("{\"name\": \"q\0x\"}", 15), Want::kError, {":1:12:", "holds a NUL byte"});
   // Paths that are not regular readable JSON files.
   cases.push_back({"scenario is missing", simulate(w().dir() + "/none.json"), Want::kError,
                    {"--scenario", w().dir() + "/none.json"}});
