@@ -64,6 +64,22 @@ std::size_t data_point_count(double duration_s, double offset_s, double rate_hz)
   return n;
 }
 
+// The data points at or after the release (t_d >= offset).
+std::size_t points_after_release(double duration_s, double offset_s, double rate_hz) {
+  const std::size_t points = data_point_count(duration_s, offset_s, rate_hz);
+  std::size_t after = 0;
+  for (std::size_t k = 0; k < points; ++k) after += static_cast<double>(k) / rate_hz >= offset_s - 1e-12 ? 1 : 0;
+  return after;
+}
+
+// The largest offset that leaves kMeasuredCurveMinRows points at or after the
+// release: the time of that point counted back from the data's last.
+double largest_offset(double duration_s, double rate_hz) {
+  const std::size_t points = data_point_count(duration_s, duration_s, rate_hz);  // a positive offset: to the run's end
+  if (points < io::kMeasuredCurveMinRows) return 0.0;
+  return static_cast<double>(points - io::kMeasuredCurveMinRows) / rate_hz;
+}
+
 // Refuses a data clock that gives a curve rover compare and calibrate would
 // refuse: too many or too few points, or a release after the run's end.
 void check_data_clock(const SynthesizeOptions& o, double duration_s, const std::string& scenario_path) {
@@ -86,13 +102,17 @@ void check_data_clock(const SynthesizeOptions& o, double duration_s, const std::
                             " give " + std::to_string(points) + " data point(s); a measured curve needs at least " +
                             std::to_string(io::kMeasuredCurveMinRows) +
                             " (rover compare and calibrate refuse fewer): raise --rate"});
-  // The release past the data's end: every point would be the rover hanging
-  // at rest, a curve with no drop in it.
-  if (o.offset_s > duration_s)
-    throw CommandLineError({"--offset " + number_text(o.offset_s) + " s: the data clock runs to the end of the " +
-                            number_text(duration_s) + " s of " + scenario_path +
-                            ", so a release after it leaves no data point after the release; give an offset "
-                            "of at most " + number_text(duration_s) + " s"});
+  // A release at or near the data's end: the points before it are the rover
+  // hanging at rest, a curve with (almost) no drop in it.
+  if (const std::size_t after = points_after_release(duration_s, o.offset_s, o.rate_hz);
+      after < io::kMeasuredCurveMinRows)
+    throw CommandLineError({"--offset " + number_text(o.offset_s) + " s leaves " + std::to_string(after) +
+                            " data point(s) at or after the release: the data clock at " + number_text(o.rate_hz) +
+                            " Hz runs to the end of the " + number_text(duration_s) + " s of " + scenario_path +
+                            ", and a measured curve needs at least " + std::to_string(io::kMeasuredCurveMinRows) +
+                            " points of the drop (before the release the rover hangs at rest); give an offset above -" +
+                            number_text(duration_s) + " s and at most " +
+                            number_text(largest_offset(duration_s, o.rate_hz)) + " s"});
 }
 
 // The integrator that makes the data: the one asked for if its measured
