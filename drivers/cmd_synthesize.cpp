@@ -53,7 +53,15 @@ struct SynthesizeOptions {
   std::string channel = "B_l_z";
   std::string integrator;  // empty: the scenario's
   CLI::Option* scenario_option = nullptr;
+  CLI::Option* offset_option = nullptr;
 };
+
+// Without --offset the release is this far into the data clock, or at half
+// the run of a shorter scenario, so that the drop is in the data.
+constexpr double kDefaultOffset_s = 0.05;
+constexpr double kDefaultOffsetShareOfDuration = 0.5;
+
+double default_offset(double duration_s) { return std::min(kDefaultOffset_s, kDefaultOffsetShareOfDuration * duration_s); }
 
 // The data clock runs t_d = t_sim + offset from 0 to the end of the run: the
 // number of points k / rate within the simulated span and the data's.
@@ -171,7 +179,7 @@ std::string provenance_comment(const SynthesizeOptions& o, const std::string& sc
   return comment.str();
 }
 
-int run_synthesize(const SynthesizeOptions& o) {
+int run_synthesize(SynthesizeOptions o) {
   FlagChecks checks;
   checks.output_file("--out", o.out);
   checks.output_format("--out", o.out, "CSV", ".csv");
@@ -199,6 +207,7 @@ int run_synthesize(const SynthesizeOptions& o) {
   // A different method comes with its own default tolerances, as in `rover simulate`.
   if (!o.integrator.empty())
     setup.scenario.integrator = default_integrator_settings(integrator_from_name(o.integrator));
+  if (o.offset_option == nullptr || o.offset_option->count() == 0) o.offset_s = default_offset(setup.scenario.duration_s);
   check_data_clock(o, setup.scenario.duration_s, scenario_path);
   setup.scenario.integrator = data_integrator(
       setup.scenario.integrator, o.integrator.empty() ? "the scenario's integrator" : "--integrator", o.noise_m);
@@ -266,7 +275,9 @@ const RegisterCommand synthesize_command{
                          integrator_choices_text());
       add_input_overrides(app, o->overrides);
       app.add_option("--noise", o->noise_m, "Measurement noise standard deviation [m]")->capture_default_str();
-      app.add_option("--offset", o->offset_s, "Time of the release on the data clock [s]")->capture_default_str();
+      o->offset_option = app.add_option("--offset", o->offset_s,
+                                        "Time of the release on the data clock [s] (default 0.05, at most half the "
+                                        "scenario's duration)");
       app.add_option("--rate", o->rate_hz, "Sample rate of the data [Hz]")->capture_default_str();
       app.add_option("--seed", o->seed, "Noise seed, an integer from 0 to 2^64 - 1")
           ->capture_default_str();
