@@ -261,7 +261,7 @@ TEST(Calibration, StudyFileChecksNameTheField) {
                 .fit.at(0).prior.kind,
             DistributionKind::kNormal);
   // A noise prior reaching 0 m, below the noise sds the likelihood resolves.
-  expect_refused(write_file(dir, "p9.json", study_text(good, R"(, "method": "mcmc", "mcmc": {"noise_sd": {"distribution": "uniform", "min": 0, "max": 1e-3}}})")),
+  expect_refused(write_file(dir, "p9.json", study_text(good, R"(, "method": "mcmc", "mcmc": {"noise_sd": {"distribution": "uniform", "min": 0, "max": 1e-3}})")),
                  "the prior reaches 0 m");
   // A default start outside the bounds: blamed on the bounds, naming the default and initial.<name>.
   const std::string default_outside = R"({"type": "calibration", "name": "c", "scenario": ")" +
