@@ -2921,7 +2921,8 @@ TEST_F(Audit, JointFitNamesTheCurveWhoseRunsFail) {
   std::vector<Case> cases;
   const std::string failing = w().scenario([](Json& j) { j["wall_time_budget"] = 1e-6; });
   const std::string data = w().dir() + "/quick_data.csv";  // the quick drop's own curve
-  const std::string second = w().text_file("second_drop", measured_text("\n"), "csv");  // another file, same rows
+  // Another curve: the same drop, one row fewer (an identical copy is refused as the same curve twice).
+  const std::string second = w().text_file("second_drop", measured_text("\n", 39), "csv");
   cases.push_back({"a joint fit whose second curve cannot run",
                    study("calibrate", w().calibration([&](Json& j) {
                      j["data"] = {{{"file", data}, {"channel", "B_l_z"}},
