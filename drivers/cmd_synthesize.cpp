@@ -53,7 +53,15 @@ struct SynthesizeOptions {
   std::string channel = "B_l_z";
   std::string integrator;  // empty: the scenario's
   CLI::Option* scenario_option = nullptr;
+  CLI::Option* offset_option = nullptr;
 };
+
+// Without --offset the release is this far into the data clock, or at half
+// the run of a shorter scenario, so that the drop is in the data.
+constexpr double kDefaultOffset_s = 0.05;
+constexpr double kDefaultOffsetShareOfDuration = 0.5;
+
+double default_offset(double duration_s) { return std::min(kDefaultOffset_s, kDefaultOffsetShareOfDuration * duration_s); }
 
 // The data clock runs t_d = t_sim + offset from 0 to the end of the run: the
 // number of points k / rate within the simulated span and the data's.
@@ -62,6 +70,22 @@ std::size_t data_point_count(double duration_s, double offset_s, double rate_hz)
   std::size_t n = 0;
   for (double td = 0.0; !(td > end - 1e-12 || td > duration_s); td = static_cast<double>(n) / rate_hz) ++n;
   return n;
+}
+
+// The data points at or after the release (t_d >= offset).
+std::size_t points_after_release(double duration_s, double offset_s, double rate_hz) {
+  const std::size_t points = data_point_count(duration_s, offset_s, rate_hz);
+  std::size_t after = 0;
+  for (std::size_t k = 0; k < points; ++k) after += static_cast<double>(k) / rate_hz >= offset_s - 1e-12 ? 1 : 0;
+  return after;
+}
+
+// The largest offset that leaves kMeasuredCurveMinRows points at or after the
+// release: the time of that point counted back from the data's last.
+double largest_offset(double duration_s, double rate_hz) {
+  const std::size_t points = data_point_count(duration_s, duration_s, rate_hz);  // a positive offset: to the run's end
+  if (points < io::kMeasuredCurveMinRows) return 0.0;
+  return static_cast<double>(points - io::kMeasuredCurveMinRows) / rate_hz;
 }
 
 // Refuses a data clock that gives a curve rover compare and calibrate would
@@ -86,13 +110,17 @@ void check_data_clock(const SynthesizeOptions& o, double duration_s, const std::
                             " give " + std::to_string(points) + " data point(s); a measured curve needs at least " +
                             std::to_string(io::kMeasuredCurveMinRows) +
                             " (rover compare and calibrate refuse fewer): raise --rate"});
-  // The release past the data's end: every point would be the rover hanging
-  // at rest, a curve with no drop in it.
-  if (o.offset_s > duration_s)
-    throw CommandLineError({"--offset " + number_text(o.offset_s) + " s: the data clock runs to the end of the " +
-                            number_text(duration_s) + " s of " + scenario_path +
-                            ", so a release after it leaves no data point after the release; give an offset "
-                            "of at most " + number_text(duration_s) + " s"});
+  // A release at or near the data's end: the points before it are the rover
+  // hanging at rest, a curve with (almost) no drop in it.
+  if (const std::size_t after = points_after_release(duration_s, o.offset_s, o.rate_hz);
+      after < io::kMeasuredCurveMinRows)
+    throw CommandLineError({"--offset " + number_text(o.offset_s) + " s leaves " + std::to_string(after) +
+                            " data point(s) at or after the release: the data clock at " + number_text(o.rate_hz) +
+                            " Hz runs to the end of the " + number_text(duration_s) + " s of " + scenario_path +
+                            ", and a measured curve needs at least " + std::to_string(io::kMeasuredCurveMinRows) +
+                            " points of the drop (before the release the rover hangs at rest); give an offset above -" +
+                            number_text(duration_s) + " s and at most " +
+                            number_text(largest_offset(duration_s, o.rate_hz)) + " s"});
 }
 
 // The integrator that makes the data: the one asked for if its measured
@@ -150,7 +178,7 @@ std::string provenance_comment(const SynthesizeOptions& o, const std::string& sc
   return comment.str();
 }
 
-int run_synthesize(const SynthesizeOptions& o) {
+int run_synthesize(SynthesizeOptions o) {
   FlagChecks checks;
   checks.output_file("--out", o.out);
   checks.non_negative("--noise", o.noise_m);
@@ -179,6 +207,7 @@ int run_synthesize(const SynthesizeOptions& o) {
   // A different method comes with its own default tolerances, as in `rover simulate`.
   if (!o.integrator.empty())
     setup.scenario.integrator = default_integrator_settings(integrator_from_name(o.integrator));
+  if (o.offset_option == nullptr || o.offset_option->count() == 0) o.offset_s = default_offset(setup.scenario.duration_s);
   check_data_clock(o, setup.scenario.duration_s, scenario_path);
   setup.scenario.integrator = data_integrator(
       setup.scenario.integrator, o.integrator.empty() ? "the scenario's integrator" : "--integrator", o.noise_m);
@@ -246,7 +275,9 @@ const RegisterCommand synthesize_command{
                          integrator_choices_text());
       add_input_overrides(app, o->overrides);
       app.add_option("--noise", o->noise_m, "Measurement noise standard deviation [m]")->capture_default_str();
-      app.add_option("--offset", o->offset_s, "Time of the release on the data clock [s]")->capture_default_str();
+      o->offset_option = app.add_option("--offset", o->offset_s,
+                                        "Time of the release on the data clock [s] (default 0.05, at most half the "
+                                        "scenario's duration)");
       app.add_option("--rate", o->rate_hz, "Sample rate of the data [Hz]")->capture_default_str();
       app.add_option("--seed", o->seed, "Noise seed, an integer from 0 to 2^64 - 1")
           ->capture_default_str();

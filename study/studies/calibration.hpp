@@ -77,6 +77,7 @@ struct FitParameter {
   std::string canonical;  // its parameter-space name (study/model/parameter_space.hpp); empty for time_offset
   double lower = 0.0, upper = 0.0, initial = 0.0;
   bool log_scale = false;
+  bool initial_given = false;  // "initial" names it; else the default start (the nominal value, 0 for time_offset)
   Distribution prior;  // mcmc: its prior (default uniform on [lower, upper])
 };
 

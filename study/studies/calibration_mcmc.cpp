@@ -515,6 +515,31 @@ double calibration_log_density(const std::vector<Distribution>& priors, const Di
   return log_density;
 }
 
+std::string mcmc_start_outside_priors(const CalibrationStudy& s, const McmcStart& start) {
+  const PosteriorSpace space = posterior_space(s);
+  const StudentTProposal centre = starting_proposal(s, space, start);
+  const std::string at = start.values.empty() ? "initial value" : "least-squares estimate";
+  for (std::size_t k = 0; k < space.size(); ++k) {
+    // A fitted value as the fit left it (a log10 and back could step off a bound).
+    const double value = k >= space.fitted ? space.natural(k, centre.mean[static_cast<Eigen::Index>(k)])
+                         : start.values.empty() ? s.fit[k].initial
+                                                : start.values[k];
+    if (value >= space.lower[k] && value <= space.upper[k]) continue;
+    const std::string support = "[" + format_number(space.lower[k], 6) + ", " + format_number(space.upper[k], 6) + "]";
+    if (k < space.fitted)
+      return "the " + at + " " + space.names[k] + " = " + format_number(value, 6) + " lies outside priors." +
+             space.names[k] + " (" + space.priors[k].describe() + ", within bounds." + space.names[k] + ": " +
+             support + "): the data and the prior disagree, and the chains, which start around the fit, have no "
+             "point of positive posterior density to start from; widen the prior, or check the data and the scenario";
+    const CalibrationDataset& d = s.datasets[k - space.fitted];
+    return "the noise sd the chains start from, the residual RMS of " + d.path + " at the " + at + ", " +
+           format_number(value, 6) + " m, lies outside the support " + support + " m of mcmc.noise_sd (" +
+           s.mcmc.noise_prior.describe() + "): the data and the prior disagree; widen the noise prior, or check "
+           "the data and the scenario";
+  }
+  return "";
+}
+
 CalibrationPosterior run_calibration_mcmc(const CalibrationStudy& s, const StudyRunOptions& control,
                                           const McmcStart& start) {
   const std::string& out = control.results_path;

@@ -118,6 +118,14 @@ struct McmcStart {
   Eigen::MatrixXd covariance;
 };
 
+// Why the chains cannot start from `start` (empty when they can): the centre
+// they start around (the least-squares estimate, or the initial values, and
+// each curve's residual RMS as its noise sd) lies outside a prior's support
+// truncated to the bounds: the data and the prior disagree. Names the prior
+// (priors.<name> or mcmc.noise_sd), its support and the value. Runs one
+// simulation per curve, on the calling rank only.
+std::string mcmc_start_outside_priors(const CalibrationStudy& study, const McmcStart& start);
+
 // Collective over MPI ranks. The result is complete on rank 0; the other
 // ranks hold `mixed` only. Throws StudyInterrupted after a signal, the
 // checkpoint saved.

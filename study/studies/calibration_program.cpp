@@ -99,6 +99,12 @@ CalibrationPosteriorResult run_calibration_posterior(const CalibrationStudy& s, 
     return r;
   }
   const McmcStart start = posterior_start(checked);
+  // Every rank holds the same start, and so comes to the same verdict.
+  r.not_sampled_because = mcmc_start_outside_priors(checked.study, start);
+  if (!r.not_sampled_because.empty()) {
+    r.fit_counts = {};  // the fit ran: its failed runs, if any, are no failure of the chains
+    return r;
+  }
   r.started_at_initial_values = start.values.empty();
   if (world_rank() == 0) r.start_fit_flaw = checked_fit_flaw(checked);
   r.posterior = run_calibration_mcmc(checked.study, control, start);

@@ -128,6 +128,25 @@ std::string canonical_fit_name(const io::JsonReader& r, const CalibrationOverrid
   }
 }
 
+// "the default start 0 (time_offset's default)", "the default start 0.14 (the
+// nominal value of the rover and scenario files)", or "initial.c_q = 0.6".
+std::string describe_start(const FitParameter& p) {
+  if (p.initial_given) return "the start initial." + p.name + " = " + format_number(p.initial, 6);
+  return "the default start " + format_number(p.initial, 6) +
+         (p.canonical.empty() ? " (time_offset's default)" : " (the nominal value of the rover and scenario files)");
+}
+
+// A start outside the bounds: blamed on "initial" when the study gave it,
+// else on the bounds, which leave the default start out.
+[[noreturn]] void refuse_start_outside_bounds(const io::JsonReader& bounds, const io::JsonReader& initial,
+                                              const FitParameter& p) {
+  const std::string range = "[" + format_number(p.lower, 6) + ", " + format_number(p.upper, 6) + "]";
+  if (p.initial_given)
+    initial.fail(p.name, "initial value " + format_number(p.initial, 6) + " outside bounds." + p.name + " " + range);
+  bounds.fail(p.name, describe_start(p) + " is outside the bounds " + range + ": give a start inside them as "
+                      "initial." + p.name + ", or bounds that hold the default");
+}
+
 void read_fit_parameters(const io::JsonReader& r, const CalibrationOverrides& o, const ParameterSpace& space,
                          CalibrationStudy& s) {
   const io::JsonReader bounds = r.child("bounds");
@@ -153,11 +172,9 @@ void read_fit_parameters(const io::JsonReader& r, const CalibrationOverrides& o,
     if (p.log_scale && !(p.lower > 0))
       bounds.fail(name, "a log-scale parameter needs positive bounds, got [" + format_number(p.lower, 6) + ", " +
                             format_number(p.upper, 6) + "]");
-    p.initial = initial.has(name) ? initial.number(name)
-                                  : (p.canonical.empty() ? 0.0 : space.nominal(p.canonical));
-    if (!(p.initial >= p.lower && p.initial <= p.upper))
-      initial.fail(name, "initial value " + format_number(p.initial, 6) + " outside the bounds [" +
-                             format_number(p.lower, 6) + ", " + format_number(p.upper, 6) + "]");
+    p.initial_given = initial.has(name);
+    p.initial = p.initial_given ? initial.number(name) : (p.canonical.empty() ? 0.0 : space.nominal(p.canonical));
+    if (!(p.initial >= p.lower && p.initial <= p.upper)) refuse_start_outside_bounds(bounds, initial, p);
     p.prior = p.log_scale ? log_uniform(p.lower, p.upper) : uniform(p.lower, p.upper);
     s.fit.push_back(p);
   }
@@ -308,6 +325,20 @@ void refuse_curve_listed_twice(const io::JsonReader& item, const std::string& fi
   }
 }
 
+// A copy of a curve under another name counts alike: the newest dataset
+// refused when its channel, times and heights (as read) equal an earlier one's.
+void refuse_copied_curve(const io::JsonReader& item, const std::vector<CalibrationDataset>& datasets) {
+  const CalibrationDataset& last = datasets.back();
+  for (std::size_t j = 0; j + 1 < datasets.size(); ++j) {
+    const CalibrationDataset& d = datasets[j];
+    if (d.channel != last.channel || d.t != last.t || d.z != last.z) continue;
+    item.fail("file", "'" + last.path + "' holds the same curve as data[" + std::to_string(j) + "] ('" + d.path +
+                          "'): the same " + std::to_string(d.t.size()) + " times and heights of " + d.channel +
+                          "; a curve listed twice counts its measurements twice and narrows every interval by "
+                          "a factor sqrt(2); list each measured curve once");
+  }
+}
+
 // The measured curves: "data" (a file, or a list of {file, scenario,
 // channel}) or --data, each with its scenario, checked before any run.
 void read_datasets(const io::JsonReader& r, const std::string& path, const CalibrationOverrides& o,
@@ -364,6 +395,7 @@ void read_datasets(const io::JsonReader& r, const std::string& path, const Calib
       } catch (const std::exception& e) {
         item.fail("scenario", e.what());
       }
+      refuse_copied_curve(item, s.datasets);
       item.finish();
     }
   }
@@ -377,6 +409,24 @@ CalibrationMethod read_method(const io::JsonReader& r, const CalibrationOverride
   return CalibrationMethod::mcmc;
 }
 
+// A prior is truncated to the bounds: it needs probability inside them, and
+// its support must hold the start. The fit starts there and the chains
+// around the fit; a start where the prior has no density leaves the chains
+// nothing to start from.
+void check_prior_holds_the_start(const io::JsonReader& priors, const FitParameter& p, const Distribution& d) {
+  const std::string support =
+      "its support [" + format_number(d.support_lower(), 6) + ", " + format_number(d.support_upper(), 6) + "]";
+  const std::string bounds = "bounds." + p.name + " [" + format_number(p.lower, 6) + ", " +
+                             format_number(p.upper, 6) + "]";
+  if (!(d.cdf(p.upper) - d.cdf(p.lower) > 0.0))
+    priors.fail(p.name, d.describe() + " has no probability inside " + bounds + " (" + support +
+                            "): give a prior that overlaps the bounds, or bounds that reach the prior");
+  if (!(p.initial >= d.support_lower() && p.initial <= d.support_upper() && std::isfinite(d.log_pdf(p.initial))))
+    priors.fail(p.name, d.describe() + ": " + support + " leaves out " + describe_start(p) +
+                            ", where the fit starts; give initial." + p.name + " inside the prior's support and " +
+                            bounds + ", or a prior that holds the start");
+}
+
 // Priors (used by the mcmc method; checked whatever the method).
 void read_priors(const io::JsonReader& r, CalibrationStudy& s) {
   if (r.has("priors")) {
@@ -387,10 +437,7 @@ void read_priors(const io::JsonReader& r, CalibrationStudy& s) {
       const Distribution d = parse_distribution(prior, std::numeric_limits<double>::quiet_NaN());
       std::string why;
       if (!d.IsValid(&why)) priors.fail(p.name, why);
-      // The prior is truncated to the bounds: it needs mass inside them.
-      if (!(d.cdf(p.upper) - d.cdf(p.lower) > 0.0) && d.kind != DistributionKind::kFixed)
-        priors.fail(p.name, d.describe() + " has no probability inside the bounds [" + format_number(p.lower, 6) +
-                                ", " + format_number(p.upper, 6) + "]");
+      if (d.kind != DistributionKind::kFixed) check_prior_holds_the_start(priors, p, d);
       prior.finish();
       p.prior = d;
     }
@@ -429,7 +476,9 @@ void read_mcmc_settings(const io::JsonReader& r, CalibrationStudy& s) {
           m.fail("noise_sd", "the noise sd prior must not extend below 0");
         const double lower = s.mcmc.noise_prior.support_lower(), upper = s.mcmc.noise_prior.support_upper();
         if (upper > kMaxNoiseSd_m) m.fail("noise_sd", "the prior reaches " + noise_scale_problem(upper));
-        if (lower > 0.0 && lower < kMinNoiseSd_m) m.fail("noise_sd", "the prior reaches " + noise_scale_problem(lower));
+        if (lower < kMinNoiseSd_m)
+          m.fail("noise_sd", "the prior reaches " + noise_scale_problem(lower) + "; give a support from at least " +
+                                 format_number(kMinNoiseSd_m, 6) + " m (a \"min\" of 1e-12 or more)");
         noise.finish();
       }
     }

@@ -1900,7 +1900,7 @@ TEST_F(Audit, ThirdAuditRefusedUpFront) {
   const std::string late = w().out("csv"), noisy = w().out("csv");
   cases.push_back({"synthesize: the release after the last data point",
                    "synthesize --scenario " + w().quick() + " --offset 1 --out " + late, Want::kError,
-                   {"--offset 1 s", "no data point after the release"}, nothing_at(late)});
+                   {"--offset 1 s", "leaves 0 data point(s) at or after the release"}, nothing_at(late)});
   cases.push_back({"synthesize: noise of 1000 km", "synthesize --scenario " + w().quick() + " --noise 1e6 --out " + noisy,
                    Want::kError, {"--noise 1000000 m", "|z| < 1000 m"}, nothing_at(noisy)});
   // A path ending in '/' names a directory: refused, and none is made.
@@ -2921,7 +2921,8 @@ TEST_F(Audit, JointFitNamesTheCurveWhoseRunsFail) {
   std::vector<Case> cases;
   const std::string failing = w().scenario([](Json& j) { j["wall_time_budget"] = 1e-6; });
   const std::string data = w().dir() + "/quick_data.csv";  // the quick drop's own curve
-  const std::string second = w().text_file("second_drop", measured_text("\n"), "csv");  // another file, same rows
+  // Another curve: the same drop, one row fewer (an identical copy is refused as the same curve twice).
+  const std::string second = w().text_file("second_drop", measured_text("\n", 39), "csv");
   cases.push_back({"a joint fit whose second curve cannot run",
                    study("calibrate", w().calibration([&](Json& j) {
                      j["data"] = {{{"file", data}, {"channel", "B_l_z"}},
@@ -4470,6 +4471,88 @@ TEST_F(Audit, PredictionFlagsCoverageAndFigureNames) {
                    "surrogate --study " + curves + " --out " + out + " --plots all", Want::kRunsOrFails,
                    {"surrogate: wrote " + out.substr(0, out.size() - 3) + "_surrogate_t_B_l_z.png"}, {}, {},
                    {"sensitivity: wrote"}});
+  run_table(dir, cases);
+}
+
+// Calibration inputs refused before any run, each naming the field: a prior
+// whose support leaves out the start (typed, or the default nominal value), a
+// noise prior reaching 0 m, a default start outside the bounds, a copy of a
+// curve under another name, data separated by tabs or semicolons, and
+// synthetic data with fewer than 3 points after the release. A fit whose
+// estimate lies outside its prior ends with no posterior, status 2, naming
+// the prior, not with the sampler's words.
+TEST_F(Audit, PriorsStartsCopiesAndSeparatorsOfCalibrationInputs) {
+  std::vector<Case> cases;
+  const std::string dir = w().dir();
+  const Json narrow = {{"c_q", {{"distribution", "uniform"}, {"min", 0.5}, {"max", 0.6}}}};
+  const std::string typed_start = w().calibration([&](Json& j) {
+    j["method"] = "mcmc";
+    j["priors"] = narrow;
+  });
+  cases.push_back({"a prior whose support leaves out initial.c_q", study("calibrate", typed_start) + " --dry-run",
+                   Want::kError, {"'priors.c_q'", "its support [0.5, 0.6]", "the start initial.c_q = 0.1"}});
+  const std::string default_start = w().calibration([&](Json& j) {
+    j["method"] = "mcmc";
+    j["priors"] = narrow;
+    j.erase("initial");
+  });
+  cases.push_back({"a prior whose support leaves out the nominal c_q", study("calibrate", default_start) + " --dry-run",
+                   Want::kError, {"'priors.c_q'", "the default start 0.14", "initial.c_q"}});
+  const std::string noise_from_0 = w().calibration([&](Json& j) {
+    j["method"] = "mcmc";
+    j["mcmc"] = {{"noise_sd", {{"distribution", "uniform"}, {"min", 0}, {"max", 1e-3}}}};
+  });
+  cases.push_back({"a noise prior from 0 m", study("calibrate", noise_from_0) + " --dry-run", Want::kError,
+                   {"'mcmc.noise_sd'", "the prior reaches 0 m", "1e-12"}});
+  const std::string offset_default = w().calibration([&](Json& j) {
+    j["fit"] = {"c_q", "time_offset"};
+    j["bounds"]["time_offset"] = {0.0201, 0.1};
+  });
+  cases.push_back({"bounds.time_offset leaving out its default start", study("calibrate", offset_default) + " --dry-run",
+                   Want::kError,
+                   {"'bounds.time_offset'", "the default start 0 (time_offset's default)", "initial.time_offset"}});
+  const std::string copy = w().copy_of(dir + "/quick_data.csv");
+  const std::string copied = w().calibration([&](Json& j) {
+    j["data"] = Json::array({{{"file", dir + "/quick_data.csv"}}, {{"file", copy}}});
+  });
+  cases.push_back({"a curve and its copy", study("calibrate", copied) + " --dry-run", Want::kError,
+                   {"'data[1].file'", "holds the same curve as data[0]", "quick_data.csv", "sqrt(2)"}});
+  std::string tabbed = measured_text("\n");
+  std::replace(tabbed.begin(), tabbed.end(), ',', '\t');
+  std::string semicolons = measured_text("\n");
+  std::replace(semicolons.begin(), semicolons.end(), ',', ';');
+  cases.push_back({"tab-separated data",
+                   study("calibrate", w().calibration([](Json&) {})) + " --data " +
+                       w().text_file("tabbed", tabbed, "csv") + " --dry-run",
+                   Want::kError, {"the header 't\\tz' is separated by tabs", "comma-separated values only"}});
+  cases.push_back({"semicolon-separated data",
+                   study("calibrate", w().calibration([](Json&) {})) + " --data " +
+                       w().text_file("semicolons", semicolons, "csv") + " --dry-run",
+                   Want::kError, {"the header 't;z' is separated by semicolons", "comma-separated values only"}});
+  // The quick drop lasts 0.05 s; at 500 Hz its last three points are at 0.046, 0.048 and 0.05 s.
+  for (const std::string offset : {"0.05", "0.047"}) {
+    const std::string late = w().out("csv");
+    cases.push_back({"synthesize --offset " + offset,
+                     "synthesize --scenario " + w().quick() + " --noise 0 --offset " + offset + " --out " + late,
+                     Want::kError, {"--offset " + offset + " s leaves", "at least 3", "at most 0.046 s"},
+                     absent_file(late)});
+  }
+  cases.push_back({"synthesize --offset 0.046", "synthesize --scenario " + w().quick() + " --offset 0.046 --out " +
+                       w().out("csv"), Want::kRuns, {}});
+  // Data of c_q 0.25 under a prior on [0.05, 0.15]: the fit leaves the prior.
+  const LandingDrop drop = landing_drop(w());
+  const std::string disagreeing = w().calibration([&](Json& j) {
+    j["scenario"] = drop.scenario;
+    j["data"] = drop.data;
+    j["max_evaluations"] = 40;
+    j["method"] = "mcmc";
+    j["priors"] = {{"c_q", {{"distribution", "uniform"}, {"min", 0.05}, {"max", 0.15}}}};
+    j["mcmc"] = {{"walkers", 8}, {"steps", 6}, {"discard", 0}, {"target_ess", 0}, {"predictive_draws", 0}};
+  });
+  cases.push_back({"a fit that leaves its prior", study("calibrate", disagreeing), Want::kAllFailed,
+                   {"no posterior", "the least-squares estimate c_q = ", "lies outside priors.c_q",
+                    "the data and the prior disagree"},
+                   {}, {}, {"no point of finite density"}});
   run_table(dir, cases);
 }
 

@@ -104,6 +104,19 @@ TEST(Csv, HeaderProblemsAreNamed) {
   EXPECT_EQ(read_error(unnamed), unnamed + ":1: empty column name in the header");
 }
 
+TEST(Csv, TabAndSemicolonSeparatedFilesAreToldToUseCommas) {
+  const std::string tabs = write_text("tabs.csv", "t\tz\n0\t0.25\n");
+  EXPECT_EQ(read_error(tabs, {"t", "z"}),
+            tabs + ":1: the header 't\\tz' is separated by tabs: rover reads comma-separated values only; save "
+                   "the file with commas between the columns (and '.' as the decimal point)");
+  const std::string semicolons = write_text("semicolons.csv", "# data\nt;z\n0;0,25\n");
+  EXPECT_NE(read_error(semicolons, {"t", "z"}).find(":2: the header 't;z' is separated by semicolons ';'"),
+            std::string::npos);
+  // A quoted name is the user's own spelling.
+  const std::string quoted = write_text("quoted.csv", "\"a;b\",z\n1,2\n");
+  EXPECT_EQ(read_csv(quoted, {"a;b"}).header.front(), "a;b");
+}
+
 TEST(Csv, EmptyFilesAndMissingFilesAreRefused) {
   const std::string empty = write_text("empty.csv", "");
   EXPECT_EQ(read_error(empty), empty + ": empty file (no header line)");

@@ -250,7 +250,27 @@ TEST(Calibration, StudyFileChecksNameTheField) {
   expect_refused(write_file(dir, "p3.json", with_fit("contact.c_g", "[1, 200]", "300")), "'initial.contact.c_g'");
   expect_refused(write_file(dir, "p4.json", with_fit("contact.k_g", "[-1, 1e7]", "1e6")), "positive bounds");
   expect_refused(write_file(dir, "p5.json", study_text(good, R"(, "priors": {"c_q": {"distribution": "normal", "mean": 5, "sd": 1e-3}})")),
-                 "no probability inside the bounds");
+                 "no probability inside bounds.c_q [0.02, 1]");
+  // A prior's support must hold the start (here initial.c_q = 0.1), where the fit starts.
+  expect_refused(write_file(dir, "p7.json", study_text(good, R"(, "priors": {"c_q": {"distribution": "uniform", "min": 0.5, "max": 0.6}})")),
+                 "'priors.c_q'");
+  expect_refused(write_file(dir, "p7.json", study_text(good, R"(, "priors": {"c_q": {"distribution": "uniform", "min": 0.5, "max": 0.6}})")),
+                 "its support [0.5, 0.6] leaves out the start initial.c_q = 0.1");
+  // Little probability inside the bounds is a proper truncated prior: accepted.
+  EXPECT_EQ(load_calibration_study(write_file(dir, "p8.json", study_text(good, R"(, "priors": {"c_q": {"distribution": "normal", "mean": 1.5, "sd": 0.1}})")))
+                .fit.at(0).prior.kind,
+            DistributionKind::kNormal);
+  // A noise prior reaching 0 m, below the noise sds the likelihood resolves.
+  expect_refused(write_file(dir, "p9.json", study_text(good, R"(, "method": "mcmc", "mcmc": {"noise_sd": {"distribution": "uniform", "min": 0, "max": 1e-3}})")),
+                 "the prior reaches 0 m");
+  // A default start outside the bounds: blamed on the bounds, naming the default and initial.<name>.
+  const std::string default_outside = R"({"type": "calibration", "name": "c", "scenario": ")" +
+      rover::testing::source_path("configs/scenarios/drop_horizontal.json") + R"(", "data": ")" + good +
+      R"(", "fit": ["c_q"], "bounds": {"c_q": [0.3, 1.0]}})";
+  expect_refused(write_file(dir, "p10.json", default_outside), "'bounds.c_q'");
+  expect_refused(write_file(dir, "p10.json", default_outside),
+                 "the default start 0.14 (the nominal value of the rover and scenario files) is outside the bounds "
+                 "[0.3, 1]: give a start inside them as initial.c_q");
   const CalibrationStudy k_g = load_calibration_study(write_file(dir, "p6.json", with_fit("contact.k_g", "[1e5, 1e7]", "2e6")));
   EXPECT_EQ(k_g.fit.at(0).canonical, "contact.k_g");
   EXPECT_TRUE(k_g.fit.at(0).log_scale);  // stiffnesses are searched in log10 by default
@@ -286,6 +306,18 @@ TEST(Calibration, StudyFileChecksNameTheField) {
   const std::string no_file = text.substr(0, text.find(R"(, "data")")) + R"(, "data": [{"file": ")" + good +
                               R"("}, {"channel": "B_r_z"}])" + text.substr(text.find(R"(, "fit")"));
   expect_refused(write_file(dir, "i.json", no_file), "'data[1].file'");
+  // A copy of a curve under another name is the same curve twice.
+  const std::string copy = write_file(dir, "copy_of_skewed.csv", skewed_rows);
+  std::string copied = text;
+  copied.replace(copied.find("B_r_z"), 5, R"(B_r_z"}, {"file": ")" + copy + R"(", "scenario": ")" +
+                                              rover::testing::source_path("configs/scenarios/drop_skewed.json") +
+                                              R"(", "channel": "B_r_z)");
+  expect_refused(write_file(dir, "j.json", copied), "'data[2].file'");
+  expect_refused(write_file(dir, "j.json", copied), "holds the same curve as data[1]");
+  // The same numbers as another channel are another curve.
+  std::string as_centre = copied;
+  as_centre.replace(as_centre.rfind("B_r_z"), 5, "G_z");
+  EXPECT_EQ(load_calibration_study(write_file(dir, "k.json", as_centre)).datasets.size(), 3u);
 
   // Every option that changes a result changes the fingerprint.
   EXPECT_NE(load_calibration_study(study, {.max_evaluations = 7}).fingerprint, s.fingerprint);
