@@ -1619,8 +1619,11 @@ TEST_F(Audit, OutputsOfOneCommandAreDistinct) {
                    sim + " --out " + dir + "/a.h5 --csv " + dir + "/a_attitude.png", Want::kError,
                    {"--csv", dir + "/a_attitude.png", "the plot of --out"},
                    nothing_at({dir + "/a.h5", dir + "/a_attitude.png"})});
-  cases.push_back({"simulate --no-plot --csv beside", sim + " --no-plot --out " + dir + "/n.h5 --csv " + dir + "/n.png",
+  cases.push_back({"simulate --no-plot --csv beside", sim + " --no-plot --out " + dir + "/n.h5 --csv " + dir + "/n.csv",
                    Want::kRuns, {}});
+  cases.push_back({"simulate --no-plot --csv named as a plot",
+                   sim + " --no-plot --out " + dir + "/p.h5 --csv " + dir + "/p.png", Want::kError,
+                   {"ends in .png, the name of a PNG file"}});
   run_table(dir, cases);
 }
 
@@ -2900,7 +2903,7 @@ TEST_F(Audit, OneProcessWritersTakeTheLock) {
                    "simulate --no-plot --scenario " + w().quick() + " --out " + study_out, Want::kError,
                    {"--out '" + study_out + "'", "another rover process is writing"}, unchanged(study_out)});
   cases.push_back({"simulate --csv at a running study's result", simulate(w().quick()) + " --csv " + study_out,
-                   Want::kError, {"--csv '" + study_out + "'", "give another --csv"}, unchanged(study_out)});
+                   Want::kError, {"--csv '" + study_out + "'", "the name of an HDF5 file"}, unchanged(study_out)});
   cases.push_back({"synthesize --out at a file being written",
                    "synthesize --scenario " + w().quick() + " --out " + csv, Want::kError,
                    {"--out '" + csv + "'", "another rover process is writing"}, absent_file(csv)});
