@@ -71,8 +71,9 @@ std::string friction_values_text(const FrictionParameters& p) {
          number_text(p.mu_kinetic) + ", --v-k " + number_text(p.v_kinetic_mps);
 }
 
-int run_friction(const FrictionOptions& o) {
-  // The ranges of rover.json's friction section.
+// Checks every flag before the rover file is read: the ranges and scales of
+// rover.json's friction section, and the plot's path.
+void check_friction_flags(const FrictionOptions& o) {
   FlagChecks checks;
   if (o.mu_static) checks.non_negative("--mu-s", *o.mu_static);
   if (o.v_static_mps) checks.positive("--v-s", *o.v_static_mps);
@@ -99,7 +100,10 @@ int run_friction(const FrictionOptions& o) {
   checks.distinct_files("--png", o.png, "--config", o.config);
   if (!o.png.empty()) checks.plotter("--png", "give no --png");
   checks.throw_if_any();
+}
 
+int run_friction(const FrictionOptions& o) {
+  check_friction_flags(o);
   const std::string config = path_option(o.config_option, o.config, kDefaultRoverConfig);
   FrictionParameters p = io::load_rover_parameters(config).friction;
   if (o.mu_static) p.mu_static = *o.mu_static;

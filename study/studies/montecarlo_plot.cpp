@@ -73,9 +73,7 @@ std::string convergence_suffix(const std::string& qoi, const char* moment) {
 }  // namespace
 
 std::vector<PlannedFigure> montecarlo_figures(const MonteCarloStudy& study, PlotSelection plots) {
-  std::vector<PlannedFigure> figures;
-  if (plots == PlotSelection::kNone) return figures;
-  figures.push_back({"_summary.png", "the summary"});
+  std::vector<PlannedFigure> figures = summary_figure(plots);
   if (plots != PlotSelection::kAll) return figures;
   const StudyModel& model = *study.spec.model;
   for (const std::string& c : model.channel_names()) figures.push_back({band_suffix(c), "channel '" + c + "'"});

@@ -146,9 +146,7 @@ std::string morris_suffix(const std::string& qoi) { return "_morris_" + qoi + ".
 }  // namespace
 
 std::vector<PlannedFigure> sensitivity_figures(const SensitivityStudy& study, PlotSelection plots) {
-  std::vector<PlannedFigure> figures;
-  if (plots == PlotSelection::kNone) return figures;
-  figures.push_back({"_summary.png", "the summary"});
+  std::vector<PlannedFigure> figures = summary_figure(plots);
   if (plots != PlotSelection::kAll) return figures;
   const StudyModel& model = *study.spec.model;
   if (study.method == SensitivityMethod::kPce) return pce_sensitivity_figures(study.spec, figures);

@@ -47,6 +47,11 @@ void require_memory(const std::string& what, double bytes, double max_bytes) {
   throw std::invalid_argument(text);
 }
 
+std::vector<PlannedFigure> summary_figure(PlotSelection plots) {
+  if (plots == PlotSelection::kNone) return {};
+  return {{"_summary.png", "the summary"}};
+}
+
 std::string shared_figure_names(const std::string& results_path, const std::vector<PlannedFigure>& figures) {
   std::string problems;
   for (std::size_t i = 0; i < figures.size(); ++i)

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "io/hdf5_file.hpp"
+#include "study/runtime/study_runner.hpp"
 #include "study/studies/study_spec.hpp"
 
 namespace rover::study {
@@ -30,6 +31,10 @@ struct PlannedFigure {
   std::string suffix;
   std::string shows;
 };
+
+// The figures every selection but "none" draws: the summary alone. A study
+// that draws more with --plots all adds its own after it.
+std::vector<PlannedFigure> summary_figure(PlotSelection plots);
 
 // Empty when the figures have distinct file names; else, for every two that
 // share one, "the figures of <one> and of <other> would both be written to

@@ -92,9 +92,7 @@ std::vector<io::LinePlot> summary_panels(const SurfaceResult& r) {
 }  // namespace
 
 std::vector<PlannedFigure> surface_figures(const SurfaceStudy& study, PlotSelection plots) {
-  std::vector<PlannedFigure> figures;
-  if (plots == PlotSelection::kNone) return figures;
-  figures.push_back({"_summary.png", "the summary"});
+  std::vector<PlannedFigure> figures = summary_figure(plots);
   if (plots != PlotSelection::kAll) return figures;
   if (study.runs_grid()) {
     figures.push_back({"_rms.png", "the RMS error over (f, c_q)"});

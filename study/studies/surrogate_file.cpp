@@ -287,7 +287,7 @@ std::vector<SurrogateInput> read_inputs(const SavedModel& f) {
   std::vector<SurrogateInput> inputs;
   for (Eigen::Index j = 0; j < d; ++j) {
     const auto k = static_cast<std::size_t>(j);
-    SurrogateInput in{names[k], labels[k], {}, support(j, 0), support(j, 1)};
+    SurrogateInput in{names[k], labels[k], {}, support(j, 0), support(j, 1), ""};
     for (const std::string& name : {in.name, in.label})
       if (const std::string problem = io::result_label_problem(name); !problem.empty())
         f.refuse("/surrogate/inputs", "names an input " + problem);
@@ -390,8 +390,8 @@ std::string support_coverage_problem(const std::string& label, const Distributio
 SurrogateInput surrogate_input(const std::string& name, const std::string& label, const Distribution& distribution,
                                const Eigen::VectorXd& training_values) {
   if (design_fills_support(distribution))
-    return {name, label, distribution, distribution.support_lower(), distribution.support_upper()};
-  return {name, label, distribution, training_values.minCoeff(), training_values.maxCoeff()};
+    return {name, label, distribution, distribution.support_lower(), distribution.support_upper(), ""};
+  return {name, label, distribution, training_values.minCoeff(), training_values.maxCoeff(), ""};
 }
 
 void write_surrogate_set(io::Hdf5Writer& h5, const SurrogateSet& set) {

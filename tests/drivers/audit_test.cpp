@@ -4372,7 +4372,7 @@ TEST_F(Audit, PredictionFlagsCoverageAndFigureNames) {
   const std::string predict = "surrogate --predict " + lin.model + " --design " + design + " --csv ";
   std::string csv = w().out("csv");
   cases.push_back({"--predict --dry-run", predict + csv + " --dry-run", Want::kRuns, {"dry run", "2 points"}, absent_file(csv)});
-  for (const std::string flag : {"--out " + w().out(), std::string("--resume"), std::string("--restart"),
+  for (const std::string& flag : {"--out " + w().out(), std::string("--resume"), std::string("--restart"),
                                  std::string("--plots all"), std::string("--no-plot"),
                                  std::string("--checkpoint-every 3"), std::string("--progress-interval 9")}) {
     csv = w().out("csv");
