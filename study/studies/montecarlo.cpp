@@ -77,7 +77,13 @@ MonteCarloAnalysis::MonteCarloAnalysis(const RecordLayout& layout, int samples, 
                                        int bootstrap_resamples, std::uint64_t seed)
     : layout_(layout), confidence_(confidence), bootstrap_resamples_(bootstrap_resamples), seed_(seed) {
   result_.qoi.resize(static_cast<std::size_t>(layout.qoi_count));
-  for (auto& q : result_.qoi) q.reserve(static_cast<std::size_t>(samples));
+  // Reserved once: a vector that doubles would hold its old and new arrays at once.
+  const auto n = static_cast<std::size_t>(samples);
+  for (auto& q : result_.qoi) q.reserve(n);
+  result_.status.reserve(n);
+  result_.messages.reserve(n);
+  result_.wall_time_s.reserve(n);
+  result_.rhs_evaluations.reserve(n);
   for (int c = 0; c < layout.channel_count; ++c)
     bands_.emplace_back(static_cast<std::size_t>(layout.time_samples), static_cast<std::size_t>(samples));
 }
