@@ -117,9 +117,11 @@ MemoryEstimate montecarlo_memory(const MonteCarloStudy& study) {
   const int N = spec.design.samples;
   const RecordLayout layout = spec.model->layout();
   // Per sample: the design twice while it is drawn (unit cube, then physical
-  // units), the QoIs, and the status, message, wall time and rhs evaluations.
+  // units), the QoIs, the status, message, wall time and rhs evaluations,
+  // and its index in the list of runs to do.
   const double per_sample = sizeof(double) * (2.0 * static_cast<double>(spec.inputs.size()) + layout.qoi_count) +
-                            sizeof(int) + sizeof(std::string) + sizeof(const char*) + sizeof(double) * kPerSampleValues;
+                            2 * sizeof(int) + sizeof(std::string) + sizeof(const char*) +
+                            sizeof(double) * kPerSampleValues;
   const double bands = static_cast<double>(layout.channel_count) *
                        static_cast<double>(StreamingBand::memory_bytes_for(static_cast<std::size_t>(layout.time_samples),
                                                                            static_cast<std::size_t>(N)));
