@@ -76,10 +76,10 @@ TEST(PceSensitivity, BadSettingsAreRefusedNamingTheField) {
 }
 
 TEST(PceSensitivity, TooFewRunsForTheCommandLineAreRefused) {
-  const std::string json = R"({"type": "sensitivity", "method": "pce", "name": "i", "model": "ishigami",
-      "design": {"samples": 100}})";
-  const SensitivityStudy s = load(json);
   const std::string path = rover::testing::temp_dir() + "/pce.json";
+  std::ofstream(path) << R"({"type": "sensitivity", "method": "pce", "name": "i", "model": "ishigami",
+      "design": {"samples": 100}})";
+  const SensitivityStudy s = load_sensitivity_study(path);
   const long long too_few = min_pce_sensitivity_runs(s.spec, s.pce) - 1;
   EXPECT_THROW(load_sensitivity_study(path, {.samples = too_few}), std::invalid_argument);
   EXPECT_EQ(sensitivity_design(load_sensitivity_study(path, {.samples = 50})).rows(), 50);
