@@ -22,18 +22,9 @@ study::StudyProgram<study::MonteCarloResult> load(const MonteCarloOptions& o) {
   FlagChecks checks;
   const std::uint64_t seed = o.seed.empty() ? 0 : checks.seed("--seed", o.seed);
   checks.throw_if_any();
-  study::MonteCarloStudy s = study::load_montecarlo_study(o.study_path);
-  study::DesignSpec& design = s.spec.design;
-  if (o.samples) {
-    if (design.type == study::DesignType::kGrid)
-      throw std::invalid_argument("--samples does not apply to a grid design (its size is the product of its levels)");
-    design.samples = static_cast<int>(*o.samples);
-  }
-  if (!o.seed.empty()) design.seed = seed;
-  // Options that change results are part of the checkpoint's fingerprint.
-  s.spec.fingerprint = study::extend_fingerprint(
-      s.spec.fingerprint, "samples " + std::to_string(design.samples) + " seed " + std::to_string(design.seed));
-  return study::montecarlo_program(std::move(s));
+  study::DesignOverrides overrides{.samples = o.samples};
+  if (!o.seed.empty()) overrides.seed = seed;
+  return study::montecarlo_program(study::load_montecarlo_study(o.study_path, overrides));
 }
 
 const RegisterCommand montecarlo_command{

@@ -17,19 +17,7 @@ struct SensitivityOptions {
 };
 
 study::StudyProgram<study::SensitivityResult> load(const SensitivityOptions& o) {
-  study::SensitivityStudy s = study::load_sensitivity_study(o.study_path);
-  if (o.samples) {
-    if (s.method == study::SensitivityMethod::kMorris)
-      throw std::invalid_argument("--samples sets the Sobol' base sample count or the PCE runs; a Morris study has trajectories");
-    if (s.method == study::SensitivityMethod::kPce) {
-      study::set_pce_runs(s, static_cast<int>(*o.samples));
-    } else {
-      s.layout.base_samples = static_cast<int>(*o.samples);
-      s.spec.design.samples = s.layout.total_runs();
-      s.spec.fingerprint = study::extend_fingerprint(s.spec.fingerprint, "samples " + std::to_string(*o.samples));
-    }
-  }
-  return study::sensitivity_program(std::move(s));
+  return study::sensitivity_program(study::load_sensitivity_study(o.study_path, {.samples = o.samples}));
 }
 
 const RegisterCommand sensitivity_command{

@@ -17,10 +17,11 @@ study::StudyProgram<study::SurfaceResult> load(const SurfaceOptions& o) {
   check_integrator_flag(checks, o.integrator);
   checks.throw_if_any();
   study::SurfaceStudy s = study::load_surface_study(o.study_path);
-  if (!o.integrator.empty()) {
-    s.integrator = default_integrator_settings(integrator_from_name(o.integrator));
-    s.fingerprint = study::extend_fingerprint(s.fingerprint, "integrator " + o.integrator);
-  }
+  if (!o.integrator.empty()) s.integrator = default_integrator_settings(integrator_from_name(o.integrator));
+  // The integrator in force is a setting of the runs' key, wherever it came from.
+  s.fingerprint = study::with_setting(
+      s.fingerprint, "--integrator",
+      o.integrator.empty() ? "integrator" : o.integrator, !o.integrator.empty());
   return study::surface_program(std::move(s));
 }
 

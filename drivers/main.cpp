@@ -23,6 +23,7 @@
 #include <exception>
 #include <iostream>
 #include <map>
+#include <new>
 #include <optional>
 #include <vector>
 
@@ -198,6 +199,11 @@ int run_subcommand(CLI::App& sub, const std::function<int()>& run, bool shares_r
     return 1;
   } catch (const std::invalid_argument& e) {  // refused before any run
     report_input_problem({prefix + e.what()});
+    return 1;
+  } catch (const std::bad_alloc&) {
+    report_error(prefix, "out of memory while running rover " + sub.get_name() +
+                             ": its inputs ask for more than this process may hold (physical memory, ulimit -v); "
+                             "reduce --samples or the study's size");
     return 1;
   } catch (const std::exception& e) {
     report_error(prefix, e.what());

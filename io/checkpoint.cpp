@@ -16,6 +16,7 @@
 #include <stdexcept>
 #include <system_error>
 #include <utility>
+#include <vector>
 
 #include <boost/crc.hpp>
 
@@ -214,10 +215,8 @@ std::vector<TaskRecord> ResultCheckpoint::load() {
   if (encode_header(fingerprint) !=
       std::string(magic, 8) + std::string(fixed, 8) + fingerprint + std::string(crc, 4))
     refuse("damaged checkpoint header (checksum mismatch)");
-  if (fingerprint != fingerprint_)
-    refuse("checkpoint of a different study configuration: the study file or a file it names (scenario, rover, "
-           "terrain, data, design, reference) differs from the one its runs were made with, in some byte (a "
-           "description or a space counts; fingerprint " + fingerprint + ", this study " + fingerprint_ + ")");
+  if (!keys_match(fingerprint, fingerprint_))
+    refuse("checkpoint of a different study configuration: " + key_mismatch(fingerprint, fingerprint_));
 
   // Records up to the first one that is incomplete or fails its checksum:
   // appends only ever add at the end, so that one is a torn tail.
@@ -341,6 +340,89 @@ std::string config_fingerprint(std::string_view text) {
   std::string out(16, '0');
   for (int i = 15; i >= 0; --i, hash >>= 4) out[static_cast<std::size_t>(i)] = kHex[hash & 0xf];
   return out;
+}
+
+namespace {
+
+constexpr char kSettingSeparator = '\t';
+
+// A key's digest and its settings (flag -> setting).
+struct ParsedKey {
+  std::string digest;
+  std::vector<RunSetting> settings;
+  const RunSetting* find(const std::string& flag) const {
+    for (const RunSetting& s : settings)
+      if (s.flag == flag) return &s;
+    return nullptr;
+  }
+};
+
+ParsedKey parse_key(const std::string& key) {
+  ParsedKey parsed;
+  std::size_t end = key.find('\n');
+  parsed.digest = key.substr(0, end);
+  while (end != std::string::npos) {
+    const std::size_t start = end + 1;
+    end = key.find('\n', start);
+    const std::string line = key.substr(start, end == std::string::npos ? std::string::npos : end - start);
+    const std::size_t a = line.find(kSettingSeparator), b = line.rfind(kSettingSeparator);
+    if (a == std::string::npos || b == a) continue;
+    parsed.settings.push_back({line.substr(0, a), line.substr(a + 1, b - a - 1), line.substr(b + 1) == "flag"});
+  }
+  return parsed;
+}
+
+// "--samples 320", or "the study file's 300 (no --samples)".
+std::string describe_setting(const RunSetting& s) {
+  if (s.from_flag) return s.flag + " " + s.value;
+  return "the study file's " + s.value + " (no " + s.flag + ")";
+}
+
+}  // namespace
+
+std::string add_run_setting(const std::string& key, const RunSetting& setting) {
+  return key + "\n" + setting.flag + kSettingSeparator + setting.value + kSettingSeparator +
+         (setting.from_flag ? "flag" : "file");
+}
+
+std::string extend_key_digest(const std::string& key, const std::string& text) {
+  const std::size_t end = key.find('\n');
+  const std::string settings = end == std::string::npos ? std::string() : key.substr(end);
+  return config_fingerprint(key.substr(0, end) + "\n" + text) + settings;
+}
+
+std::string key_summary(const std::string& key) {
+  return key.find('\n') == std::string::npos ? key : config_fingerprint(key);
+}
+
+bool keys_match(const std::string& stored, const std::string& current) {
+  const ParsedKey a = parse_key(stored), b = parse_key(current);
+  if (a.digest != b.digest || a.settings.size() != b.settings.size()) return false;
+  for (const RunSetting& s : b.settings) {
+    const RunSetting* t = a.find(s.flag);
+    if (t == nullptr || t->value != s.value) return false;
+  }
+  return true;
+}
+
+std::string key_mismatch(const std::string& stored, const std::string& current) {
+  const ParsedKey then = parse_key(stored), now = parse_key(current);
+  if (then.settings.empty() && !now.settings.empty() && then.digest != now.digest)
+    return "it was written by an earlier version of rover (which recorded no settings of its runs) or for other "
+           "input files";
+  std::string differences;
+  for (const RunSetting& s : now.settings) {
+    const RunSetting* t = then.find(s.flag);
+    if (t == nullptr || t->value == s.value) continue;
+    if (!differences.empty()) differences += "; ";
+    differences += describe_setting(s) + " here, but the checkpoint's runs were made with " + describe_setting(*t);
+  }
+  if (then.digest != now.digest) {
+    if (!differences.empty()) differences += "; and ";
+    differences += "the study file or a file it names (scenario, rover, terrain, data, design, reference) differs "
+                   "from the one its runs were made with, in some byte (a description or a space counts)";
+  }
+  return differences.empty() ? "its runs were made with other settings" : differences;
 }
 
 }  // namespace rover::io

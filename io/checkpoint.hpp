@@ -29,7 +29,8 @@
 //   header:  8 bytes  "ROVERCKP"
 //            u32      format version (2)
 //            u32      L, the fingerprint's length in bytes
-//            L bytes  fingerprint (config_fingerprint() text)
+//            L bytes  fingerprint: the key of the study's runs (run_key text:
+//                     the digest of its inputs, then its RunSetting lines)
 //            u32      CRC-32 of all the header bytes before it
 //   record:  u32      P, the payload's length in bytes (16 + M + 8 V)
 //            payload: i32 task index (>= 0), i32 status,
@@ -127,5 +128,31 @@ std::vector<int> missing_indices(int task_count, const std::vector<TaskRecord>& 
 // A short, stable hash (16 hex digits, FNV-1a 64) of a study configuration's
 // canonical text, e.g. a JSON dump.
 std::string config_fingerprint(std::string_view text);
+
+// A setting in force that changes a study's runs (a sample count, a seed, an
+// integrator): the flag that overrides it, its value, and whether that flag
+// gave it (else the study file did). A checkpoint records the settings of its
+// runs, so that a --resume under other values names the flag that differs.
+struct RunSetting {
+  std::string flag;   // "--samples"
+  std::string value;  // "300"
+  bool from_flag = false;
+};
+
+// The key of a study's runs, which a checkpoint is written under: the digest
+// of its inputs' text (config_fingerprint), then one line per setting. Keys
+// match when their digests and their settings' values do (where a value came
+// from does not count).
+std::string add_run_setting(const std::string& key, const RunSetting& setting);
+// The key with its digest replaced by the digest of (digest, text): for
+// inputs added to the key; the settings stay.
+std::string extend_key_digest(const std::string& key, const std::string& text);
+// One 16-hex-digit hash of the whole key, for the provenance of a result.
+std::string key_summary(const std::string& key);
+// Whether runs made under the key `stored` are runs of the key `current`.
+bool keys_match(const std::string& stored, const std::string& current);
+// Why they are not: the settings that differ ("--samples 320 here, but the
+// checkpoint's runs were made with --samples 300"), else the input files.
+std::string key_mismatch(const std::string& stored, const std::string& current);
 
 }  // namespace rover::io

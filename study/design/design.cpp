@@ -1,6 +1,7 @@
 // See design.hpp.
 #include "study/design/design.hpp"
 #include "study/estimators/splitmix64.hpp"
+#include "study/estimators/work_stopped.hpp"
 
 #include <algorithm>
 #include <climits>
@@ -52,17 +53,18 @@ void check_size(int samples, int dimensions) {
                                 std::to_string(dimensions));
 }
 
-DesignMatrix monte_carlo(int samples, int dimensions, std::uint64_t seed) {
+DesignMatrix monte_carlo(int samples, int dimensions, std::uint64_t seed, const std::atomic<bool>* stop) {
   DesignMatrix u(samples, dimensions);
   const std::uint64_t seed_key = splitmix64(seed);
   for (int i = 0; i < samples; ++i) {
+    if (i % kRowsBetweenStopChecks == 0) stop_if_requested(stop, "drawing the design");
     boost::random::mt19937_64 engine(splitmix64(seed_key ^ static_cast<std::uint64_t>(i)));
     for (int j = 0; j < dimensions; ++j) u(i, j) = open_unit_from_bits(engine());
   }
   return u;
 }
 
-DesignMatrix latin_hypercube(int samples, int dimensions, std::uint64_t seed) {
+DesignMatrix latin_hypercube(int samples, int dimensions, std::uint64_t seed, const std::atomic<bool>* stop) {
   DesignMatrix u(samples, dimensions);
   boost::random::mt19937_64 engine(splitmix64(seed ^ kLatinHypercubeSalt));
   std::vector<int> strata(static_cast<std::size_t>(samples));
@@ -71,6 +73,7 @@ DesignMatrix latin_hypercube(int samples, int dimensions, std::uint64_t seed) {
     // Fisher-Yates shuffle (Boost's integer distribution: the same on every platform).
     for (int i = 0; i < samples; ++i) strata[i] = i;
     for (int i = samples - 1; i > 0; --i) {
+      if (i % kRowsBetweenStopChecks == 0) stop_if_requested(stop, "drawing the design");
       boost::random::uniform_int_distribution<int> pick(0, i);
       std::swap(strata[i], strata[pick(engine)]);
     }
@@ -86,7 +89,7 @@ DesignMatrix latin_hypercube(int samples, int dimensions, std::uint64_t seed) {
   return u;
 }
 
-DesignMatrix sobol(int samples, int dimensions, std::uint64_t seed) {
+DesignMatrix sobol(int samples, int dimensions, std::uint64_t seed, const std::atomic<bool>* stop) {
   if (dimensions > sobol_max_dimensions())
     throw std::invalid_argument("unit_design: a sobol design has at most " +
                                 std::to_string(sobol_max_dimensions()) +
@@ -101,11 +104,13 @@ DesignMatrix sobol(int samples, int dimensions, std::uint64_t seed) {
   // starts at point 1, in Gray-code order (points 0 .. 2^m - 1 are the same
   // set as in natural order, so every power-of-two prefix is a net).
   boost::random::sobol engine(static_cast<std::size_t>(dimensions));
-  for (int i = 0; i < samples; ++i)
+  for (int i = 0; i < samples; ++i) {
+    if (i % kRowsBetweenStopChecks == 0) stop_if_requested(stop, "drawing the design");
     for (int j = 0; j < dimensions; ++j) {
       const std::uint64_t x = i == 0 ? 0 : static_cast<std::uint64_t>(engine());
       u(i, j) = std::ldexp(static_cast<double>(2 * owen_scramble(x, keys[j]) + 1), -(kDigits + 1));
     }
+  }
   return u;
 }
 
@@ -133,12 +138,13 @@ int sobol_max_dimensions() {
   return static_cast<int>(boost::random::detail::qrng_tables::sobol::max_dimension);
 }
 
-DesignMatrix unit_design(DesignType type, int samples, int dimensions, std::uint64_t seed) {
+DesignMatrix unit_design(DesignType type, int samples, int dimensions, std::uint64_t seed,
+                         const std::atomic<bool>* stop) {
   check_size(samples, dimensions);
   switch (type) {
-    case DesignType::kMonteCarlo: return monte_carlo(samples, dimensions, seed);
-    case DesignType::kLatinHypercube: return latin_hypercube(samples, dimensions, seed);
-    case DesignType::kSobol: return sobol(samples, dimensions, seed);
+    case DesignType::kMonteCarlo: return monte_carlo(samples, dimensions, seed, stop);
+    case DesignType::kLatinHypercube: return latin_hypercube(samples, dimensions, seed, stop);
+    case DesignType::kSobol: return sobol(samples, dimensions, seed, stop);
     case DesignType::kGrid: break;
   }
   throw std::invalid_argument(std::string("unit_design: design type '") + design_type_name(type) +

@@ -25,6 +25,7 @@
 // All functions are pure; they may run concurrently.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -56,8 +57,12 @@ int sobol_max_dimensions();
 //               of an n-point design equal the k-point design.
 //  latin_hypercube: drawn whole from the seed.
 // Throws std::invalid_argument for samples < 1, dimensions < 1, a Sobol'
-// design with more than sobol_max_dimensions() dimensions, or kGrid.
-DesignMatrix unit_design(DesignType type, int samples, int dimensions, std::uint64_t seed);
+// design with more than sobol_max_dimensions() dimensions, or kGrid. Once
+// `stop` (if given) is set, throws WorkStopped within kRowsBetweenStopChecks
+// rows (a design of 10^8 Monte Carlo points takes minutes to draw).
+inline constexpr int kRowsBetweenStopChecks = 4096;
+DesignMatrix unit_design(DesignType type, int samples, int dimensions, std::uint64_t seed,
+                         const std::atomic<bool>* stop = nullptr);
 
 // Full factorial: levels[j] points on axis j at k / (levels[j] - 1), k = 0 ..
 // levels[j] - 1 (0 and 1 included; a single level is 0.5); rows ordered with

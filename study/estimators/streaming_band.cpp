@@ -126,6 +126,11 @@ Band StreamingBand::result() const {
   return band;
 }
 
+std::size_t StreamingBand::memory_bytes_for(std::size_t time_samples, std::size_t max_curves) {
+  const std::size_t heaps = smallest_needed(max_curves, kLowerLevel) + largest_needed(max_curves, kUpperLevel);
+  return sizeof(StreamingBand) + time_samples * (3 + heaps) * sizeof(double);
+}
+
 std::size_t StreamingBand::memory_bytes() const {
   std::size_t doubles = 0;
   for (const auto* v : {&shift_, &shifted_mean_, &m2_, &lowest_, &highest_}) doubles += v->capacity();

@@ -54,6 +54,8 @@ class StreamingBand {
   std::size_t kept_highest() const { return k_high_; }
   // Bytes held by this object (its arrays included).
   std::size_t memory_bytes() const;
+  // The bytes a band of `time_samples` and `max_curves` holds, before it is made.
+  static std::size_t memory_bytes_for(std::size_t time_samples, std::size_t max_curves);
 
  private:
   std::size_t time_samples_, max_curves_, k_low_, k_high_;

@@ -5,6 +5,7 @@
 #include <ostream>
 
 #include "study/studies/calibration_checked_fit.hpp"
+#include "io/checkpoint.hpp"
 #include "study/studies/report_number.hpp"
 
 namespace rover::study {
@@ -174,7 +175,7 @@ void write_calibration_fit(const CalibrationFitResult& r, const CalibrationStudy
                s.algorithm == kLeastSquaresAlgorithm ? s.algorithm : s.algorithm + " then " + kLeastSquaresAlgorithm);
   h5.attribute("/", "max_evaluations", static_cast<long long>(s.max_evaluations));
   h5.attribute("/", "starts", static_cast<long long>(s.starts));
-  h5.attribute("/", "calibration_fingerprint", s.fingerprint);
+  h5.attribute("/", "calibration_fingerprint", io::key_summary(s.fingerprint));
 }
 
 void report_calibration_fit(const CalibrationFitResult& r, const CalibrationStudy& s, std::ostream& out) {

@@ -4,6 +4,7 @@
 #include <ostream>
 
 #include "study/studies/calibration_mcmc.hpp"
+#include "io/checkpoint.hpp"
 #include "study/studies/report_number.hpp"
 
 namespace rover::study {
@@ -90,7 +91,7 @@ void write_calibration_posterior(const CalibrationPosterior& posterior, const Ca
   h5.attribute("/", "walkers", static_cast<long long>(posterior.chains));
   h5.attribute("/", "steps", static_cast<long long>(posterior.steps));
   h5.attribute("/", "seed", static_cast<long long>(s.mcmc.seed));
-  h5.attribute("/", "calibration_fingerprint", s.fingerprint);
+  h5.attribute("/", "calibration_fingerprint", io::key_summary(s.fingerprint));
 }
 
 void report_calibration_posterior(const CalibrationPosterior& posterior, const CalibrationStudy& s,

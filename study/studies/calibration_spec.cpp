@@ -576,17 +576,37 @@ IntegratorSettings calibration_integrator(const io::JsonReader& r, CalibrationSt
   return chosen ? *chosen : default_integrator_settings(IntegratorMethod::kRosenbrockW);
 }
 
-// Everything that changes a result: the files, the data and the options in force.
-std::string calibration_fingerprint(const CalibrationStudy& s) {
+// Everything that changes a result: the files and the data (the digest), and
+// the settings in force that a flag can override, each recorded with where its
+// value came from, so that a --resume under another value names the flag.
+std::string calibration_fingerprint(const CalibrationStudy& s, const CalibrationOverrides& o) {
   std::ostringstream key;
   key << file_text(s.identity.path) << '\n';
   for (const auto& d : s.datasets)
     key << file_text(d.path) << '\n' << file_text(d.scenario_path) << '\n' << file_text(d.sources.rover_path) << '\n'
         << file_text(d.sources.terrain_path) << '\n' << d.channel << '\n';
-  key << (s.method == CalibrationMethod::mcmc ? "mcmc" : "optimize") << '\n' << s.algorithm << ' ' << s.max_iterations << ' ' << describe_integrator(s.integrator)
-      << ' ' << s.max_evaluations << ' ' << s.starts << ' ' << s.mcmc.walkers << ' ' << s.mcmc.steps << ' ' << mcmc_discard(s.mcmc, s.mcmc.sampler) << ' ' << static_cast<int>(s.mcmc.sampler) << ' ' << s.mcmc.target_ess << ' ' << s.mcmc.max_rhat << ' ' << s.profile << ' ' << s.profile_points;
-  for (const auto& p : s.fit) key << ' ' << p.name;
-  return io::config_fingerprint(key.str());
+  key << describe_integrator(s.integrator) << ' ' << static_cast<int>(s.mcmc.sampler) << ' ' << s.mcmc.target_ess
+      << ' ' << s.mcmc.max_rhat << ' ' << s.profile_points;
+  std::string fit;
+  for (const auto& p : s.fit) fit += (fit.empty() ? "" : ",") + p.name;
+  std::string data;
+  for (const auto& d : s.datasets) data += (data.empty() ? "" : ",") + d.path;
+  const std::pair<std::string, std::pair<std::string, bool>> settings[] = {
+      {"--data", {data, !o.data_path.empty()}},
+      {"--fit", {fit, !o.fit.empty()}},
+      {"--method", {s.method == CalibrationMethod::mcmc ? "mcmc" : "optimize", !o.method.empty()}},
+      {"--algorithm", {s.algorithm, !o.algorithm.empty()}},
+      {"--starts", {std::to_string(s.starts), o.starts.has_value()}},
+      {"--max-evaluations", {std::to_string(s.max_evaluations), o.max_evaluations.has_value()}},
+      {"--max-iterations", {std::to_string(s.max_iterations), o.max_iterations.has_value()}},
+      {"--profile", {s.profile ? "on" : "off", o.profile}},
+      {"--walkers", {std::to_string(s.mcmc.walkers), o.walkers.has_value()}},
+      {"--steps", {std::to_string(s.mcmc.steps), o.steps.has_value()}},
+      {"--discard", {std::to_string(mcmc_discard(s.mcmc, s.mcmc.sampler)), o.discard.has_value()}}};
+  std::string fingerprint = io::config_fingerprint(key.str());
+  for (const auto& [flag, setting] : settings)
+    fingerprint = with_setting(fingerprint, flag, setting.first, setting.second);
+  return fingerprint;
 }
 
 }  // namespace
@@ -611,7 +631,7 @@ CalibrationStudy load_calibration_study(const std::string& path, const Calibrati
   check_mcmc_sizes(r, o, s);
   read_fit_options(r, o, s);
   r.finish();
-  s.fingerprint = calibration_fingerprint(s);
+  s.fingerprint = calibration_fingerprint(s, o);
   return s;
 }
 

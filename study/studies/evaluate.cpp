@@ -10,6 +10,7 @@
 #include <limits>
 #include <sstream>
 
+#include "io/checkpoint.hpp"
 #include "core/number_text.hpp"
 #include "io/hdf5_file.hpp"
 #include "io/json_reader.hpp"
@@ -162,13 +163,17 @@ void check_rows(const DesignTable& design, const RoverStudyModel& model) {
   }
 }
 
+// The digest of the files, and the flags that change the rows' results as settings.
 std::string evaluate_fingerprint(const EvaluateRequest& request, const io::ScenarioSources& sources) {
-  std::string options = "|qoi:";
-  for (const auto& q : request.qoi_names) options += q + ",";
-  for (const auto& c : request.channel_names) options += c + ";";
-  options += "|integrator:" + request.integrator;
-  return io::config_fingerprint(file_text(request.design_path) + file_text(request.scenario_path) +
-                                file_text(sources.rover_path) + file_text(sources.terrain_path) + options);
+  std::string qoi, channels;
+  for (const auto& q : request.qoi_names) qoi += (qoi.empty() ? "" : ",") + q;
+  for (const auto& c : request.channel_names) channels += (channels.empty() ? "" : ",") + c;
+  std::string key = io::config_fingerprint(file_text(request.design_path) + file_text(request.scenario_path) +
+                                           file_text(sources.rover_path) + file_text(sources.terrain_path));
+  key = with_setting(key, "--qoi", qoi, true);
+  key = with_setting(key, "--channels", channels, true);
+  const bool integrator = !request.integrator.empty();
+  return with_setting(key, "--integrator", integrator ? request.integrator : "the scenario's", integrator);
 }
 
 }  // namespace
@@ -274,7 +279,7 @@ void write_evaluate(const EvaluateResult& result, io::Hdf5Writer& h5) {
   h5.attribute("/", "atol", integrator.absolute_tolerance);
   h5.attribute("/", "slip_tol", integrator.slip_tolerance);
   h5.attribute("/", "design_file", study.request.design_path);
-  h5.attribute("/", "fingerprint", study.fingerprint);
+  h5.attribute("/", "fingerprint", io::key_summary(study.fingerprint));
   h5.attribute("/", "project_version", ROVER_VERSION);
 }
 

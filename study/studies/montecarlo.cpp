@@ -16,19 +16,38 @@ constexpr double kTailProbabilities[] = {0.00135, 0.5, 0.99865};
 constexpr double kMinConfidence = 0.5, kMaxConfidence = 1.0;  // exclusive
 constexpr int kMinBootstrap = 100, kMaxBootstrap = 100000;
 
-// Per sample, beyond the design's inputs: the status, the wall time, the rhs
-// evaluations and the message's pointer.
-constexpr double kPerSampleValues = 4.0;
+// Per sample, beyond the design, QoIs, status and message: the wall time, the
+// rhs evaluations.
+constexpr double kPerSampleValues = 2.0;
 // The fewest samples with a standard deviation (and so a band).
 constexpr int kMinSamples = 2;
 
 }  // namespace
 
-MonteCarloStudy load_montecarlo_study(const std::string& path) {
+namespace {
+
+// --samples and --seed replace the file's design before it is checked; both
+// are settings of the runs' key, wherever their value came from.
+void apply_design_overrides(const DesignOverrides& o, StudySpec& spec) {
+  DesignSpec& design = spec.design;
+  if (o.samples) {
+    if (design.type == DesignType::kGrid)
+      throw std::invalid_argument("--samples does not apply to a grid design (its size is the product of its levels)");
+    design.samples = static_cast<int>(*o.samples);
+  }
+  if (o.seed) design.seed = *o.seed;
+  spec.fingerprint = with_setting(spec.fingerprint, "--samples", std::to_string(design.samples), o.samples.has_value());
+  spec.fingerprint = with_setting(spec.fingerprint, "--seed", std::to_string(design.seed), o.seed.has_value());
+}
+
+}  // namespace
+
+MonteCarloStudy load_montecarlo_study(const std::string& path, const DesignOverrides& overrides) {
   const io::Json json = io::read_json_file(path);
   const io::JsonReader r(json, path);
   MonteCarloStudy s;
   s.spec = parse_study_spec(r, {"montecarlo"});
+  apply_design_overrides(overrides, s.spec);
   if (r.has("confidence")) {
     s.confidence = r.number("confidence");
     if (!(s.confidence > kMinConfidence && s.confidence < kMaxConfidence)) r.fail("confidence", "must lie in (0.5, 1)");
@@ -42,6 +61,9 @@ MonteCarloStudy load_montecarlo_study(const std::string& path) {
                                                                s.bootstrap_resamples, "'bootstrap'");
       !problem.empty())
     r.fail("confidence", problem);
+  if (s.spec.design.samples < kMinSamples && overrides.samples)
+    throw std::invalid_argument("--samples " + std::to_string(*overrides.samples) + ": a Monte Carlo needs at least " +
+                                std::to_string(kMinSamples) + " samples for its sd and bands");
   if (s.spec.design.samples < kMinSamples)
     r.fail("design", "a Monte Carlo needs at least " + std::to_string(kMinSamples) + " samples for its sd and bands, got " +
                          std::to_string(s.spec.design.samples));
@@ -55,7 +77,13 @@ MonteCarloAnalysis::MonteCarloAnalysis(const RecordLayout& layout, int samples, 
                                        int bootstrap_resamples, std::uint64_t seed)
     : layout_(layout), confidence_(confidence), bootstrap_resamples_(bootstrap_resamples), seed_(seed) {
   result_.qoi.resize(static_cast<std::size_t>(layout.qoi_count));
-  for (auto& q : result_.qoi) q.reserve(static_cast<std::size_t>(samples));
+  // Reserved once: a vector that doubles would hold its old and new arrays at once.
+  const auto n = static_cast<std::size_t>(samples);
+  for (auto& q : result_.qoi) q.reserve(n);
+  result_.status.reserve(n);
+  result_.messages.reserve(n);
+  result_.wall_time_s.reserve(n);
+  result_.rhs_evaluations.reserve(n);
   for (int c = 0; c < layout.channel_count; ++c)
     bands_.emplace_back(static_cast<std::size_t>(layout.time_samples), static_cast<std::size_t>(samples));
 }
@@ -74,8 +102,8 @@ void MonteCarloAnalysis::add(const RunRecord& r) {
   result_.rhs_evaluations.push_back(r.rhs_evaluations);
 }
 
-MonteCarloResult MonteCarloAnalysis::finish() const {
-  MonteCarloResult out = result_;
+MonteCarloResult MonteCarloAnalysis::finish() {
+  MonteCarloResult out = std::move(result_);  // per-run vectors of 10^8 samples are not copied
   const std::vector<double> probabilities(std::begin(kTailProbabilities), std::end(kTailProbabilities));
   for (const auto& values : out.qoi)
     out.summaries.push_back(
@@ -87,9 +115,18 @@ MonteCarloResult MonteCarloAnalysis::finish() const {
 MemoryEstimate montecarlo_memory(const MonteCarloStudy& study) {
   const StudySpec& spec = study.spec;
   const int N = spec.design.samples;
-  return {"design and per-run results (N = " + std::to_string(N) + ")",
-          static_cast<double>(sizeof(double)) * N *
-              (static_cast<double>(spec.inputs.size()) + spec.model->layout().qoi_count + kPerSampleValues)};
+  const RecordLayout layout = spec.model->layout();
+  // Per sample: the design twice while it is drawn (unit cube, then physical
+  // units), the QoIs, the status, message, wall time and rhs evaluations,
+  // and its index in the list of runs to do.
+  const double per_sample = sizeof(double) * (2.0 * static_cast<double>(spec.inputs.size()) + layout.qoi_count) +
+                            2 * sizeof(int) + sizeof(std::string) + sizeof(const char*) +
+                            sizeof(double) * kPerSampleValues;
+  const double bands = static_cast<double>(layout.channel_count) *
+                       static_cast<double>(StreamingBand::memory_bytes_for(static_cast<std::size_t>(layout.time_samples),
+                                                                           static_cast<std::size_t>(N)));
+  return {"design, per-run results and band quantile heaps (N = " + std::to_string(N) + ")",
+          static_cast<double>(N) * per_sample + bands};
 }
 
 MonteCarloResult run_montecarlo(const MonteCarloStudy& study, const StudyRuntime& runtime) {
@@ -97,7 +134,7 @@ MonteCarloResult run_montecarlo(const MonteCarloStudy& study, const StudyRuntime
   const StudyModel& model = *spec.model;
   const RecordLayout layout = model.layout();
   const int N = spec.design.samples;
-  const DesignMatrix x = study_design(spec);
+  DesignMatrix x = study_design(spec);
   const auto T = static_cast<std::size_t>(layout.time_samples);
   io::Hdf5Writer* h5 = runtime.h5;
   if (h5 != nullptr)
@@ -123,7 +160,7 @@ MonteCarloResult run_montecarlo(const MonteCarloStudy& study, const StudyRuntime
       note = "warning: " + w + (note.empty() ? "" : "\n    " + note);
     }
   result.study = study;
-  result.inputs = x;
+  result.inputs = std::move(x);
   return result;
 }
 

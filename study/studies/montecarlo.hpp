@@ -36,7 +36,7 @@ struct MonteCarloStudy {
   int bootstrap_resamples = 1000;
 };
 
-MonteCarloStudy load_montecarlo_study(const std::string& path);
+MonteCarloStudy load_montecarlo_study(const std::string& path, const DesignOverrides& overrides = {});
 
 struct MonteCarloResult {
   int samples = 0, failed = 0;
@@ -57,7 +57,8 @@ class MonteCarloAnalysis {
   MonteCarloAnalysis(const RecordLayout& layout, int samples, double confidence = 0.95,
                      int bootstrap_resamples = 1000, std::uint64_t seed = 1);
   void add(const RunRecord& record);
-  MonteCarloResult finish() const;
+  // Once, after the last add(): the result takes the per-run vectors over.
+  MonteCarloResult finish();
 
  private:
   RecordLayout layout_;

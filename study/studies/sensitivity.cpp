@@ -140,37 +140,53 @@ void estimate_qoi_indices(const SensitivityStudy& study, const MorrisDesign& mor
 }
 
 // Method pce: any space-filling design of the study core, and the "pce" settings.
-void load_pce_design(const io::JsonReader& r, const io::JsonReader& d, SensitivityStudy& s, double confidence) {
+// The design's size: --samples when given (checked by `check`, which blames
+// the flag), else the file's "samples", a whole number from `min` to 1e7.
+int design_size(const io::JsonReader& d, const DesignOverrides& o, int min) {
+  const double n = d.number("samples");  // read even when overridden: a key of the file
+  if (o.samples) return static_cast<int>(*o.samples);
+  if (!(n >= min && n <= 1e7 && n == std::floor(n)))
+    d.fail("samples", "must be a whole number from " + std::to_string(min) + " to 1e7");
+  return static_cast<int>(n);
+}
+
+// Method pce: any space-filling design of the study core, and the "pce" settings.
+void load_pce_design(const io::JsonReader& r, const io::JsonReader& d, const DesignOverrides& o,
+                     SensitivityStudy& s, double confidence) {
   std::string type = d.string_or("type", "latin_hypercube");
   if (type == "lhs") type = "latin_hypercube";
   if (type != "latin_hypercube" && type != "sobol" && type != "monte_carlo")
     d.fail("type", "a PCE analysis takes a \"latin_hypercube\" (\"lhs\"), \"sobol\" or \"monte_carlo\" design");
   s.spec.design.type = design_type_from_name(type);
-  const double n = d.number("samples");
-  if (!(n >= 1 && n <= 1e7 && n == std::floor(n))) d.fail("samples", "must be a whole number from 1 to 1e7");
+  const int n = design_size(d, o, 1);
   s.pce = parse_pce_options(r, confidence, s.spec.design.seed);
   const int needed = min_pce_sensitivity_runs(s.spec, s.pce);
-  if (n < needed)
-    d.fail("samples", "a PCE of " + std::to_string(s.spec.inputs.size()) + " inputs needs at least " +
-                          std::to_string(needed) + " runs");
-  s.spec.design.samples = static_cast<int>(n);
+  if (n < needed) {
+    const std::string problem = "a PCE of " + std::to_string(s.spec.inputs.size()) + " inputs needs at least " +
+                                std::to_string(needed) + " runs";
+    if (o.samples) throw std::invalid_argument("--samples " + std::to_string(n) + ": " + problem);
+    d.fail("samples", problem);
+  }
+  s.spec.design.samples = n;
   if (r.has("second_order")) r.fail("second_order", "applies to the pick-freeze Sobol' method only");
   s.spec.fingerprint = extend_fingerprint(
       s.spec.fingerprint, "pce " + std::to_string(s.pce.settings.max_degree) + " " +
                               std::to_string(s.pce.settings.q_norm) + " " + std::to_string(s.pce.bootstrap));
+  s.spec.fingerprint = with_setting(s.spec.fingerprint, "--samples", std::to_string(n), o.samples.has_value());
+}
+
+// What the next run of a study refused for too many failed units can do with
+// its kept runs: max_failed_fraction is read by the analysis only (it is no
+// part of the runs' key), so raising it lets --resume reuse them.
+std::string failed_runs_next_step(int failed_units, int units) {
+  const double least = std::ceil(100.0 * failed_units / units) / 100.0;
+  const std::string restart = "remove the cause of the failures and start afresh with --restart (which discards them)";
+  if (!(least < 1.0)) return "no analysis can use them (max_failed_fraction must stay below 1): " + restart;
+  return "a --resume of the same study would refuse them again: raise \"max_failed_fraction\" in the study file to " +
+         fixed_text(least, 2) + " or more (only the analysis reads it) and --resume reuses them, or " + restart;
 }
 
 }  // namespace
-
-void set_pce_runs(SensitivityStudy& study, int runs) {
-  const int needed = min_pce_sensitivity_runs(study.spec, study.pce);
-  if (runs < needed)
-    throw std::invalid_argument("--samples " + std::to_string(runs) + ": a PCE of " +
-                                std::to_string(study.spec.inputs.size()) + " inputs needs at least " +
-                                std::to_string(needed) + " runs");
-  study.spec.design.samples = runs;
-  study.spec.fingerprint = extend_fingerprint(study.spec.fingerprint, "samples " + std::to_string(runs));
-}
 
 // The share of Morris trajectories of this design that would draw a value
 // the model refuses: every run of every trajectory is set up (no
@@ -220,7 +236,7 @@ void refuse_failures_beyond_the_limit(const io::JsonReader& r, const Sensitivity
                                     "): the study would fail after its runs; truncate the distributions");
 }
 
-SensitivityStudy load_sensitivity_study(const std::string& path) {
+SensitivityStudy load_sensitivity_study(const std::string& path, const DesignOverrides& overrides) {
   const io::Json json = io::read_json_file(path);
   const io::JsonReader r(json, path);
   SensitivityStudy s;
@@ -261,16 +277,19 @@ SensitivityStudy load_sensitivity_study(const std::string& path) {
     d.fail("seed", "must be a whole number from 0 to 2^53");
   s.spec.design.seed = static_cast<std::uint64_t>(seed);
   const int d_inputs = varied_count(s.spec);
+  if (overrides.samples && s.method == SensitivityMethod::kMorris)
+    throw std::invalid_argument("--samples sets the Sobol' base sample count or the PCE runs; a Morris study has "
+                                "trajectories");
   if (s.method == SensitivityMethod::kPce) {
-    load_pce_design(r, d, s, confidence);
+    load_pce_design(r, d, overrides, s, confidence);
   } else if (s.method == SensitivityMethod::kSobol) {
     const std::string type = d.string_or("type", "sobol");
     if (type != "sobol" && type != "monte_carlo")
       d.fail("type", "the base matrices of a Sobol' analysis come from \"sobol\" or \"monte_carlo\"");
     s.spec.design.type = design_type_from_name(type);
-    const double n = d.number("samples");
-    if (!(n >= 2 && n <= 1e7 && n == std::floor(n))) d.fail("samples", "must be a whole number from 2 to 1e7");
-    s.layout.base_samples = static_cast<int>(n);
+    s.layout.base_samples = design_size(d, overrides, 2);
+    s.spec.fingerprint = with_setting(s.spec.fingerprint, "--samples", std::to_string(s.layout.base_samples),
+                                      overrides.samples.has_value());
     s.layout.dimensions = d_inputs;
     s.layout.second_order = r.boolean_or("second_order", false);
     s.spec.design.samples = s.layout.total_runs();
@@ -362,10 +381,10 @@ SensitivityResult analyse_sensitivity(const SensitivityStudy& study, const Desig
                                                                        : "runs";
   if (failed_units > study.max_failed_fraction * units)
     throw RunsRefused(std::to_string(failed_units) + " of " + std::to_string(units) + " " + unit_name +
-                             (study.method == SensitivityMethod::kPce ? " failed" : " have a failed run") +
-                             ", more than max_failed_fraction = " +
-                             fixed_text(study.max_failed_fraction, 2) + "; the indices would not describe the model. " +
-                             out.failure_report);
+                          (study.method == SensitivityMethod::kPce ? " failed" : " have a failed run") +
+                          ", more than max_failed_fraction = " + fixed_text(study.max_failed_fraction, 2) +
+                          "; the indices would not describe the model. " + out.failure_report,
+                      failed_runs_next_step(failed_units, units));
   if (failed_units > 0)
     out.warnings.push_back(std::to_string(failed_units) + " of " + std::to_string(units) + " " + unit_name +
                            (study.method == SensitivityMethod::kPce ? " failed and were left out of the PCE"

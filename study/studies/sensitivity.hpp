@@ -58,11 +58,12 @@ struct SensitivityStudy {
   double max_failed_fraction = 0.05;
 };
 
-SensitivityStudy load_sensitivity_study(const std::string& path);
+// Reads and checks a study file; errors are io::ConfigErrors naming the file
+// and the field. `overrides.samples` (--samples) sets the Sobol' base sample
+// count or the PCE runs before they are checked (std::invalid_argument naming
+// the flag when too few; a Morris study refuses it).
+SensitivityStudy load_sensitivity_study(const std::string& path, const DesignOverrides& overrides = {});
 
-// Method pce: sets the number of runs (--samples). Throws
-// std::invalid_argument if it is below min_pce_sensitivity_runs.
-void set_pce_runs(SensitivityStudy& study, int runs);
 
 // The runs of the study in physical units (rows in run order).
 DesignMatrix sensitivity_design(const SensitivityStudy& study);

@@ -3,6 +3,7 @@
 #include "study/runtime/calibration_mpi.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <set>
 #include <stdexcept>
@@ -182,12 +183,21 @@ void report_dry_run(const std::string& command, const std::string& results_path)
             << " can be written; nothing was run or written\n";
 }
 
-std::string with_kept_runs(const std::string& message, const std::string& results_path) {
+std::string out_of_memory(const MemoryEstimate& memory, const std::string& results_path) {
+  char estimate[96] = "";
+  if (memory.bytes > 0.0) std::snprintf(estimate, sizeof estimate, " (about %.3g GB of ", memory.bytes / 1e9);
+  const std::string what = memory.bytes > 0.0 ? estimate + memory.what + " were estimated)" : std::string();
+  return with_kept_runs("out of memory while running the study" + what +
+                            ": reduce --samples or the study's size, or run it where more memory is free",
+                        "--resume continues from them", results_path);
+}
+
+std::string with_kept_runs(const std::string& message, const std::string& next_step,
+                           const std::string& results_path) {
   const std::string checkpoint = io::ResultCheckpoint::path_for(results_path);
   std::error_code error;
   if (world_rank() != 0 || !std::filesystem::exists(checkpoint, error)) return message;
-  return message + "\nNothing was written; the finished runs are kept in " + checkpoint +
-         ": the next run of this study needs --restart (discard them) or --resume (reuse them)";
+  return message + "\nNothing was written; the finished runs are kept in " + checkpoint + ": " + next_step;
 }
 
 int interrupted(const std::string& command, const StudyInterrupted& e) {

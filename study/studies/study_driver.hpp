@@ -129,10 +129,17 @@ struct StudyProgram {
 
 // Thrown by a study whose runs finished but whose results it refuses (a
 // sensitivity analysis with more failed runs than max_failed_fraction): the
-// driver adds that nothing was written and where the runs are kept.
+// driver adds that nothing was written, where the runs are kept and
+// `next_step`, what the next run of the study can do with them (a --resume
+// of the same study would only refuse them again).
 class RunsRefused : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  RunsRefused(const std::string& what, std::string next_step)
+      : std::runtime_error(what), next_step_(std::move(next_step)) {}
+  const std::string& next_step() const { return next_step_; }
+
+ private:
+  std::string next_step_;
 };
 
 // The exit status of a study whose every run failed (its results are kept),
@@ -176,9 +183,14 @@ std::optional<int> keep_earlier_result(const std::string& command, const std::st
 int exit_status(const std::string& command, const std::string& results_path, const RunCounts& counts,
                 int status_when_some_failed);
 
+// What to say when the memory ran out while the study ran: its estimate,
+// and where its finished runs are kept.
+std::string out_of_memory(const MemoryEstimate& memory, const std::string& results_path);
+
 // `message` of an error after the runs, and, when their checkpoint is
-// there, that nothing was written and where the runs are kept.
-std::string with_kept_runs(const std::string& message, const std::string& results_path);
+// there, that nothing was written, where the runs are kept and `next_step`.
+std::string with_kept_runs(const std::string& message, const std::string& next_step,
+                           const std::string& results_path);
 
 // Prints the interrupt message; returns StudyInterrupted::kExitCode.
 int interrupted(const std::string& command, const StudyInterrupted& e);
@@ -271,7 +283,9 @@ int drive_study(const StudyProgram<Result>& study, const StudyRunOptions& option
     return world_rank() == 0 ? driver_detail::interrupted(study.command, driver_detail::interruption(runtime.options))
                              : 0;
   } catch (const RunsRefused& e) {
-    throw std::runtime_error(driver_detail::with_kept_runs(e.what(), out));
+    throw std::runtime_error(driver_detail::with_kept_runs(e.what(), e.next_step(), out));
+  } catch (const std::bad_alloc&) {
+    throw std::runtime_error(driver_detail::out_of_memory(study.memory, out));
   }
 }
 

@@ -1,12 +1,16 @@
 // See study_output.hpp.
 #include "study/studies/study_output.hpp"
 
+#include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <fstream>
 #include <filesystem>
 #include <stdexcept>
 
+#include "io/checkpoint.hpp"
 #include "io/output_target.hpp"
 #include "study/runtime/study_runner.hpp"
 #include "study/studies/calibration.hpp"
@@ -39,12 +43,28 @@ std::string checked_results_path(const std::string& name, const std::string& req
   return path;
 }
 
-void require_memory(const std::string& what, double bytes, double max_bytes) {
-  if (bytes <= max_bytes) return;
+MemoryLimit machine_memory() {
+  const double page = static_cast<double>(::sysconf(_SC_PAGESIZE));
+  MemoryLimit limit{page * static_cast<double>(::sysconf(_SC_PHYS_PAGES)), "this machine's physical memory"};
+  double mapped = 0.0;  // what the process maps already (MPI and HDF5 map hundreds of MB)
+  if (std::ifstream statm("/proc/self/statm"); statm >> mapped) mapped *= page;
+  const std::pair<int, const char*> limits[] = {{RLIMIT_AS, "the address-space limit (ulimit -v)"},
+                                                {RLIMIT_DATA, "the data-size limit (ulimit -d)"}};
+  for (const auto& [resource, name] : limits) {
+    struct rlimit r {};
+    if (::getrlimit(resource, &r) != 0 || r.rlim_cur == RLIM_INFINITY) continue;
+    const double left = std::max(0.0, static_cast<double>(r.rlim_cur) - mapped);
+    if (left < limit.bytes) limit = {left, std::string(name) + " less what the process maps already"};
+  }
+  return limit;
+}
+
+void require_memory(const std::string& what, double bytes, const MemoryLimit& limit) {
+  if (bytes <= limit.bytes) return;
   char text[160];
-  std::snprintf(text, sizeof text, "would hold %.3g GB of %s in memory, more than the %.3g GB allowed", bytes / 1e9,
-                what.c_str(), max_bytes / 1e9);
-  throw std::invalid_argument(text);
+  std::snprintf(text, sizeof text, "would hold %.3g GB of %s in memory, more than the %.3g GB of ", bytes / 1e9,
+                what.c_str(), limit.bytes / 1e9);
+  throw std::invalid_argument(text + limit.what + ": reduce the study's size (--samples)");
 }
 
 std::vector<PlannedFigure> summary_figure(PlotSelection plots) {
@@ -84,7 +104,7 @@ void write_base_provenance(io::Hdf5Writer& h5, const std::string& type, const st
     h5.attribute("/", "slip_tol", integrator->slip_tolerance);
   }
   h5.attribute("/", "ranks", static_cast<long long>(world_size()));
-  h5.attribute("/", "fingerprint", fingerprint);
+  h5.attribute("/", "fingerprint", io::key_summary(fingerprint));
   h5.attribute("/", "project_version", ROVER_VERSION);
 }
 

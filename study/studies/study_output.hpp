@@ -17,10 +17,17 @@ namespace rover::study {
 // in .h5 (or .csv, when `csv_allowed`), or its directory cannot be created.
 std::string checked_results_path(const std::string& name, const std::string& requested, bool csv_allowed = false);
 
+// The memory a study may hold: the physical memory, or less where a limit of
+// the process (ulimit -v, -d) leaves less beside what it maps already.
+struct MemoryLimit {
+  double bytes = 0.0;
+  std::string what;  // "this machine's physical memory", ...
+};
+MemoryLimit machine_memory();
 // Refuses up front, with the estimate, a study whose rank-0 working set would
-// exceed max_bytes (8 GiB): "sensitivity would hold 12.3 GB of run records
-// (...)". `what` says what the bytes are.
-void require_memory(const std::string& what, double bytes, double max_bytes = 8.0 * 1024 * 1024 * 1024);
+// exceed `limit`: "would hold 12.3 GB of run records (...) in memory, more
+// than the 4 GB of ...". `what` says what the bytes are.
+void require_memory(const std::string& what, double bytes, const MemoryLimit& limit = machine_memory());
 
 // "results/x.h5" + "_band_B_l_z.png" -> "results/x_band_B_l_z.png".
 std::string sibling_path(const std::string& results_path, const std::string& suffix);

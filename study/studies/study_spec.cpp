@@ -20,6 +20,7 @@
 #include "io/csv.hpp"
 #include "io/trajectory_io.hpp"
 #include "study/model/distribution_json.hpp"
+#include "study/runtime/study_runner.hpp"
 #include "study/studies/report_number.hpp"
 
 namespace rover::study {
@@ -552,7 +553,18 @@ std::string file_text(const std::string& path) {
 }
 
 std::string extend_fingerprint(const std::string& fingerprint, const std::string& text) {
-  return io::config_fingerprint(fingerprint + "\n" + text);
+  return io::extend_key_digest(fingerprint, text);
+}
+
+std::string with_setting(const std::string& fingerprint, const std::string& flag, const std::string& value,
+                         bool from_flag) {
+  return io::add_run_setting(fingerprint, {flag, value, from_flag});
+}
+
+std::string study_file_run_text(const io::Json& study) {
+  io::Json runs = study;
+  for (const char* key : kAnalysisOnlyKeys) runs.erase(key);
+  return runs.dump();
 }
 
 std::optional<IntegratorSettings> study_integrator(const io::JsonReader& r, const IntegratorSettings& base,
@@ -609,7 +621,7 @@ StudySpec parse_study_spec(const io::JsonReader& r, const std::vector<std::strin
   s.type = identity.type;
   s.name = identity.name;
   s.description = identity.description;
-  std::string fingerprint_text = file_text(s.path);
+  std::string fingerprint_text = study_file_run_text(r.raw_object());
   if (r.has("scenario") == r.has("model"))
     r.fail("scenario", "give exactly one of \"scenario\" (the rover) and \"model\" (an analytic test model)");
   std::vector<QoiSpec> qois;
@@ -688,12 +700,16 @@ DesignMatrix study_design(const StudySpec& spec) {
     for (int i : varied) levels.push_back(spec.design.grid_levels[static_cast<std::size_t>(i)]);
     unit = unit_grid(levels);
   } else {
-    unit = unit_design(spec.design.type, spec.design.samples, static_cast<int>(varied.size()), spec.design.seed);
+    // A signal stops a long draw (10^7 points take seconds): WorkStopped, as for a run.
+    unit = unit_design(spec.design.type, spec.design.samples, static_cast<int>(varied.size()), spec.design.seed,
+                       &InterruptGuard::flag());
   }
   for (std::size_t k = 0; k < varied.size(); ++k) {
     const Distribution& dist = spec.inputs[static_cast<std::size_t>(varied[k])].distribution;
-    for (Eigen::Index row = 0; row < n; ++row)
+    for (Eigen::Index row = 0; row < n; ++row) {
+      if (row % kRowsBetweenStopChecks == 0) stop_if_requested(&InterruptGuard::flag(), "mapping the design");
       x(row, varied[k]) = dist.quantile(unit(row, static_cast<Eigen::Index>(k)));
+    }
   }
   return x;
 }

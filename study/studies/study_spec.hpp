@@ -104,7 +104,31 @@ std::string qoi_values_warning(const RoverStudyModel& model, std::size_t q, cons
 // The text of a file ("" if unreadable), for fingerprints and provenance.
 std::string file_text(const std::string& path);
 
-// Adds text (an option value, a data file's contents) to a fingerprint.
+// Adds text (a data file's contents) to a fingerprint: the key of a study's
+// runs (io/checkpoint.hpp run keys: a digest, then the settings in force).
 std::string extend_fingerprint(const std::string& fingerprint, const std::string& text);
+
+// The keys of a study file that only its analysis reads, never its runs: a
+// checkpoint's runs serve whatever they say (raise max_failed_fraction, and
+// --resume reuses the runs).
+inline constexpr const char* kAnalysisOnlyKeys[] = {"max_failed_fraction", "bootstrap", "confidence", "estimator"};
+
+// The study file's content that its runs depend on, for their key: the JSON
+// without kAnalysisOnlyKeys (its layout and spaces do not count).
+std::string study_file_run_text(const io::Json& study);
+
+// The flags that override a study file's design: its size and its seed. Each
+// loader applies them before it checks the design, so a file's size too small
+// for the study is no error when --samples replaces it; an overriding value
+// the study cannot take is refused naming the flag.
+struct DesignOverrides {
+  std::optional<long long> samples;
+  std::optional<std::uint64_t> seed;
+};
+
+// The key `fingerprint` with the setting `flag` = `value` added (from the
+// flag when `from_flag`, else from the study file).
+std::string with_setting(const std::string& fingerprint, const std::string& flag, const std::string& value,
+                         bool from_flag);
 
 }  // namespace rover::study

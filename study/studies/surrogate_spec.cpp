@@ -218,7 +218,7 @@ int min_training_runs(const SurrogateStudy& s) {
   return trend_terms + 2;
 }
 
-SurrogateStudy load_surrogate_study(const std::string& path) {
+SurrogateStudy load_surrogate_study(const std::string& path, const DesignOverrides& overrides) {
   io::Json json = io::read_json_file(path);
   default_design_type(json);
   const io::JsonReader r(json, path);
@@ -255,12 +255,16 @@ SurrogateStudy load_surrogate_study(const std::string& path) {
     check_compare_file(c, s);
     c.finish();
   }
+  if (overrides.samples) set_surrogate_runs(s, static_cast<int>(*overrides.samples));  // before the checks of the size
   if (!from_file) check_design_runs(r, s);
   check_held_out_runs(r, s);
   r.finish();
   s.spec.fingerprint = extend_fingerprint(
       s.spec.fingerprint, std::string("surrogate ") + surrogate_kind_name(s.kind) + " " + s.training_file + " " +
                               s.held_out_file + " " + std::to_string(s.held_out_fraction));
+  if (!from_file)
+    s.spec.fingerprint = with_setting(s.spec.fingerprint, "--samples", std::to_string(s.spec.design.samples),
+                                      overrides.samples.has_value());
   return s;
 }
 
@@ -294,7 +298,6 @@ void set_surrogate_runs(SurrogateStudy& s, int runs) {
                                 std::to_string(s.spec.inputs.size()) + " inputs needs at least " +
                                 std::to_string(needed));
   s.spec.design.samples = runs;
-  s.spec.fingerprint = extend_fingerprint(s.spec.fingerprint, "samples " + std::to_string(runs));
 }
 
 }  // namespace rover::study

@@ -56,7 +56,7 @@ struct SurrogateStudy {
 
 // Reads and checks a study file; errors are io::ConfigErrors naming the file
 // and the field.
-SurrogateStudy load_surrogate_study(const std::string& path);
+SurrogateStudy load_surrogate_study(const std::string& path, const DesignOverrides& overrides = {});
 
 // The fewest training runs the fit accepts (after failed and held-out runs are removed).
 int min_training_runs(const SurrogateStudy& study);

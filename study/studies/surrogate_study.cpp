@@ -99,7 +99,10 @@ void check_run_count(const SurrogateStudy& study, const TrainingRuns& training) 
                               " inputs needs at least " + std::to_string(needed);
   if (!study.training_file.empty()) throw io::ConfigError(problem);
   const RunCounts counts = count_runs(training.status, training.messages);
-  throw RunsRefused(problem + (counts.failed > 0 ? " (first failure: " + counts.first_failure + ")" : ""));
+  throw RunsRefused(problem + (counts.failed > 0 ? " (first failure: " + counts.first_failure + ")" : ""),
+                    "a --resume of this study would refuse them again; remove the cause of the failures and "
+                    "start afresh with --restart (which discards them), or ask for more runs (--samples, "
+                    "with --restart)");
 }
 
 // The successful training runs cover the support of every uniform or

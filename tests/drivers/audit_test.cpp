@@ -4559,5 +4559,99 @@ TEST_F(Audit, PriorsStartsCopiesAndSeparatorsOfCalibrationInputs) {
   run_table(dir, cases);
 }
 
+// ---- study flags, checkpoints and sizes ---------------------------------
+// A study whose runs fail in part keeps them in its checkpoint when it is
+// refused: rk4 with a fixed step diverges on the stiff contact where c_q is
+// small and f large.
+std::string failing_sobol(Workshop& w, const std::function<void(Json&)>& edit = {}) {
+  const std::string rk4 = w.scenario([](Json& j) {
+    j["duration"] = 0.3;
+    j["output_rate"] = 320;
+    j["integrator"] = {{"method", "rk4"}, {"fixed_step", 0.003125}};
+  });
+  Json j{{"type", "sensitivity"},
+         {"method", "sobol"},
+         {"name", "sf"},
+         {"scenario", rk4},
+         {"parameters",
+          {{"c_q", {{"distribution", "uniform"}, {"min", 0.05}, {"max", 0.4}}},
+           {"f", {{"distribution", "log_uniform"}, {"min", 1e3}, {"max", 1e5}}}}},
+         {"design", {{"type", "sobol"}, {"samples", 16}, {"seed", 1}}},
+         {"qoi", {"B_l_z_min"}},
+         {"bootstrap", 100}};
+  if (edit) edit(j);
+  return w.json_file("sf", j);
+}
+
+TEST_F(Audit, ResumeNamesTheFlagWhoseValueDiffersFromTheCheckpoints) {
+  const std::string dir = w().dir();
+  const std::string out = dir + "/sf.h5", study_file = failing_sobol(w());
+  std::string output;
+  run_command("cd " + dir + " && OMPI_MCA_ess_singleton_isolated=1 " + rover_binary() + " " +
+                  study_args("sensitivity", study_file, out),
+              &output);
+  ASSERT_TRUE(fs::exists(out + ".checkpoint")) << output;
+  std::vector<Case> cases;
+  cases.push_back({"--resume with another --samples", study_args("sensitivity", study_file, out) + " --resume --samples 8",
+                   Want::kError, {"--samples 8 here", "made with the study file's 16 (no --samples)"},
+                   unchanged(out + ".checkpoint"), {}, {"in some byte"}});
+  run_table(dir, cases);
+}
+
+TEST_F(Audit, RaisingAnAnalysisOnlySettingKeepsTheCheckpointsRuns) {
+  const std::string dir = w().dir();
+  const std::string out = dir + "/sf2.h5", study_file = failing_sobol(w());
+  std::string output;
+  EXPECT_EQ(run_command("cd " + dir + " && OMPI_MCA_ess_singleton_isolated=1 " + rover_binary() + " " +
+                            study_args("sensitivity", study_file, out),
+                        &output),
+            1);
+  ASSERT_TRUE(fs::exists(out + ".checkpoint")) << output;
+  // The advice is true: an unchanged --resume could only refuse the runs again.
+  EXPECT_NE(output.find("raise \"max_failed_fraction\""), std::string::npos) << output;
+  EXPECT_EQ(output.find("or --resume (reuse them)"), std::string::npos) << output;
+  // The same file with a higher limit and another bootstrap count: the same runs.
+  Json raised = io::read_json_file(study_file);
+  raised["max_failed_fraction"] = 0.99;
+  raised["bootstrap"] = 200;
+  write_file(study_file, raised.dump(2));
+  std::vector<Case> cases;
+  cases.push_back({"--resume with max_failed_fraction raised", study_args("sensitivity", study_file, out) + " --resume",
+                   Want::kRunsOrFails, {}, {}, {}, {"different study configuration"}});
+  run_table(dir, cases);
+}
+
+TEST_F(Audit, SamplesOverrideAFileSizeTooSmallForTheStudy) {
+  std::vector<Case> cases;
+  const std::string pce = w().json_file(
+      "pce", Json{{"type", "sensitivity"}, {"method", "pce"}, {"name", "p"}, {"model", "ishigami"},
+                  {"design", {{"type", "lhs"}, {"samples", 2}, {"seed", 1}}}});
+  cases.push_back({"pce: --samples replaces a file's too few runs", study("sensitivity", pce) + " --samples 60 --dry-run",
+                   Want::kRuns, {}});
+  cases.push_back({"pce: too few runs from --samples name the flag", study("sensitivity", pce) + " --samples 5 --dry-run",
+                   Want::kError, {"--samples 5", "needs at least"}, {}, {}, {"design.samples"}});
+  const std::string mc = w().montecarlo([](Json& j) { j["design"]["samples"] = 1; });
+  cases.push_back({"montecarlo: --samples replaces a file's single sample",
+                   study("montecarlo", mc) + " --samples 3 --dry-run", Want::kRuns, {}});
+  const std::string gp = w().json_file(
+      "gp", Json{{"type", "surrogate"}, {"surrogate", "gp"}, {"name", "g"}, {"model", "linear"},
+                 {"design", {{"type", "latin_hypercube"}, {"samples", 3}, {"seed", 1}}}});
+  cases.push_back({"gp surrogate: --samples replaces a file's three runs", study("surrogate", gp) + " --samples 20 --dry-run",
+                   Want::kRuns, {}});
+  run_table(w().dir(), cases);
+}
+
+TEST_F(Audit, AStudyTooLargeForTheMemoryIsRefusedBeforeAnyRun) {
+  std::vector<Case> cases;
+  const std::string mc = w().montecarlo([](Json& j) { j["channels"] = {"B_l_z"}; });
+  const std::string limited = "sh -c 'ulimit -v 3000000; exec \"$0\" \"$@\"'";
+  const std::string out = w().out();
+  cases.push_back({"montecarlo of 1e8 samples under ulimit -v 3 GB", study_args("montecarlo", mc, out) + " --samples 1e8",
+                   Want::kError, {"GB", "ulimit -v", "--samples"}, absent_file(out), limited});
+  cases.push_back({"its dry run says so too", study("montecarlo", mc) + " --samples 1e8 --dry-run", Want::kError,
+                   {"GB", "ulimit -v", "--samples"}, {}, limited});
+  run_table(w().dir(), cases);
+}
+
 }  // namespace
 }  // namespace rover

@@ -202,8 +202,30 @@ TEST(ResultCheckpoint, DifferentFingerprintIsRefused) {
   old_study.add({0, 0, "", {1.0}});
   old_study.save();
   expect_error_naming([&] { ResultCheckpoint(results, new_config).load(); },
-                      {results + ".checkpoint", "different study configuration", old_config,
-                       new_config, "--resume"});
+                      {results + ".checkpoint", "different study configuration", "the study file", "--resume"});
+}
+
+TEST(ResultCheckpoint, ASettingThatDiffersIsNamedWithBothValues) {
+  const std::string results = testing::temp_dir() + "/mc.h5";
+  const std::string inputs = config_fingerprint("the study's files");
+  const std::string made = add_run_setting(add_run_setting(inputs, {"--samples", "300", false}), {"--seed", "3", false});
+  ResultCheckpoint old_study(results, made);
+  old_study.add({0, 0, "", {1.0}});
+  old_study.save();
+  // The same values, whether from the file or a flag: the same runs.
+  const std::string same = add_run_setting(add_run_setting(inputs, {"--samples", "300", true}), {"--seed", "3", false});
+  EXPECT_TRUE(keys_match(made, same));
+  EXPECT_EQ(ResultCheckpoint(results, same).load().size(), 1u);
+  const std::string more = add_run_setting(add_run_setting(inputs, {"--samples", "320", true}), {"--seed", "3", false});
+  EXPECT_FALSE(keys_match(made, more));
+  expect_error_naming([&] { ResultCheckpoint(results, more).load(); },
+                      {"--samples 320 here", "made with the study file's 300 (no --samples)"});
+  const std::string message = key_mismatch(made, more);
+  EXPECT_EQ(message.find("the study file or a file it names"), std::string::npos) << message;
+  // Inputs added to the key keep its settings.
+  EXPECT_NE(extend_key_digest(made, "candidates").find("--samples\t300"), std::string::npos);
+  // An earlier checkpoint, written before keys held settings, is refused as such.
+  EXPECT_NE(key_mismatch(config_fingerprint("old"), more).find("earlier version of rover"), std::string::npos);
 }
 
 TEST(ResultCheckpoint, FilesOfAnotherFormatAreRefused) {

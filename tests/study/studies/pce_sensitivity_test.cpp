@@ -76,11 +76,21 @@ TEST(PceSensitivity, BadSettingsAreRefusedNamingTheField) {
 }
 
 TEST(PceSensitivity, TooFewRunsForTheCommandLineAreRefused) {
-  SensitivityStudy s = load(R"({"type": "sensitivity", "method": "pce", "name": "i", "model": "ishigami",
-      "design": {"samples": 100}})");
-  EXPECT_THROW(set_pce_runs(s, min_pce_sensitivity_runs(s.spec, s.pce) - 1), std::invalid_argument);
-  set_pce_runs(s, 50);
-  EXPECT_EQ(sensitivity_design(s).rows(), 50);
+  const std::string path = rover::testing::temp_dir() + "/pce.json";
+  std::ofstream(path) << R"({"type": "sensitivity", "method": "pce", "name": "i", "model": "ishigami",
+      "design": {"samples": 100}})";
+  const SensitivityStudy s = load_sensitivity_study(path);
+  const long long too_few = min_pce_sensitivity_runs(s.spec, s.pce) - 1;
+  EXPECT_THROW(load_sensitivity_study(path, {.samples = too_few}), std::invalid_argument);
+  EXPECT_EQ(sensitivity_design(load_sensitivity_study(path, {.samples = 50})).rows(), 50);
+}
+
+TEST(PceSensitivity, TheCommandLineSizeReplacesATooSmallFileSize) {
+  const std::string path = rover::testing::temp_dir() + "/pce.json";
+  std::ofstream(path) << R"({"type": "sensitivity", "method": "pce", "name": "i", "model": "ishigami",
+      "design": {"samples": 2}})";
+  EXPECT_THROW(load_sensitivity_study(path), io::ConfigError);
+  EXPECT_EQ(sensitivity_design(load_sensitivity_study(path, {.samples = 50})).rows(), 50);
 }
 
 TEST(PceSensitivity, ALowQ2WarnsNamingTheQoiAndALargerN) {
