@@ -22,7 +22,7 @@ study::StudyProgram<study::MonteCarloResult> load(const MonteCarloOptions& o) {
   FlagChecks checks;
   const std::uint64_t seed = o.seed.empty() ? 0 : checks.seed("--seed", o.seed);
   checks.throw_if_any();
-  study::DesignOverrides overrides{.samples = o.samples};
+  study::DesignOverrides overrides{o.samples, std::nullopt};
   if (!o.seed.empty()) overrides.seed = seed;
   return study::montecarlo_program(study::load_montecarlo_study(o.study_path, overrides));
 }

@@ -17,7 +17,7 @@ struct SensitivityOptions {
 };
 
 study::StudyProgram<study::SensitivityResult> load(const SensitivityOptions& o) {
-  return study::sensitivity_program(study::load_sensitivity_study(o.study_path, {.samples = o.samples}));
+  return study::sensitivity_program(study::load_sensitivity_study(o.study_path, {o.samples, std::nullopt}));
 }
 
 const RegisterCommand sensitivity_command{

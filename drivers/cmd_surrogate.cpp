@@ -34,7 +34,7 @@ study::StudyProgram<study::SurrogateStudyResult> load(const SurrogateOptions& o)
   if (o.samples && (*o.samples < 1 || *o.samples > kMaxSurrogateSamples))
     checks.add("--samples must be from 1 to 1e7, got " + std::to_string(*o.samples));
   checks.throw_if_any();
-  return study::surrogate_program(study::load_surrogate_study(o.study_path, {.samples = o.samples}));
+  return study::surrogate_program(study::load_surrogate_study(o.study_path, {o.samples, std::nullopt}));
 }
 
 // The files a saved surrogate was trained on, as its root attributes name

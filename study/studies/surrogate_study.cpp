@@ -120,7 +120,9 @@ void check_coverage(const SurrogateStudy& study, const TrainingRuns& training) {
   if (problems.empty()) return;
   if (!study.training_file.empty())
     throw io::ConfigError(study.spec.path + ": field 'training.file': " + training.source + ": " + problems);
-  throw RunsRefused(training.source + " runs: " + problems);
+  throw RunsRefused(training.source + " runs: " + problems,
+                    "a --resume of this study would refuse them again; ask for more runs (--samples, with "
+                    "--restart, which discards them) or narrow the inputs the runs leave uncovered");
 }
 
 SurrogateSet surrogate_set(const SurrogateStudy& study, const TrainingRuns& training,

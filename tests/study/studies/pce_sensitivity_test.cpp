@@ -81,8 +81,8 @@ TEST(PceSensitivity, TooFewRunsForTheCommandLineAreRefused) {
       "design": {"samples": 100}})";
   const SensitivityStudy s = load_sensitivity_study(path);
   const long long too_few = min_pce_sensitivity_runs(s.spec, s.pce) - 1;
-  EXPECT_THROW(load_sensitivity_study(path, {.samples = too_few}), std::invalid_argument);
-  EXPECT_EQ(sensitivity_design(load_sensitivity_study(path, {.samples = 50})).rows(), 50);
+  EXPECT_THROW(load_sensitivity_study(path, {too_few, std::nullopt}), std::invalid_argument);
+  EXPECT_EQ(sensitivity_design(load_sensitivity_study(path, {50, std::nullopt})).rows(), 50);
 }
 
 TEST(PceSensitivity, TheCommandLineSizeReplacesATooSmallFileSize) {
@@ -90,7 +90,7 @@ TEST(PceSensitivity, TheCommandLineSizeReplacesATooSmallFileSize) {
   std::ofstream(path) << R"({"type": "sensitivity", "method": "pce", "name": "i", "model": "ishigami",
       "design": {"samples": 2}})";
   EXPECT_THROW(load_sensitivity_study(path), io::ConfigError);
-  EXPECT_EQ(sensitivity_design(load_sensitivity_study(path, {.samples = 50})).rows(), 50);
+  EXPECT_EQ(sensitivity_design(load_sensitivity_study(path, {50, std::nullopt})).rows(), 50);
 }
 
 TEST(PceSensitivity, ALowQ2WarnsNamingTheQoiAndALargerN) {
