@@ -176,6 +176,8 @@ CsvTable read_csv(const std::string& path, const std::vector<std::string>& requi
     if (const std::string problem = text_encoding_problem(content); !problem.empty())
       throw ConfigError(path + ":" + std::to_string(line_number) + ": " + problem +
                         ": save a CSV file as UTF-8 (plain text)");
+    if (const std::string problem = line_ending_problem(content); !problem.empty())
+      throw ConfigError(path + ":" + std::to_string(line_number) + ": " + problem);
     if (line_number == 1 && content.substr(0, kUtf8ByteOrderMark.size()) == kUtf8ByteOrderMark)
       content.remove_prefix(kUtf8ByteOrderMark.size());
     content = trim(content.substr(0, content.find('#')));

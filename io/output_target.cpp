@@ -161,17 +161,26 @@ int own_descriptor(const std::string& path) {
 
 namespace {
 
+// The longest file name where a file system does not say (Linux's NAME_MAX).
+constexpr long kDefaultNameMax = 255;
+
 // Why no file can be made beside `output` in its existing directory (a
 // read-only file system, /proc, /sys; permissions alone do not tell), found
 // by making one under a name of this process and removing it; empty when one can.
+// An append-only or immutable directory is refused unprobed: a result is
+// written under a temporary name and renamed, which neither allows.
 std::string creation_refusal(const std::string& output) {
+  const fs::path dir = fs::path(output).parent_path();
+  const std::string dir_name = dir.empty() ? std::string(".") : dir.string();
+  if (const std::string attribute = locking_file_attribute(dir_name); !attribute.empty())
+    return "the directory '" + dir_name + "' is " + attribute + " (lsattr -d shows it): rover writes a file " +
+           "under a temporary name and renames it, which such a directory does not allow: clear the attribute " +
+           "(chattr) or write elsewhere";
   const std::string probe = output + ".probe-" + std::to_string(::getpid());
   const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
   if (fd < 0) {
     if (errno == EEXIST) return "";
-    const fs::path dir = fs::path(output).parent_path();
-    return "no file can be created in '" + (dir.empty() ? std::string(".") : dir.string()) + "' (" +
-           std::strerror(errno) + ")";
+    return "no file can be created in '" + dir_name + "' (" + std::strerror(errno) + ")";
   }
   ::close(fd);
   ::unlink(probe.c_str());
@@ -180,16 +189,38 @@ std::string creation_refusal(const std::string& output) {
 
 }  // namespace
 
+std::string name_length_refusal(const std::string& output, std::string_view sibling_suffix) {
+  const fs::path path(output);
+  std::error_code error;
+  fs::path existing = path.parent_path();
+  while (!existing.empty() && !fs::is_directory(existing, error)) existing = existing.parent_path();
+  long name_max = ::pathconf(existing.empty() ? "." : existing.c_str(), _PC_NAME_MAX);
+  if (name_max <= 0) name_max = kDefaultNameMax;
+  const std::string name = path.filename().string();
+  if (name.size() + sibling_suffix.size() <= static_cast<std::size_t>(name_max)) return "";
+  return "its file name has " + std::to_string(name.size()) + " characters; rover writes a file beside it whose " +
+         "name is " + std::to_string(sibling_suffix.size()) + " characters longer (<name>" +
+         std::string(sibling_suffix) + "), and this file system allows " + std::to_string(name_max) +
+         ": give a name of at most " + std::to_string(name_max - static_cast<long>(sibling_suffix.size())) +
+         " characters";
+}
+
 std::string parent_directory_refusal(const std::string& output) {
   std::error_code error;
   fs::path dir = fs::path(output).parent_path();
-  if (dir.empty()) return creation_refusal(output);
+  if (dir.empty()) {
+    if (const std::string refusal = name_length_refusal(output, kLongestSiblingSuffix); !refusal.empty())
+      return refusal;
+    return creation_refusal(output);
+  }
   fs::path existing = dir;
   while (!existing.empty() && !fs::exists(existing, error)) existing = existing.parent_path();
   if (existing.empty()) existing = ".";
   if (!fs::is_directory(existing, error))
     return "cannot create the directory '" + dir.string() + "' ('" + existing.string() +
            "' is a file, not a directory)";
+  if (const std::string refusal = name_length_refusal(output, kLongestSiblingSuffix); !refusal.empty())
+    return refusal;
   if (existing == dir) return creation_refusal(output);
   // Whether the first missing directory can be made is found by making it
   // and removing it again (permissions alone do not tell: root, /proc).

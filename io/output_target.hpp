@@ -18,6 +18,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace rover::io {
@@ -53,11 +54,23 @@ int own_descriptor(const std::string& path);
 // inspect_output's mode; throws std::runtime_error "<path>: <refusal>" when refused.
 OutputMode require_output(const std::string& path, OutputFormat format);
 
+// The longest name rover writes beside an output "<name>": a study's
+// temporary checkpoint (a writer's "<name>.partial", a lock "<name>.lock" and
+// a probe "<name>.probe-<pid>" are shorter).
+inline constexpr std::string_view kLongestSiblingSuffix = ".checkpoint.partial";
+
+// Why `output`'s file name leaves no room for a file "<name><sibling_suffix>"
+// beside it, in the file system of the nearest existing directory above it
+// (its NAME_MAX, 255 on Linux's own), or empty. Found before any run: a
+// checkpoint that cannot be created would lose the runs.
+std::string name_length_refusal(const std::string& output, std::string_view sibling_suffix);
+
 // Why the directory of `output` could not be made, or empty when it exists
 // or can be: its nearest existing ancestor is a directory this process may
 // write in; when it exists, a file can be created in it (found by making
 // and removing "<output>.probe-<pid>": a read-only file system, /proc or
-// /sys refuse it). Leaves nothing (a refused command or a dry run leaves no
+// /sys refuse it; an append-only or immutable directory is refused unprobed),
+// and its name leaves room for kLongestSiblingSuffix. Leaves nothing (a refused command or a dry run leaves no
 // folder).
 std::string parent_directory_refusal(const std::string& output);
 

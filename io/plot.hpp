@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <ostream>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -23,6 +24,10 @@ class PlotError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+
+// The name a figure is drawn under before it is renamed onto its path:
+// "<png>" followed by this suffix, its x's random hexadecimal digits.
+inline constexpr std::string_view kFigureTemporarySuffix = ".partial-xxxxxxxx";
 
 enum class SeriesStyle { lines, dashed, points, lines_points };
 

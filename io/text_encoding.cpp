@@ -19,4 +19,11 @@ std::string text_encoding_problem(std::string_view text) {
   return "holds a NUL byte (a binary file?)";
 }
 
+std::string line_ending_problem(std::string_view line) {
+  const std::size_t cr = line.find('\r');
+  if (cr == std::string_view::npos || cr + 1 == line.size()) return "";
+  return "its lines end in a carriage return alone (CR, as classic Mac OS and some data loggers write): save it "
+         "with LF or CRLF line ends";
+}
+
 }  // namespace rover::io

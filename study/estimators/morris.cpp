@@ -190,7 +190,7 @@ MorrisResult morris_effects(const MorrisDesign& design, const Eigen::VectorXd& y
       result.dropped_trajectories.push_back(t);
   }
   result.trajectories_used = static_cast<int>(used.size());
-  if (used.empty())
+  if (static_cast<int>(used.size()) < kMinMorrisTrajectories)
     throw std::invalid_argument("morris_effects: every one of the " + std::to_string(r) +
                                 " trajectories has a failed (non-finite) run");
   const auto n = static_cast<Eigen::Index>(used.size());

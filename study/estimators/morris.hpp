@@ -62,6 +62,9 @@ struct MorrisResult {
   int trajectories_used = 0;
   std::vector<int> dropped_trajectories;  // with a non-finite output, dropped whole
 };
+// The fewest complete trajectories (no failed run) morris_effects needs.
+inline constexpr int kMinMorrisTrajectories = 1;
+
 // y: one output per row of design.points. Elementary effect of input i on trajectory t:
 // EE = (y(after) - y(before)) / step. mu and mu_star are means over the trajectories used, sigma
 // their sample standard deviation (n - 1; NaN with one trajectory). Throws std::invalid_argument if

@@ -195,10 +195,10 @@ void check_layout(const PickFreezeLayout& layout, Eigen::Index rows) {
 }
 
 void check_enough_groups(int used, int total) {
-  if (used < 2)
-    throw std::invalid_argument(
-        "Sobol' indices: only " + std::to_string(used) + " of " + std::to_string(total) +
-        " groups have no failed (non-finite) run; at least 2 complete groups are needed");
+  if (used < kMinCompleteSobolGroups)
+    throw std::invalid_argument("Sobol' indices: only " + std::to_string(used) + " of " + std::to_string(total) +
+                                " groups have no failed (non-finite) run; at least " +
+                                std::to_string(kMinCompleteSobolGroups) + " complete groups are needed");
 }
 
 // Confidence interval of one estimate from its bootstrap replicates (sorted

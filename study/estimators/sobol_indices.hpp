@@ -75,6 +75,9 @@ struct SobolIndices {
   std::vector<int> dropped_groups;  // groups with a failed (non-finite) run, dropped whole
 };
 
+// The fewest complete groups (no failed run) the estimators need.
+inline constexpr int kMinCompleteSobolGroups = 2;
+
 // y: one output per run, in layout order; a non-finite value marks a failed run and its whole group
 // is dropped (never silently imputed). `variance` is the unbiased sample variance of the 2 N' A and
 // B outputs of the N' groups used. Throws std::invalid_argument if y does not match the layout, if

@@ -171,6 +171,11 @@ bool ParameterSpace::contains(const std::string& name) const {
 std::string ParameterSpace::canonical(const std::string& name) const {
   const auto table = alias_table();
   const std::string target = table.count(name) ? table.at(name) : name;
+  if (target == std::string(kScenarioPrefix) + "forward_speed" && scenario_->contains("travel_distance"))
+    throw std::invalid_argument("parameter '" + name + "' sets the length of the runs of a scenario that gives "
+                                "travel_distance (duration = travel_distance / forward_speed), which cannot vary "
+                                "from run to run (every run is recorded on its scenario's one time grid): give "
+                                "the scenario a duration instead, or run one study per value");
   if (std::binary_search(names_.begin(), names_.end(), target)) return target;
   if (target.rfind(kScenarioPrefix, 0) == 0 && time_grid_key(target.substr(std::string(kScenarioPrefix).size())))
     throw std::invalid_argument("parameter '" + name + "' sets the length or output rate of the runs, which "

@@ -349,8 +349,17 @@ ChainRun run_chain(const CalibrationStudy& s, const StudyRunOptions& control, co
   if (root) checkpoint.emplace(out, s.fingerprint, policy);
   ChainRun run;
   EnsembleState state = starting_state(sampler, space, batch, checkpoint, run, control.resume);
+  // Resumed chains may have met their target at the saved step (a signal
+  // during the predictive draws): checked as that step was, so a resumed
+  // study stops where the uninterrupted one did.
+  std::vector<double> met_when_saved{0.0};
+  if (root && state.step > 0) {
+    after_step(m, sampler, discard, p, run, state.step);
+    met_when_saved[0] = run.mixed ? 1.0 : 0.0;
+  }
+  broadcast_from_rank0(met_when_saved);
   std::vector<bool> accepted;
-  while (state.step < m.steps && !interrupted) {
+  while (met_when_saved[0] == 0.0 && state.step < m.steps && !interrupted) {
     EnsembleState next = sampler.step(state, batch, &accepted);
     if (interrupted) break;  // the step is incomplete: not recorded
     state = std::move(next);

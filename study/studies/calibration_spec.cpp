@@ -437,7 +437,11 @@ void read_priors(const io::JsonReader& r, CalibrationStudy& s) {
       const Distribution d = parse_distribution(prior, std::numeric_limits<double>::quiet_NaN());
       std::string why;
       if (!d.IsValid(&why)) priors.fail(p.name, why);
-      if (d.kind != DistributionKind::kFixed) check_prior_holds_the_start(priors, p, d);
+      if (d.kind == DistributionKind::kFixed)
+        priors.fail(p.name, d.describe() + " leaves the fitted " + p.name + " nothing to sample: to hold it at " +
+                                "a value, leave it out of \"fit\" and set it in the rover or scenario file; to " +
+                                "fit it, give a prior with spread (uniform, normal, ...)");
+      check_prior_holds_the_start(priors, p, d);
       prior.finish();
       p.prior = d;
     }

@@ -14,6 +14,7 @@
 #include "core/number_text.hpp"
 #include "io/hdf5_file.hpp"
 #include "io/json_reader.hpp"
+#include "io/text_encoding.hpp"
 #include "io/output_target.hpp"
 #include "study/runtime/calibration_mpi.hpp"
 #include "study/studies/calibration.hpp"
@@ -70,6 +71,8 @@ DesignTable read_design_csv(const std::string& path) {
   bool header = true;
   while (std::getline(in, line)) {
     ++line_number;
+    for (const std::string& problem : {io::text_encoding_problem(line), io::line_ending_problem(line)})
+      if (!problem.empty()) throw io::ConfigError(path + ":" + std::to_string(line_number) + ": " + problem);
     if (line_number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
     if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
     if (trim(line).empty()) continue;

@@ -35,7 +35,11 @@ void apply_design_overrides(const DesignOverrides& o, StudySpec& spec) {
       throw std::invalid_argument("--samples does not apply to a grid design (its size is the product of its levels)");
     design.samples = static_cast<int>(*o.samples);
   }
-  if (o.seed) design.seed = *o.seed;
+  if (o.seed) {
+    if (design.type == DesignType::kGrid)
+      throw std::invalid_argument("--seed does not apply to a grid design (its points are its levels, not drawn)");
+    design.seed = *o.seed;
+  }
   spec.fingerprint = with_setting(spec.fingerprint, "--samples", std::to_string(design.samples), o.samples.has_value());
   spec.fingerprint = with_setting(spec.fingerprint, "--seed", std::to_string(design.seed), o.seed.has_value());
 }

@@ -177,13 +177,29 @@ void load_pce_design(const io::JsonReader& r, const io::JsonReader& d, const Des
 
 // What the next run of a study refused for too many failed units can do with
 // its kept runs: max_failed_fraction is read by the analysis only (it is no
-// part of the runs' key), so raising it lets --resume reuse them.
-std::string failed_runs_next_step(int failed_units, int units) {
+// part of the runs' key), so raising it lets --resume reuse them, unless
+// fewer units than the analysis needs (`min_complete`) came through whole.
+std::string failed_runs_next_step(int failed_units, int units, int min_complete, const std::string& unit_name) {
   const double least = std::ceil(100.0 * failed_units / units) / 100.0;
   const std::string restart = "remove the cause of the failures and start afresh with --restart (which discards them)";
+  if (units - failed_units < min_complete)
+    return "no max_failed_fraction can make them usable: " + std::to_string(units - failed_units) + " of " +
+           std::to_string(units) + " " + unit_name + " came through whole, and the analysis needs at least " +
+           std::to_string(min_complete) + ": " + restart;
   if (!(least < 1.0)) return "no analysis can use them (max_failed_fraction must stay below 1): " + restart;
   return "a --resume of the same study would refuse them again: raise \"max_failed_fraction\" in the study file to " +
          fixed_text(least, 2) + " or more (only the analysis reads it) and --resume reuses them, or " + restart;
+}
+
+// The fewest whole units (pick-freeze groups, trajectories, runs) the
+// study's analysis needs.
+int min_complete_units(const SensitivityStudy& study) {
+  switch (study.method) {
+    case SensitivityMethod::kSobol: return kMinCompleteSobolGroups;
+    case SensitivityMethod::kMorris: return kMinMorrisTrajectories;
+    case SensitivityMethod::kPce: return min_pce_sensitivity_runs(study.spec, study.pce);
+  }
+  return 1;
 }
 
 }  // namespace
@@ -384,7 +400,7 @@ SensitivityResult analyse_sensitivity(const SensitivityStudy& study, const Desig
                           (study.method == SensitivityMethod::kPce ? " failed" : " have a failed run") +
                           ", more than max_failed_fraction = " + fixed_text(study.max_failed_fraction, 2) +
                           "; the indices would not describe the model. " + out.failure_report,
-                      failed_runs_next_step(failed_units, units));
+                      failed_runs_next_step(failed_units, units, min_complete_units(study), unit_name));
   if (failed_units > 0)
     out.warnings.push_back(std::to_string(failed_units) + " of " + std::to_string(units) + " " + unit_name +
                            (study.method == SensitivityMethod::kPce ? " failed and were left out of the PCE"
@@ -460,6 +476,11 @@ SensitivityResult run_sensitivity(const SensitivityStudy& study, const StudyRunt
   return result;
 }
 
+bool holds_no_index(const SensitivityResult& result) {
+  const std::size_t estimated = result.sobol.size() + result.morris.size() + result.sobol_t.size();
+  return estimated > 0 && result.undefined.size() >= estimated;
+}
+
 StudyProgram<SensitivityResult> sensitivity_program(SensitivityStudy study) {
   const StudySpec& spec = study.spec;
   static constexpr const char* kMethodTitle[] = {"Sobol'", "Morris", "polynomial chaos"};
@@ -480,6 +501,7 @@ StudyProgram<SensitivityResult> sensitivity_program(SensitivityStudy study) {
   p.report = report_sensitivity;
   p.plot = plot_sensitivity;
   p.figures = [study](PlotSelection plots) { return sensitivity_figures(study, plots); };
+  p.verdict = [](const SensitivityResult& r) { return holds_no_index(r) ? kNoIndicesStatus : 0; };
   return p;
 }
 

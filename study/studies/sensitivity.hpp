@@ -58,6 +58,10 @@ struct SensitivityStudy {
   double max_failed_fraction = 0.05;
 };
 
+// The exit status of a study whose every QoI and channel has its indices
+// undefined (a constant QoI, too few complete groups): a result not to use.
+inline constexpr int kNoIndicesStatus = 2;
+
 // Reads and checks a study file; errors are io::ConfigErrors naming the file
 // and the field. `overrides.samples` (--samples) sets the Sobol' base sample
 // count or the PCE runs before they are checked (std::invalid_argument naming
@@ -91,6 +95,10 @@ struct SensitivityResult {
   DesignMatrix inputs;                             // the runs' inputs, in run order
   double runs_wall_time_s = 0.0, analysis_wall_time_s = 0.0;
 };
+
+// Whether every Sobol' or Morris QoI and every channel of `result` has its
+// indices undefined (a PCE result has no undefined ones).
+bool holds_no_index(const SensitivityResult& result);
 
 // Compute: the indices from the records of every run, in run order (in-process,
 // testable without MPI or files). Throws std::runtime_error when more than

@@ -156,6 +156,9 @@ void report_sensitivity(const SensitivityResult& result, std::ostream& out) {
     if (!undefined_reason(result, model.channel_names()[c]))
       print_aggregated(out, model.channel_names()[c], result.sobol_t[c], labels);
   for (const std::string& w : result.warnings) out << "sensitivity: warning: " << w << "\n";
+  if (holds_no_index(result))
+    out << "sensitivity: error: no QoI or channel has indices (the warnings above say why); the file holds the "
+           "runs, but no index to use\n";
 }
 
 }  // namespace rover::study

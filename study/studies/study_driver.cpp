@@ -110,6 +110,12 @@ StudyRunOptions prepare(const std::string& command, const std::string& name, con
   if (const std::string shared = shared_figure_names(options.results_path, figures); !shared.empty())
     throw std::invalid_argument("--plots: " + shared + ", one replacing the other: give the QoI another \"label\", "
                                 "or pass --plots summary or --plots none");
+  for (const PlannedFigure& figure : figures) {
+    const std::string path = sibling_path(options.results_path, figure.suffix);
+    if (const std::string refusal = io::name_length_refusal(path, io::kFigureTemporarySuffix); !refusal.empty())
+      throw std::invalid_argument("--plots: the figure of " + figure.shows + ", " + path + ": " + refusal +
+                                  " (shorten --out), or pass --plots none");
+  }
   if (options.resume) check_resumable(options.results_path, fingerprint);
   if (memory.bytes > 0.0) require_memory(memory.what, memory.bytes);
   options.label = command;
