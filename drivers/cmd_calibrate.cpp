@@ -57,21 +57,37 @@ io::InputFiles calibration_inputs(const CalibrateOptions& o, const study::Calibr
   return inputs;
 }
 
+// The study flags a calibration would not use: a ranking draws no figure,
+// and only a global first search and a posterior keep a checkpoint (a
+// least-squares fit alone has nothing to resume).
+void refuse_study_flags_without_use(const CLI::App& app, bool ranking, bool checkpointed, FlagChecks& checks) {
+  if (ranking && app.count("--plots") > 0)
+    checks.add("--plots: --next-experiment writes a ranking and draws no figure; drop --plots");
+  if (checkpointed) return;
+  for (const char* flag : {"--resume", "--checkpoint-every"})
+    if (app.count(flag) > 0)
+      checks.add(std::string(flag) + ": a least-squares fit (levenberg_marquardt) keeps no checkpoint, so there is "
+                 "nothing to resume or flush; drop it (a global first search, --algorithm GN_..., or --method "
+                 "mcmc keeps one)");
+}
+
 // Flags the chosen program would not use are refused, never dropped:
 // --next-experiment ranks after a least-squares fit (no posterior, no
 // profiles), a posterior (mcmc) computes no profile, and the sampler's sizes apply to
 // mcmc only.
-void refuse_flags_that_do_not_apply(const CalibrateOptions& o, const study::CalibrationStudy& s) {
+void refuse_flags_that_do_not_apply(const CLI::App& app, const CalibrateOptions& o, const study::CalibrationStudy& s) {
   FlagChecks checks;
   const study::CalibrationOverrides& v = o.overrides;
   const bool ranking = !o.next_experiment.empty();
-  const bool posterior = !ranking && s.method == study::CalibrationMethod::mcmc;
+  const bool mcmc = s.method == study::CalibrationMethod::mcmc;
+  const bool posterior = !ranking && mcmc;
   const std::string method = v.method.empty() ? std::string("the study's \"method\" (") +
-                                                    (posterior ? "mcmc" : "optimize") + ", " + o.study_path + ")"
+                                                    (mcmc ? "mcmc" : "optimize") + ", " + o.study_path + ")"
                                               : "--method " + v.method;
-  if (ranking && v.method == "mcmc")
+  if (ranking && mcmc)
     checks.add("--next-experiment ranks the candidates after a least-squares fit and samples no posterior: it "
-               "does not go with --method mcmc; drop one of them");
+               "does not go with " + method + "; give --method optimize, or drop --next-experiment");
+  refuse_study_flags_without_use(app, ranking, posterior || s.algorithm != study::kLeastSquaresAlgorithm, checks);
   if (ranking && v.profile)
     checks.add("--profile: --next-experiment ranks the candidates from the fit's Jacobian and computes no profile "
                "likelihoods: drop --profile, or run the calibration alone with --profile");
@@ -108,7 +124,7 @@ int run_calibrate_command(const CLI::App& app, CalibrateOptions o) {
   }
   return run_study_session(app, o.run, o.study_path, [&](const study::StudyRunOptions& options) {
     study::CalibrationStudy s = load_study(o);
-    refuse_flags_that_do_not_apply(o, s);
+    refuse_flags_that_do_not_apply(app, o, s);
     const io::InputFiles inputs = calibration_inputs(o, s);
     auto drive = [&](auto program) {
       program.inputs = inputs;

@@ -58,7 +58,9 @@ ShiftVerdict check_integration(CheckedFit& c) {
 // The integrator after `tightenings` rounds that found the shift `largest_se`.
 IntegratorSettings tightened(const CalibrationStudy& s, int tightenings, double largest_se) {
   IntegratorSettings next = s.integrator;
-  if (tightenings >= s.integration_check.max_tightenings || next.method == IntegratorMethod::kDormandPrince45)
+  // Dormand-Prince is the reference's own method; rk4 has no tolerances, only its fixed step.
+  if (tightenings >= s.integration_check.max_tightenings || next.method == IntegratorMethod::kDormandPrince45 ||
+      next.method == IntegratorMethod::kRungeKutta4)
     return s.integration_check.reference;
   // Tenfold, or a hundredfold when the shift is ten times the limit.
   const bool far = largest_se > kFarShiftFactor * s.integration_check.max_shift_se;

@@ -15,6 +15,7 @@ constexpr double kTailProbabilities[] = {0.00135, 0.5, 0.99865};
 // The accepted ranges of the study file's keys.
 constexpr double kMinConfidence = 0.5, kMaxConfidence = 1.0;  // exclusive
 constexpr int kMinBootstrap = 100, kMaxBootstrap = 100000;
+constexpr int kNoSdInterval = 0;  // "bootstrap": 0
 
 // Per sample, beyond the design, QoIs, status and message: the wall time, the
 // rhs evaluations.
@@ -58,11 +59,14 @@ MonteCarloStudy load_montecarlo_study(const std::string& path, const DesignOverr
   }
   if (r.has("bootstrap")) {
     s.bootstrap_resamples = r.integer("bootstrap");
-    if (s.bootstrap_resamples < kMinBootstrap || s.bootstrap_resamples > kMaxBootstrap)
-      r.fail("bootstrap", "give 100 .. 100000 resamples");
+    if (s.bootstrap_resamples != kNoSdInterval &&
+        (s.bootstrap_resamples < kMinBootstrap || s.bootstrap_resamples > kMaxBootstrap))
+      r.fail("bootstrap", "give 100 .. 100000 resamples, or 0 for no sd interval");
   }
-  if (const std::string problem = bootstrap_resolution_problem(s.confidence, "'confidence'",
-                                                               s.bootstrap_resamples, "'bootstrap'");
+  const bool sd_interval = s.bootstrap_resamples != kNoSdInterval;
+  if (const std::string problem = sd_interval ? bootstrap_resolution_problem(s.confidence, "'confidence'",
+                                                                             s.bootstrap_resamples, "'bootstrap'")
+                                              : std::string();
       !problem.empty())
     r.fail("confidence", problem);
   if (s.spec.design.samples < kMinSamples && overrides.samples)

@@ -79,6 +79,7 @@ void report_montecarlo(const MonteCarloResult& result, std::ostream& out) {
   const StudyModel& model = *result.study.spec.model;
   const std::string percent = percent_digits(result.study.confidence);
   std::string last_note;
+  const bool sd_interval = result.study.bootstrap_resamples > 0;
   for (std::size_t q = 0; q < result.summaries.size(); ++q) {
     const QoiSummary& s = result.summaries[q];
     const DisplayUnit unit = display_unit(model.qoi_units()[q]);
@@ -89,9 +90,10 @@ void report_montecarlo(const MonteCarloResult& result, std::ostream& out) {
     } else if (s.samples < 2) {  // a mean without an interval, and no sd
       out << "mean " << k * s.mean << " " << unit.name << "; sd and intervals undefined: 1 run succeeded, they need 2\n";
     } else {
-      out << "mean " << k * s.mean << " [" << k * s.mean_lower << ", " << k * s.mean_upper << "], sd " << k * s.sd
-          << " [" << k * s.sd_lower << ", " << k * s.sd_upper << "] " << unit.name << " (" << s.samples << " runs, "
-          << percent << " % intervals)\n";
+      out << "mean " << k * s.mean << " [" << k * s.mean_lower << ", " << k * s.mean_upper << "], sd " << k * s.sd;
+      if (sd_interval) out << " [" << k * s.sd_lower << ", " << k * s.sd_upper << "]";
+      out << " " << unit.name << " (" << s.samples << " runs, " << percent << " % intervals"
+          << (sd_interval ? "" : "; no sd interval: \"bootstrap\": 0") << ")\n";
     }
     const std::string note = s.sd_interval_chi_square ? join_notes(small_sample_note(s.samples), s.note) : s.note;
     if (!note.empty() && note != last_note) out << "    " << note << "\n";

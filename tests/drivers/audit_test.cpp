@@ -4656,5 +4656,109 @@ TEST_F(Audit, AStudyTooLargeForTheMemoryIsRefusedBeforeAnyRun) {
   run_table(w().dir(), cases);
 }
 
+// Output names and directories that cannot hold what rover writes beside a
+// result (its checkpoint's temporary, a figure's temporary, a rename):
+// refused before any run, with nothing left behind.
+TEST_F(Audit, OutputsWithoutRoomForTheirSiblingsAreRefusedBeforeAnyRun) {
+  std::vector<Case> cases;
+  const std::string mc = w().montecarlo([](Json&) {});
+  const std::string long_result = w().dir() + "/" + std::string(237, 'c') + ".h5";
+  cases.push_back({"a result name with no room for its checkpoint's temporary",
+                   study_args("montecarlo", mc, long_result), Want::kError,
+                   {"240 characters", ".checkpoint.partial", "at most 236"}, absent_file(long_result)});
+  const std::string long_figures = w().dir() + "/" + std::string(230, 'f') + ".h5";
+  cases.push_back({"a figure name with no room for its temporary",
+                   "montecarlo --plots summary --study " + mc + " --out " + long_figures, Want::kError,
+                   {"--plots", "_summary.png", ".partial-"}, absent_file(long_figures)});
+  run_table(w().dir(), cases);
+}
+
+TEST_F(Audit, AnAppendOnlyOutputDirectoryIsRefusedUnprobed) {
+  const std::string dir = w().dir() + "/append_only";
+  fs::create_directory(dir);
+  std::string output;
+  if (run_command("chattr +a " + dir, &output) != 0)
+    GTEST_SKIP() << "this file system keeps no append-only attribute (chattr +a: " << output << ")";
+  std::vector<Case> cases;
+  cases.push_back({"simulate into an append-only directory",
+                   "simulate --no-plot --scenario " + w().quick() + " --out " + dir + "/y.h5", Want::kError,
+                   {"append-only", "renames"}});
+  cases.push_back({"montecarlo into an append-only directory",
+                   study_args("montecarlo", w().montecarlo([](Json&) {}), dir + "/m.h5"), Want::kError,
+                   {"append-only", "renames"}});
+  run_table(w().dir(), cases);
+  run_command("chattr -a " + dir, &output);
+  EXPECT_TRUE(fs::is_empty(dir)) << "files left in the append-only directory";
+}
+
+// Inputs and flags whose meaning the runs cannot honour: refused before any
+// run, naming what was typed.
+TEST_F(Audit, LineEndsTravelSpeedsSeedsPriorsAndFlagsWithoutUse) {
+  std::vector<Case> cases;
+  const std::string cr_data = w().text_file("cr_data", "t,z\r0,0.25\r0.1,0.24\r0.2,0.23\r0.3,0.22\r", "csv");
+  cases.push_back({"data whose lines end in CR alone",
+                   study("calibrate", w().calibration([](Json&) {})) + " --dry-run --data " + cr_data, Want::kError,
+                   {cr_data, "carriage return alone", "LF or CRLF"}});
+  const std::string cr_design = w().text_file("cr_design", "c_q,f\r0.2,1e4\r0.3,2e3\r", "csv");
+  cases.push_back({"a design whose lines end in CR alone",
+                   "evaluate --scenario " + w().quick() + " --design " + cr_design + " --qoi t_min --out " +
+                       w().out("csv") + " --dry-run",
+                   Want::kError, {cr_design, "carriage return alone"}});
+  const std::string travel = w().scenario([](Json& j) {
+    j.erase("duration");
+    j["travel_distance"] = 0.005;
+    j["forward_speed"] = 0.1;
+  });
+  cases.push_back({"a varied speed where the travel distance sets the duration",
+                   study("montecarlo", w().montecarlo([&](Json& j) {
+                     j["scenario"] = travel;
+                     j["parameters"] = {{"scenario.forward_speed", {{"distribution", "uniform"}, {"min", 0.05},
+                                                                    {"max", 0.1}}}};
+                   })),
+                   Want::kError, {"scenario.forward_speed", "travel_distance", "time grid"}});
+  const std::string grid = w().montecarlo([](Json& j) { j["design"] = {{"type", "grid"}, {"levels", 3}}; });
+  cases.push_back({"--seed of a grid design", study("montecarlo", grid) + " --seed 5", Want::kError,
+                   {"--seed does not apply to a grid design"}});
+  const std::string fixed_prior = w().calibration([](Json& j) {
+    j["method"] = "mcmc";
+    j["priors"] = {{"c_q", {{"distribution", "fixed"}, {"value", 0.2}}}};
+  });
+  cases.push_back({"a fixed prior on a fitted parameter", study("calibrate", fixed_prior) + " --dry-run",
+                   Want::kError, {"priors.c_q", "nothing to sample"}});
+  const std::string fit = w().calibration([](Json&) {});
+  for (const std::string flag : {"--resume", "--checkpoint-every 5"})
+    cases.push_back({"a least-squares fit with " + flag, study("calibrate", fit) + " --dry-run " + flag,
+                     Want::kError, {flag.substr(0, flag.find(' ')), "keeps no checkpoint"}});
+  const std::string candidates = w().json_file(
+      "candidates", Json{{"candidates", {{{"name", "a"}, {"scenario", w().quick()}, {"channel", "B_l_z"},
+                                          {"rate_hz", 500}, {"noise_sd", 1e-4}}}}});
+  cases.push_back({"a ranking with --plots",
+                   "calibrate --study " + fit + " --out " + w().out() + " --dry-run --plots all --next-experiment " +
+                       candidates,
+                   Want::kError, {"--plots", "draws no figure"}});
+  cases.push_back({"a ranking of a study that asks for a posterior",
+                   study("calibrate", w().calibration([](Json& j) { j["method"] = "mcmc"; })) +
+                       " --dry-run --next-experiment " + candidates,
+                   Want::kError, {"--next-experiment", "\"method\" (mcmc", "--method optimize"}});
+  cases.push_back({"a Monte Carlo without an sd interval",
+                   study("montecarlo", w().montecarlo([](Json& j) { j["bootstrap"] = 0; })), Want::kRuns,
+                   {"no sd interval"}});
+  run_table(w().dir(), cases);
+}
+
+// A Sobol' study where only one pick-freeze group came through whole: no
+// max_failed_fraction gives it indices, and a result without any index is
+// not one to trust.
+TEST_F(Audit, SensitivityWithoutAnyIndexSaysSoAndExitsTwo) {
+  std::vector<Case> cases;
+  cases.push_back({"the failed-runs advice when too few groups are whole", study("sensitivity", failing_sobol(w())),
+                   Want::kError, {"no max_failed_fraction can make them usable", "needs at least 2"},
+                   {}, {}, {"raise \"max_failed_fraction\""}});
+  cases.push_back({"every index undefined",
+                   study("sensitivity", failing_sobol(w(), [](Json& j) { j["max_failed_fraction"] = 0.94; })),
+                   Want::kAllFailed, {"indices undefined", "no QoI or channel has indices"}});
+  run_table(w().dir(), cases);
+}
+
 }  // namespace
 }  // namespace rover
