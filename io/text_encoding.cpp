@@ -1,11 +1,14 @@
 // See text_encoding.hpp.
 #include "io/text_encoding.hpp"
 
+#include <algorithm>
+
 namespace rover::io {
 namespace {
 
 // A NUL byte among a text's first 4 bytes: UTF-16 or UTF-32 without a byte-order mark.
 constexpr std::size_t kEncodingProbeBytes = 4;
+constexpr std::ptrdiff_t kWideTextProbeNuls = 2;
 
 }  // namespace
 
@@ -15,7 +18,10 @@ std::string text_encoding_problem(std::string_view text) {
   if (text.starts_with("\xFE\xFF"sv) || text.starts_with("\xFF\xFE"sv)) return "is UTF-16 text";
   const std::size_t nul = text.find('\0');
   if (nul == std::string_view::npos) return "";
-  if (nul < kEncodingProbeBytes) return "holds NUL bytes from its first characters on (UTF-16 or UTF-32 text?)";
+  // UTF-16 or UTF-32 text of ASCII characters has a NUL in every other byte or more.
+  const std::string_view probe = text.substr(0, kEncodingProbeBytes);
+  if (std::count(probe.begin(), probe.end(), '\0') >= kWideTextProbeNuls)
+    return "holds NUL bytes from its first characters on (UTF-16 or UTF-32 text?)";
   return "holds a NUL byte (a binary file?)";
 }
 

@@ -20,15 +20,21 @@ inline double min_bootstrap_resamples(double confidence) {
 }
 
 // Empty if `resamples` replicates resolve `confidence`; otherwise why not,
-// naming both settings by `confidence_field` and `resamples_field`.
+// naming both settings by `confidence_field` and `resamples_field`, and the
+// highest confidence that `max_resamples`, the most a study may ask for, resolve.
 inline std::string bootstrap_resolution_problem(double confidence, const std::string& confidence_field,
-                                                double resamples, const std::string& resamples_field) {
+                                                double resamples, const std::string& resamples_field,
+                                                double max_resamples) {
   const double needed = min_bootstrap_resamples(confidence);
   if (resamples >= needed) return "";
   return confidence_field + " " + number_text(confidence) + " with " + resamples_field + " " +
          number_text(resamples) + ": the interval's ends would be the resamples' extremes; this confidence " +
-         "needs at least " + number_text(needed) + " resamples, and " + number_text(resamples) +
-         " resolve a confidence of at most " + number_text(1.0 - 1.0 / resamples);
+         "needs at least " + number_text(needed) + " resamples" +
+         (needed > max_resamples
+              ? ", more than the " + number_text(max_resamples) + " allowed: give a confidence of at most " +
+                    number_text(1.0 - 1.0 / max_resamples)
+              : ", and " + number_text(resamples) + " resolve a confidence of at most " +
+                    number_text(1.0 - 1.0 / resamples));
 }
 
 }  // namespace rover::study

@@ -65,7 +65,8 @@ MonteCarloStudy load_montecarlo_study(const std::string& path, const DesignOverr
   }
   const bool sd_interval = s.bootstrap_resamples != kNoSdInterval;
   if (const std::string problem = sd_interval ? bootstrap_resolution_problem(s.confidence, "'confidence'",
-                                                                             s.bootstrap_resamples, "'bootstrap'")
+                                                                             s.bootstrap_resamples, "'bootstrap'",
+                                                                             kMaxBootstrap)
                                               : std::string();
       !problem.empty())
     r.fail("confidence", problem);

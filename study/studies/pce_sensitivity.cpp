@@ -229,7 +229,7 @@ void refuse_unresolved_confidence(const io::JsonReader& r, const PceSensitivityO
                                   const std::string& resamples_field) {
   if (o.bootstrap <= 0) return;
   if (const std::string problem =
-          bootstrap_resolution_problem(o.confidence, "'confidence'", o.bootstrap, resamples_field);
+          bootstrap_resolution_problem(o.confidence, "'confidence'", o.bootstrap, resamples_field, kMaxPceBootstrap);
       !problem.empty())
     r.fail("confidence", problem);
 }

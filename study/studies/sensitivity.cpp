@@ -23,6 +23,8 @@ namespace {
 // Rank 0 holds every run's record; the vectors holding them take about this
 // much more than the values themselves.
 constexpr double kRecordOverhead = 1.2;
+// A bootstrap of indices: 0 (no intervals), or this many resamples.
+constexpr int kMinBootstrap = 100, kMaxBootstrap = 100000;
 
 int varied_count(const StudySpec& spec) { return static_cast<int>(spec.inputs.size()); }
 
@@ -276,12 +278,13 @@ SensitivityStudy load_sensitivity_study(const std::string& path, const DesignOve
   if (s.method == SensitivityMethod::kPce && r.has("bootstrap"))
     r.fail("bootstrap", "a PCE study takes its resamples from \"pce\": {\"bootstrap\": n}");
   const int bootstrap = r.has("bootstrap") ? r.integer("bootstrap") : 1000;
-  if (bootstrap < 0 || (bootstrap > 0 && bootstrap < 100) || bootstrap > 100000)
+  if (bootstrap < 0 || (bootstrap > 0 && bootstrap < kMinBootstrap) || bootstrap > kMaxBootstrap)
     r.fail("bootstrap", "give 0 (no intervals) or 100 .. 100000 resamples");
   const double confidence = r.number_or("confidence", 0.95);
   if (!(confidence > 0.5 && confidence < 1.0)) r.fail("confidence", "must lie in (0.5, 1)");
   if (s.method != SensitivityMethod::kPce && bootstrap > 0)
-    if (const std::string problem = bootstrap_resolution_problem(confidence, "'confidence'", bootstrap, "'bootstrap'");
+    if (const std::string problem = bootstrap_resolution_problem(confidence, "'confidence'", bootstrap, "'bootstrap'",
+                                                                 kMaxBootstrap);
         !problem.empty())
       r.fail("confidence", problem);
   s.max_failed_fraction = r.number_or("max_failed_fraction", 0.05);
@@ -401,6 +404,7 @@ SensitivityResult analyse_sensitivity(const SensitivityStudy& study, const Desig
                           ", more than max_failed_fraction = " + fixed_text(study.max_failed_fraction, 2) +
                           "; the indices would not describe the model. " + out.failure_report,
                       failed_runs_next_step(failed_units, units, min_complete_units(study), unit_name));
+  out.too_few_whole_units = units - failed_units < min_complete_units(study);
   if (failed_units > 0)
     out.warnings.push_back(std::to_string(failed_units) + " of " + std::to_string(units) + " " + unit_name +
                            (study.method == SensitivityMethod::kPce ? " failed and were left out of the PCE"
@@ -476,9 +480,9 @@ SensitivityResult run_sensitivity(const SensitivityStudy& study, const StudyRunt
   return result;
 }
 
-bool holds_no_index(const SensitivityResult& result) {
+bool no_index_for_want_of_runs(const SensitivityResult& result) {
   const std::size_t estimated = result.sobol.size() + result.morris.size() + result.sobol_t.size();
-  return estimated > 0 && result.undefined.size() >= estimated;
+  return result.too_few_whole_units && estimated > 0 && result.undefined.size() >= estimated;
 }
 
 StudyProgram<SensitivityResult> sensitivity_program(SensitivityStudy study) {
@@ -501,7 +505,7 @@ StudyProgram<SensitivityResult> sensitivity_program(SensitivityStudy study) {
   p.report = report_sensitivity;
   p.plot = plot_sensitivity;
   p.figures = [study](PlotSelection plots) { return sensitivity_figures(study, plots); };
-  p.verdict = [](const SensitivityResult& r) { return holds_no_index(r) ? kNoIndicesStatus : 0; };
+  p.verdict = [](const SensitivityResult& r) { return no_index_for_want_of_runs(r) ? kNoIndicesStatus : 0; };
   return p;
 }
 

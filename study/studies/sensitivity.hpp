@@ -59,7 +59,8 @@ struct SensitivityStudy {
 };
 
 // The exit status of a study whose every QoI and channel has its indices
-// undefined (a constant QoI, too few complete groups): a result not to use.
+// undefined for want of runs (too few whole groups or trajectories): a
+// result not to use. A QoI that is constant has an answer (no input moves it).
 inline constexpr int kNoIndicesStatus = 2;
 
 // Reads and checks a study file; errors are io::ConfigErrors naming the file
@@ -83,6 +84,9 @@ struct SensitivityResult {
   std::vector<SobolIndicesAlongTime> sobol_t;      // [channel]
   std::vector<MorrisResult> morris;                // [qoi]; empty vectors where undefined
   std::vector<UndefinedIndices> undefined;         // Sobol' and Morris QoIs without indices
+  // Fewer whole pick-freeze groups or trajectories than the indices need
+  // (every QoI's are then undefined for want of runs, not for being constant).
+  bool too_few_whole_units = false;
   PceSensitivityResult pce;                        // method pce only
   std::vector<std::vector<double>> qoi;            // [qoi][run]
   std::vector<int> status;                         // [run]
@@ -97,8 +101,9 @@ struct SensitivityResult {
 };
 
 // Whether every Sobol' or Morris QoI and every channel of `result` has its
-// indices undefined (a PCE result has no undefined ones).
-bool holds_no_index(const SensitivityResult& result);
+// indices undefined because too few whole units came through (a PCE result
+// has no undefined ones).
+bool no_index_for_want_of_runs(const SensitivityResult& result);
 
 // Compute: the indices from the records of every run, in run order (in-process,
 // testable without MPI or files). Throws std::runtime_error when more than

@@ -70,26 +70,36 @@ void write_morris(io::Hdf5Writer& h5, const std::string& qoi, const MorrisResult
   h5.attribute(g + "mu", "trajectories_used", static_cast<long long>(m.trajectories_used));
 }
 
+// " [lower, upper]", or nothing when there are no intervals ("bootstrap": 0).
+std::string interval_text(bool intervals, double lower, double upper) {
+  return intervals ? " [" + fixed_text(lower) + ", " + fixed_text(upper) + "]" : "";
+}
+
 void print_sobol(std::ostream& out, const std::string& qoi, const SobolIndices& s,
-                 const std::vector<std::string>& labels, double confidence) {
+                 const std::vector<std::string>& labels, double confidence, bool intervals) {
   std::vector<Eigen::Index> order(static_cast<std::size_t>(s.ST.size()));
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) { return s.ST[a] > s.ST[b]; });
   out << qoi << " (mean " << s.mean << ", variance " << s.variance << ", " << s.groups_used << " of "
-      << s.groups_total << " groups; " << percent_digits(confidence) << " % intervals), by total index:\n";
+      << s.groups_total << " groups; "
+      << (intervals ? percent_digits(confidence) + " % intervals" : std::string("no intervals: \"bootstrap\": 0"))
+      << "), by total index:\n";
   for (Eigen::Index i : order)
-    out << "  " << std::left << std::setw(kIndexLabelWidth) << labels[static_cast<std::size_t>(i)] << std::right << " S1 "
-        << std::setw(6) << fixed_text(s.S1[i]) << " [" << fixed_text(s.S1_lower[i]) << ", " << fixed_text(s.S1_upper[i]) << "]   ST "
-        << std::setw(6) << fixed_text(s.ST[i]) << " [" << fixed_text(s.ST_lower[i]) << ", " << fixed_text(s.ST_upper[i]) << "]\n";
+    out << "  " << std::left << std::setw(kIndexLabelWidth) << labels[static_cast<std::size_t>(i)] << std::right
+        << " S1 " << std::setw(6) << fixed_text(s.S1[i]) << interval_text(intervals, s.S1_lower[i], s.S1_upper[i])
+        << "   ST " << std::setw(6) << fixed_text(s.ST[i]) << interval_text(intervals, s.ST_lower[i], s.ST_upper[i])
+        << "\n";
 }
 
 void print_morris(std::ostream& out, const std::string& qoi, const MorrisResult& m,
-                  const std::vector<std::string>& labels) {
+                  const std::vector<std::string>& labels, bool intervals) {
   out << qoi << " (Morris, " << m.trajectories_used << " trajectories), by mu*:\n";
-  for (int i : m.ranking)
-    out << "  " << std::left << std::setw(kIndexLabelWidth) << labels[static_cast<std::size_t>(i)] << std::right << " mu* "
-        << std::setw(10) << m.mu_star[i] << " [" << m.mu_star_lower[i] << ", " << m.mu_star_upper[i] << "]  mu "
-        << std::setw(10) << m.mu[i] << "  sigma " << m.sigma[i] << "\n";
+  for (int i : m.ranking) {
+    out << "  " << std::left << std::setw(kIndexLabelWidth) << labels[static_cast<std::size_t>(i)] << std::right
+        << " mu* " << std::setw(10) << m.mu_star[i];
+    if (intervals) out << " [" << m.mu_star_lower[i] << ", " << m.mu_star_upper[i] << "]";
+    out << "  mu " << std::setw(10) << m.mu[i] << "  sigma " << m.sigma[i] << "\n";
+  }
 }
 
 void print_aggregated(std::ostream& out, const std::string& channel, const SobolIndicesAlongTime& s,
@@ -147,18 +157,19 @@ void report_sensitivity(const SensitivityResult& result, std::ostream& out) {
   if (!result.failure_report.empty()) out << "  " << result.failure_report << "\n";
   for (std::size_t q = 0; q < result.sobol.size(); ++q)
     if (!undefined_reason(result, model.qoi_names()[q]))
-      print_sobol(out, model.qoi_names()[q], result.sobol[q], labels, study.sobol.confidence);
+      print_sobol(out, model.qoi_names()[q], result.sobol[q], labels, study.sobol.confidence,
+                  study.sobol.bootstrap_resamples > 0);
   if (study.method == SensitivityMethod::kPce) print_pce_sensitivity(out, study.spec, study.pce, result.pce);
   for (std::size_t q = 0; q < result.morris.size(); ++q)
     if (!undefined_reason(result, model.qoi_names()[q]))
-      print_morris(out, model.qoi_names()[q], result.morris[q], labels);
+      print_morris(out, model.qoi_names()[q], result.morris[q], labels, study.morris.bootstrap_resamples > 0);
   for (std::size_t c = 0; c < result.sobol_t.size(); ++c)
     if (!undefined_reason(result, model.channel_names()[c]))
       print_aggregated(out, model.channel_names()[c], result.sobol_t[c], labels);
   for (const std::string& w : result.warnings) out << "sensitivity: warning: " << w << "\n";
-  if (holds_no_index(result))
-    out << "sensitivity: error: no QoI or channel has indices (the warnings above say why); the file holds the "
-           "runs, but no index to use\n";
+  if (no_index_for_want_of_runs(result))
+    out << "sensitivity: error: no QoI or channel has indices: too few whole groups (trajectories) came through "
+           "the failed runs (the warnings above say which); the file holds the runs, but no index to use\n";
 }
 
 }  // namespace rover::study
