@@ -222,7 +222,11 @@ std::string input_path_problem(const std::string& path, const std::string& kind)
   if (error && error != std::errc::no_such_file_or_directory && error != std::errc::not_a_directory)
     return "cannot be reached (" + error.message() +
            (error == std::errc::too_many_symbolic_link_levels ? ": a symbolic link that leads back to itself?)" : ")");
-  if (!fs::exists(status)) return "no such file";
+  if (!fs::exists(status)) {
+    if (fs::is_symlink(fs::symlink_status(path, error)))
+      return "is a symbolic link to '" + fs::read_symlink(path, error).string() + "', which does not exist";
+    return "no such file";
+  }
   if (!fs::is_regular_file(status))
     return "is " + special_file_kind(status) + ", not " + kind +
            ": rover reads an input more than once (on every MPI rank, and again for the fingerprint --resume "

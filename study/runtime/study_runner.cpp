@@ -200,6 +200,9 @@ void stream_study_tasks(int task_count, const std::function<TaskResult(int)>& co
       done = checkpoint->load();
       std::cerr << options.label << ": resuming, " << done.size() << " of " << task_count
                 << " runs already done (" << checkpoint->path() << ")\n";
+      if (const std::uint64_t dropped = checkpoint->torn_tail_bytes(); dropped > 0)
+        std::cerr << options.label << ": the checkpoint's last " << dropped << " bytes hold no whole, intact "
+                  << "record (a write cut short, or damage) and were dropped: their runs are computed again\n";
     } else if (present) {
       // The drivers refuse a leftover checkpoint unless --restart discards it.
       std::cerr << options.label << ": starting afresh; the old checkpoint " << checkpoint->path()

@@ -4707,6 +4707,11 @@ TEST_F(Audit, LineEndsTravelSpeedsSeedsPriorsAndFlagsWithoutUse) {
   cases.push_back({"data with one stray NUL byte at a line's start",
                    study("calibrate", w().calibration([](Json&) {})) + " --dry-run --data " + stray_nul,
                    Want::kError, {stray_nul, "holds a NUL byte"}, {}, {}, {"first characters"}});
+  const std::string dangling = w().dir() + "/dangling_rover.json";
+  fs::create_symlink("nowhere.json", dangling);
+  cases.push_back({"a scenario whose rover is a dangling link",
+                   simulate(w().scenario([&](Json& j) { j["rover"] = dangling; })), Want::kError,
+                   {"'rover'", "is a symbolic link to 'nowhere.json', which does not exist"}});
   const std::string cr_design = w().text_file("cr_design", "c_q,f\r0.2,1e4\r0.3,2e3\r", "csv");
   cases.push_back({"a design whose lines end in CR alone",
                    "evaluate --scenario " + w().quick() + " --design " + cr_design + " --qoi t_min --out " +
@@ -4772,6 +4777,33 @@ TEST_F(Audit, SensitivityWithoutAnyIndexSaysSoAndExitsTwo) {
                    study("sensitivity", failing_sobol(w(), [](Json& j) { j["max_failed_fraction"] = 0.94; })),
                    Want::kAllFailed, {"indices undefined", "no QoI or channel has indices"}});
   run_table(w().dir(), cases);
+}
+
+// A checkpoint damaged in its middle: the records from the damage on are
+// dropped and computed again, and --resume says so.
+TEST_F(Audit, ResumeSaysWhenItDropsADamagedPartOfTheCheckpoint) {
+  const std::string dir = w().dir();
+  const std::string out = dir + "/sf3.h5",
+                    study_file = failing_sobol(w(), [](Json& j) { j["parameters"]["c_q"]["max"] = 0.2; });
+  std::string output;
+  run_command("cd " + dir + " && OMPI_MCA_ess_singleton_isolated=1 " + rover_binary() + " " +
+                  study_args("sensitivity", study_file, out),
+              &output);
+  const std::string checkpoint = out + ".checkpoint";
+  ASSERT_TRUE(fs::exists(checkpoint)) << output;
+  {
+    std::fstream damage(checkpoint, std::ios::in | std::ios::out | std::ios::binary);
+    damage.seekp(static_cast<std::streamoff>(fs::file_size(checkpoint) / 2));
+    damage.write("\xFF\xFF\xFF\xFF", 4);
+  }
+  Json raised = io::read_json_file(study_file);
+  raised["max_failed_fraction"] = 0.99;
+  write_file(study_file, raised.dump(2));
+  std::vector<Case> cases;
+  cases.push_back({"--resume of a checkpoint damaged in its middle",
+                   study_args("sensitivity", study_file, out) + " --resume", Want::kRunsOrFails,
+                   {"bytes hold no whole, intact record", "computed again"}});
+  run_table(dir, cases);
 }
 
 }  // namespace
