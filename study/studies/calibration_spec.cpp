@@ -499,8 +499,11 @@ void read_mcmc_settings(const io::JsonReader& r, CalibrationStudy& s) {
   r.fail(field, problem);
 }
 
+// The fewest steps the posterior's summaries keep after the burn-in.
+constexpr long kMinKeptSteps = 4;
+
 // Where the burn-in and the steps came from, for the check that leaves at least
-// 4 steps: "--steps 2 with --discard 0", "--steps 2 (the burn-in by default 1)".
+// kMinKeptSteps steps: "--steps 2 with --discard 0", "--steps 2 (the burn-in by default 1)".
 std::string discard_flags(const CalibrationOverrides& o, const McmcSettings& m, long discard) {
   if (o.discard && o.steps) return "--steps " + std::to_string(*o.steps) + " with --discard " + std::to_string(discard);
   if (o.discard) return "--discard";
@@ -526,10 +529,16 @@ void check_mcmc_sizes(const io::JsonReader& r, const CalibrationOverrides& o, Ca
                      ", twice the " + std::to_string(sampled) + " sampled parameters (" + sampled_names + ")");
   if (s.mcmc.steps <= 0) r.fail("mcmc.steps", "must be positive, got " + std::to_string(s.mcmc.steps));
   const long discard = mcmc_discard(s.mcmc, s.mcmc.sampler);
-  if (discard < 0 || s.mcmc.steps - discard < 4)
-    fail_setting(r, o.discard || o.steps, discard_flags(o, s.mcmc, discard), "mcmc.discard",
-                 "the burn-in must be >= 0 and leave at least 4 of the " + std::to_string(s.mcmc.steps) +
-                     " steps, got " + std::to_string(discard));
+  if (discard < 0)
+    fail_setting(r, o.discard.has_value(), "--discard", "mcmc.discard",
+                 "the burn-in must be >= 0, got " + std::to_string(discard));
+  if (s.mcmc.steps - discard < kMinKeptSteps)
+    fail_setting(r, o.discard || o.steps, discard_flags(o, s.mcmc, discard),
+                 s.mcmc.discard ? "mcmc.discard" : "mcmc.steps",
+                 "leaves " + std::to_string(std::max(0L, s.mcmc.steps - discard)) + " step(s) after a burn-in of " +
+                     std::to_string(discard) + ", and the summaries need at least " + std::to_string(kMinKeptSteps) +
+                     ": give at least " + std::to_string(discard + kMinKeptSteps) + " steps" +
+                     (discard > 0 ? ", or a shorter burn-in" : ""));
 }
 
 // The fit's options: the first-search algorithm, budgets, profile.

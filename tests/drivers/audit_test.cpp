@@ -4759,6 +4759,9 @@ TEST_F(Audit, LineEndsTravelSpeedsSeedsPriorsAndFlagsWithoutUse) {
   cases.push_back({"Sobol' indices without intervals",
                    study("sensitivity", w().sensitivity([](Json& j) { j["bootstrap"] = 0; })), Want::kRuns,
                    {"no intervals: \"bootstrap\": 0"}, {}, {}, {"nan"}});
+  const std::string posterior = w().calibration([](Json& j) { j["method"] = "mcmc"; });
+  cases.push_back({"a posterior of one step", study("calibrate", posterior) + " --dry-run --steps 1", Want::kError,
+                   {"--steps 1", "leaves 1 step(s)", "give at least 4 steps"}, {}, {}, {"got 0"}});
   cases.push_back({"a Monte Carlo without an sd interval",
                    study("montecarlo", w().montecarlo([](Json& j) { j["bootstrap"] = 0; })), Want::kRuns,
                    {"no sd interval"}});
