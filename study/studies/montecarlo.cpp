@@ -180,10 +180,15 @@ StudyProgram<MonteCarloResult> montecarlo_program(MonteCarloStudy study) {
   p.name = spec.name;
   p.fingerprint = spec.fingerprint;
   p.inputs = spec.files;
+  const bool grid = spec.design.type == DesignType::kGrid;
   p.banner = std::to_string(spec.design.samples) + " runs of " + runs_description(spec) + " over " +
-             std::to_string(spec.inputs.size()) + " inputs (" + design_type_name(spec.design.type) + ", seed " +
-             std::to_string(spec.design.seed) + ") on " + std::to_string(world_size()) + " rank(s)";
+             std::to_string(spec.inputs.size()) + " inputs (" + design_type_name(spec.design.type) +
+             (grid ? "" : ", seed " + std::to_string(spec.design.seed)) + ") on " + std::to_string(world_size()) +
+             " rank(s)";
   p.warnings = design_warnings(spec);
+  if (grid)
+    p.warnings.push_back("design: a grid is no random sample of the inputs' distributions; the intervals of the "
+                         "mean, the sd and the quantiles assume one, and hold for the grid's points only");
   p.memory = montecarlo_memory(study);
   p.run = [study](const StudyRuntime& runtime) { return run_montecarlo(study, runtime); };
   p.provenance = [spec = study.spec](io::Hdf5Writer& h5) { write_study_provenance(h5, spec, spec.fingerprint); };

@@ -4732,6 +4732,8 @@ TEST_F(Audit, LineEndsTravelSpeedsSeedsPriorsAndFlagsWithoutUse) {
   const std::string grid = w().montecarlo([](Json& j) { j["design"] = {{"type", "grid"}, {"levels", 3}}; });
   cases.push_back({"--seed of a grid design", study("montecarlo", grid) + " --seed 5", Want::kError,
                    {"--seed does not apply to a grid design"}});
+  cases.push_back({"the intervals of a grid design", study("montecarlo", grid), Want::kRuns,
+                   {"a grid is no random sample"}, {}, {}, {", seed"}});
   const std::string fixed_prior = w().calibration([](Json& j) {
     j["method"] = "mcmc";
     j["priors"] = {{"c_q", {{"distribution", "fixed"}, {"value", 0.2}}}};
