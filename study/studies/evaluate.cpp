@@ -277,10 +277,7 @@ void write_evaluate(const EvaluateResult& result, io::Hdf5Writer& h5) {
   h5.attribute("/", "scenario_json", study.model->sources().scenario.dump());
   h5.attribute("/", "rover_json", study.model->sources().rover.dump());
   const IntegratorSettings& integrator = study.model->nominal().scenario.integrator;  // --integrator's, if given
-  h5.attribute("/", "integrator", integrator_name(integrator.method));
-  h5.attribute("/", "rtol", integrator.relative_tolerance);
-  h5.attribute("/", "atol", integrator.absolute_tolerance);
-  h5.attribute("/", "slip_tol", integrator.slip_tolerance);
+  write_integrator_provenance(h5, integrator);
   h5.attribute("/", "design_file", study.request.design_path);
   h5.attribute("/", "fingerprint", io::key_summary(study.fingerprint));
   h5.attribute("/", "project_version", ROVER_VERSION);

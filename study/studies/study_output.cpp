@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <filesystem>
@@ -90,6 +91,37 @@ std::string sibling_path(const std::string& results_path, const std::string& suf
   return (p.parent_path() / (stem + suffix)).string();
 }
 
+void write_integrator_provenance(io::Hdf5Writer& h5, const IntegratorSettings& integrator) {
+  h5.attribute("/", "integrator", integrator_name(integrator.method));
+  if (integrator.method == IntegratorMethod::kRungeKutta4) {
+    // A step not known (runs read from a file that does not record it) is not recorded either.
+    if (std::isfinite(integrator.fixed_step_s)) h5.attribute("/", "fixed_step_s", integrator.fixed_step_s);
+    return;
+  }
+  h5.attribute("/", "rtol", integrator.relative_tolerance);
+  h5.attribute("/", "atol", integrator.absolute_tolerance);
+  h5.attribute("/", "slip_tol", integrator.slip_tolerance);
+}
+
+std::optional<IntegratorSettings> recorded_integrator(const io::Hdf5Reader& h5) {
+  if (!h5.has_attribute("/", "integrator")) return std::nullopt;
+  IntegratorSettings s;
+  try {
+    s = default_integrator_settings(integrator_from_name(h5.attribute_string("/", "integrator")));
+  } catch (const std::invalid_argument&) {  // a method of no version of rover: nothing to compare
+    return std::nullopt;
+  }
+  if (s.method == IntegratorMethod::kRungeKutta4) {
+    s.fixed_step_s = h5.has_attribute("/", "fixed_step_s") ? h5.attribute_double("/", "fixed_step_s") : std::nan("");
+    return s;
+  }
+  if (!h5.has_attribute("/", "rtol") || !h5.has_attribute("/", "atol")) return std::nullopt;
+  s.relative_tolerance = h5.attribute_double("/", "rtol");
+  s.absolute_tolerance = h5.attribute_double("/", "atol");
+  if (h5.has_attribute("/", "slip_tol")) s.slip_tolerance = h5.attribute_double("/", "slip_tol");
+  return s;
+}
+
 void write_base_provenance(io::Hdf5Writer& h5, const std::string& type, const std::string& name,
                            const std::string& study_path, const IntegratorSettings* integrator,
                            const std::string& fingerprint) {
@@ -97,12 +129,7 @@ void write_base_provenance(io::Hdf5Writer& h5, const std::string& type, const st
   h5.attribute("/", "name", name);
   h5.attribute("/", "study_file", study_path);
   h5.attribute("/", "study_json", file_text(study_path));
-  if (integrator != nullptr) {
-    h5.attribute("/", "integrator", integrator_name(integrator->method));
-    h5.attribute("/", "rtol", integrator->relative_tolerance);
-    h5.attribute("/", "atol", integrator->absolute_tolerance);
-    h5.attribute("/", "slip_tol", integrator->slip_tolerance);
-  }
+  if (integrator != nullptr) write_integrator_provenance(h5, *integrator);
   h5.attribute("/", "ranks", static_cast<long long>(world_size()));
   h5.attribute("/", "fingerprint", io::key_summary(fingerprint));
   h5.attribute("/", "project_version", ROVER_VERSION);

@@ -3,6 +3,7 @@
 // the design's inputs.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -48,16 +49,27 @@ std::vector<PlannedFigure> summary_figure(PlotSelection plots);
 // <path>", joined by "; ".
 std::string shared_figure_names(const std::string& results_path, const std::vector<PlannedFigure>& figures);
 
+// The root attributes of the integrator that made a result's runs: integrator
+// (its name) and the settings it ran with: rtol, atol and slip_tol for the
+// methods that choose their own steps, fixed_step_s for rk4.
+void write_integrator_provenance(io::Hdf5Writer& h5, const IntegratorSettings& integrator);
+
+// The integrator a result file records (write_integrator_provenance), or none
+// when it records no integrator or one of no version of rover. An rk4 file
+// without fixed_step_s (written before the step was recorded) gives a NaN
+// fixed step: not known.
+std::optional<IntegratorSettings> recorded_integrator(const io::Hdf5Reader& h5);
+
 // The root attributes every study result carries: study (its type), name,
-// study_file, study_json (the file's text), integrator, rtol, atol (when a
-// scenario is simulated: `integrator` not null), ranks, fingerprint,
-// project_version.
+// study_file, study_json (the file's text), the integrator's
+// (write_integrator_provenance, when a scenario is simulated: `integrator`
+// not null), ranks, fingerprint, project_version.
 void write_base_provenance(io::Hdf5Writer& h5, const std::string& type, const std::string& name,
                            const std::string& study_path, const IntegratorSettings* integrator,
                            const std::string& fingerprint);
 
 // Root attributes: study (type), name, description, study_file, study_json,
-// scenario / model, integrator, rtol, atol, ranks, fingerprint, project_version.
+// scenario / model, the integrator's, ranks, fingerprint, project_version.
 // `runs_integrator`, when given, is recorded instead of the spec's: the
 // integrator that made runs the study read from a file.
 void write_study_provenance(io::Hdf5Writer& h5, const StudySpec& spec, const std::string& fingerprint,

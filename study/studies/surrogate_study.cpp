@@ -239,10 +239,39 @@ TrainingRuns read_named_runs(const SurrogateStudy& study, const std::string& fil
   }
 }
 
+// Every run of the study's design failed: nothing to fit. The result holds
+// the failed runs and no model, so that the driver treats it as every
+// study whose every run failed (an earlier result kept, exit status 2).
+bool every_design_run_failed(const SurrogateStudy& study, const TrainingRuns& training, const TrainingRuns& held_out) {
+  return study.training_file.empty() && training.runs() + held_out.runs() > 0 &&
+         training.failed_runs() == training.runs() && held_out.failed_runs() == held_out.runs();
+}
+
+SurrogateStudyResult failed_runs_result(const SurrogateStudy& study, const TrainingRuns& training,
+                                        const TrainingRuns& held_out) {
+  SurrogateStudyResult r;
+  r.training = training;
+  r.held_out = held_out;
+  const RunCounts counts = count_runs(training.status, training.messages);
+  for (const std::string& name : study.qoi_names()) {
+    SurrogateQoiResult q;
+    q.name = name;
+    q.undefined_reason = "every run failed (first: " + counts.first_failure + ")";
+    r.qoi.push_back(std::move(q));
+  }
+  r.set.kind = study.kind;
+  r.set.q2_threshold = study.q2_threshold();
+  for (const UncertainInput& in : study.spec.inputs)
+    r.set.inputs.push_back({in.name, in.label, in.distribution, in.distribution.support_lower(),
+                            in.distribution.support_upper(), ""});
+  return r;
+}
+
 }  // namespace
 
 SurrogateStudyResult fit_surrogate_study(const SurrogateStudy& study, const TrainingRuns& training,
                                          const TrainingRuns& held_out) {
+  if (every_design_run_failed(study, training, held_out)) return failed_runs_result(study, training, held_out);
   check_run_count(study, training);
   check_coverage(study, training);
   SurrogateStudyResult r;

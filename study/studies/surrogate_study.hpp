@@ -71,6 +71,9 @@ struct SurrogateStudyResult {
 // Fits every QoI on the successful training runs and scores it on the
 // successful held-out runs where it is finite. No MPI, files or output. Throws io::ConfigError
 // naming the source when fewer successful runs remain than the fit needs.
+// When every run of the study's design failed, the result holds them and no
+// model (each QoI unfitted, saying so): the driver keeps an earlier result
+// and exits with kEveryRunFailedStatus, as for every study.
 SurrogateStudyResult fit_surrogate_study(const SurrogateStudy& study, const TrainingRuns& training,
                                          const TrainingRuns& held_out);
 

@@ -25,27 +25,66 @@ struct FileErrors {
   }
 };
 
-// The file's column of each study input; refuses a missing input and an
-// unlisted input that varies.
+// The file's column of each study input; refuses a missing input.
 std::vector<Eigen::Index> input_columns(const FileErrors& errors, const std::vector<std::string>& names,
-                                        const Eigen::MatrixXd& values, const SurrogateStudy& study) {
+                                        const SurrogateStudy& study) {
   std::vector<Eigen::Index> columns;
-  std::vector<bool> used(names.size(), false);
   for (const UncertainInput& in : study.spec.inputs) {
     const auto it = std::find(names.begin(), names.end(), in.name);
     if (it == names.end())
       errors.fail("no input '" + in.label + "' (" + in.name + ") in /inputs/names (" + comma_separated(names) + ")");
     columns.push_back(it - names.begin());
-    used[static_cast<std::size_t>(it - names.begin())] = true;
-  }
-  for (std::size_t k = 0; k < names.size(); ++k) {
-    const auto column = values.col(static_cast<Eigen::Index>(k));
-    if (used[k] || values.rows() == 0 || column.minCoeff() == column.maxCoeff()) continue;
-    errors.fail("input '" + names[k] + "' varies over the runs (" + number_text(column.minCoeff()) + " to " +
-                number_text(column.maxCoeff()) + ") but is not a parameter of " + study.spec.path +
-                ": list it under \"parameters\"");
   }
   return columns;
+}
+
+// "'M0_11' (s_structure.preload_mean[0])": the column as the runs' file labels
+// it (/inputs/labels, the name typed in their study or design) and its name.
+std::string column_text(const std::vector<std::string>& names, const std::vector<std::string>& labels,
+                        std::size_t k) {
+  if (k >= labels.size() || labels[k].empty() || labels[k] == names[k]) return "'" + names[k] + "'";
+  return "'" + labels[k] + "' (" + names[k] + ")";
+}
+
+// An input the study does not list, held at `value` in every run of the file,
+// is the study's own nominal value of it (within kHeldInputRelativeTolerance):
+// else the runs were made on another rover or scenario than the study's.
+void check_held_input(const FileErrors& errors, const std::string& column, const std::string& name, double value,
+                      const SurrogateStudy& study) {
+  if (!study.spec.rover) return;  // an analytic model: no nominal values
+  const ParameterSpace& space = study.spec.rover->parameter_space();
+  const std::string held = "input " + column + " is " + number_text(value) + " in every run, ";
+  const std::string scenario = study.spec.rover->sources().scenario_path;
+  if (!space.contains(name))
+    errors.fail(held + "but names no parameter of the rover or the scenario: the runs cannot be checked against "
+                "those of " + study.spec.path + "; train on runs that vary only its \"parameters\"");
+  const double nominal = space.nominal(space.canonical(name));
+  const double scale = std::max(std::abs(value), std::abs(nominal));
+  if (std::abs(value - nominal) <= kHeldInputRelativeTolerance * scale) return;
+  const std::string study_value = std::isnan(nominal)
+                                      ? "the study's scenario " + scenario + " does not set it"
+                                      : "the study's scenario " + scenario + " and its rover have " + number_text(nominal);
+  errors.fail(held + "but " + study_value + ", and " + study.spec.path +
+              " does not vary it: the runs were made on another rover or scenario; list it under \"parameters\", "
+              "or train on runs made on the study's");
+}
+
+// The inputs of the file that the study does not list: none may vary over
+// the runs, and each must hold the study's nominal value.
+void check_unlisted_inputs(const FileErrors& errors, const std::vector<std::string>& names,
+                           const std::vector<std::string>& labels, const Eigen::MatrixXd& values,
+                           const std::vector<Eigen::Index>& columns, const SurrogateStudy& study) {
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const auto column = values.col(static_cast<Eigen::Index>(k));
+    if (std::find(columns.begin(), columns.end(), static_cast<Eigen::Index>(k)) != columns.end() ||
+        values.rows() == 0)
+      continue;
+    if (column.minCoeff() != column.maxCoeff())
+      errors.fail("input '" + names[k] + "' varies over the runs (" + number_text(column.minCoeff()) + " to " +
+                  number_text(column.maxCoeff()) + ") but is not a parameter of " + study.spec.path +
+                  ": list it under \"parameters\"");
+    check_held_input(errors, column_text(names, labels, k), names[k], column(0), study);
+  }
 }
 
 std::vector<int> statuses(const FileErrors& errors, const io::Hdf5Reader& h5, const Eigen::MatrixXd& y) {
@@ -122,24 +161,21 @@ void check_scenario(const FileErrors& errors, const io::Hdf5Reader& h5, const Su
                               "against the study's " + which + "; make sure they were made on them";
 }
 
-// The integrator a result records (/ integrator, rtol, atol), if it does.
-std::optional<IntegratorSettings> recorded_integrator(const io::Hdf5Reader& h5) {
-  if (!h5.has_attribute("/", "integrator") || !h5.has_attribute("/", "rtol") || !h5.has_attribute("/", "atol"))
-    return std::nullopt;
-  try {
-    IntegratorSettings s = default_integrator_settings(integrator_from_name(h5.attribute_string("/", "integrator")));
-    s.relative_tolerance = h5.attribute_double("/", "rtol");
-    s.absolute_tolerance = h5.attribute_double("/", "atol");
-    if (h5.has_attribute("/", "slip_tol")) s.slip_tolerance = h5.attribute_double("/", "slip_tol");
-    return s;
-  } catch (const std::invalid_argument&) {  // a method of no version of rover: nothing to compare
-    return std::nullopt;
-  }
+// The settings that make two integrators' runs the same: the fixed step of
+// rk4 (a step not recorded, NaN, matches none), the tolerances of the others.
+bool same_integrator(const IntegratorSettings& a, const IntegratorSettings& b) {
+  if (a.method != b.method) return false;
+  if (a.method == IntegratorMethod::kRungeKutta4) return a.fixed_step_s == b.fixed_step_s;
+  return a.relative_tolerance == b.relative_tolerance && a.absolute_tolerance == b.absolute_tolerance &&
+         a.slip_tolerance == b.slip_tolerance;
 }
 
-bool same_integrator(const IntegratorSettings& a, const IntegratorSettings& b) {
-  return a.method == b.method && a.relative_tolerance == b.relative_tolerance &&
-         a.absolute_tolerance == b.absolute_tolerance && a.slip_tolerance == b.slip_tolerance;
+// describe_integrator(), or for rk4 runs whose file records no step, that it is not known.
+std::string describe_runs_integrator(const IntegratorSettings& i) {
+  if (i.method == IntegratorMethod::kRungeKutta4 && !std::isfinite(i.fixed_step_s))
+    return std::string(integrator_name(i.method)) + " with a fixed step its file does not record (a file of an "
+                                                    "earlier version)";
+  return describe_integrator(i);
 }
 
 // Per input, the distance within which two runs are one (kSameRunRelativeDistance).
@@ -163,11 +199,12 @@ std::string integrator_mismatch(const SurrogateStudy& study, const TrainingRuns&
   const IntegratorSettings& trained_with = training.integrator.value_or(own);
   std::string text;
   if (!same_integrator(trained_with, own))
-    text = "the training runs were made with " + describe_integrator(trained_with) + ", not the study's " +
+    text = "the training runs were made with " + describe_runs_integrator(trained_with) + ", not the study's " +
            describe_integrator(own) + ": the surrogate stands for the training runs' integrator, and the result records it";
   if (held_out.integrator && !same_integrator(*held_out.integrator, trained_with))
     text += std::string(text.empty() ? "" : "; ") + "the held-out runs were made with " +
-            describe_integrator(*held_out.integrator) + ", the training runs with " + describe_integrator(trained_with) +
+            describe_runs_integrator(*held_out.integrator) + ", the training runs with " +
+            describe_runs_integrator(trained_with) +
             ": the held-out Q2 includes the difference of the two integrators";
   return text;
 }
@@ -228,7 +265,10 @@ TrainingRuns read_result_runs(const std::string& path, const SurrogateStudy& stu
   if (values.cols() != static_cast<Eigen::Index>(names.size()))
     errors.fail("/inputs/values has " + std::to_string(values.cols()) + " columns for " +
                 std::to_string(names.size()) + " names");
-  const std::vector<Eigen::Index> columns = input_columns(errors, names, values, study);
+  const std::vector<Eigen::Index> columns = input_columns(errors, names, study);
+  const std::vector<std::string> labels =
+      h5.exists("/inputs/labels") ? h5.read_strings("/inputs/labels") : std::vector<std::string>{};
+  check_unlisted_inputs(errors, names, labels, values, columns, study);
   TrainingRuns runs;
   runs.source = path;
   runs.x.resize(values.rows(), static_cast<Eigen::Index>(columns.size()));

@@ -46,6 +46,12 @@ struct TrainingRuns {
 // a surrogate cannot tell them apart, so a copy validates nothing.
 inline constexpr double kSameRunRelativeDistance = 1e-6;
 
+// An input a file's runs hold at one value, and that the study does not
+// list, is the study's nominal value when the two differ by at most this
+// share of their magnitude: values written as text of 10 or more significant
+// digits and read back agree, another rover's do not.
+inline constexpr double kHeldInputRelativeTolerance = 1e-9;
+
 // Empty unless runs of a file were made with another integrator than the
 // study's or than the training runs': then what differs and what it means.
 std::string integrator_mismatch(const SurrogateStudy& study, const TrainingRuns& training,
@@ -64,7 +70,8 @@ std::string shared_runs(const TrainingRuns& training, const TrainingRuns& held_o
 // what the file is for in messages ("training", "held-out"). Throws
 // io::ConfigError naming the file for: no /inputs/names or /inputs/values, an
 // input of the study missing, an input the study does not list that varies
-// over the runs, a QoI missing (listing those present), sizes that disagree,
+// over the runs or, on the rover, is held at another value than the study's
+// scenario and rover give it (kHeldInputRelativeTolerance), a QoI missing (listing those present), sizes that disagree,
 // or an input value outside its distribution's support (naming the run).
 TrainingRuns read_result_runs(const std::string& path, const SurrogateStudy& study, const std::string& role);
 

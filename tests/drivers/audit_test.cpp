@@ -4811,5 +4811,62 @@ TEST_F(Audit, ResumeSaysWhenItDropsADamagedPartOfTheCheckpoint) {
   run_table(dir, cases);
 }
 
+TEST_F(Audit, SurrogateRunsAreThoseOfTheStudysRoverAndIntegrator) {
+  const std::string dir = w().dir();
+  const Json c_q = {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.4}};
+  const Json f = {{"distribution", "log_uniform"}, {"min", 1e3}, {"max", 1e5}};
+  // Runs of another rover: M0_11 held at 0.2, where the shipped rover has 1.924.
+  std::string design = "c_q,f,M0_11\n";
+  for (int i = 0; i < 12; ++i)
+    design += std::to_string(0.1 + 0.3 * i / 11.0) + "," + std::to_string(std::pow(10.0, 3.0 + 2.0 * ((i * 5) % 12) / 11.0)) + ",0.2\n";
+  const std::string design_file = w().text_file("xm0", design, "csv"), held = dir + "/em0.h5";
+  std::string output;
+  run_command("cd " + dir + " && OMPI_MCA_ess_singleton_isolated=1 " + rover_binary() + " evaluate --no-plot --scenario " +
+                  w().quick() + " --design " + design_file + " --out " + held + " --qoi B_l_z_min",
+              &output);
+  ASSERT_TRUE(fs::exists(held)) << output;
+  const Json surrogate{{"type", "surrogate"}, {"name", "st"}, {"surrogate", "pce"}, {"scenario", w().quick()},
+                       {"parameters", {{"c_q", c_q}, {"f", f}}}, {"qoi", {"B_l_z_min"}}};
+  Json other_rover = surrogate;
+  other_rover["training"] = {{"file", held}};
+  // A Monte Carlo on rk4 with a 1 ms step: its file records the step.
+  const std::string rk4_runs = dir + "/mrk.h5";
+  Json mc = io::read_json_file(w().montecarlo([](Json&) {}));
+  mc["integrator"] = {{"method", "rk4"}, {"fixed_step", 0.001}};
+  mc["parameters"] = {{"c_q", c_q}, {"f", f}};
+  mc["design"] = {{"type", "latin_hypercube"}, {"samples", 20}, {"seed", 1}};
+  mc["qoi"] = {"B_l_z_min"};
+  run_command("cd " + dir + " && OMPI_MCA_ess_singleton_isolated=1 " + rover_binary() + " " +
+                  study_args("montecarlo", w().json_file("mrk", mc), rk4_runs),
+              &output);
+  ASSERT_TRUE(fs::exists(rk4_runs)) << output;
+  Json on_rk4 = surrogate;
+  on_rk4["training"] = {{"file", rk4_runs}};
+  // Every run of the design diverges: rk4 at 3.125 ms on the stiff contact.
+  Json diverging = surrogate;
+  diverging["scenario"] = w().scenario([](Json& j) {
+    j["duration"] = 0.3;
+    j["output_rate"] = 320;
+    j["integrator"] = {{"method", "rk4"}, {"fixed_step", 0.003125}};
+  });
+  diverging["parameters"]["c_q"] = {{"distribution", "uniform"}, {"min", 0.35}, {"max", 0.4}};
+  diverging["design"] = {{"type", "latin_hypercube"}, {"samples", 10}, {"seed", 1}};
+  const std::string earlier = w().copy_of(held);
+  std::vector<Case> cases;
+  cases.push_back({"training runs of another rover", study("surrogate", w().json_file("st", other_rover)),
+                   Want::kError, {"training.file", "M0_11", "0.2 in every run", "1.924"}});
+  cases.push_back({"training runs on rk4 name their step", study("surrogate", w().json_file("sr", on_rk4)),
+                   Want::kRuns, {"rk4 with fixed step 0.001 s"}, [=] {
+                     const io::Hdf5Reader h5(rk4_runs);
+                     if (!h5.has_attribute("/", "fixed_step_s")) return rk4_runs + " records no fixed_step_s";
+                     return h5.attribute_double("/", "fixed_step_s") == 0.001 ? std::string()
+                                                                               : rk4_runs + ": another fixed_step_s";
+                   }, {}, {"fixed step 1e-05"}});
+  cases.push_back({"every design run failing keeps the earlier result",
+                   study_args("surrogate", w().json_file("sd", diverging), earlier), Want::kAllFailed,
+                   {"every run failed", earlier + " is unchanged"}, unchanged(earlier)});
+  run_table(dir, cases);
+}
+
 }  // namespace
 }  // namespace rover

@@ -160,6 +160,20 @@ TEST(SurrogateStudy, TrainsOnAResultFileLeavingFailedRunsOut) {
   EXPECT_NE(r.warnings[0].find("7 of 400 training runs failed"), std::string::npos) << r.warnings[0];
 }
 
+TEST(SurrogateStudy, EveryDesignRunFailingGivesTheRunsAndNoModel) {
+  const SurrogateStudy s = load(R"({"type": "surrogate", "name": "ish", "model": "ishigami",
+      "design": {"samples": 20, "seed": 2}})");
+  TrainingRuns runs = design_runs(s);
+  for (int& status : runs.status) status = run_status::kError;
+  runs.y.setConstant(std::nan(""));
+  const SurrogateStudyResult r = fit_surrogate_study(s, runs, TrainingRuns{});
+  EXPECT_EQ(r.training.failed_runs(), 20);
+  ASSERT_EQ(r.qoi.size(), 1u);
+  EXPECT_FALSE(r.qoi[0].fitted);
+  EXPECT_NE(r.qoi[0].undefined_reason.find("every run failed"), std::string::npos) << r.qoi[0].undefined_reason;
+  EXPECT_TRUE(r.set.models.empty());
+}
+
 TEST(SurrogateStudy, ResultFilesThatCannotTrainAreRefusedNamingFileAndField) {
   const std::string dir = rover::testing::temp_dir();
   const std::string head = R"({"type": "surrogate", "name": "f", "model": "ishigami", "training": {"file": "mc.h5"})";
