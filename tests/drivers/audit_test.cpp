@@ -1980,8 +1980,8 @@ TEST_F(Audit, ThirdAuditKeptRuns) {
                         {"design", {{"type", "lhs"}, {"samples", 6}, {"seed", 1}}},
                         {"pce", {{"max_degree", 1}}},
                         {"qoi", {"t_min"}}});
-  cases.push_back({"surrogate whose every run fails", study_args("surrogate", surrogate, dir + "/u.h5"), Want::kError,
-                   {"successful training runs", "wall-time budget", "Nothing was written", "u.h5.checkpoint"}});
+  cases.push_back({"surrogate whose every run fails", study_args("surrogate", surrogate, dir + "/u.h5"),
+                   Want::kAllFailed, {"every run failed", "wall-time budget", "the results are in", "u.h5"}});
   cases.push_back({"posterior whose every run fails", study("calibrate", w().calibration([&](Json& j) {
                      j["scenario"] = failing;
                      j["method"] = "mcmc";
@@ -2222,9 +2222,9 @@ TEST_F(Audit, UnitMistakesFlagsAndFailuresInRoversWords) {
   cases.push_back({"calibrate --walkers 2", study("calibrate", calibration) + " --dry-run --walkers 2", Want::kError,
                    {"--walkers: got 2", "at least 4"}, {}, {}, {"mcmc.walkers"}});
   cases.push_back({"calibrate --steps 2 --discard 0", study("calibrate", calibration) + " --dry-run --steps 2 --discard 0",
-                   Want::kError, {"--steps 2 with --discard 0", "at least 4 of the 2 steps"}, {}, {}, {"mcmc."}});
+                   Want::kError, {"--steps 2 with --discard 0", "leaves 2 step(s)", "need at least 4"}, {}, {}, {"mcmc."}});
   cases.push_back({"calibrate --steps 3", study("calibrate", calibration) + " --dry-run --steps 3", Want::kError,
-                   {"--steps 3", "at least 4 of the 3 steps"}, {}, {}, {"mcmc."}});
+                   {"--steps 3", "leaves 2 step(s) after a burn-in of 1", "need at least 4"}, {}, {}, {"mcmc."}});
   cases.push_back({"calibrate --algorithm with gradients", study("calibrate", calibration) + " --dry-run --algorithm LD_MMA",
                    Want::kError, {"--algorithm: 'LD_MMA' needs gradients"}, {}, {}, {"field 'algorithm'"}});
   // Every run failed: the reason is given, and a checkpoint named only if kept.
