@@ -204,6 +204,27 @@ int min_complete_units(const SensitivityStudy& study) {
   return 1;
 }
 
+// The bootstrap resamples and confidence of the indices' intervals, checked
+// (a PCE study checks its own resamples, from "pce").
+struct IndexIntervals {
+  int bootstrap = 1000;
+  double confidence = 0.95;
+};
+IndexIntervals read_index_intervals(const io::JsonReader& r, SensitivityMethod method) {
+  IndexIntervals out;
+  out.bootstrap = r.has("bootstrap") ? r.integer("bootstrap") : out.bootstrap;
+  if (out.bootstrap < 0 || (out.bootstrap > 0 && out.bootstrap < kMinBootstrap) || out.bootstrap > kMaxBootstrap)
+    r.fail("bootstrap", "give 0 (no intervals) or 100 .. 100000 resamples");
+  out.confidence = r.number_or("confidence", out.confidence);
+  if (!(out.confidence > 0.5 && out.confidence < 1.0)) r.fail("confidence", "must lie in (0.5, 1)");
+  if (method != SensitivityMethod::kPce && out.bootstrap > 0)
+    if (const std::string problem = bootstrap_resolution_problem(out.confidence, "'confidence'", out.bootstrap,
+                                                                 "'bootstrap'", kMaxBootstrap);
+        !problem.empty())
+      r.fail("confidence", problem);
+  return out;
+}
+
 }  // namespace
 
 // The share of Morris trajectories of this design that would draw a value
@@ -277,16 +298,7 @@ SensitivityStudy load_sensitivity_study(const std::string& path, const DesignOve
   }
   if (s.method == SensitivityMethod::kPce && r.has("bootstrap"))
     r.fail("bootstrap", "a PCE study takes its resamples from \"pce\": {\"bootstrap\": n}");
-  const int bootstrap = r.has("bootstrap") ? r.integer("bootstrap") : 1000;
-  if (bootstrap < 0 || (bootstrap > 0 && bootstrap < kMinBootstrap) || bootstrap > kMaxBootstrap)
-    r.fail("bootstrap", "give 0 (no intervals) or 100 .. 100000 resamples");
-  const double confidence = r.number_or("confidence", 0.95);
-  if (!(confidence > 0.5 && confidence < 1.0)) r.fail("confidence", "must lie in (0.5, 1)");
-  if (s.method != SensitivityMethod::kPce && bootstrap > 0)
-    if (const std::string problem = bootstrap_resolution_problem(confidence, "'confidence'", bootstrap, "'bootstrap'",
-                                                                 kMaxBootstrap);
-        !problem.empty())
-      r.fail("confidence", problem);
+  const auto [bootstrap, confidence] = read_index_intervals(r, s.method);
   s.max_failed_fraction = r.number_or("max_failed_fraction", 0.05);
   if (!(s.max_failed_fraction >= 0.0 && s.max_failed_fraction < 1.0))
     r.fail("max_failed_fraction", "must lie in [0, 1)");
