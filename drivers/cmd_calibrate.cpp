@@ -121,7 +121,10 @@ int run_calibrate_command(const CLI::App& app, CalibrateOptions o) {
   if (!o.next_experiment.empty() && o.run.results_path.empty()) {
     // The ranking's default file: results/<study name>_next_experiment.h5.
     const std::string fit_path = study_results_path(o.run, o.study_path);
-    if (fit_path.ends_with(".h5")) o.run.results_path = fit_path.substr(0, fit_path.size() - 3) + "_next_experiment.h5";
+    if (fit_path.ends_with(".h5")) {
+      o.run.results_path = fit_path.substr(0, fit_path.size() - 3) + "_next_experiment.h5";
+      o.run.results_path_is_default = true;
+    }
   }
   return run_study_session(app, o.run, o.study_path, [&](const study::StudyRunOptions& options) {
     study::CalibrationStudy s = load_study(o);

@@ -81,8 +81,8 @@ inline void add_study_flags(CLI::App& app, study::StudyRunOptions& o) {
   add_progress_flags(app, o);
 }
 
-// A leftover checkpoint: the finished runs of an interrupted study are kept
-// unless the command says what to do with them.
+// A leftover checkpoint: the finished runs of a study that stopped before
+// its end are kept unless the command says what to do with them.
 inline void check_leftover_checkpoint(FlagChecks& checks, const std::string& results_path, bool resume,
                                       bool restart) {
   if (resume && restart)
@@ -121,8 +121,9 @@ inline void check_leftover_checkpoint(FlagChecks& checks, const std::string& res
     checks.add(checkpoint + " is one of several names of a file (a hard link), which no checkpoint is: --restart "
                "removes this name (the file keeps its others), or give another --out");
   else
-    checks.add(checkpoint + " holds the finished runs of an interrupted study; continue it with --resume, or "
-               "discard them and start afresh with --restart");
+    checks.add(checkpoint + " holds the finished runs of a study that stopped before its end (interrupted, or "
+               "ended by failed runs); continue it with --resume if it is this same study, or discard them and "
+               "start afresh with --restart");
 }
 
 // Where a study writes: --out, or results/<name>.h5 with the "name" of the
@@ -148,7 +149,8 @@ inline std::string study_results_path(const study::StudyRunOptions& c, const std
 // no output over a file the loader read, no plot path it may not write.
 inline void check_study_output_path(FlagChecks& checks, const study::StudyRunOptions& c,
                                     const std::string& study_path) {
-  checks.output_file("--out", c.results_path, /*regular_only=*/true);
+  checks.output_file(c.results_path_is_default ? "the default output" : "--out", c.results_path,
+                     /*regular_only=*/true);
   check_leftover_checkpoint(checks, study_results_path(c, study_path), c.resume, c.restart);
 }
 

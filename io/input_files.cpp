@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <string_view>
 #include <system_error>
 #include <utility>
 
@@ -40,6 +41,14 @@ void each_string(const Json& value, const std::string& where, const Visit& visit
     for (auto it = value.begin(); it != value.end(); ++it)
       each_string(it.value(), where.empty() ? it.key() : where + "." + it.key(), visit);
   }
+}
+
+// A field whose string is words for people, never a file name, whatever it
+// spells: a "description" at any depth.
+bool is_free_text(const std::string& key) {
+  constexpr std::string_view kFreeText = "description";
+  const std::size_t dot = key.rfind('.');
+  return std::string_view(key).substr(dot == std::string::npos ? 0 : dot + 1) == kFreeText;
 }
 
 bool equivalent_files(const std::string& a, const std::string& b) {
@@ -80,7 +89,7 @@ void InputFiles::add_named_in(const std::string& config, int depth) {
   const Json json = parse_json_quietly(content);
   if (json.is_discarded()) return;
   each_string(json, "", [&](const std::string& key, const std::string& name) {
-    if (name.empty() || name.size() > 4096 || name.find('\0') != std::string::npos) return;
+    if (is_free_text(key) || name.empty() || name.size() > 4096 || name.find('\0') != std::string::npos) return;
     const std::string resolved = resolve_relative(config, name);
     if (!is_regular_file(resolved) || same_file_as(resolved) != nullptr) return;
     add(resolved, "'" + key + "' in " + config);

@@ -7,8 +7,8 @@
 // study::StudySpec::files, ...); the command adds the files its flags name.
 // add_config() is the fallback of the loaders that do not list their files
 // yet (calibration, surrogate): every string in a JSON config that names an
-// existing regular file (relative to the config's directory) counts, and a
-// JSON input is searched the same way.
+// existing regular file (relative to the config's directory) counts, except
+// a "description", and a JSON input is searched the same way.
 //
 // Two ways an output replaces an input:
 //   * it is the same file, under any spelling or link (std::filesystem::

@@ -10,6 +10,8 @@
 
 #include "core/coordinates.hpp"
 #include "core/friction_synthesis.hpp"
+#include "core/model_scale.hpp"
+#include "core/number_text.hpp"
 #include "io/csv.hpp"
 #include "io/hdf5_file.hpp"
 #include "io/plot.hpp"
@@ -171,6 +173,17 @@ std::vector<std::string> write_trajectory_plots(const std::string& png_stem, con
   return written;
 }
 
+namespace {
+
+// The largest |value| a simulated curve of `column` can hold: a height
+// (B_l_z, G_z, ...) stays within the positions the model simulates; other
+// channels are not bounded here.
+double simulated_curve_bound(const std::string& column) {
+  return column.ends_with("_z") ? kMaxCoordinate_m : std::numeric_limits<double>::infinity();
+}
+
+}  // namespace
+
 Curve read_curve(const std::string& path, const std::string& column) {
   Curve c;
   if (ends_with(path, ".csv")) {
@@ -180,7 +193,7 @@ Curve read_curve(const std::string& path, const std::string& column) {
     const auto& h = table.header;
     MeasuredCurve curve;
     if (std::find(h.begin(), h.end(), column) != h.end()) {
-      curve = curve_from_table(table, column, std::numeric_limits<double>::infinity());
+      curve = curve_from_table(table, column, simulated_curve_bound(column));
     } else {
       if (std::find(h.begin(), h.end(), "z") == h.end())
         throw ConfigError(path + ": no column '" + column + "', nor 'z' of measured data");
@@ -215,6 +228,9 @@ Curve read_curve(const std::string& path, const std::string& column) {
   for (std::size_t i = 0; i < c.t.size(); ++i) {
     if (!std::isfinite(c.t[i]) || !std::isfinite(c.y[i]))
       refuse("sample ", i, ": t = ", c.t[i], ", ", column, " = ", c.y[i], " is not finite");
+    if (!(std::abs(c.y[i]) < simulated_curve_bound(column)))
+      refuse("sample ", i, ": ", column, " = ", number_text(c.y[i]), " m is beyond the bound |", column, "| < ",
+             number_text(simulated_curve_bound(column)), " m of any simulated height (a damaged file?)");
     if (i > 0 && !(c.t[i] > c.t[i - 1]))
       refuse("/t[", i, "] = ", c.t[i], " does not follow /t[", i - 1, "] = ", c.t[i - 1],
              "; times must increase strictly");

@@ -200,9 +200,7 @@ void stream_study_tasks(int task_count, const std::function<TaskResult(int)>& co
       done = checkpoint->load();
       std::cerr << options.label << ": resuming, " << done.size() << " of " << task_count
                 << " runs already done (" << checkpoint->path() << ")\n";
-      if (const std::uint64_t dropped = checkpoint->torn_tail_bytes(); dropped > 0)
-        std::cerr << options.label << ": the checkpoint's last " << dropped << " bytes hold no whole, intact "
-                  << "record (a write cut short, or damage) and were dropped: their runs are computed again\n";
+      report_dropped_checkpoint_bytes(*checkpoint, options.label, "runs");
     } else if (present) {
       // The drivers refuse a leftover checkpoint unless --restart discards it.
       std::cerr << options.label << ": starting afresh; the old checkpoint " << checkpoint->path()
@@ -249,6 +247,13 @@ void stream_study_tasks(int task_count, const std::function<TaskResult(int)>& co
   if (sink.buffered() != 0)
     throw std::logic_error(options.label + ": " + std::to_string(sink.buffered()) +
                            " results wait for a missing run");
+}
+
+void report_dropped_checkpoint_bytes(const io::ResultCheckpoint& checkpoint, const std::string& label,
+                                     const std::string& records) {
+  if (const std::uint64_t dropped = checkpoint.torn_tail_bytes(); dropped > 0)
+    std::cerr << label << ": the checkpoint's last " << dropped << " bytes hold no whole, intact record (a write "
+              << "cut short, or damage) and were dropped: their " << records << " are computed again\n";
 }
 
 void remove_checkpoint(const std::string& results_path) {

@@ -27,6 +27,7 @@ enum class PlotSelection { kNone, kSummary, kAll };
 // how it reports progress and what it plots.
 struct StudyRunOptions {
   std::string results_path;   // the study's HDF5 file; the checkpoint lives beside it
+  bool results_path_is_default = false;  // set by the command, not by --out (messages then say so)
   std::string fingerprint;    // identifies the configuration (config_fingerprint of its text)
   bool resume = false;        // reuse the checkpoint's finished runs
   bool restart = false;       // discard a leftover checkpoint (the drivers refuse one without --resume or --restart)
@@ -47,6 +48,12 @@ std::vector<TaskResult> run_study_tasks(int task_count,
                                         const StudyRunOptions& options);
 
 void remove_checkpoint(const std::string& results_path);
+
+// After ResultCheckpoint::load() on --resume: says on stderr, prefixed with
+// `label`, how many bytes at the checkpoint's end were no intact record and
+// were dropped, so that their `records` ("runs", "steps") are computed again.
+void report_dropped_checkpoint_bytes(const io::ResultCheckpoint& checkpoint, const std::string& label,
+                                     const std::string& records);
 
 // A study stopped by a signal (InterruptGuard): what is done is in the checkpoint.
 // what() says so and gives the --resume hint; the program exits with

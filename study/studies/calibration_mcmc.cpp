@@ -301,7 +301,10 @@ EnsembleState starting_state(const Sampler& sampler, const PosteriorSpace& space
                              std::optional<io::ResultCheckpoint>& checkpoint, ChainRun& run, bool resume) {
   std::vector<double> saved;
   if (checkpoint) {
-    if (resume) run.records = checkpoint->load();
+    if (resume) {
+      run.records = checkpoint->load();
+      report_dropped_checkpoint_bytes(*checkpoint, "calibrate", "chain steps");
+    }
     std::size_t contiguous = 0;
     while (contiguous < run.records.size() && run.records[contiguous].index == static_cast<int>(contiguous)) ++contiguous;
     run.records.resize(contiguous);

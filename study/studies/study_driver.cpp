@@ -102,11 +102,12 @@ StudyRunOptions prepare(const std::string& command, const std::string& name, con
                         const MemoryEstimate& memory, const std::string& banner, bool csv_allowed,
                         const io::InputFiles& inputs, const std::vector<PlannedFigure>& figures,
                         StudyRunOptions options) {
-  const bool given = !options.results_path.empty();
+  const bool given = !options.results_path.empty() && !options.results_path_is_default;
   // An input the output would destroy comes first, before the path's form.
-  check_outputs(given ? "--out" : "--out (default)", given ? options.results_path : "results/" + name + ".h5", inputs,
-                options.plots);
-  options.results_path = checked_results_path(name, options.results_path, csv_allowed);
+  check_outputs(given ? "--out" : "--out (default)",
+                options.results_path.empty() ? "results/" + name + ".h5" : options.results_path, inputs, options.plots);
+  options.results_path =
+      checked_results_path(name, options.results_path, csv_allowed, options.results_path_is_default);
   if (const std::string shared = shared_figure_names(options.results_path, figures); !shared.empty())
     throw std::invalid_argument("--plots: " + shared + ", one replacing the other: give the QoI another \"label\", "
                                 "or pass --plots summary or --plots none");

@@ -18,17 +18,23 @@
 
 namespace rover::study {
 
-std::string checked_results_path(const std::string& name, const std::string& requested, bool csv_allowed) {
+std::string results_path_label(const std::string& path, bool is_default) {
+  return (is_default ? "the default output '" : "--out '") + path + "'";
+}
+
+std::string checked_results_path(const std::string& name, const std::string& requested, bool csv_allowed,
+                                 bool requested_is_default) {
   const std::string path = requested.empty() ? "results/" + name + ".h5" : requested;
+  const std::string out = results_path_label(path, requested.empty() || requested_is_default);
   const std::filesystem::path p(path);
   if (const auto file = p.filename(); std::filesystem::is_directory(p) || file.empty() || file == "." || file == "..")
-    throw std::invalid_argument("--out '" + path + "' is a directory; give a file name ending in .h5");
+    throw std::invalid_argument(out + " is a directory; give a file name ending in .h5");
   if (csv_allowed && p.extension() != ".h5" && p.extension() != ".csv")
-    throw std::invalid_argument("--out must end in .csv or .h5, got '" + path + "'");
+    throw std::invalid_argument(out + " must end in .csv or .h5");
   if (!csv_allowed && p.extension() != ".h5")
-    throw std::invalid_argument("--out '" + path + "' must end in .h5 (an HDF5 file)");
+    throw std::invalid_argument(out + " must end in .h5 (an HDF5 file)");
   if (const std::string refusal = io::parent_directory_refusal(path); !refusal.empty())
-    throw std::invalid_argument("--out '" + path + "': " + refusal);
+    throw std::invalid_argument(out + ": " + refusal);
   // Can a file be created there? (Found now, not after the study ran.) A
   // directory still to be made is made, and probed, only when the run begins.
   std::error_code error;

@@ -15,8 +15,15 @@ namespace rover::study {
 
 // The result file: `requested`, or results/<name>.h5. Throws
 // std::invalid_argument before any run if it names a directory, does not end
-// in .h5 (or .csv, when `csv_allowed`), or its directory cannot be created.
-std::string checked_results_path(const std::string& name, const std::string& requested, bool csv_allowed = false);
+// in .h5 (or .csv, when `csv_allowed`), or its directory cannot be created;
+// the message names --out, or the default path when no --out was given
+// (`requested` empty, or a command's own default: `requested_is_default`).
+std::string checked_results_path(const std::string& name, const std::string& requested, bool csv_allowed = false,
+                                 bool requested_is_default = false);
+
+// How messages name the result path: "--out 'r.h5'", or "the default output
+// 'results/x.h5'" when no --out was given.
+std::string results_path_label(const std::string& path, bool is_default);
 
 // The memory a study may hold: the physical memory, or less where a limit of
 // the process (ulimit -v, -d) leaves less beside what it maps already.

@@ -160,6 +160,8 @@ void check_compare_file(const io::JsonReader& c, SurrogateStudy& s) {
   std::vector<std::string> missing;
   try {
     missing = qois_without_compared_indices(s);
+    if (const std::string unchecked = check_result_provenance(s.compare_file, s, "compared"); !unchecked.empty())
+      s.spec.warnings.push_back("'compare.file': " + unchecked);
   } catch (const std::exception& e) {
     c.fail("file", e.what());
   }

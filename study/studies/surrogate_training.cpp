@@ -296,6 +296,12 @@ TrainingRuns read_result_runs(const std::string& path, const SurrogateStudy& stu
   return runs;
 }
 
+std::string check_result_provenance(const std::string& path, const SurrogateStudy& study, const std::string& role) {
+  TrainingRuns runs;
+  check_scenario(FileErrors{path, role}, io::Hdf5Reader(path), study, runs);
+  return runs.unchecked_provenance;
+}
+
 TrainingRuns run_design_runs(const SurrogateStudy& study, const StudyRunOptions& options) {
   const StudySpec& spec = study.spec;
   const StudyModel& model = *spec.model;

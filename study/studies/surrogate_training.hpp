@@ -75,6 +75,12 @@ std::string shared_runs(const TrainingRuns& training, const TrainingRuns& held_o
 // or an input value outside its distribution's support (naming the run).
 TrainingRuns read_result_runs(const std::string& path, const SurrogateStudy& study, const std::string& role);
 
+// Throws io::ConfigError naming the file and `role` if the result file
+// records a scenario or rover config other than the study's; returns a note
+// for the study's warnings if it records none (its runs cannot be checked),
+// else nothing.
+std::string check_result_provenance(const std::string& path, const SurrogateStudy& study, const std::string& role);
+
 // Collective over MPI ranks: runs the study's design over the task farm with
 // the driver's options (checkpointed beside the result, --resume as the
 // other studies). The runs on rank 0; empty on the other ranks.

@@ -1385,7 +1385,7 @@ TEST_F(Audit, LeftoverCheckpoints) {
   write_file(foreign + ".checkpoint", "not a checkpoint\n");
   cases.push_back({"montecarlo beside a file that is no checkpoint", study_args("montecarlo", mc, foreign),
                    Want::kError, {foreign + ".checkpoint is no checkpoint of rover", "give another --out"},
-                   unchanged(foreign + ".checkpoint"), {}, {"finished runs of an interrupted study", "--restart"}});
+                   unchanged(foreign + ".checkpoint"), {}, {"finished runs of a study", "--restart"}});
   run_table(dir, cases);
 }
 
@@ -2788,7 +2788,7 @@ TEST_F(Audit, MisfitsUntouchedGroundAndBorrowedRuns) {
   cases.push_back({"a hard link of an input at <out>.checkpoint",
                    study_args("montecarlo", w().montecarlo([](Json&) {}), linked), Want::kError,
                    {"is one of several names of a file (a hard link)"}, unchanged(rover_copy),
-                   {}, {"finished runs of an interrupted study"}});
+                   {}, {"finished runs of a study"}});
   run_table(w().dir(), cases);
 }
 
@@ -4865,6 +4865,90 @@ TEST_F(Audit, SurrogateRunsAreThoseOfTheStudysRoverAndIntegrator) {
   cases.push_back({"every design run failing keeps the earlier result",
                    study_args("surrogate", w().json_file("sd", diverging), earlier), Want::kAllFailed,
                    {"every run failed", earlier + " is unchanged"}, unchanged(earlier)});
+  run_table(dir, cases);
+}
+
+// Messages that name what the user did, and inputs that are what they claim:
+// a command's own default output is not called --out; a study's description
+// is text even where it spells a file's name; indices compared with a
+// surrogate's are of the study's scenario; a simulated height beyond any
+// simulated position is a damaged file; a checkpoint left by failed runs is
+// not called interrupted.
+TEST_F(Audit, DefaultsDescriptionsComparedIndicesAndDamagedCurves) {
+  const std::string dir = w().dir();
+  std::vector<Case> cases;
+  // calibrate --next-experiment without --out, where results/ cannot be made.
+  const std::string fresh = dir + "/fresh";
+  fs::create_directory(fresh);
+  write_file(fresh + "/results", "a file where the directory would go\n");
+  const std::string candidates =
+      w().json_file("candidates", Json{{"candidates", {{{"scenario", w().quick()}, {"rate_hz", 200}, {"noise_sd", 1e-4}}}}});
+  const std::string calibration = w().calibration([](Json&) {});
+  std::vector<Case> in_fresh;
+  in_fresh.push_back({"calibrate --next-experiment with no --out and no room for results/",
+                      "calibrate --no-plot --study " + calibration + " --next-experiment " + candidates + " --dry-run",
+                      Want::kError, {"the default output 'results/c_next_experiment.h5'", "cannot create the directory 'results'"},
+                      unchanged(fresh + "/results"), {}, {"--out 'results"}});
+  run_table(fresh, in_fresh);
+  // A surrogate study whose description spells its own result's name.
+  const Json c_q = {{"c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.2}}}};
+  const Json f_and_c_q = {{"f", {{"distribution", "log_uniform"}, {"min", 1e3}, {"max", 1e4}}},
+                          {"c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.2}}}};
+  const auto surrogate = [&](const std::string& scenario, const Json& inputs, const std::function<void(Json&)>& edit) {
+    Json j{{"type", "surrogate"}, {"name", "sg"}, {"scenario", scenario}, {"parameters", inputs}, {"qoi", {"t_min"}},
+           {"design", {{"type", "latin_hypercube"}, {"samples", 8}, {"seed", 1}}}};
+    edit(j);
+    return w().json_file("sg", j);
+  };
+  const std::string described = dir + "/described.h5";
+  write_file(described, "an earlier result\n");
+  cases.push_back({"a surrogate study whose description names its result",
+                   study_args("surrogate", surrogate(w().quick(), c_q, [&](Json& j) { j["description"] = described; }),
+                              described) + " --dry-run",
+                   Want::kRuns, {}, unchanged(described)});
+  // Indices of another scenario to compare with.
+  const std::string longer = w().scenario([](Json& j) { j["duration"] = 0.15; });  // past the touchdown
+  const std::string indices = dir + "/indices.h5";
+  std::string log;
+  ASSERT_EQ(run_command("cd " + dir + " && " + rover_binary() + " " +
+                            study_args("sensitivity",
+                                       w().json_file("sobol", Json{{"type", "sensitivity"}, {"method", "sobol"},
+                                                                   {"name", "so"}, {"scenario", longer},
+                                                                   {"parameters", f_and_c_q}, {"qoi", {"B_l_z_min"}},
+                                                                   {"design", {{"type", "sobol"}, {"samples", 8},
+                                                                               {"seed", 1}}},
+                                                                   {"bootstrap", 100}}),
+                                       indices),
+                        &log),
+            0) << log;
+  const auto compared = [&](const std::string& scenario) {
+    return surrogate(scenario, f_and_c_q, [&](Json& j) {
+      j["qoi"] = {"B_l_z_min"};
+      j["compare"] = {{"file", indices}};
+    });
+  };
+  cases.push_back({"compare indices of another scenario", study("surrogate", compared(w().quick())) + " --dry-run",
+                   Want::kError, {"'compare.file'", indices + ": compared runs: were made on another scenario",
+                                  "duration"}});
+  cases.push_back({"compare indices of the same scenario", study("surrogate", compared(longer)) + " --dry-run",
+                   Want::kRuns, {}});
+  // A simulated curve with one height no simulation reaches.
+  const std::string damaged = simulated_curve(dir + "/damaged.h5");
+  set_dataset_element(damaged, "/B_l_z", 5, 1.78e127);
+  cases.push_back({"compare a simulated curve holding 1.78e127 m", "compare " + damaged + " " + damaged,
+                   Want::kError, {damaged + ": sample 5: B_l_z = 1.78e+127 m is beyond the bound |B_l_z|"}});
+  // An evaluation whose every run failed leaves an earlier result as it was and keeps its runs in the
+  // checkpoint; the next run names that.
+  const std::string budgetless = w().scenario([](Json& s) { s["wall_time_budget"] = 1e-9; });
+  const std::string design = w().text_file("design", "c_q\n0.1\n0.2\n", "csv");
+  const std::string failed = dir + "/failed.csv";
+  write_file(failed, "an earlier result\n");
+  const std::string evaluate = "evaluate --scenario " + budgetless + " --design " + design + " --qoi t_min --out " + failed;
+  ASSERT_EQ(run_command("cd " + dir + " && " + rover_binary() + " " + evaluate, &log), 2) << log;
+  ASSERT_TRUE(fs::exists(failed + ".checkpoint")) << log;
+  cases.push_back({"evaluate again beside the checkpoint of failed runs", evaluate, Want::kError,
+                   {"stopped before its end (interrupted, or ended by failed runs)", "--restart"},
+                   unchanged(failed + ".checkpoint"), {}, {"of an interrupted study"}});
   run_table(dir, cases);
 }
 
