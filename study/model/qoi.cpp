@@ -123,6 +123,32 @@ std::vector<double> channel_values(const Trajectory& tr, Channel channel) {
   return out;
 }
 
+namespace {
+
+bool is_impact_qoi(QoiKind kind) {
+  switch (kind) {
+    case QoiKind::kBlzMin: case QoiKind::kTMin: case QoiKind::kDeflection: case QoiKind::kReboundPeak:
+    case QoiKind::kMaxWheelLoad: case QoiKind::kMaxAbsPitch: case QoiKind::kMaxAbsRoll:
+      return true;
+    default:
+      return false;
+  }
+}
+
+}  // namespace
+
+std::string coarse_recording_warning(const std::vector<QoiSpec>& qois, double output_rate_hz) {
+  if (!(output_rate_hz < kImpactQoiMinOutputRate_hz)) return "";
+  std::vector<std::string> coarse;
+  for (const QoiSpec& q : qois)
+    if (is_impact_qoi(q.kind)) coarse.push_back(q.name);
+  if (coarse.empty()) return "";
+  return "the scenario records at output_rate " + number_text(output_rate_hz) + " Hz (a sample every " +
+         number_text(1e3 / output_rate_hz) + " ms), and " + comma_separated(coarse) +
+         " are read from those samples: an impact between them is missed; record at " +
+         number_text(kImpactQoiMinOutputRate_hz) + " Hz or more (1000 Hz resolves the drops)";
+}
+
 const std::vector<std::string>& qoi_kind_names() {
   static const std::vector<std::string> names = [] {
     std::vector<std::string> n;

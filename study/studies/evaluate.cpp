@@ -339,6 +339,9 @@ StudyProgram<EvaluateResult> evaluate_program(EvaluateStudy study) {
              study.request.scenario_path + " on " + describe_integrator(study.model->nominal().scenario.integrator) +
              ", on " + std::to_string(world_size()) + " rank(s)";
   p.inputs = study.files;
+  if (std::string coarse = coarse_recording_warning(study.model->qois(), study.model->nominal().scenario.output_rate_hz);
+      !coarse.empty())
+    p.warnings.push_back(std::move(coarse));
   p.run = [study](const StudyRuntime& runtime) { return run_evaluate(study, runtime); };
   p.write = write_evaluate;
   p.write_csv = write_evaluate_csv;

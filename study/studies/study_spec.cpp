@@ -639,18 +639,21 @@ StudySpec parse_study_spec(const io::JsonReader& r, const std::vector<std::strin
     const std::string scenario = io::resolve_relative(s.path, r.string("scenario"));
     io::ScenarioSources sources;
     IntegratorSettings scenario_integrator;
-    double duration_s = 0.0;
+    double duration_s = 0.0, output_rate_hz = 0.0;
     try {
       sources = io::read_scenario_sources(scenario);
       const io::ScenarioSetup nominal = io::build_scenario(sources);
       scenario_integrator = nominal.scenario.integrator;
       duration_s = nominal.scenario.duration_s;
+      output_rate_hz = nominal.scenario.output_rate_hz;
     } catch (const io::ConfigError& e) {
       r.fail("scenario", e.what());
     }
     const std::optional<IntegratorSettings> integrator = study_integrator(r, scenario_integrator, &s.accuracy_choice);
     qois = parse_qois(r, s.path);
     refuse_references_beside_the_run(r, qois, scenario, duration_s);
+    if (std::string coarse = coarse_recording_warning(qois, output_rate_hz); !coarse.empty())
+      s.warnings.push_back(std::move(coarse));
     const std::vector<Channel> channels = parse_channels(r);
     if (r.has("parameters")) s.inputs = parse_rover_parameters_block(r, sources);
     std::vector<std::string> names;

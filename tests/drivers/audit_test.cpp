@@ -4949,6 +4949,25 @@ TEST_F(Audit, DefaultsDescriptionsComparedIndicesAndDamagedCurves) {
   cases.push_back({"evaluate again beside the checkpoint of failed runs", evaluate, Want::kError,
                    {"stopped before its end (interrupted, or ended by failed runs)", "--restart"},
                    unchanged(failed + ".checkpoint"), {}, {"of an interrupted study"}});
+  // Impact QoIs read from a coarse recording are warned of; others are not.
+  const std::string coarse = w().scenario([](Json& j) { j["output_rate"] = 50; });
+  const std::string warned = "warning: the scenario records at output_rate 50 Hz (a sample every 20 ms)";
+  cases.push_back({"montecarlo of B_l_z_min recorded at 50 Hz",
+                   study("montecarlo", w().montecarlo([&](Json& j) {
+                     j["scenario"] = coarse;
+                     j["qoi"] = {"B_l_z_min", "at_rest"};
+                   })) + " --dry-run",
+                   Want::kRuns, {warned, "and B_l_z_min are read from those samples"}});
+  cases.push_back({"montecarlo of at_rest recorded at 50 Hz",
+                   study("montecarlo", w().montecarlo([&](Json& j) {
+                     j["scenario"] = coarse;
+                     j["qoi"] = {"at_rest"};
+                   })) + " --dry-run",
+                   Want::kRuns, {}, {}, {}, {"output_rate"}});
+  cases.push_back({"evaluate t_min recorded at 50 Hz",
+                   "evaluate --scenario " + coarse + " --design " + design + " --qoi t_min --out " + w().out("csv") +
+                       " --dry-run",
+                   Want::kRuns, {warned, "and t_min are read"}});
   run_table(dir, cases);
 }
 
