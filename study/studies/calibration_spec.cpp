@@ -18,6 +18,7 @@
 #include <nlopt.hpp>
 
 #include "core/curve_overlap.hpp"
+#include "core/number_text.hpp"
 #include "core/simulate.hpp"
 #include "io/csv.hpp"
 #include "io/hdf5_file.hpp"
@@ -325,17 +326,53 @@ void refuse_curve_listed_twice(const io::JsonReader& item, const std::string& fi
   }
 }
 
-// A copy of a curve under another name counts alike: the newest dataset
-// refused when its channel, times and heights (as read) equal an earlier one's.
+// A copy of a curve, or a near copy (a row left out, heights moved by
+// rounding), counts the same measurements twice: the newest dataset is
+// refused when, at half or more of its times (or of the earlier curve's, the
+// shorter), an earlier curve of its channel has the same time and a height
+// within kCopiedHeightTolerance_m. Repeated measurements differ by their
+// noise, far more than that.
+constexpr double kCopiedHeightTolerance_m = 1e-9;
+constexpr double kSameTimeTolerance_s = 1e-9;
+
+struct SharedSamples {
+  std::size_t times = 0;  // times the two curves share
+  bool same_heights = true;  // within kCopiedHeightTolerance_m at every one
+};
+
+SharedSamples shared_samples(const CalibrationDataset& a, const CalibrationDataset& b) {
+  SharedSamples shared;
+  for (std::size_t i = 0, j = 0; i < a.t.size() && j < b.t.size();) {
+    if (a.t[i] < b.t[j] - kSameTimeTolerance_s) {
+      ++i;
+    } else if (b.t[j] < a.t[i] - kSameTimeTolerance_s) {
+      ++j;
+    } else {
+      ++shared.times;
+      shared.same_heights = shared.same_heights && std::abs(a.z[i] - b.z[j]) <= kCopiedHeightTolerance_m;
+      ++i;
+      ++j;
+    }
+  }
+  return shared;
+}
+
 void refuse_copied_curve(const io::JsonReader& item, const std::vector<CalibrationDataset>& datasets) {
   const CalibrationDataset& last = datasets.back();
   for (std::size_t j = 0; j + 1 < datasets.size(); ++j) {
     const CalibrationDataset& d = datasets[j];
-    if (d.channel != last.channel || d.t != last.t || d.z != last.z) continue;
-    item.fail("file", "'" + last.path + "' holds the same curve as data[" + std::to_string(j) + "] ('" + d.path +
-                          "'): the same " + std::to_string(d.t.size()) + " times and heights of " + d.channel +
-                          "; a curve listed twice counts its measurements twice and narrows every interval by "
-                          "a factor sqrt(2); list each measured curve once");
+    if (d.channel != last.channel) continue;
+    const SharedSamples shared = shared_samples(d, last);
+    const std::size_t shorter = std::min(d.t.size(), last.t.size());
+    if (!shared.same_heights || shared.times < std::max<std::size_t>(io::kMeasuredCurveMinRows, (shorter + 1) / 2))
+      continue;
+    item.fail("file", "'" + last.path + "' holds the curve of data[" + std::to_string(j) + "] ('" + d.path +
+                          "'): at " + std::to_string(shared.times) + " shared times (of " +
+                          std::to_string(last.t.size()) + " and " + std::to_string(d.t.size()) + " rows) its " +
+                          last.channel + " heights are within " + number_text(kCopiedHeightTolerance_m) +
+                          " m of that curve's, far closer than repeated measurements come; a curve listed twice "
+                          "counts its measurements twice and narrows every interval by a factor sqrt(2); list "
+                          "each measured curve once");
   }
 }
 

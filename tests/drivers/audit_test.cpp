@@ -2928,8 +2928,16 @@ TEST_F(Audit, JointFitNamesTheCurveWhoseRunsFail) {
   std::vector<Case> cases;
   const std::string failing = w().scenario([](Json& j) { j["wall_time_budget"] = 1e-6; });
   const std::string data = w().dir() + "/quick_data.csv";  // the quick drop's own curve
-  // Another curve: the same drop, one row fewer (an identical copy is refused as the same curve twice).
-  const std::string second = w().text_file("second_drop", measured_text("\n", 39), "csv");
+  // Another curve: the same drop measured again, 10 um higher (a copy is refused as the same curve twice).
+  std::istringstream rows(measured_text("\n"));
+  std::string again, line;
+  std::getline(rows, line);
+  again += line + "\n";
+  while (std::getline(rows, line)) {
+    const std::size_t comma = line.find(',');
+    again += line.substr(0, comma + 1) + std::to_string(std::stod(line.substr(comma + 1)) + 1e-5) + "\n";
+  }
+  const std::string second = w().text_file("second_drop", again, "csv");
   cases.push_back({"a joint fit whose second curve cannot run",
                    study("calibrate", w().calibration([&](Json& j) {
                      j["data"] = {{{"file", data}, {"channel", "B_l_z"}},
@@ -4523,7 +4531,16 @@ TEST_F(Audit, PriorsStartsCopiesAndSeparatorsOfCalibrationInputs) {
     j["data"] = Json::array({{{"file", dir + "/quick_data.csv"}}, {{"file", copy}}});
   });
   cases.push_back({"a curve and its copy", study("calibrate", copied) + " --dry-run", Want::kError,
-                   {"'data[1].file'", "holds the same curve as data[0]", "quick_data.csv", "sqrt(2)"}});
+                   {"'data[1].file'", "holds the curve of data[0]", "quick_data.csv", "sqrt(2)"}});
+  std::string one_row_less = measured_text("\n");
+  one_row_less.erase(one_row_less.find('\n') + 1, one_row_less.find('\n', one_row_less.find('\n') + 1) -
+                                                      one_row_less.find('\n'));
+  const std::string near_copy = w().text_file("near_copy", one_row_less, "csv");
+  cases.push_back({"a curve and its copy less one row",
+                   study("calibrate", w().calibration([&](Json& j) {
+                     j["data"] = Json::array({{{"file", dir + "/quick_data.csv"}}, {{"file", near_copy}}});
+                   })) + " --dry-run",
+                   Want::kError, {"'data[1].file'", "holds the curve of data[0]", "at 39 shared times (of 39 and 40 rows)"}});
   std::string tabbed = measured_text("\n");
   std::replace(tabbed.begin(), tabbed.end(), ',', '\t');
   std::string semicolons = measured_text("\n");

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <numbers>
 #include <stdexcept>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -313,7 +314,29 @@ TEST(Calibration, StudyFileChecksNameTheField) {
                                               rover::testing::source_path("configs/scenarios/drop_skewed.json") +
                                               R"(", "channel": "B_r_z)");
   expect_refused(write_file(dir, "j.json", copied), "'data[2].file'");
-  expect_refused(write_file(dir, "j.json", copied), "holds the same curve as data[1]");
+  expect_refused(write_file(dir, "j.json", copied), "holds the curve of data[1]");
+  // A near copy (its first data row left out, every height moved by 1e-12 m)
+  // is the same measurements too; a repeat that differs by 1e-5 m noise is not.
+  const auto shifted_copy = [&](const std::string& name, double shift_m, int rows_left_out) {
+    std::istringstream rows(skewed_rows);
+    std::string out, line;
+    std::getline(rows, line);
+    out += line + "\n";  // the header
+    for (int k = 0; std::getline(rows, line); ++k) {
+      if (k < rows_left_out) continue;
+      const std::size_t comma = line.find(',');
+      const double z = std::stod(line.substr(comma + 1)) + (k % 2 == 0 ? shift_m : -shift_m);
+      std::ostringstream row;
+      row.precision(17);
+      row << line.substr(0, comma) << "," << z;
+      out += row.str() + "\n";
+    }
+    std::string study_text = copied;
+    study_text.replace(study_text.find(copy), copy.size(), write_file(dir, name, out));
+    return write_file(dir, "near_" + name + ".json", study_text);
+  };
+  expect_refused(shifted_copy("near_copy.csv", 1e-12, 1), "holds the curve of data[1]");
+  EXPECT_EQ(load_calibration_study(shifted_copy("repeat.csv", 1e-5, 0)).datasets.size(), 3u);
   // The same numbers as another channel are another curve.
   std::string as_centre = copied;
   as_centre.replace(as_centre.rfind("B_r_z"), 5, "G_z");
