@@ -40,7 +40,9 @@ void check_flag_inputs(const CalibrateOptions& o) {
   io::InputFiles inputs;
   inputs.add(v.data_path, "--data");
   inputs.add_config(o.next_experiment, "--next-experiment");
-  checks.not_an_input("--out", study_results_path(o.run, o.study_path), inputs, /*beside=*/true);
+  checks.not_an_input("--out", study_results_path(o.run, o.study_path), inputs,
+                      o.run.plots == study::PlotSelection::kNone ? io::WrittenBeside::kTemporaries
+                                                                 : io::WrittenBeside::kTemporariesAndPlots);
   checks.throw_if_any();
 }
 

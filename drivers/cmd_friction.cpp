@@ -25,6 +25,9 @@
 namespace rover::cli {
 namespace {
 
+// The exit status of a result not to be trusted (drivers/main.cpp).
+constexpr int kUntrustedResultStatus = 2;
+
 struct FrictionOptions {
   std::string config = kDefaultRoverConfig;
   std::optional<double> mu_static, v_static_mps, mu_kinetic, v_kinetic_mps;  // empty: the config's
@@ -152,8 +155,12 @@ int run_friction(const FrictionOptions& o) {
   std::cout << out.dump(2) << "\n";
   if (!from_config) std::cerr << "synthesized the gammas in " << seconds << " s\n";
   if (!quality.acceptable)
-    std::cerr << "warning: the fit misses the quality bar (RMS < " << kFrictionMaxRms
-              << ", peak within " << 100 * kFrictionMaxPeakError << " % of mu_s)\n";
+    std::cerr << "WARNING: the fit misses the quality bar (RMS < " << kFrictionMaxRms << ", peak within "
+              << 100 * kFrictionMaxPeakError << " % of mu_s): these gammas are not to be trusted (exit status 2)"
+              << (p.mu_kinetic > p.mu_static ? "; mu_k is above mu_s, where the Makkar law has its peak at mu_s "
+                                               "(did you swap --mu-s and --mu-k?)"
+                                             : "")
+              << "\n";
 
   if (!o.png.empty()) {
     try {
@@ -167,7 +174,7 @@ int run_friction(const FrictionOptions& o) {
       std::cerr << "warning: no plot: " << e.what() << "\n";
     }
   }
-  return 0;
+  return quality.acceptable ? 0 : kUntrustedResultStatus;
 }
 
 const RegisterCommand friction_command{

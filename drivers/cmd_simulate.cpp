@@ -16,6 +16,7 @@
 #include "drivers/interruptible_outputs.hpp"
 #include "drivers/interruptible_simulation.hpp"
 #include "drivers/options.hpp"
+#include "io/output_target.hpp"
 #include "io/trajectory_io.hpp"
 
 namespace rover::cli {
@@ -52,6 +53,10 @@ void check_output_targets(const SimulateOptions& o, const std::string& out_flag,
 // is named first.
 void check_output_names(const SimulateOptions& o, const std::string& out_flag, const std::string& out) {
   FlagChecks checks;
+  if (const std::string refusal = io::extension_only_refusal(out); !refusal.empty()) {
+    checks.add(out_flag + " '" + out + "' " + refusal);
+    checks.throw_if_any();
+  }
   if (std::filesystem::path(out).extension() != ".h5") {
     checks.add(out_flag + " '" + out + "' must end in .h5 (an HDF5 file)");
     checks.throw_if_any();  // its plot has its name then: said once
@@ -87,7 +92,8 @@ void check_outputs_over_inputs(const SimulateOptions& o, const io::ScenarioSetup
   inputs.add(o.scenario, "--scenario");
   inputs.add_all(setup.files);
   FlagChecks checks;
-  checks.not_an_input(out_flag, out, inputs, /*beside=*/!o.no_plot);
+  checks.not_an_input(out_flag, out, inputs,
+                      o.no_plot ? io::WrittenBeside::kTemporaries : io::WrittenBeside::kTemporariesAndPlots);
   checks.not_an_input("--csv", o.csv, inputs);
   checks.throw_if_any();
 }

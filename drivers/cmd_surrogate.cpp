@@ -74,7 +74,7 @@ int predict(const CLI::App& app, const SurrogateOptions& o) {
   checks.throw_if_any();
   checks.output_format("--csv", o.csv_path, "CSV", ".csv");  // after: an input it would destroy is named first
   checks.throw_if_any();
-  const study::DesignMatrix x = study::surrogate_points(set, study::read_design_csv(o.design_path));
+  const study::DesignMatrix x = study::surrogate_points(set, study::read_surrogate_design(set, o.design_path));
   if (o.run.dry_run) {
     std::cerr << "surrogate: dry run: " << x.rows() << " points of " << set.models.size() << " "
               << study::surrogate_kind_name(set.kind) << " model(s) checked, " << o.csv_path

@@ -151,10 +151,9 @@ class FlagChecks {
   }
 
   // An output that would replace one of `inputs`, the files the command reads
-  // (io/input_files.hpp); with `beside`, also through the plots and the
-  // checkpoint written next to it.
+  // (io/input_files.hpp), also through the files written `beside` it.
   void not_an_input(const std::string& flag, const std::string& output, const io::InputFiles& inputs,
-                    bool beside = false) {
+                    io::WrittenBeside beside = io::WrittenBeside::kNothing) {
     for (std::string& problem : io::outputs_over_inputs(flag, output, inputs, beside)) add(std::move(problem));
   }
 

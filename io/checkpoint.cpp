@@ -345,6 +345,9 @@ std::string config_fingerprint(std::string_view text) {
 namespace {
 
 constexpr char kSettingSeparator = '\t';
+// The source of a setting in a key: the flag, the study file, or another input file named.
+constexpr const char* kFlagSource = "flag";
+constexpr const char* kFileSource = "file";
 
 // A key's digest and its settings (flag -> setting).
 struct ParsedKey {
@@ -367,7 +370,10 @@ ParsedKey parse_key(const std::string& key) {
     const std::string line = key.substr(start, end == std::string::npos ? std::string::npos : end - start);
     const std::size_t a = line.find(kSettingSeparator), b = line.rfind(kSettingSeparator);
     if (a == std::string::npos || b == a) continue;
-    parsed.settings.push_back({line.substr(0, a), line.substr(a + 1, b - a - 1), line.substr(b + 1) == "flag"});
+    const std::string source = line.substr(b + 1);
+    RunSetting setting{line.substr(0, a), line.substr(a + 1, b - a - 1), source == kFlagSource};
+    if (!setting.from_flag && source != kFileSource) setting.origin = source;
+    parsed.settings.push_back(setting);
   }
   return parsed;
 }
@@ -375,14 +381,15 @@ ParsedKey parse_key(const std::string& key) {
 // "--samples 320", or "the study file's 300 (no --samples)".
 std::string describe_setting(const RunSetting& s) {
   if (s.from_flag) return s.flag + " " + s.value;
-  return "the study file's " + s.value + " (no " + s.flag + ")";
+  return s.origin + "'s " + s.value + " (no " + s.flag + ")";
 }
 
 }  // namespace
 
 std::string add_run_setting(const std::string& key, const RunSetting& setting) {
+  const bool study_file = setting.origin == RunSetting{}.origin;
   return key + "\n" + setting.flag + kSettingSeparator + setting.value + kSettingSeparator +
-         (setting.from_flag ? "flag" : "file");
+         (setting.from_flag ? kFlagSource : study_file ? kFileSource : setting.origin);
 }
 
 std::string extend_key_digest(const std::string& key, const std::string& text) {

@@ -131,12 +131,14 @@ std::string config_fingerprint(std::string_view text);
 
 // A setting in force that changes a study's runs (a sample count, a seed, an
 // integrator): the flag that overrides it, its value, and whether that flag
-// gave it (else the study file did). A checkpoint records the settings of its
-// runs, so that a --resume under other values names the flag that differs.
+// gave it (else the input file `origin` did). A checkpoint records the
+// settings of its runs, so that a --resume under other values names the flag
+// that differs.
 struct RunSetting {
   std::string flag;   // "--samples"
   std::string value;  // "300"
   bool from_flag = false;
+  std::string origin = "the study file";  // "the scenario": where a value not from the flag came from
 };
 
 // The key of a study's runs, which a checkpoint is written under: the digest

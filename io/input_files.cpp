@@ -126,12 +126,13 @@ namespace {
 // under another name (a hard or symbolic link: same device and inode), with
 // that input; {"", nullptr} if none.
 std::pair<std::string, const InputFiles::File*> input_beside(const InputFiles& inputs, const std::string& dir,
-                                                            const std::string& stem, const std::string& name) {
+                                                            const std::string& stem, const std::string& name,
+                                                            bool plots) {
   std::error_code error;
   for (fs::directory_iterator it(dir.empty() ? fs::path(".") : fs::path(dir), error), end; !error && it != end;
        it.increment(error)) {
     const std::string entry = it->path().filename().string();
-    const bool plot = entry.ends_with(".png") && (entry == stem + ".png" || entry.starts_with(stem + "_"));
+    const bool plot = plots && entry.ends_with(".png") && (entry == stem + ".png" || entry.starts_with(stem + "_"));
     if (!plot && !entry.starts_with(name + ".")) continue;
     const std::string path = (fs::path(dir) / entry).string();
     if (const InputFiles::File* input = inputs.same_file_as(path)) return {path, input};
@@ -142,7 +143,7 @@ std::pair<std::string, const InputFiles::File*> input_beside(const InputFiles& i
 }  // namespace
 
 std::vector<std::string> outputs_over_inputs(const std::string& flag, const std::string& output,
-                                             const InputFiles& inputs, bool beside) {
+                                             const InputFiles& inputs, WrittenBeside beside) {
   std::vector<std::string> problems;
   if (output.empty()) return problems;
   auto destroys = [&](const std::string& what, const InputFiles::File& input) {
@@ -156,16 +157,17 @@ std::vector<std::string> outputs_over_inputs(const std::string& flag, const std:
     destroys(" is the same file as", *input);
     return problems;
   }
-  if (!beside) return problems;
+  if (beside == WrittenBeside::kNothing) return problems;
+  const bool plotted = beside == WrittenBeside::kTemporariesAndPlots;
   const fs::path out(output);
   const std::string dir = out.parent_path().string(), name = out.filename().string();
   const std::string stem = name.substr(0, name.size() - out.extension().string().size());
   const std::string plots = (fs::path(dir) / stem).string() + "*.png";
-  if (const InputFiles::File* input = inputs.named_like(dir, stem, ".png")) {
+  if (const InputFiles::File* input = plotted ? inputs.named_like(dir, stem, ".png") : nullptr) {
     destroys(": a plot written beside it (" + plots + ") would replace", *input);
   } else if (const InputFiles::File* next_to = inputs.named_like(dir, name + ".", "")) {
     destroys(": its checkpoint or temporary file (" + output + ".*) would replace", *next_to);
-  } else if (const auto [entry, linked] = input_beside(inputs, dir, stem, name); linked != nullptr) {
+  } else if (const auto [entry, linked] = input_beside(inputs, dir, stem, name, plotted); linked != nullptr) {
     destroys(": " + entry + (entry.ends_with(".png") ? ", a plot written beside it (" + plots + ")," :
                                                       ", its checkpoint or temporary file (" + output + ".*),") +
                  " is a link to", *linked);

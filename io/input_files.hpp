@@ -49,13 +49,15 @@ class InputFiles {
   std::vector<File> files_;
 };
 
+// What a command writes next to an output: nothing (a CSV), its temporary
+// file and checkpoint (<out>.*), and the plots <stem>*.png too.
+enum class WrittenBeside { kNothing, kTemporaries, kTemporariesAndPlots };
+
 // "--out 'x' is the same file as --scenario 'x'; writing it would destroy it"
 // (or "... as the file 'r.json' named by 'rover' in s.json ..."), or the same
-// for the files written beside it (plots, checkpoint): one
-// problem per output that would replace an input; empty if none does. `flag`
-// names the output ("--out"); `beside` says whether plots and a checkpoint are
-// written next to it.
+// for the files written beside it (`beside`): one problem per output that
+// would replace an input; empty if none does. `flag` names the output ("--out").
 std::vector<std::string> outputs_over_inputs(const std::string& flag, const std::string& output,
-                                             const InputFiles& inputs, bool beside);
+                                             const InputFiles& inputs, WrittenBeside beside);
 
 }  // namespace rover::io

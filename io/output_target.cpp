@@ -7,10 +7,15 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cctype>
+#include <array>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <stdexcept>
 #include <string_view>
 #include <system_error>
@@ -82,6 +87,42 @@ std::string octal_mode(mode_t mode) {
   return text;
 }
 
+// The mount points of this process's mount namespace, as /proc/self/mountinfo
+// lists them (its fifth field, with the octal escapes \040 of spaces and the
+// like decoded).
+std::vector<std::string> mount_points() {
+  std::vector<std::string> points;
+  std::ifstream mountinfo("/proc/self/mountinfo");
+  for (std::string line; std::getline(mountinfo, line);) {
+    std::istringstream fields(line);
+    std::string id, parent, device, root, point;
+    if (!(fields >> id >> parent >> device >> root >> point)) continue;
+    std::string decoded;
+    for (std::size_t i = 0; i < point.size(); ++i) {
+      const bool escape = point[i] == '\\' && i + 3 < point.size() &&
+                          point.substr(i + 1, 3).find_first_not_of("01234567") == std::string::npos;
+      if (escape) {
+        decoded += static_cast<char>(std::stoi(point.substr(i + 1, 3), nullptr, 8));
+        i += 3;
+      } else {
+        decoded += point[i];
+      }
+    }
+    points.push_back(decoded);
+  }
+  return points;
+}
+
+// Whether something is mounted at `path` itself (mount --bind of a file onto
+// it): no rename may replace a mount point (EBUSY).
+bool is_mount_point(const std::string& path) {
+  std::error_code error;
+  const fs::path resolved = fs::canonical(path, error);
+  if (error) return false;
+  const std::vector<std::string> points = mount_points();
+  return std::find(points.begin(), points.end(), resolved.string()) != points.end();
+}
+
 OutputTarget refused(std::string why) { return {OutputMode::kReplace, std::move(why)}; }
 
 // What a writer appends to its output's name for the temporary file.
@@ -104,6 +145,7 @@ OutputTarget inspect_output(const std::string& path, OutputFormat format) {
   // "dir/", "dir/." or "..": a directory, existing or not (nothing is made for it).
   if (const fs::path name = fs::path(path).filename(); name.empty() || name == "." || name == "..")
     return refused("names a directory; give a file name");
+  if (const std::string refusal = extension_only_refusal(path); !refusal.empty()) return refused(refusal);
   if (path.ends_with(kTemporarySuffix))
     return refused("ends in " + std::string(kTemporarySuffix) + ", the name of a writer's temporary file, which the " +
                    "next write beside it would remove: give another name");
@@ -141,12 +183,26 @@ OutputTarget inspect_output(const std::string& path, OutputFormat format) {
     return refused("is " + attribute + " (lsattr shows it): no program can replace it, whatever its mode; an "
                    "existing result that is not writable is never replaced: give another name, or clear the "
                    "attribute (chattr)");
+  if (is_mount_point(path))
+    return refused("is a mount point (a file mounted over this path, as by mount --bind): no program can replace "
+                   "it by rename; give another name");
   struct stat st {};
   if (::stat(path.c_str(), &st) == 0 && ((st.st_mode & 0222) == 0 || ::access(path.c_str(), W_OK) != 0))
     return refused("is read-only (mode " + octal_mode(st.st_mode) +
                    "); an existing result that is not writable is never replaced: make it writable "
                    "(chmod u+w) or give another name");
   return {};
+}
+
+std::string extension_only_refusal(const std::string& path) {
+  static constexpr std::array<std::string_view, 6> kWrittenExtensions{".h5", ".hdf5", ".csv", ".json", ".png",
+                                                                      ".pdf"};
+  std::string name = fs::path(path).filename().string();
+  std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (std::find(kWrittenExtensions.begin(), kWrittenExtensions.end(), name) == kWrittenExtensions.end()) return "";
+  const std::string typed = fs::path(path).filename().string();
+  return "has no name before its extension " + typed + ": give the file a name, such as '" +
+         (fs::path(path).parent_path() / ("result" + typed)).string() + "'";
 }
 
 int own_descriptor(const std::string& path) {
@@ -293,7 +349,8 @@ OutputMode require_output(const std::string& path, OutputFormat format) {
 }
 
 bool is_plain_file_name(const std::string& name) {
-  return !name.empty() && name.find_first_of("/\\") == std::string::npos && name != "." && name != "..";
+  const bool control = std::any_of(name.begin(), name.end(), [](unsigned char c) { return c < 0x20 || c == 0x7f; });
+  return !name.empty() && !control && name.find_first_of("/\\") == std::string::npos && name != "." && name != "..";
 }
 
 }  // namespace rover::io

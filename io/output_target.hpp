@@ -14,7 +14,10 @@
 //     link by a regular file; the message names the link's target);
 //   * a read-only regular file (no write permission bit, or not writable by
 //     this user): refused, also for root;
-//   * a directory or a socket (which no open() accepts): refused.
+//   * a directory or a socket (which no open() accepts): refused;
+//   * a mount point (a file bound over the path): refused, as no rename may
+//     replace it;
+//   * a file name that is only an extension (".h5"): refused.
 #pragma once
 
 #include <string>
@@ -40,8 +43,13 @@ struct OutputTarget {
 
 OutputTarget inspect_output(const std::string& path, OutputFormat format);
 
+// Why the file name of `path` is only the extension of a format rover
+// writes ("r/.h5", ".csv": a hidden file with no name), or empty.
+std::string extension_only_refusal(const std::string& path);
+
 // Whether a config's "name" may name a file in results/ (the default output
-// results/<name>.h5): not empty, no directory separator, not "." or "..".
+// results/<name>.h5): not empty, no directory separator or control
+// character (a NUL ends a path), not "." or "..".
 bool is_plain_file_name(const std::string& name);
 
 // The descriptor of this process that `path` names, also through links:

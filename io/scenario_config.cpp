@@ -490,25 +490,25 @@ ModelInputs parse_simulation_inputs(const JsonReader& r, ModelInputs in) {
   return in;
 }
 
+std::string named_input_file(const JsonReader& r, const std::string& key, const std::string& kind) {
+  const std::string name = r.string(key);
+  if (name.empty()) r.fail(key, "expected the path of " + kind);
+  const std::string resolved = resolve_relative(r.file(), name);
+  if (const std::string problem = input_path_problem(resolved, kind); problem == "no such file")
+    r.fail(key, "file not found: " + resolved);
+  else if (!problem.empty())
+    r.fail(key, resolved + " " + problem);
+  return resolved;
+}
+
 ScenarioSources read_scenario_sources(const std::string& path) {
   ScenarioSources sources;
   sources.scenario = read_json_file(path);
   sources.scenario_path = path;
   const JsonReader r(sources.scenario, path);
-  // A referenced file: a name, of something that exists and is not a directory.
-  auto referenced_file = [&](const std::string& key) {
-    const std::string name = r.string(key);
-    if (name.empty()) r.fail(key, "expected the path of a JSON file");
-    const std::string resolved = resolve_relative(path, name);
-    if (const std::string problem = input_path_problem(resolved, "a JSON file"); problem == "no such file")
-      r.fail(key, "file not found: " + resolved);
-    else if (!problem.empty())
-      r.fail(key, resolved + " " + problem);
-    return resolved;
-  };
-  sources.rover_path = referenced_file("rover");
+  sources.rover_path = named_input_file(r, "rover", "a JSON file");
   if (r.has("terrain")) {
-    sources.terrain_path = referenced_file("terrain");
+    sources.terrain_path = named_input_file(r, "terrain", "a JSON file");
     sources.terrain = load_terrain(sources.terrain_path);
   }
   sources.rover = read_json_file(sources.rover_path);
@@ -679,7 +679,8 @@ ScenarioSetup build_scenario(const ScenarioSources& sources) {
   Scenario& s = setup.scenario;
   s.name = r.string_or("name", std::filesystem::path(path).stem().string());
   if (r.has("name") && !is_plain_file_name(s.name))
-    r.fail("name", "must be a plain file name (rover simulate writes results/<name>.h5 by default)");
+    r.fail("name", "must be a plain file name, with no '/', '\\' or control character (rover simulate writes "
+           "results/<name>.h5 by default)");
   r.string_or("description", "");
   r.string("rover");
   if (r.has("terrain")) r.string("terrain");

@@ -118,4 +118,10 @@ ModelInputs parse_simulation_inputs(const JsonReader& r, ModelInputs base);
 // without "." and ".." where that names the same file (the common case).
 std::string resolve_relative(const std::string& config_path, const std::string& path);
 
+// The file named by the string field `key` of `r`, resolved relative to r's
+// file; a name that reaches no readable file is refused naming the config,
+// the field and the path resolved: "s.json: field 'data' (value "d.csv"):
+// file not found: cfg/d.csv". `kind`: "a JSON file", "a CSV file".
+std::string named_input_file(const JsonReader& r, const std::string& key, const std::string& kind);
+
 }  // namespace rover::io

@@ -225,6 +225,12 @@ void check_data_fits_the_run(const CalibrationStudy& s, const CalibrationDataset
                           d.scenario_path + " even at the largest time offset, " + format_number(offset_upper, 6) +
                           " s (field 'bounds.time_offset')" + milliseconds_hint(d.t.back(), duration_s + offset_upper) +
                           "; lengthen the scenario's \"duration\" or cut the data");
+  if (d.t.back() - offset_lower < 0.0)
+    throw io::ConfigError(d.path + ": the data end at t = " + format_number(d.t.back(), 6) +
+                          " s, before the simulated run of " + d.scenario_path + " starts (t = 0) even at the "
+                          "smallest time offset, " + format_number(offset_lower, 6) +
+                          " s (field 'bounds.time_offset'): no sample meets the run; give the data's times from "
+                          "the release, or bounds that reach them");
 }
 
 // Bounds and initial values of parameters not fitted are accepted (a study
@@ -381,7 +387,7 @@ void refuse_copied_curve(const io::JsonReader& item, const std::vector<Calibrati
 void read_datasets(const io::JsonReader& r, const std::string& path, const CalibrationOverrides& o,
                    CalibrationStudy& s) {
   if (o.data_path.empty() && !r.has("data")) r.fail("data", "missing: give the measured curve here or with --data");
-  const std::string study_scenario = io::resolve_relative(path, r.string("scenario"));
+  const std::string study_scenario = io::named_input_file(r, "scenario", "a JSON file");
   auto add_dataset = [&](const std::string& file, const std::string& scenario, const std::string& channel) {
     CalibrationDataset d;
     d.path = file;
@@ -407,7 +413,7 @@ void read_datasets(const io::JsonReader& r, const std::string& path, const Calib
     (void)r.has("data");  // the command line's curve replaces the study's
     add_dataset(o.data_path, study_scenario, "B_l_z");
   } else if (r.raw("data").is_string()) {
-    add_dataset(io::resolve_relative(path, r.string("data")), study_scenario, "B_l_z");
+    add_dataset(io::named_input_file(r, "data", "a CSV file"), study_scenario, "B_l_z");
   } else {
     const io::Json& list = r.raw("data");
     if (!list.is_array() || list.empty())
@@ -415,9 +421,9 @@ void read_datasets(const io::JsonReader& r, const std::string& path, const Calib
     for (std::size_t i = 0; i < list.size(); ++i) {
       if (!list[i].is_object()) r.fail("data", "entry " + std::to_string(i) + " is not an object");
       const io::JsonReader item(list[i], path, r.field("data") + "[" + std::to_string(i) + "]");
-      const std::string file = io::resolve_relative(path, item.string("file"));
+      const std::string file = io::named_input_file(item, "file", "a CSV file");
       const std::string scenario =
-          item.has("scenario") ? io::resolve_relative(path, item.string("scenario")) : study_scenario;
+          item.has("scenario") ? io::named_input_file(item, "scenario", "a JSON file") : study_scenario;
       const std::string channel = item.string_or("channel", "B_l_z");
       refuse_curve_listed_twice(item, file, s.datasets);
       try {

@@ -1,10 +1,12 @@
 // See evaluate.hpp.
 #include "study/studies/evaluate.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <iostream>
 #include <limits>
@@ -21,6 +23,7 @@
 #include "study/studies/study_output.hpp"
 #include "study/studies/summary_figure.hpp"
 #include "study/runtime/study_runner.hpp"
+#include "study/model/qoi.hpp"
 #include "study/studies/study_spec.hpp"
 
 namespace rover::study {
@@ -60,7 +63,7 @@ std::string number(double x) {
 
 }  // namespace
 
-DesignTable read_design_csv(const std::string& path) {
+DesignTable read_design_csv(const std::string& path, const std::function<void(const DesignTable&)>& check_columns) {
   std::ifstream in(path, std::ios::binary);
   if (!in || std::filesystem::is_directory(path)) throw io::ConfigError(path + ": cannot read the design file");
   DesignTable table;
@@ -83,6 +86,7 @@ DesignTable read_design_csv(const std::string& path) {
       table.header_line = line_number;
       for (std::size_t j = 0; j < cells.size(); ++j)
         if (cells[j].empty()) throw io::ConfigError(where + ": column " + std::to_string(j + 1) + " has no name");
+      if (check_columns) check_columns(table);  // a column to remove is named before any of its cells
       header = false;
       continue;
     }
@@ -117,9 +121,20 @@ DesignTable read_design_csv(const std::string& path) {
 
 namespace {
 
+// A column rover evaluate writes after the inputs: a QoI, "status" or "message".
+bool is_evaluate_output_column(const std::string& column) {
+  const std::vector<std::string>& qois = qoi_kind_names();
+  return column == "status" || column == "message" || std::find(qois.begin(), qois.end(), column) != qois.end();
+}
+
 std::vector<std::string> canonical_columns(const DesignTable& design, const ParameterSpace& space) {
   std::vector<std::string> names;
   for (std::size_t j = 0; j < design.columns.size(); ++j) {
+    if (is_evaluate_output_column(design.columns[j]))
+      throw io::ConfigError(design.path + ":" + std::to_string(design.header_line) + ": column " +
+                            std::to_string(j + 1) + " '" + design.columns[j] +
+                            "' is an output of rover evaluate, not a parameter: a design holds input columns "
+                            "only; remove the output columns (a result's own inputs are its first columns)");
     try {
       names.push_back(space.canonical(design.columns[j]));
     } catch (const std::invalid_argument& e) {
@@ -176,7 +191,8 @@ std::string evaluate_fingerprint(const EvaluateRequest& request, const io::Scena
   key = with_setting(key, "--qoi", qoi, true);
   key = with_setting(key, "--channels", channels, true);
   const bool integrator = !request.integrator.empty();
-  return with_setting(key, "--integrator", integrator ? request.integrator : "the scenario's", integrator);
+  return with_setting(key, "--integrator", integrator ? request.integrator : "integrator", integrator,
+                      "the scenario");
 }
 
 }  // namespace
@@ -187,8 +203,9 @@ EvaluateStudy load_evaluate(const EvaluateRequest& request) {
   EvaluateStudy s;
   s.request = request;
   io::ScenarioSources sources = io::read_scenario_sources(request.scenario_path);
-  s.design = read_design_csv(request.design_path);
-  s.names = canonical_columns(s.design, ParameterSpace(sources.rover, sources.scenario));
+  const ParameterSpace space(sources.rover, sources.scenario);
+  s.design = read_design_csv(request.design_path, [&](const DesignTable& t) { (void)canonical_columns(t, space); });
+  s.names = canonical_columns(s.design, space);
   std::vector<Channel> channels;
   for (const std::string& c : request.channel_names) channels.push_back(channel_from_name(c));
   std::optional<IntegratorSettings> integrator;

@@ -21,6 +21,7 @@
 // write_evaluate() or write_evaluate_csv(), report_evaluate() and plot_evaluate().
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -42,7 +43,10 @@ struct DesignTable {
 };
 
 // Reads a design CSV (throws io::ConfigError naming file, line and column).
-DesignTable read_design_csv(const std::string& path);
+// `check_columns`, if given, sees the table once its header is read, before
+// any value: a column that names no input is refused before its cells are.
+DesignTable read_design_csv(const std::string& path,
+                            const std::function<void(const DesignTable&)>& check_columns = {});
 
 struct EvaluateRequest {
   std::string scenario_path, design_path, out_path;

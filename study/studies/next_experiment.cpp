@@ -58,12 +58,12 @@ void refuse_setting_a_fitted_parameter(const io::JsonReader& set, const std::str
                      "set here would be ignored; remove it, or set only parameters the study does not fit");
 }
 
-NextExperimentCandidate read_candidate(const io::JsonReader& c, const std::string& path, std::size_t index,
+NextExperimentCandidate read_candidate(const io::JsonReader& c, std::size_t index,
                                        const CalibrationStudy& study) {
   NextExperimentCandidate out;
   out.name = c.string_or("name", "candidate " + std::to_string(index));
   if (const std::string problem = io::display_name_problem(out.name); !problem.empty()) c.fail("name", problem);
-  out.scenario_path = io::resolve_relative(path, c.string("scenario"));
+  out.scenario_path = io::named_input_file(c, "scenario", "a JSON file");
   out.channel = c.string_or("channel", "B_l_z");
   try {
     (void)calibration_channel(out.channel);
@@ -145,7 +145,7 @@ std::vector<NextExperimentCandidate> load_next_experiment_candidates(const std::
   for (std::size_t i = 0; i < list.size(); ++i) {
     if (!list[i].is_object()) r.fail("candidates", "entry " + std::to_string(i) + " is not an object");
     const io::JsonReader c(list[i], path, r.field("candidates") + "[" + std::to_string(i) + "]");
-    out.push_back(read_candidate(c, path, i, study));
+    out.push_back(read_candidate(c, i, study));
     for (std::size_t j = 0; j < i; ++j)  // the ranking names each candidate: two of one name could not be told apart
       if (out[j].name == out[i].name)
         c.fail("name", "candidates[" + std::to_string(j) + "] has this name too: give each candidate its own name");

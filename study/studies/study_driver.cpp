@@ -65,7 +65,9 @@ namespace {
 // may not be written, before any run.
 void check_outputs(const std::string& flag, const std::string& out, const io::InputFiles& inputs,
                    PlotSelection plots) {
-  std::vector<std::string> problems = io::outputs_over_inputs(flag, out, inputs, /*beside=*/true);
+  std::vector<std::string> problems = io::outputs_over_inputs(
+      flag, out, inputs,
+      plots == PlotSelection::kNone ? io::WrittenBeside::kTemporaries : io::WrittenBeside::kTemporariesAndPlots);
   if (plots != PlotSelection::kNone)
     for (const std::string& problem : io::plots_beside_refused(out))
       problems.push_back(flag + " '" + out + "': the plot " + problem + "; or pass --plots none");

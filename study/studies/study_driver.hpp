@@ -216,6 +216,31 @@ int interrupted_after_commit(const std::string& command, const std::string& resu
 // Rank 0: says that a dry run checked everything and ran nothing.
 void report_dry_run(const std::string& command, const std::string& results_path);
 
+// Rank 0: writes `result` to `out` (through `h5`, or as CSV without it) and
+// commits it. A write that fails (a full disk) leaves no result, and the
+// message says where the runs are kept and how to continue.
+template <class Result>
+void write_result(const StudyProgram<Result>& study, const Result& result, const std::string& out,
+                  io::Hdf5Writer* h5, const StudyRunOptions& options, const RunCounts& counts) {
+  try {
+    if (h5 == nullptr) {
+      study.write_csv(result, out);
+    } else {
+      if (study.provenance) study.provenance(*h5);
+      study.write(result, *h5);
+      stop_if_interrupted(options);  // while writing: uncommitted, the checkpoint kept
+    }
+    commit(study.command, out, h5, counts);
+  } catch (const StudyInterrupted&) {
+    throw;
+  } catch (const WorkStopped&) {
+    throw;
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(
+        with_kept_runs(e.what(), "remove the cause (free space on a full disk) and run it again with --resume", out));
+  }
+}
+
 }  // namespace driver_detail
 
 // Collective: runs `study` with `options` (the user's flags) on every rank and
@@ -260,14 +285,7 @@ int drive_study(const StudyProgram<Result>& study, const StudyRunOptions& option
     const RunCounts counts = study.counts(result);
     const std::string nothing = study.holds_nothing ? study.holds_nothing(result) : std::string();
     if (const auto status = driver_detail::keep_earlier_result(study.command, out, counts, nothing)) return *status;
-    if (csv) {
-      study.write_csv(result, out);
-    } else {
-      if (study.provenance) study.provenance(*h5);
-      study.write(result, *h5);
-      driver_detail::stop_if_interrupted(runtime.options);  // while writing: uncommitted, the checkpoint kept
-    }
-    driver_detail::commit(study.command, out, h5.get(), counts);
+    driver_detail::write_result(study, result, out, h5.get(), runtime.options, counts);
     if (study.report) study.report(result, std::cerr);
     const bool every_run_failed = counts.runs > 0 && counts.failed == counts.runs;
     if (study.plot && options.plots != PlotSelection::kNone && !every_run_failed) {

@@ -29,6 +29,8 @@ std::string checked_results_path(const std::string& name, const std::string& req
   const std::filesystem::path p(path);
   if (const auto file = p.filename(); std::filesystem::is_directory(p) || file.empty() || file == "." || file == "..")
     throw std::invalid_argument(out + " is a directory; give a file name ending in .h5");
+  if (const std::string refusal = io::extension_only_refusal(path); !refusal.empty())
+    throw std::invalid_argument(out + " " + refusal);
   if (csv_allowed && p.extension() != ".h5" && p.extension() != ".csv")
     throw std::invalid_argument(out + " must end in .csv or .h5");
   if (!csv_allowed && p.extension() != ".h5")

@@ -475,12 +475,16 @@ std::vector<Channel> parse_channels(const io::JsonReader& r) {
     }
     return n;
   }();
-  for (const std::string& n : names) {
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const std::string field = "channels[" + std::to_string(k) + "]";
     try {
-      channels.push_back(channel_from_name(n));
+      channels.push_back(channel_from_name(names[k]));
     } catch (const std::invalid_argument& e) {
-      r.fail("channels", e.what());
+      r.fail(field, e.what());
     }
+    if (std::find(names.begin(), names.begin() + static_cast<std::ptrdiff_t>(k), names[k]) !=
+        names.begin() + static_cast<std::ptrdiff_t>(k))
+      r.fail(field, "channel '" + names[k] + "' appears twice: list each channel once");
   }
   return channels;
 }
@@ -557,8 +561,8 @@ std::string extend_fingerprint(const std::string& fingerprint, const std::string
 }
 
 std::string with_setting(const std::string& fingerprint, const std::string& flag, const std::string& value,
-                         bool from_flag) {
-  return io::add_run_setting(fingerprint, {flag, value, from_flag});
+                         bool from_flag, const std::string& origin) {
+  return io::add_run_setting(fingerprint, {flag, value, from_flag, origin});
 }
 
 std::string study_file_run_text(const io::Json& study) {
@@ -608,7 +612,7 @@ StudyIdentity parse_study_identity(const io::JsonReader& r, const std::vector<st
     r.fail("type", "this command runs studies of type " + comma_separated(types));
   id.name = r.string("name");
   if (!io::is_plain_file_name(id.name))
-    r.fail("name", "must be a plain file name (results go to results/<name>.h5)");
+    r.fail("name", "must be a plain file name, with no '/', '\\' or control character (results go to results/<name>.h5)");
   id.description = r.string_or("description", "");
   return id;
 }

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/scenario.hpp"
+#include "io/checkpoint.hpp"
 #include "io/input_files.hpp"
 #include "io/json_reader.hpp"
 #include "study/design/design.hpp"
@@ -127,8 +128,8 @@ struct DesignOverrides {
 };
 
 // The key `fingerprint` with the setting `flag` = `value` added (from the
-// flag when `from_flag`, else from the study file).
+// flag when `from_flag`, else from the input file `origin`).
 std::string with_setting(const std::string& fingerprint, const std::string& flag, const std::string& value,
-                         bool from_flag);
+                         bool from_flag, const std::string& origin = io::RunSetting{}.origin);
 
 }  // namespace rover::study

@@ -46,6 +46,10 @@ std::vector<std::size_t> column_inputs(const SurrogateSet& set, const DesignTabl
 
 }  // namespace
 
+DesignTable read_surrogate_design(const SurrogateSet& set, const std::string& path) {
+  return read_design_csv(path, [&](const DesignTable& header) { (void)column_inputs(set, header); });
+}
+
 DesignMatrix surrogate_points(const SurrogateSet& set, const DesignTable& design) {
   const std::vector<std::size_t> input_of = column_inputs(set, design);
   DesignMatrix x(design.values.rows(), static_cast<Eigen::Index>(set.inputs.size()));

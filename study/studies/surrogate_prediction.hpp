@@ -22,6 +22,10 @@ namespace rover::study {
 // training support (naming its row, line, parameter and the support).
 DesignMatrix surrogate_points(const SurrogateSet& set, const DesignTable& design);
 
+// The design CSV at `path`, its header checked against the set's inputs
+// before any value is read (a column that is no input is named first).
+DesignTable read_surrogate_design(const SurrogateSet& set, const std::string& path);
+
 struct PredictionTable {
   std::vector<std::string> header;
   std::vector<std::vector<double>> columns;  // columns[j][point]

@@ -111,6 +111,11 @@ void check_training_runs(const io::JsonReader& t, const SurrogateStudy& s) {
   std::vector<Eigen::Index> ok;
   for (Eigen::Index i = 0; i < runs.x.rows(); ++i)
     if (runs.status[static_cast<std::size_t>(i)] == run_status::kOk) ok.push_back(i);
+  if (const int needed = min_training_runs(s); static_cast<int>(ok.size()) < needed)
+    t.fail("file", s.training_file + ": " + std::to_string(ok.size()) + " successful training runs (" +
+                       std::to_string(runs.x.rows() - static_cast<Eigen::Index>(ok.size())) + " failed); a " +
+                       surrogate_kind_name(s.kind) + " of " + std::to_string(s.spec.inputs.size()) +
+                       " inputs needs at least " + std::to_string(needed));
   std::string problems;
   for (std::size_t j = 0; j < s.spec.inputs.size(); ++j) {
     Eigen::VectorXd values(static_cast<Eigen::Index>(ok.size()));

@@ -718,7 +718,7 @@ TEST_F(Audit, MonteCarloStudy) {
           [&](Json& j) { j["qoi"] = {{{"name", "rms_vs"}, {"reference", w().dir() + "/missing.csv"}}}; },
           Want::kError, {"'qoi[0].reference'", "missing.csv"});
   mc_case("channels as a string", [](Json& j) { j["channels"] = "B_l_z"; }, Want::kError, {"'channels'", "B_l_z"});
-  mc_case("channel Fn_5", [](Json& j) { j["channels"] = {"Fn_5"}; }, Want::kError, {"'channels'", "Fn_5"});
+  mc_case("channel Fn_5", [](Json& j) { j["channels"] = {"Fn_5"}; }, Want::kError, {"'channels[0]'", "Fn_5"});
   mc_case("confidence 1.5", [](Json& j) { j["confidence"] = 1.5; }, Want::kError, {"'confidence'", "1.5"});
   mc_case("confidence 0", [](Json& j) { j["confidence"] = 0; }, Want::kError, {"'confidence'", "0"});
   mc_case("negative bootstrap", [](Json& j) { j["bootstrap"] = -1; }, Want::kError, {"'bootstrap'", "-1"});
@@ -4986,6 +4986,127 @@ TEST_F(Audit, DefaultsDescriptionsComparedIndicesAndDamagedCurves) {
                        " --dry-run",
                    Want::kRuns, {warned, "and t_min are read"}});
   run_table(dir, cases);
+}
+
+// Names and files a command is given: a study's name holds no control
+// character; a missing file named inside a config is named with its field;
+// an output name needs a name before its extension and no mount over it; a
+// design's columns are checked before its values; a training file's run
+// count, a channel listed twice and a checkpoint's integrator are found
+// before any run.
+TEST_F(Audit, OutputNamesMountsDesignsAndNamedFiles) {
+  const std::string dir = w().dir();
+  std::vector<Case> cases;
+  const std::string nul_name = w().montecarlo([](Json& j) { j["name"] = std::string("a\0b", 3); });
+  cases.push_back({"a study name holding a NUL", "montecarlo --no-plot --dry-run --study " + nul_name, Want::kError,
+                   {"field 'name'", "control character"}, absent_file(dir + "/results")});
+  cases.push_back({"a calibration's data file missing", study("calibrate", w().calibration([](Json& j) {
+                     j["data"] = "nonexist.csv";
+                   })) + " --dry-run",
+                   Want::kError, {"field 'data'", "file not found: " + dir + "/nonexist.csv"}});
+  const std::string candidates = w().json_file(
+      "cand", Json{{"candidates", {{{"scenario", "missing.json"}, {"rate_hz", 200}, {"noise_sd", 1e-4}}}}});
+  cases.push_back({"a candidate's scenario missing",
+                   "calibrate --no-plot --study " + w().calibration([](Json&) {}) + " --next-experiment " + candidates +
+                       " --out " + w().out() + " --dry-run",
+                   Want::kError, {candidates, "field 'candidates[0].scenario'", "file not found"}});
+  cases.push_back({"simulate --out .h5", "simulate --no-plot --scenario " + w().quick() + " --out " + dir + "/.h5",
+                   Want::kError, {"has no name before its extension .h5"}, absent_file(dir + "/.h5"),
+                   {}, {"must end in .h5"}});
+  cases.push_back({"simulate --csv .csv",
+                   "simulate --no-plot --scenario " + w().quick() + " --out " + w().out() + " --csv " + dir + "/.csv",
+                   Want::kError, {"--csv", "has no name before its extension .csv"}, absent_file(dir + "/.csv")});
+  cases.push_back({"montecarlo --out .h5", study_args("montecarlo", w().montecarlo([](Json&) {}), dir + "/.h5"),
+                   Want::kError, {"has no name before its extension .h5"}});
+  // rover evaluate's own output given back as a design; a column that is no
+  // parameter with a value that is no number.
+  const std::string evaluated = dir + "/evaluated.csv";
+  write_file(evaluated, "c_q,t_min,status,message\n0.1,0.05,0,\n");
+  const std::string bogus = w().text_file("bogus", "c_q,bogus\n0.1,abc\n", "csv");
+  cases.push_back({"evaluate's output as a design",
+                   "evaluate --scenario " + w().quick() + " --design " + evaluated + " --qoi t_min --out " + w().out("csv"),
+                   Want::kError, {"column 2 't_min' is an output of rover evaluate"}, {}, {}, {"not a finite number"}});
+  cases.push_back({"a design column that is no parameter, with text in it",
+                   "evaluate --scenario " + w().quick() + " --design " + bogus + " --qoi t_min --out " + w().out("csv"),
+                   Want::kError, {"column 2", "unknown parameter 'bogus'"}, {}, {}, {"not a finite number"}});
+  // A surrogate study trained on too few runs, found by --dry-run.
+  const Json c_q = {{"c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.2}}}};
+  const std::string four_runs = dir + "/four.h5";
+  std::string log;
+  ASSERT_EQ(run_command("cd " + dir + " && " + rover_binary() + " " +
+                            study_args("montecarlo", w().montecarlo([](Json& j) { j["design"]["samples"] = 2; }),
+                                       four_runs),
+                        &log),
+            0) << log;
+  const std::string thin = w().json_file(
+      "thin", Json{{"type", "surrogate"}, {"name", "thin"}, {"scenario", w().quick()}, {"parameters", c_q},
+                   {"qoi", {"t_min"}}, {"training", {{"file", four_runs}}}, {"pce", {{"max_degree", 2}}}});
+  cases.push_back({"a surrogate trained on 2 runs, dry run", study("surrogate", thin) + " --dry-run", Want::kError,
+                   {"field 'training.file'", "2 successful training runs", "needs at least"}});
+  cases.push_back({"a channel listed twice", study("montecarlo", w().montecarlo([](Json& j) {
+                     j["channels"] = {"B_l_z", "B_l_z"};
+                   })) + " --dry-run",
+                   Want::kError, {"field 'channels[1]'", "channel 'B_l_z' appears twice"}});
+  // The checkpoint of an evaluation made with the scenario's integrator.
+  const std::string budgetless = w().scenario([](Json& s) { s["wall_time_budget"] = 1e-9; });
+  const std::string design = w().text_file("design", "c_q\n0.1\n0.2\n", "csv");
+  const std::string failed = dir + "/failed.csv";
+  write_file(failed, "an earlier result\n");  // kept, and the failed runs with it
+  const std::string evaluate = "evaluate --scenario " + budgetless + " --design " + design + " --qoi t_min --out " + failed;
+  ASSERT_EQ(run_command("cd " + dir + " && " + rover_binary() + " " + evaluate, &log), 2) << log;
+  cases.push_back({"evaluate --resume under another --integrator", evaluate + " --resume --integrator dopri5 --dry-run",
+                   Want::kError, {"the scenario's integrator (no --integrator)"}, {}, {}, {"study file"}});
+  // Data that end before the run starts at every offset the bounds allow.
+  std::string early = "t,z\n";
+  for (int k = 0; k <= 17; ++k) early += std::to_string(-2.0 + 0.1 * k) + "," + std::to_string(0.28 - 0.001 * k) + "\n";
+  const std::string early_data = w().text_file("early", early, "csv");
+  cases.push_back({"data that end before the run starts", study("calibrate", w().calibration([&](Json& j) {
+                     j["data"] = early_data;
+                   })) + " --dry-run",
+                   Want::kError, {early_data, "before the simulated run", "smallest time offset, -0.2 s"}});
+  // A rover file named like a plot of the result: refused only where plots are drawn.
+  const std::string plot_named = dir + "/pm_summary.png";
+  fs::copy_file(source_path("configs/rover.json"), plot_named);
+  const std::string plot_named_study = w().montecarlo([&](Json& j) {
+    j["scenario"] = w().scenario([&](Json& k) { k["rover"] = plot_named; });
+  });
+  cases.push_back({"a rover file named like a plot, --no-plot",
+                   study_args("montecarlo", plot_named_study, dir + "/pm.h5") + " --dry-run", Want::kRuns, {},
+                   unchanged(plot_named)});
+  cases.push_back({"a rover file named like a plot, plotted",
+                   "montecarlo --study " + plot_named_study + " --out " + dir + "/pm.h5 --dry-run", Want::kError,
+                   {"a plot written beside it"}, unchanged(plot_named)});
+  // A friction fit below its own quality bar is not a result to trust.
+  cases.push_back({"friction with mu_k above mu_s", "friction --mu-s 0.5 --mu-k 0.6", Want::kAllFailed,
+                   {"misses the quality bar", "not to be trusted", "mu_k is above mu_s"}});
+  // A file mounted over the output path (where this process may mount).
+  const std::string mounted = dir + "/mounted.h5", source = dir + "/source.h5";
+  write_file(mounted, "");
+  write_file(source, "an earlier result\n");
+  const bool mounts = run_command("mount --bind " + source + " " + mounted + " 2>/dev/null", &log) == 0;
+  // A file system too small for the result, though not for the checkpoint.
+  const std::string tiny = dir + "/tiny";
+  fs::create_directory(tiny);
+  const bool small_disk = mounts && run_command("mount -t tmpfs -o size=160k tmpfs " + tiny, &log) == 0;
+  if (mounts)
+    cases.push_back({"simulate --out onto a bind mount",
+                     "simulate --no-plot --scenario " + w().quick() + " --out " + mounted, Want::kError,
+                     {"is a mount point"}, unchanged(source)});
+  if (small_disk)
+    cases.push_back({"a result too large for its disk",
+                     study_args("montecarlo", w().montecarlo([&](Json& j) {
+                       j["scenario"] = w().scenario([](Json& k) {
+                         k["duration"] = 0.3;
+                         k["output_rate"] = 500;
+                       });
+                       j["design"]["samples"] = 100;
+                       j["channels"] = {"B_l_z"};
+                     }), tiny + "/m.h5"),
+                     Want::kError, {"No space left", "the finished runs are kept in " + tiny + "/m.h5.checkpoint",
+                                    "--resume"}, absent_file(tiny + "/m.h5")});
+  run_table(dir, cases);
+  if (mounts) EXPECT_EQ(run_command("umount " + mounted, &log), 0) << log;
+  if (small_disk) EXPECT_EQ(run_command("umount " + tiny, &log), 0) << log;
 }
 
 }  // namespace

@@ -228,6 +228,22 @@ TEST(ResultCheckpoint, ASettingThatDiffersIsNamedWithBothValues) {
   EXPECT_NE(key_mismatch(config_fingerprint("old"), more).find("earlier version of rover"), std::string::npos);
 }
 
+TEST(ResultCheckpoint, ASettingOfAnotherInputFileNamesThatFile) {
+  // rover evaluate has no study file: its integrator, unless --integrator
+  // gives one, is the scenario's.
+  const std::string inputs = config_fingerprint("a design and its scenario");
+  const std::string made = add_run_setting(inputs, {"--integrator", "integrator", false, "the scenario"});
+  const std::string now = add_run_setting(inputs, {"--integrator", "dopri5", true});
+  EXPECT_FALSE(keys_match(made, now));
+  const std::string message = key_mismatch(made, now);
+  EXPECT_NE(message.find("--integrator dopri5 here, but the checkpoint's runs were made with the scenario's "
+                         "integrator (no --integrator)"),
+            std::string::npos)
+      << message;
+  EXPECT_EQ(message.find("study file"), std::string::npos) << message;
+  EXPECT_TRUE(keys_match(made, add_run_setting(inputs, {"--integrator", "integrator", false, "the scenario"})));
+}
+
 TEST(ResultCheckpoint, FilesOfAnotherFormatAreRefused) {
   const std::string results = testing::temp_dir() + "/mc.h5";
   const std::string path = ResultCheckpoint::path_for(results);

@@ -178,9 +178,12 @@ TEST(SurrogateStudy, ResultFilesThatCannotTrainAreRefusedNamingFileAndField) {
   const std::string dir = rover::testing::temp_dir();
   const std::string head = R"({"type": "surrogate", "name": "f", "model": "ishigami", "training": {"file": "mc.h5"})";
   ishigami_result_file(dir, 40, 36);
-  const SurrogateStudy few = load(head + "}", dir);
-  std::string m = message_of([&] { fit_surrogate_study(few, read_result_runs(few.training_file, few, "training"), {}); });
+  // Too few successful runs: refused as the study loads, naming the field.
+  std::string m = message_of([&] { load(head + "}", dir); });
+  EXPECT_NE(m.find("field 'training.file'"), std::string::npos) << m;
   EXPECT_NE(m.find("mc.h5: 4 successful training runs (36 failed)"), std::string::npos) << m;
+  ishigami_result_file(dir, 40, 0);
+  const SurrogateStudy few = load(head + "}", dir);
   ishigami_result_file(dir, 40, 0, /*vary_extra=*/true);
   m = message_of([&] { read_result_runs(few.training_file, few, "training"); });
   EXPECT_NE(m.find("input 'extra' varies"), std::string::npos) << m;
