@@ -158,9 +158,13 @@ void read_fit_parameters(const io::JsonReader& r, const CalibrationOverrides& o,
     FitParameter p;
     p.name = name;
     p.canonical = canonical_fit_name(r, o, space, name);
-    for (const auto& q : s.fit)
+    for (const auto& q : s.fit) {
       if (q.name == name || (!p.canonical.empty() && q.canonical == p.canonical))
         fail_on_fit(r, o, "parameter '" + name + "' is listed twice");
+      if (!p.canonical.empty() && !q.canonical.empty() && parameters_overlap(q.canonical, p.canonical))
+        fail_on_fit(r, o, "parameters '" + q.name + "' and '" + name + "' overlap: " +
+                              overlap_reason(q.canonical, p.canonical));
+    }
     if (name == kTimeOffset && s.datasets.size() > 1)
       fail_on_fit(r, o, "time_offset can be fitted for one curve only; with several each curve's offset is profiled");
     const auto b = bounds.fixed_numbers<2>(name);
