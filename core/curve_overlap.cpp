@@ -2,6 +2,7 @@
 #include "core/curve_overlap.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "core/number_text.hpp"
@@ -34,6 +35,22 @@ std::string curve_share_problem(double t_first, double t_last, double lo, double
 std::string milliseconds_hint(double t_last, double span_end_s) {
   if (!(span_end_s > 0.0) || !(t_last * kMinCurveShareCompared > span_end_s)) return "";
   return ": t runs to " + number_text(t_last) + ", milliseconds?";
+}
+
+double sample_time_tolerance_s(const std::vector<double>& t_a, const std::vector<double>& t_b) {
+  const auto mean_step = [](const std::vector<double>& t) {
+    return (t.back() - t.front()) / static_cast<double>(t.size() - 1);
+  };
+  return kSampleTimeToleranceShare * std::min(mean_step(t_a), mean_step(t_b));
+}
+
+CommonSpan common_span(const std::vector<double>& t_a, const std::vector<double>& t_b) {
+  return {std::max(t_a.front(), t_b.front()), std::min(t_a.back(), t_b.back())};
+}
+
+std::optional<double> time_in_span(double t_s, const CommonSpan& span, double tolerance_s) {
+  if (!(t_s >= span.first_s - tolerance_s && t_s <= span.last_s + tolerance_s)) return std::nullopt;
+  return std::clamp(t_s, span.first_s, span.last_s);
 }
 
 }  // namespace rover

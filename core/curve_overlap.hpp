@@ -9,7 +9,9 @@
 // hint of a calibration's data that run past the simulated end.
 #pragma once
 
+#include <optional>
 #include <string>
+#include <vector>
 
 namespace rover {
 
@@ -32,5 +34,24 @@ std::string curve_share_problem(double t_first, double t_last, double lo, double
 // beyond a span ending at span_end_s by more than the share rule allows
 // (t_last above span_end_s / kMinCurveShareCompared), else "".
 std::string milliseconds_hint(double t_last, double span_end_s);
+
+// Two curves' times on one clock agree to rounding (0.28 s and
+// 0.27999999999999997 s after an offset is subtracted) within this share of
+// the finer curve's mean sampling step.
+inline constexpr double kSampleTimeToleranceShare = 1e-3;
+
+// kSampleTimeToleranceShare of the finer of the two curves' mean sampling
+// steps (each at least two increasing times).
+double sample_time_tolerance_s(const std::vector<double>& t_a, const std::vector<double>& t_b);
+
+// The times both curves cover, [max of the firsts, min of the lasts].
+struct CommonSpan {
+  double first_s = 0.0, last_s = 0.0;
+};
+CommonSpan common_span(const std::vector<double>& t_a, const std::vector<double>& t_b);
+
+// `t_s` within the common span, to `tolerance_s`, as a time of the span (a
+// time a rounding beyond an end is that end); nullopt if it lies farther out.
+std::optional<double> time_in_span(double t_s, const CommonSpan& span, double tolerance_s);
 
 }  // namespace rover

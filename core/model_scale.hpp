@@ -60,6 +60,14 @@ inline constexpr double kMaxYawRate_radps = 10.0;
 // An S-structure joint deflects by degrees under the rover's weight; a
 // quarter turn folds the leg into the chassis.
 inline constexpr double kMaxSStructureDeflection_rad = std::numbers::pi / 2.0;
+// The chassis's pitch and roll start within degrees of level; beyond a
+// quarter turn the rover stands on its end or its side (and at pitch +-pi/2
+// the Euler angles are singular). The bogie pivot folds into the chassis
+// there too. A heading or a wheel's rolling angle beyond a full turn equals
+// one within it. Beyond these bounds an angle is one in degrees.
+inline constexpr double kMaxChassisTilt_rad = std::numbers::pi / 2.0;
+inline constexpr double kMaxBogieAngle_rad = std::numbers::pi / 2.0;
+inline constexpr double kMaxTurnAngle_rad = 2.0 * std::numbers::pi;
 inline constexpr double kMaxSharpness_per_rad = 1e8;
 // Below this the transition of atan(f b) is wider than any joint angle: the
 // preload never acts (paper: f 1e2 .. 1e5 1/rad).
@@ -141,6 +149,15 @@ inline const std::string kWheelRadiusBelowScaleReason =
 inline const std::string kDeflectionScaleReason =
     "a quarter turn, where the leg folds into the chassis (an S-structure deflects by degrees); an angle in "
     "degrees?";
+inline const std::string kChassisTiltScaleReason =
+    "a quarter turn, where the rover stands on its end or its side (a drop starts within degrees of level); an "
+    "angle in degrees?";
+inline const std::string kBogieAngleScaleReason =
+    "a quarter turn, where the bogie folds into the chassis; an angle in degrees?";
+inline const std::string kHeadingScaleReason =
+    "a full turn (a heading beyond it equals one within); an angle in degrees?";
+inline const std::string kWheelAngleScaleReason =
+    "a full turn (a wheel's rolling angle beyond it equals one within); an angle in degrees?";
 inline const std::string kDriveScaleReason =
     "far beyond what the rover drives (decimetres per second); a unit mistake?";
 

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <iomanip>
 #include <map>
+#include <optional>
 #include <iostream>
 #include <tuple>
 
@@ -32,29 +33,35 @@ std::string span_text(const io::Curve& c) {
   return "[" + number_text(c.t.front()) + ", " + number_text(c.t.back()) + "] s";
 }
 
-// The at-rest values z_r are read at the rest time; outside a curve's span
-// its value at the nearer end stands in. A typed rest time that neither curve
-// covers is refused; otherwise a rest time outside a curve is a warning.
-void check_rest_time(double rest_time_s, bool given, const io::Curve& a, const io::Curve& b) {
-  const auto covers = [&](const io::Curve& c) { return rest_time_s >= c.t.front() && rest_time_s <= c.t.back(); };
-  if (covers(a) && covers(b)) return;
-  std::string outside;
-  if (!covers(a)) outside = "curve A " + span_text(a);
-  if (!covers(b)) outside += (outside.empty() ? "" : " and ") + ("curve B " + span_text(b) + " (on A's clock)");
-  const std::string where =
-      (given ? "" : "the default ") + ("--rest-time " + number_text(rest_time_s) + " s lies outside " + outside);
-  if (given && !covers(a) && !covers(b)) throw std::invalid_argument(where + ": give a rest time within one of them");
-  std::cerr << "rover compare: warning: " << where << "; its value at the nearer end stands in for z_r\n";
+// The one time both curves' at-rest values z_r are read at: the rest time
+// when both cover it (to a rounding of their sampling steps). A typed rest
+// time outside the times both cover is refused naming them; the default one
+// (the paper's 1 s) is replaced, with a warning, by the last time both cover:
+// z_r read at each curve's own end would compare two instants of a moving
+// curve.
+double common_rest_time(double rest_time_s, bool given, const io::Curve& a, const io::Curve& b) {
+  const CommonSpan span = common_span(a.t, b.t);
+  if (const std::optional<double> t = time_in_span(rest_time_s, span, sample_time_tolerance_s(a.t, b.t))) return *t;
+  const std::string where = (given ? "" : "the default ") + ("--rest-time " + number_text(rest_time_s) +
+                            " s lies outside the times both curves cover, [" + number_text(span.first_s) + ", " +
+                            number_text(span.last_s) + "] s (curve A " + span_text(a) + ", curve B " +
+                            span_text(b) + " on A's clock)");
+  if (given)
+    throw std::invalid_argument(where + ": give a rest time within [" + number_text(span.first_s) + ", " +
+                                number_text(span.last_s) + "] s, where both curves' z_r are read at one time");
+  std::cerr << "rover compare: warning: " << where << "; z_r of both is read at " << number_text(span.last_s)
+            << " s, the last time both cover (give --rest-time to choose another)\n";
+  return span.last_s;
 }
 
 // Eqs. 10 and 11 divide by the reference's rise from its lowest point to the
 // rest time and by its height at the rest time: either being zero leaves that
 // error undefined, refused naming curve B and --rest-time.
-void check_reference_divisors(const CompareOptions& o, const io::Curve& b) {
-  const double z_rest = interpolate(b.t, b.y, o.rest_time_s);
+void check_reference_divisors(const CompareOptions& o, double rest_time_s, const io::Curve& b) {
+  const double z_rest = interpolate(b.t, b.y, rest_time_s);
   const double rise = z_rest - *std::min_element(b.y.begin(), b.y.end());
   const std::string reference = "curve B ('" + o.second + "', column " + o.column + ")";
-  const std::string rest = "--rest-time " + number_text(o.rest_time_s) + " s";
+  const std::string rest = "--rest-time " + number_text(rest_time_s) + " s";
   if (!(rise != 0.0))
     throw std::invalid_argument("deflection_error (eq. 10) is undefined: " + reference +
                                 ", the reference, rises by 0 m from its lowest point to " + rest +
@@ -137,8 +144,8 @@ int run_compare(const CompareOptions& o) {
                                 " (on A's clock, --time-offset " + number_text(o.time_offset_s) +
                                 " s) have no common time interval: give the offset of A's t = 0 on B's clock");
   check_common_samples(o, a, b);
-  check_rest_time(o.rest_time_s, o.rest_time_given, a, b);
-  check_reference_divisors(o, b);
+  const double rest_time_s = common_rest_time(o.rest_time_s, o.rest_time_given, a, b);
+  check_reference_divisors(o, rest_time_s, b);
   io::Json out;
   out["column"] = o.column;
   out["rms_m"] = rms_difference(a.t, a.y, b.t, b.y);
@@ -150,9 +157,9 @@ int run_compare(const CompareOptions& o) {
     return m;
   }();
   // A is the one judged, B the reference (eqs. 10-11).
-  out["deflection_error"] = deflection_error(a.t, a.y, b.t, b.y, o.rest_time_s);
-  out["at_rest_error"] = at_rest_error(a.t, a.y, b.t, b.y, o.rest_time_s);
-  out["rest_time_s"] = o.rest_time_s;
+  out["deflection_error"] = deflection_error(a.t, a.y, b.t, b.y, rest_time_s);
+  out["at_rest_error"] = at_rest_error(a.t, a.y, b.t, b.y, rest_time_s);
+  out["rest_time_s"] = rest_time_s;
   out["time_offset_s"] = o.time_offset_s;
   require_finite_output(out);
   warn_if_reference_missed(o, out["rms_m"].get<double>(), b);
@@ -176,8 +183,8 @@ const RegisterCommand compare_command{
       app.add_option("--column", o->column, "Height dataset or column to compare: B_l_z, B_r_z, G_z, or a CSV's column")->capture_default_str();
       CLI::Option* rest_time =
           app.add_option("--rest-time", o->rest_time_s,
-                         "Time of the at-rest value z_r [s]: refused where neither curve reaches, a warning "
-                         "where one does not")
+                         "Time of the at-rest value z_r of both curves [s], within the times both cover (the "
+                         "default, outside them, gives way to the last time both cover, with a warning)")
               ->capture_default_str();
       app.add_option("--time-offset", o->time_offset_s,
                      "Time of A's t = 0 on B's clock [s] (e.g. the release time in measured data)")

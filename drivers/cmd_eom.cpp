@@ -39,7 +39,7 @@ void check_state_scale(const io::JsonReader& state, const RoverModel& model, con
   for (int index = 0; index < kNumCoordinates; ++index)
     if (const std::string p = io::speed_beyond_scale(index, u[index], scale); !p.empty())
       state.fail("u", "entry " + std::to_string(index) + " (" + kCoordinateNames[index] + ") = " + p);
-  if (const std::string problem = io::joint_angle_problem(model, q); !problem.empty()) state.fail("q", problem);
+  if (const std::string problem = io::pose_angle_problem(model, q); !problem.empty()) state.fail("q", problem);
   // The contact law models a rim pressed into the ground; a wheel deeper than
   // its own radius is buried, and its forces mean nothing.
   if (const io::WheelPenetration deepest = io::deepest_wheel_penetration(model, q);

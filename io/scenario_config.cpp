@@ -12,6 +12,7 @@
 #include <optional>
 #include <stdexcept>
 #include <utility>
+#include <vector>
 
 #include "core/contact.hpp"
 #include "core/kinematic_tree.hpp"
@@ -370,7 +371,32 @@ WheelPenetration deepest_wheel_penetration(const RoverModel& model, const Coordi
   return deepest;
 }
 
-std::string joint_angle_problem(const RoverModel& model, const Coordinates& q) {
+namespace {
+
+// What is wrong with the chassis's orientation, the bogie's angle and the
+// wheels' rolling angles of pose q (core/model_scale.hpp gives the bounds).
+std::string body_angle_problem(const Coordinates& q) {
+  struct AngleBound {
+    int index;
+    double bound_rad;
+    const std::string* reason;
+  };
+  std::vector<AngleBound> bounds{{coord::yaw, kMaxTurnAngle_rad, &kHeadingScaleReason},
+                                 {coord::pitch, kMaxChassisTilt_rad, &kChassisTiltScaleReason},
+                                 {coord::roll, kMaxChassisTilt_rad, &kChassisTiltScaleReason},
+                                 {coord::bogie, kMaxBogieAngle_rad, &kBogieAngleScaleReason}};
+  for (int leg = 0; leg < kNumLegs; ++leg)
+    bounds.push_back({coord::spin(leg), kMaxTurnAngle_rad, &kWheelAngleScaleReason});
+  for (const AngleBound& b : bounds)
+    if (const std::string p = beyond_scale(q[b.index], b.bound_rad, "rad", *b.reason); !p.empty())
+      return std::string(kCoordinateNames[b.index]) + " = " + p;
+  return "";
+}
+
+}  // namespace
+
+std::string pose_angle_problem(const RoverModel& model, const Coordinates& q) {
+  if (std::string problem = body_angle_problem(q); !problem.empty()) return problem;
   for (int leg = 0; leg < kNumLegs; ++leg) {
     for (const int joint : {coord::s_joint(leg, 0), coord::s_joint(leg, 1)})
       if (const std::string p = beyond_scale(q[joint], kMaxSStructureDeflection_rad, "rad", kDeflectionScaleReason);
@@ -554,7 +580,7 @@ void parse_initial_state(const JsonReader& r, const ScenarioSources& sources, Sc
   } else {
     s.initial_q = parse_named_coordinates(r, "initial_q");
   }
-  if (const std::string problem = joint_angle_problem(setup.model, s.initial_q); !problem.empty())
+  if (const std::string problem = pose_angle_problem(setup.model, s.initial_q); !problem.empty())
     r.fail("initial_q", problem);
   s.initial_u = parse_named_coordinates(r, "initial_u", s.initial_u);
   if (r.has("forward_speed")) {

@@ -75,10 +75,12 @@ struct WheelPenetration {
 };
 WheelPenetration deepest_wheel_penetration(const RoverModel& model, const Coordinates& q);
 
-// What is wrong with the joint angles of pose q ("b12 = 100 rad is beyond
-// ..."): an S-structure deflection beyond kMaxSStructureDeflection_rad or a
+// What is wrong with the angles of pose q ("b12 = 100 rad is beyond ..."):
+// a chassis pitch or roll (chi, psi) or a bogie angle (phi) beyond a quarter
+// turn, a heading (theta) or a wheel's rolling angle (z1 .. z4) beyond a full
+// turn, an S-structure deflection beyond kMaxSStructureDeflection_rad or a
 // steering angle beyond the end-stop; "" when nothing is.
-std::string joint_angle_problem(const RoverModel& model, const Coordinates& q);
+std::string pose_angle_problem(const RoverModel& model, const Coordinates& q);
 
 // The "drive" block (see above) for a rover with these driving kinematics.
 struct DriveConfig {

@@ -141,6 +141,30 @@ std::string preload_alias(int index) {
   return "M0_" + std::to_string(index / 2 + 1) + std::to_string(index % 2 + 1);
 }
 
+namespace {
+
+// The preload index 0..7 of a canonical name, or -1.
+int preload_index_of(const std::string& canonical_name) {
+  for (int i = 0; i < kNumSJoints; ++i)
+    if (canonical_name == std::string(kPreloadMean) + "[" + std::to_string(i) + "]") return i;
+  return -1;
+}
+
+}  // namespace
+
+bool parameters_overlap(const std::string& a, const std::string& b) {
+  if (a == b) return true;
+  return (a == kPreloadScale && preload_index_of(b) >= 0) || (b == kPreloadScale && preload_index_of(a) >= 0);
+}
+
+std::string overlap_reason(const std::string& a, const std::string& b) {
+  if (a == b || !parameters_overlap(a, b)) return "";
+  const std::string preload = a == kPreloadScale ? b : a;
+  return "M0_scale (" + std::string(kPreloadScale) + ") multiplies all eight preloads, " +
+         preload_alias(preload_index_of(preload)) + " (" + preload + ") among them, so the run would depend on "
+         "the order the two are applied in; vary the preloads one by one, or all of them by M0_scale, not both";
+}
+
 ParameterSpace::ParameterSpace(const io::Json& rover, const io::Json& scenario)
     : rover_(&rover), scenario_(&scenario) {
   std::vector<std::string> rover_names, scenario_names;

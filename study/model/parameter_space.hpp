@@ -55,4 +55,15 @@ class ParameterSpace {
 // The alias of a preload index 0..7: "M0_11", "M0_12", ..., "M0_42".
 std::string preload_alias(int index);
 
+// Whether the canonical names `a` and `b` set a common number of the rover:
+// the same name, or the preloads' common factor (M0_scale) and one of the
+// preloads it multiplies. Two such inputs of one run would make it depend on
+// the order they are applied in, so every place that combines parameters
+// (a study's "parameters", a design's columns, a calibration's fit, a
+// candidate's "set") refuses them.
+bool parameters_overlap(const std::string& a, const std::string& b);
+// Why two distinct overlapping names overlap, for messages ("M0_scale
+// multiplies all eight preloads, M0_11 among them, ..."); "" if they do not.
+std::string overlap_reason(const std::string& a, const std::string& b);
+
 }  // namespace rover::study

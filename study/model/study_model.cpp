@@ -44,6 +44,11 @@ RoverStudyModel::RoverStudyModel(io::ScenarioSources sources, std::vector<std::s
       throw std::invalid_argument("input '" + name + "' is not a canonical parameter name");
     varies_friction_ = varies_friction_ || name.rfind("friction.", 0) == 0;
   }
+  for (std::size_t j = 0; j < input_names_.size(); ++j)
+    for (std::size_t k = 0; k < j; ++k)
+      if (parameters_overlap(input_names_[k], input_names_[j]))
+        throw std::invalid_argument("inputs '" + input_names_[k] + "' and '" + input_names_[j] +
+                                    "' set a common number of the rover");
   for (const QoiSpec& q : qois_) {
     qoi_names_.push_back(q.name);
     qoi_units_.emplace_back(qoi_unit(q));

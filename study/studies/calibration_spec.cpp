@@ -158,9 +158,13 @@ void read_fit_parameters(const io::JsonReader& r, const CalibrationOverrides& o,
     FitParameter p;
     p.name = name;
     p.canonical = canonical_fit_name(r, o, space, name);
-    for (const auto& q : s.fit)
+    for (const auto& q : s.fit) {
       if (q.name == name || (!p.canonical.empty() && q.canonical == p.canonical))
         fail_on_fit(r, o, "parameter '" + name + "' is listed twice");
+      if (!p.canonical.empty() && !q.canonical.empty() && parameters_overlap(q.canonical, p.canonical))
+        fail_on_fit(r, o, "parameters '" + q.name + "' and '" + name + "' overlap: " +
+                              overlap_reason(q.canonical, p.canonical));
+    }
     if (name == kTimeOffset && s.datasets.size() > 1)
       fail_on_fit(r, o, "time_offset can be fitted for one curve only; with several each curve's offset is profiled");
     const auto b = bounds.fixed_numbers<2>(name);
@@ -554,6 +558,32 @@ std::string discard_flags(const CalibrationOverrides& o, const McmcSettings& m, 
          std::to_string(discard) + ")";
 }
 
+// The effective sample size estimates how many independent draws the kept
+// draws, walkers x (steps - burn-in), are worth: as many for independent
+// draws, fewer for correlated ones (neither sampler's chains are
+// anticorrelated; the estimate passes the draws only by its noise). A target
+// above the kept draws is never met: the run would end NOT VALID after all
+// its steps.
+void refuse_unreachable_target_ess(const io::JsonReader& r, const CalibrationOverrides& o, const McmcSettings& m,
+                                   long discard) {
+  const long kept_steps = m.steps - discard;
+  const double kept_draws = static_cast<double>(m.walkers) * static_cast<double>(kept_steps);
+  if (!(m.target_ess > kept_draws)) return;
+  const bool target_given = r.has("mcmc") && r.child("mcmc").has("target_ess");
+  const bool from_flags = !target_given && (o.walkers || o.steps || o.discard);
+  std::string flags;
+  if (o.walkers) flags += "--walkers " + std::to_string(m.walkers);
+  if (o.steps) flags += (flags.empty() ? "" : " ") + ("--steps " + std::to_string(m.steps));
+  if (o.discard) flags += (flags.empty() ? "" : " ") + ("--discard " + std::to_string(discard));
+  fail_setting(r, from_flags, flags, "mcmc.target_ess",
+               std::string(target_given ? "" : "the default ") + "target_ess " + format_number(m.target_ess, 6) +
+                   " can never be met: the chains keep walkers x (steps - burn-in) = " + std::to_string(m.walkers) +
+                   " x (" + std::to_string(m.steps) + " - " + std::to_string(discard) + ") = " +
+                   format_number(kept_draws, 12) + " draws, and their effective sample size, the number of "
+                   "independent draws they are worth, is at most that; give a target_ess from 0 (exactly 'steps' "
+                   "steps, no target) to " + format_number(kept_draws, 12) + ", or more walkers or steps");
+}
+
 // The posterior's sizes after the command line's overrides, checked; an
 // override's error names its flag.
 void check_mcmc_sizes(const io::JsonReader& r, const CalibrationOverrides& o, CalibrationStudy& s) {
@@ -582,6 +612,7 @@ void check_mcmc_sizes(const io::JsonReader& r, const CalibrationOverrides& o, Ca
                      std::to_string(discard) + ", and the summaries need at least " + std::to_string(kMinKeptSteps) +
                      ": give at least " + std::to_string(discard + kMinKeptSteps) + " steps" +
                      (discard > 0 ? ", or a shorter burn-in" : ""));
+  refuse_unreachable_target_ess(r, o, s.mcmc, discard);
 }
 
 // The fit's options: the first-search algorithm, budgets, profile.

@@ -142,11 +142,15 @@ std::vector<std::string> canonical_columns(const DesignTable& design, const Para
                             ": column " + std::to_string(j + 1) + ": " + e.what());
     }
     for (std::size_t k = 0; k < j; ++k) {
-      if (names[k] != names[j]) continue;
+      if (!parameters_overlap(names[k], names[j])) continue;
       const std::string& first = design.columns[k];
       const std::string& second = design.columns[j];
       const std::string columns = "columns " + std::to_string(k + 1) + " and " + std::to_string(j + 1);
-      throw io::ConfigError(design.path + ":" + std::to_string(design.header_line) + ": " +
+      const std::string where = design.path + ":" + std::to_string(design.header_line) + ": ";
+      if (names[k] != names[j])
+        throw io::ConfigError(where + columns + ", '" + first + "' and '" + second + "', overlap: " +
+                              overlap_reason(names[k], names[j]));
+      throw io::ConfigError(where +
                             (first == second ? "column '" + first + "' is given twice (" + columns + ")"
                                              : columns + ", '" + first + "' and '" + second +
                                                    "', name the same parameter (" + names[j] + ")") +

@@ -7,6 +7,8 @@
 #include <numeric>
 #include <iostream>
 #include <ostream>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Cholesky>
 
@@ -52,10 +54,26 @@ double candidate_duration_s(const io::JsonReader& c, const NextExperimentCandida
 // is simulated at the estimate, whatever it sets.
 void refuse_setting_a_fitted_parameter(const io::JsonReader& set, const std::string& name,
                                        const std::string& canonical, const CalibrationStudy& study) {
-  for (const FitParameter& f : study.fit)
+  for (const FitParameter& f : study.fit) {
     if (!f.canonical.empty() && f.canonical == canonical)
       set.fail(name, "'" + f.name + "' is fitted by the study: a candidate is simulated at its estimate, so a value "
                      "set here would be ignored; remove it, or set only parameters the study does not fit");
+    if (!f.canonical.empty() && parameters_overlap(f.canonical, canonical))
+      set.fail(name, "overlaps '" + f.name + "', which the study fits: " + overlap_reason(f.canonical, canonical) +
+                         "; set only parameters the study does not fit");
+  }
+}
+
+// Two keys of a candidate's "set" that set a common number: the candidate
+// would depend on the order of its keys.
+void refuse_overlapping_settings(const io::JsonReader& set, const std::string& name, const std::string& canonical,
+                                 const std::vector<std::pair<std::string, std::string>>& earlier) {
+  for (const auto& [earlier_name, earlier_canonical] : earlier) {
+    if (earlier_canonical == canonical)
+      set.fail(name, "is the same parameter as '" + earlier_name + "'; give it once");
+    if (parameters_overlap(earlier_canonical, canonical))
+      set.fail(name, "overlaps '" + earlier_name + "': " + overlap_reason(earlier_canonical, canonical));
+  }
 }
 
 NextExperimentCandidate read_candidate(const io::JsonReader& c, std::size_t index,
@@ -79,6 +97,7 @@ NextExperimentCandidate read_candidate(const io::JsonReader& c, std::size_t inde
     const io::JsonReader set = c.child("set");
     const io::Json rover = out.sources.rover, scenario = out.sources.scenario;
     const ParameterSpace space(rover, scenario);
+    std::vector<std::pair<std::string, std::string>> earlier;  // (key, canonical name) of the keys before
     for (const auto& [name, value] : c.raw("set").items()) {
       std::string canonical;
       try {
@@ -87,6 +106,8 @@ NextExperimentCandidate read_candidate(const io::JsonReader& c, std::size_t inde
         set.fail(name, e.what());
       }
       refuse_setting_a_fitted_parameter(set, name, canonical, study);
+      refuse_overlapping_settings(set, name, canonical, earlier);
+      earlier.emplace_back(name, canonical);
       space.apply(canonical, set.number(name), out.sources.rover, out.sources.scenario);
     }
     set.finish();

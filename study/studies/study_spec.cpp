@@ -282,12 +282,16 @@ std::vector<UncertainInput> parse_rover_parameters_block(const io::JsonReader& r
     r.fail("parameters", "expected an object {\"<parameter>\": {\"distribution\": ...}, ...}");
   const io::JsonReader params = r.child("parameters");
   std::vector<std::string> entries;  // the key of "parameters" each input came from
-  // A parameter given by two keys (an alias and a dotted path, or "M0" and one of its preloads).
+  // A parameter given by two keys (an alias and a dotted path, or "M0" and one
+  // of its preloads), or two that set a common number (M0_scale and a preload).
   auto refuse_repeat = [&](const std::string& name, const std::string& label) {
-    for (std::size_t k = 0; k < inputs.size(); ++k)
-      if (inputs[k].name == name)
-        params.fail(label, "is the same parameter as '" + entries[k] + "'" +
-                               (entries[k] != inputs[k].label ? " (its " + inputs[k].label + ")" : ""));
+    for (std::size_t k = 0; k < inputs.size(); ++k) {
+      const std::string of = "'" + entries[k] + "'" +
+                             (entries[k] != inputs[k].label ? " (its " + inputs[k].label + ")" : "");
+      if (inputs[k].name == name) params.fail(label, "is the same parameter as " + of);
+      if (parameters_overlap(inputs[k].name, name))
+        params.fail(label, "overlaps " + of + ": " + overlap_reason(inputs[k].name, name));
+    }
   };
   for (const auto& [label, spec] : block.items()) {
     const io::JsonReader p = params.child(label);

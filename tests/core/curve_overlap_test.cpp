@@ -4,7 +4,9 @@
 // than the run that are no unit mistake.
 #include "core/curve_overlap.hpp"
 
+#include <optional>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -37,6 +39,26 @@ TEST(CurveOverlap, TheMillisecondsHintOnlyBeyondTheShareRule) {
   EXPECT_EQ(milliseconds_hint(299.95, 0.5), ": t runs to 299.95, milliseconds?");
   EXPECT_EQ(milliseconds_hint(1.2, 1.0), "");  // data a little past a run: no unit mistake
   EXPECT_EQ(milliseconds_hint(300.0, 0.0), "");
+}
+
+
+// Two curves' times agree to rounding within a thousandth of the finer
+// sampling step: 0.28 s and 0.28 - 0.02 + 0.02 are one time; a time farther
+// beyond the common span is outside it.
+TEST(CurveOverlap, TimesWithinTheCommonSpanToRounding) {
+  const std::vector<double> a{0.0, 0.1, 0.2, 0.3};
+  std::vector<double> b{0.0, 0.05, 0.1, 0.15, 0.2, 0.25, 0.3};
+  for (double& t : b) t -= 0.02;
+  const CommonSpan span = common_span(a, b);
+  EXPECT_DOUBLE_EQ(span.first_s, 0.0);
+  EXPECT_DOUBLE_EQ(span.last_s, 0.3 - 0.02);
+  const double tolerance = sample_time_tolerance_s(a, b);
+  EXPECT_DOUBLE_EQ(tolerance, 1e-3 * 0.05);
+  EXPECT_EQ(time_in_span(0.28, span, tolerance), span.last_s);  // 0.27999999999999997 on B's clock
+  EXPECT_EQ(time_in_span(0.1, span, tolerance), 0.1);
+  EXPECT_EQ(time_in_span(0.29, span, tolerance), std::nullopt);
+  EXPECT_EQ(time_in_span(-0.001, span, tolerance), std::nullopt);
+  EXPECT_EQ(time_in_span(1.0, span, tolerance), std::nullopt);
 }
 
 }  // namespace

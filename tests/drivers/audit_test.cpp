@@ -33,6 +33,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -1985,7 +1986,7 @@ TEST_F(Audit, ThirdAuditKeptRuns) {
   cases.push_back({"posterior whose every run fails", study("calibrate", w().calibration([&](Json& j) {
                      j["scenario"] = failing;
                      j["method"] = "mcmc";
-                     j["mcmc"] = {{"walkers", 4}, {"steps", 10}};
+                     j["mcmc"] = {{"walkers", 4}, {"steps", 10}, {"target_ess", 0}};
                    })),
                    Want::kAllFailed, {"no posterior: every one of the fit's", "wall-time budget", "every run failed"}});
   // Every run of a study failing beside an earlier result leaves its checkpoint.
@@ -2059,10 +2060,11 @@ TEST_F(Audit, MeaninglessSettingsAreRefusedOrNamed) {
                    Want::kError, {"atol", "[1e-18, 0.01]", "got 0.5"}});
   const std::string data = source_path("configs/data/drop_horizontal_synthetic.csv");
   cases.push_back({"compare: a rest time beyond both curves", "compare " + data + " " + data + " --rest-time 50",
-                   Want::kError, {"--rest-time 50 s", "curve A [", "curve B [", "within one of them"}});
+                   Want::kError, {"--rest-time 50 s", "curve A [", "curve B [", "times both curves cover"}});
   cases.push_back({"compare: a rest time beyond one curve",
-                   "compare " + data + " " + data + " --time-offset 0.5 --rest-time 0.8", Want::kRuns,
-                   {"warning: --rest-time 0.8 s lies outside curve B [-0.5", "nearer end"}});
+                   "compare " + data + " " + data + " --time-offset 0.5 --rest-time 0.8", Want::kError,
+                   {"--rest-time 0.8 s lies outside the times both curves cover", "curve B [-0.5",
+                    "give a rest time within"}});
   cases.push_back({"compare: an offset that leaves no common interval",
                    "compare " + data + " " + data + " --time-offset 10", Want::kError,
                    {"curve A [", "--time-offset 10 s", "no common time interval"}});
@@ -5107,6 +5109,129 @@ TEST_F(Audit, OutputNamesMountsDesignsAndNamedFiles) {
   run_table(dir, cases);
   if (mounts) EXPECT_EQ(run_command("umount " + mounted, &log), 0) << log;
   if (small_disk) EXPECT_EQ(run_command("umount " + tiny, &log), 0) << log;
+}
+
+// Inputs that set one number twice (M0_scale beside a preload), a posterior
+// target its chains can never reach, chassis and wheel angles in degrees,
+// and a rest time read at two instants of a moving curve.
+TEST_F(Audit, OverlapsReachableTargetsAnglesAndRestTimes) {
+  std::vector<Case> cases;
+  const std::vector<std::string> overlap = {"overlap", "M0_scale", "M0_11", "multiplies all eight preloads"};
+  auto with = [](std::vector<std::string> mentions, const std::vector<std::string>& more) {
+    mentions.insert(mentions.end(), more.begin(), more.end());
+    return mentions;
+  };
+  // The factor and a preload, in either column order, in a design.
+  for (const std::string header : {"M0_scale,M0_11", "M0_11,M0_scale"}) {
+    const std::string design = w().text_file("scaled", header + "\n1,1.924\n1.2,1.924\n", "csv");
+    cases.push_back({"evaluate: columns " + header,
+                     "evaluate --scenario " + w().quick() + " --design " + design + " --qoi t_min --out " +
+                         w().out("csv"),
+                     Want::kError, with(overlap, {design + ":1", "columns 1 and 2"})});
+  }
+  const Json uniform = {{"distribution", "uniform"}, {"min", 0.8}, {"max", 1.2}};
+  const Json preload = {{"distribution", "uniform"}, {"min", 1.0}, {"max", 2.0}};
+  const std::string scaled_mc = w().montecarlo([&](Json& j) {
+    j["parameters"] = {{"M0_scale", uniform}, {"M0_11", preload}};
+  });
+  cases.push_back({"montecarlo: M0_scale and M0_11", study("montecarlo", scaled_mc) + " --dry-run", Want::kError,
+                   with(overlap, {scaled_mc, "'parameters.M0_"})});
+  const std::string scaled_fit = w().calibration([](Json& j) {
+    j["fit"] = {"M0_scale", "M0_11"};
+    j["bounds"]["M0_scale"] = {0.5, 2.0};
+    j["bounds"]["M0_11"] = {0.5, 5.0};
+  });
+  cases.push_back({"calibrate: fit M0_scale and M0_11", study("calibrate", scaled_fit) + " --dry-run", Want::kError,
+                   with(overlap, {scaled_fit, "'fit'"})});
+  cases.push_back({"calibrate: --fit M0_11,M0_scale", study("calibrate", scaled_fit) + " --dry-run --fit M0_11,M0_scale",
+                   Want::kError, with(overlap, {"--fit"})});
+  const std::string scaled_set = w().json_file(
+      "scaled_set", Json{{"candidates",
+                          {{{"scenario", w().quick()}, {"rate_hz", 1000}, {"noise_sd", 1e-4},
+                            {"set", {{"M0_scale", 1.1}, {"M0_11", 2.0}}}}}}});
+  cases.push_back({"next experiment: set M0_scale and M0_11",
+                   study("calibrate", w().calibration([](Json&) {})) + " --dry-run --next-experiment " + scaled_set,
+                   Want::kError, with(overlap, {scaled_set, "'candidates[0].set."})});
+  const std::string fitted_preload = w().calibration([](Json& j) {
+    j["fit"] = {"M0_11"};
+    j["bounds"]["M0_11"] = {0.5, 5.0};
+  });
+  const std::string scale_set = w().json_file(
+      "scale_set", Json{{"candidates",
+                         {{{"scenario", w().quick()}, {"rate_hz", 1000}, {"noise_sd", 1e-4},
+                           {"set", {{"M0_scale", 1.1}}}}}}});
+  cases.push_back({"next experiment: set M0_scale beside a fitted M0_11",
+                   study("calibrate", fitted_preload) + " --dry-run --next-experiment " + scale_set, Want::kError,
+                   with(overlap, {scale_set, "'candidates[0].set.M0_scale'", "which the study fits"})});
+  // A target above walkers x (steps - burn-in) draws is never met.
+  for (const auto& [target, text] : {std::pair{1e9, "1e+09"}, std::pair{1e300, "1e+300"}}) {
+    const double target_ess = target;
+    const std::string far = w().calibration([&](Json& j) {
+      j["method"] = "mcmc";
+      j["mcmc"] = {{"walkers", 8}, {"steps", 30}, {"target_ess", target_ess}};
+    });
+    cases.push_back({std::string("posterior target_ess ") + text, study("calibrate", far) + " --dry-run",
+                     Want::kError,
+                     {far, "'mcmc.target_ess'", text, "8 x (30 - 10) = 160 draws", "can never be met",
+                      "from 0", "to 160"}});
+  }
+  cases.push_back({"posterior default target beyond --walkers 4 --steps 20",
+                   study("calibrate", w().calibration([](Json&) {})) + " --dry-run --method mcmc --walkers 4 --steps 20",
+                   Want::kError, {"--walkers 4 --steps 20", "the default target_ess 400", "4 x (20 - 10) = 40 draws"}});
+  // Chassis, bogie and wheel angles in degrees.
+  auto angle_case = [&](const std::string& id, const Json& initial_q, std::vector<std::string> mentions) {
+    const std::string scenario = w().scenario([&](Json& j) { j["initial_q"] = initial_q; });
+    mentions.insert(mentions.begin(), {scenario, "'initial_q'"});
+    mentions.push_back("an angle in degrees?");
+    cases.push_back({id, simulate(scenario), Want::kError, mentions});
+  };
+  angle_case("pitch of 30 rad", {{"z", 0.6}, {"chi", 30.0}, {"psi", 0.0042}},
+             {"chi = 30 rad is beyond +-1.570796327 rad", "stands on its end or its side"});
+  angle_case("roll of 5 rad", {{"z", 0.6}, {"psi", 5.0}}, {"psi = 5 rad is beyond +-1.570796327 rad"});
+  angle_case("heading of 1e17 rad", {{"z", 0.281}, {"chi", 0.039}, {"theta", 1e17}},
+             {"theta = 1e+17 rad is beyond +-6.283185307 rad", "a full turn"});
+  angle_case("bogie at 45 rad", {{"z", 0.6}, {"phi", 45.0}}, {"phi = 45 rad is beyond +-1.570796327 rad", "bogie"});
+  angle_case("wheel angle of 90 rad", {{"z", 0.281}, {"chi", 0.039}, {"z3", 90.0}},
+             {"z3 = 90 rad is beyond +-6.283185307 rad", "rolling angle"});
+  auto state_with = [&](int index, double value) {
+    std::vector<double> q(23, 0.0);
+    q[2] = 0.5;
+    q[static_cast<std::size_t>(index)] = value;
+    return w().json_file("state_angle", Json{{"q", q}, {"u", std::vector<double>(23, 0.0)}});
+  };
+  const std::string yaw_state = state_with(3, 1e300), roll_state = state_with(5, 1e17);
+  cases.push_back({"eom: theta 1e300", "eom --state " + yaw_state, Want::kError,
+                   {yaw_state, "'q'", "theta = 1e+300 rad", "an angle in degrees?"}});
+  cases.push_back({"eom: psi 1e17", "eom --state " + roll_state, Want::kError,
+                   {roll_state, "'q'", "psi = 1e+17 rad", "an angle in degrees?"}});
+  const std::string pitched_mc = w().montecarlo([](Json& j) {
+    j["parameters"] = {{"scenario.initial_q.chi", {{"distribution", "uniform"}, {"min", 20.0}, {"max", 40.0}}}};
+  });
+  cases.push_back({"montecarlo of pitches in degrees", study("montecarlo", pitched_mc), Want::kError,
+                   {pitched_mc, "'parameters'", "scenario.initial_q.chi", "chi = 20", "an angle in degrees?"}});
+  // z_r of both curves at one time: A 0 .. 0.3 s, B -0.02 .. 0.28 s on A's
+  // clock (its last time 0.27999999999999997), the rover still rising.
+  const std::string drop = w().scenario([](Json& j) {
+    j["duration"] = 0.3;
+    j["output_rate"] = 500;
+  });
+  const std::string a = w().out(), b = w().out("csv");
+  std::string output;
+  ASSERT_EQ(run_command(rover_binary() + " simulate --no-plot --scenario " + drop + " --out " + a, &output), 0)
+      << output;
+  ASSERT_EQ(run_command(rover_binary() + " synthesize --scenario " + drop + " --cq 0.3 --noise 1e-4 --offset 0.02 --out " +
+                            b, &output), 0)
+      << output;
+  const std::string compare = "compare " + a + " " + b + " --time-offset 0.02";
+  cases.push_back({"compare: the default rest time beyond both ends", compare, Want::kRuns,
+                   {"the default --rest-time 1 s lies outside the times both curves cover, [0, 0.28] s",
+                    "z_r of both is read at 0.28 s, the last time both cover"}, {}, {}, {"\"rest_time_s\": 1"}});
+  cases.push_back({"compare: a rest time beyond one curve", compare + " --rest-time 0.29", Want::kError,
+                   {"--rest-time 0.29 s lies outside the times both curves cover, [0, 0.28] s",
+                    "give a rest time within [0, 0.28] s"}});
+  cases.push_back({"compare: a rest time at B's end, to rounding", compare + " --rest-time 0.28", Want::kRuns,
+                   {"\"deflection_error\""}, {}, {}, {"warning", "outside"}});
+  run_table(w().dir(), cases);
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <numbers>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -480,6 +481,39 @@ TEST(ScenarioConfig, KeysTheMethodDoesNotUseAreRefusedByName) {
   // The keys each method uses are accepted.
   EXPECT_EQ(integrator_error({{"method", "rodas4"}, {"slip_tol", 0.02}, {"max_step", 1e-3}}), "accepted");
   EXPECT_EQ(integrator_error({{"method", "dopri5"}, {"rtol", 1e-8}, {"atol", 1e-11}, {"initial_step", 1e-6}}), "accepted");
+}
+
+
+// The chassis's pitch and roll and the bogie's angle within a quarter turn,
+// its heading and the wheels' rolling angles within a full turn: an angle
+// beyond is one in degrees, refused naming the field, the value and the bound;
+// one within loads.
+TEST(ScenarioConfig, PoseAnglesInDegreesAreRefused) {
+  const struct {
+    const char* name;
+    double bound;
+  } angles[] = {{"chi", std::numbers::pi / 2}, {"psi", std::numbers::pi / 2}, {"phi", std::numbers::pi / 2},
+                {"theta", 2 * std::numbers::pi}, {"z1", 2 * std::numbers::pi}, {"z4", 2 * std::numbers::pi}};
+  for (const auto& angle : angles) {
+    SCOPED_TRACE(angle.name);
+    Json j = base_scenario();
+    j["initial_q"] = {{"z", 0.6}, {angle.name, 30.0}};
+    const std::string message = load_error(j);
+    EXPECT_NE(message.find("'initial_q'"), std::string::npos) << message;
+    EXPECT_NE(message.find(std::string(angle.name) + " = 30 rad is beyond +-" + number_text(angle.bound) + " rad"),
+              std::string::npos) << message;
+    EXPECT_NE(message.find("an angle in degrees?"), std::string::npos) << message;
+    // Within the bound the pose is the loader's to judge (a wheel in the ground
+    // is its own refusal): a small angle loads.
+    j["initial_q"] = {{"z", 0.6}, {angle.name, 0.1}};
+    EXPECT_NO_THROW(io::load_scenario(write_scenario(j)));
+  }
+  const io::ScenarioSetup nominal = io::load_scenario(write_scenario(base_scenario()));
+  Coordinates q = Coordinates::Zero();
+  q[coord::yaw] = 1e17;
+  EXPECT_NE(io::pose_angle_problem(nominal.model, q).find("theta = 1e+17 rad"), std::string::npos);
+  q[coord::yaw] = -6.0;
+  EXPECT_EQ(io::pose_angle_problem(nominal.model, q), "");
 }
 
 }  // namespace

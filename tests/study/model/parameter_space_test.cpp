@@ -73,5 +73,34 @@ TEST(ParameterSpace, AnInvalidValueIsRejectedByTheLoaderWithTheField) {
   }
 }
 
+
+// M0_scale multiplies every preload: beside a single preload the run would
+// depend on the order the two are applied in, so they overlap, as a name does
+// with itself; other pairs do not.
+TEST(ParameterSpace, TheFactorOfThePreloadsOverlapsEachPreload) {
+  const io::ScenarioSources s = drop();
+  const ParameterSpace space(s.rover, s.scenario);
+  const std::string scale = space.canonical("M0_scale");
+  for (int i = 0; i < 8; ++i) {
+    const std::string preload = space.canonical(preload_alias(i));
+    EXPECT_TRUE(parameters_overlap(scale, preload)) << preload;
+    EXPECT_TRUE(parameters_overlap(preload, scale)) << preload;
+    const std::string why = overlap_reason(preload, scale);
+    EXPECT_NE(why.find("M0_scale"), std::string::npos) << why;
+    EXPECT_NE(why.find(preload_alias(i) + " (" + preload + ")"), std::string::npos) << why;
+  }
+  EXPECT_TRUE(parameters_overlap(space.canonical("c_q"), space.canonical("s_structure.c_q")));
+  EXPECT_FALSE(parameters_overlap(space.canonical("M0_11"), space.canonical("M0_12")));
+  EXPECT_FALSE(parameters_overlap(scale, space.canonical("c_q")));
+  EXPECT_EQ(overlap_reason(scale, space.canonical("c_q")), "");
+  // Applied in either order, the two give different preloads: the reason for the rule.
+  io::ScenarioSources first = drop(), second = drop();
+  space.apply(scale, 1.2, first.rover, first.scenario);
+  space.apply(space.canonical("M0_11"), 2.0, first.rover, first.scenario);
+  space.apply(space.canonical("M0_11"), 2.0, second.rover, second.scenario);
+  space.apply(scale, 1.2, second.rover, second.scenario);
+  EXPECT_NE(io::build_scenario(first).inputs.preload_Nm[0], io::build_scenario(second).inputs.preload_Nm[0]);
+}
+
 }  // namespace
 }  // namespace rover::study

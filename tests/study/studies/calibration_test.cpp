@@ -350,5 +350,32 @@ TEST(Calibration, StudyFileChecksNameTheField) {
   EXPECT_EQ(load_calibration_study(study).fingerprint, s.fingerprint);
 }
 
+
+// A posterior's target_ess above the draws its chains keep, walkers x (steps -
+// burn-in), is never met: refused before any run, naming the bound, whether
+// the target is the study's or the default one that short chains cannot meet.
+TEST(Calibration, AnUnreachableTargetEssIsRefused) {
+  const std::string dir = rover::testing::temp_dir();
+  const std::string good = rover::testing::source_path("configs/data/drop_horizontal_synthetic.csv");
+  auto mcmc = [&](const std::string& settings) {
+    return write_file(dir, "mcmc.json", study_text(good, R"(, "method": "mcmc", "mcmc": )" + settings));
+  };
+  for (const std::string target : {"161", "1e9", "1e300"}) {
+    SCOPED_TRACE(target);
+    const std::string path = mcmc(R"({"walkers": 8, "steps": 30, "target_ess": )" + target + "}");
+    expect_refused(path, "'mcmc.target_ess'");
+    expect_refused(path, "8 x (30 - 10) = 160 draws");
+    expect_refused(path, "from 0 (exactly 'steps' steps, no target) to 160");
+  }
+  EXPECT_EQ(load_calibration_study(mcmc(R"({"walkers": 8, "steps": 30, "target_ess": 160})")).mcmc.target_ess, 160);
+  EXPECT_EQ(load_calibration_study(mcmc(R"({"walkers": 8, "steps": 30, "target_ess": 0})")).mcmc.target_ess, 0);
+  // The default target 400, with chains the command line shortens.
+  const std::string plain = write_file(dir, "plain.json", study_text(good, R"(, "method": "mcmc")"));
+  expect_refused(plain, "--walkers 4 --steps 20: the default target_ess 400 can never be met",
+                 {.walkers = 4, .steps = 20});
+  // A burn-in given explicitly counts as given: 8 x (60 - 20) = 320.
+  expect_refused(mcmc(R"({"walkers": 8, "steps": 60, "discard": 20, "target_ess": 400})"), "8 x (60 - 20) = 320");
+}
+
 }  // namespace
 }  // namespace rover::study
