@@ -1,5 +1,6 @@
 // See scenario_config.hpp.
 #include "io/scenario_config.hpp"
+#include "io/config_kind.hpp"
 #include "io/output_target.hpp"
 
 #include <algorithm>
@@ -492,7 +493,7 @@ ModelInputs parse_simulation_inputs(const JsonReader& r, ModelInputs in) {
 
 ScenarioSources read_scenario_sources(const std::string& path) {
   ScenarioSources sources;
-  sources.scenario = read_json_file(path);
+  sources.scenario = read_config_file(path, ConfigKind::kScenario);
   sources.scenario_path = path;
   const JsonReader r(sources.scenario, path);
   // A referenced file: a name, of something that exists and is not a directory.
@@ -511,7 +512,7 @@ ScenarioSources read_scenario_sources(const std::string& path) {
     sources.terrain_path = referenced_file("terrain");
     sources.terrain = load_terrain(sources.terrain_path);
   }
-  sources.rover = read_json_file(sources.rover_path);
+  sources.rover = read_config_file(sources.rover_path, ConfigKind::kRover);
   sources.files = scenario_files(sources);
   return sources;
 }
