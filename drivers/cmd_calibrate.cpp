@@ -16,10 +16,10 @@
 namespace rover::cli {
 namespace {
 
-constexpr int kMaxStarts = 100000;
-constexpr int kMaxEvaluations = 100000000;
-constexpr int kMaxWalkers = 100000;
-constexpr long kMaxSteps = 100000000;
+constexpr int kMaxStarts = study::kMaxCalibrationStarts;
+constexpr int kMaxEvaluations = study::kMaxCalibrationEvaluations;
+constexpr int kMaxWalkers = study::kMaxMcmcWalkers;
+constexpr long kMaxSteps = study::kMaxMcmcSteps;
 
 struct CalibrateOptions {
   std::string study_path = "configs/studies/calibration.json";

@@ -200,6 +200,11 @@ Json parse_json_text(const std::string& text, const std::string& source) {
     throw ConfigError(source + (binary ? ":" + line_and_column(text, text.find('\0')) : std::string()) + ": " +
                       problem + ": save a config as UTF-8 (plain JSON text)");
   }
+  // RFC 8259, section 8.1: JSON text is UTF-8, in comments too.
+  if (const std::size_t invalid = invalid_utf8_offset(text); invalid != std::string::npos)
+    throw ConfigError(source + ":" + line_and_column(text, invalid) + ": is not UTF-8 text: " +
+                      invalid_utf8_description(text, invalid) +
+                      " (Latin-1 or Windows-1252 text?): save a config as UTF-8 (plain JSON text)");
   // Refused before any parsing: the builder's field paths grow with the depth.
   if (const std::size_t excess = json_nesting_excess(text); excess != std::string::npos)
     throw ConfigError(source + ":" + line_and_column(text, excess) + ": objects and arrays nested deeper than " +
@@ -234,7 +239,7 @@ std::string input_path_problem(const std::string& path, const std::string& kind)
   return "";
 }
 
-Json read_json_file(const std::string& path) {
+std::string read_json_text(const std::string& path) {
   if (const std::string problem = input_path_problem(path, "a JSON file"); !problem.empty())
     throw ConfigError(path + ": " + problem);
   std::ifstream in(path, std::ios::binary);
@@ -246,8 +251,10 @@ Json read_json_file(const std::string& path) {
     throw ConfigError(path + ": read error (" + std::generic_category().message(errno) + ")");
   }
   if (in.bad()) throw ConfigError(path + ": read error");
-  return parse_json_text(text, path);
+  return text;
 }
+
+Json read_json_file(const std::string& path) { return parse_json_text(read_json_text(path), path); }
 
 std::optional<std::uint64_t> exact_unsigned_integer(const Json& value) {
   if (value.is_number_unsigned()) return value.get<std::uint64_t>();
@@ -262,6 +269,12 @@ std::optional<std::uint64_t> exact_unsigned_integer(const Json& value) {
       return static_cast<std::uint64_t>(x);
   }
   return std::nullopt;
+}
+
+std::string whole_number_rule(const IntegerRange& range) {
+  return "must be a whole number " +
+         (range.accepted.empty() ? "from " + std::to_string(range.min) + " to " + std::to_string(range.max)
+                                 : range.accepted);
 }
 
 JsonReader::JsonReader(const Json& object, std::string file, std::string path)
@@ -320,21 +333,20 @@ double JsonReader::number(const std::string& key) const {
   return x;
 }
 
-int JsonReader::integer(const std::string& key) const {
+int JsonReader::integer(const std::string& key, const IntegerRange& range) const {
   const Json& v = raw(key);
-  const std::string expected =
-      "expected an integer from " + std::to_string(INT_MIN) + " to " + std::to_string(INT_MAX);
+  std::optional<long long> whole;
   if (v.is_number_unsigned()) {
     const std::uint64_t u = v.get<std::uint64_t>();
-    if (u <= static_cast<std::uint64_t>(INT_MAX)) return static_cast<int>(u);
+    if (u <= static_cast<std::uint64_t>(INT_MAX)) whole = static_cast<long long>(u);
   } else if (v.is_number_integer()) {
-    const std::int64_t i = v.get<std::int64_t>();
-    if (i >= INT_MIN && i <= INT_MAX) return static_cast<int>(i);
+    whole = v.get<std::int64_t>();
   } else if (v.is_number_float()) {
     const double x = v.get<double>();
-    if (std::floor(x) == x && x >= INT_MIN && x <= INT_MAX) return static_cast<int>(x);
+    if (std::isfinite(x) && std::floor(x) == x && std::fabs(x) <= kLargestExactInteger) whole = static_cast<long long>(x);
   }
-  fail(key, expected);
+  if (!whole || *whole < range.min || *whole > range.max) fail(key, whole_number_rule(range));
+  return static_cast<int>(*whole);
 }
 
 std::uint64_t JsonReader::count(const std::string& key) const {
@@ -402,8 +414,8 @@ JsonReader JsonReader::child(const std::string& key) const {
 double JsonReader::number_or(const std::string& key, double fallback) const {
   return has(key) ? number(key) : fallback;
 }
-int JsonReader::integer_or(const std::string& key, int fallback) const {
-  return has(key) ? integer(key) : fallback;
+int JsonReader::integer_or(const std::string& key, int fallback, const IntegerRange& range) const {
+  return has(key) ? integer(key, range) : fallback;
 }
 std::uint64_t JsonReader::count_or(const std::string& key, std::uint64_t fallback) const {
   return has(key) ? count(key) : fallback;

@@ -39,6 +39,10 @@ class ConfigError : public std::runtime_error {
 // the field ("path: field 'bodies.wheel.mass': key given twice ...").
 Json read_json_file(const std::string& path);
 
+// The text of the JSON file `path`, unparsed, with read_json_file()'s errors
+// for a path that names no readable file.
+std::string read_json_text(const std::string& path);
+
 // Why `path` names no file to read, or empty: "no such file", "is a
 // directory, not <kind>" ("a JSON file"), "cannot be reached (Too many levels
 // of symbolic links: a link that leads back to itself?)", "is a pipe, not
@@ -71,6 +75,19 @@ Json parse_json_quietly(const std::string& text);
 // not a number).
 std::optional<std::uint64_t> exact_unsigned_integer(const Json& value);
 
+// The whole numbers an integer field accepts: those from `min` to `max`;
+// `accepted`, when given, states them in place of "from <min> to <max>"
+// where the caller refuses more than the two bounds do ("0 (no intervals), or
+// from 100 to 100000"; "even, from 2 to 100000").
+struct IntegerRange {
+  int min = 0;
+  int max = 0;
+  std::string accepted{};
+};
+
+// "must be a whole number from 1 to 1000000", or with range.accepted.
+std::string whole_number_rule(const IntegerRange& range);
+
 class JsonReader {
  public:
   JsonReader(const Json& object, std::string file, std::string path = "");
@@ -78,9 +95,11 @@ class JsonReader {
   bool has(const std::string& key) const;
   // Required values.
   double number(const std::string& key) const;
-  // An int: a JSON integer (or an integral number up to 2^53) within the
-  // range of int; 2.5, 4294967298 and 1e999 are refused, never rounded or wrapped.
-  int integer(const std::string& key) const;
+  // An int from range.min to range.max: a JSON integer, or an integral
+  // number written with a point or an exponent (10.0, 1e1); 2.5, -5 below a
+  // minimum of 1 and 4294967298 are refused, never rounded or wrapped, with
+  // whole_number_rule(range).
+  int integer(const std::string& key, const IntegerRange& range) const;
   // A non-negative 64-bit count (samples, evaluations) and a 64-bit seed:
   // exact_unsigned_integer() of the value, refused otherwise ("samples":
   // 4294967298 stays 4294967298; -1 and 2^64 + 5 are errors).
@@ -94,7 +113,7 @@ class JsonReader {
   JsonReader child(const std::string& key) const;
   // Optional values: the fallback when the key is absent.
   double number_or(const std::string& key, double fallback) const;
-  int integer_or(const std::string& key, int fallback) const;
+  int integer_or(const std::string& key, int fallback, const IntegerRange& range) const;
   std::uint64_t count_or(const std::string& key, std::uint64_t fallback) const;
   std::uint64_t seed_or(const std::string& key, std::uint64_t fallback) const;
   std::string string_or(const std::string& key, const std::string& fallback) const;

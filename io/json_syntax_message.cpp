@@ -71,6 +71,12 @@ std::string invalid_string(std::string_view reason) {
     return "a control character (a tab or a line break) inside a string: write a tab as \\t, or close the string "
            "with '\"'";
   if (contains(reason, "missing closing quote")) return "a string without its closing '\"'";
+  if (contains(reason, "surrogate U+"))
+    return "a lone UTF-16 surrogate escape: \\uD800 to \\uDBFF must be followed by \\uDC00 to \\uDFFF, which "
+           "must follow one (a pair escapes one character beyond U+FFFF); write the character itself, or its "
+           "whole pair";
+  if (contains(reason, "'\\u' must be followed by 4 hex digits"))
+    return "\\u must be followed by 4 hex digits (\\u00e9)";
   return "a backslash in a string starts an escape (\\n, \\t, \\\", \\\\): write a backslash itself as \\\\ "
          "(a Windows path?)";
 }

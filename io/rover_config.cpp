@@ -10,6 +10,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "core/model_scale.hpp"
+#include "io/config_kind.hpp"
 
 namespace rover::io {
 namespace {
@@ -202,9 +203,7 @@ void parse_friction(const JsonReader& f, RoverParameters& p) {
 
 RoverParameters parse_rover_parameters(const Json& config, const std::string& file) {
   const JsonReader top(config, file);
-  if (config.is_object() && config.contains("rover") && !config.contains("bodies"))
-    top.fail("rover", "this is a scenario file (it names its rover file here), not a rover file: give the rover "
-                      "file it names");
+  refuse_other_config_kind(config, file, ConfigKind::kRover);
   RoverParameters p;
   top.string_or("description", "");
   p.gravity_mps2 = within_scale(top, "gravity", top.non_negative("gravity"), kMaxGravity_mps2, "m/s^2",
@@ -221,7 +220,7 @@ RoverParameters parse_rover_parameters(const Json& config, const std::string& fi
 }
 
 RoverParameters load_rover_parameters(const std::string& path) {
-  return parse_rover_parameters(read_json_file(path), path);
+  return parse_rover_parameters(read_config_file(path, ConfigKind::kRover), path);
 }
 
 }  // namespace rover::io

@@ -1,5 +1,6 @@
 // See scenario_config.hpp.
 #include "io/scenario_config.hpp"
+#include "io/config_kind.hpp"
 #include "io/output_target.hpp"
 
 #include <algorithm>
@@ -529,7 +530,7 @@ std::string named_input_file(const JsonReader& r, const std::string& key, const 
 
 ScenarioSources read_scenario_sources(const std::string& path) {
   ScenarioSources sources;
-  sources.scenario = read_json_file(path);
+  sources.scenario = read_config_file(path, ConfigKind::kScenario);
   sources.scenario_path = path;
   const JsonReader r(sources.scenario, path);
   sources.rover_path = named_input_file(r, "rover", "a JSON file");
@@ -537,7 +538,7 @@ ScenarioSources read_scenario_sources(const std::string& path) {
     sources.terrain_path = named_input_file(r, "terrain", "a JSON file");
     sources.terrain = load_terrain(sources.terrain_path);
   }
-  sources.rover = read_json_file(sources.rover_path);
+  sources.rover = read_config_file(sources.rover_path, ConfigKind::kRover);
   sources.files = scenario_files(sources);
   return sources;
 }

@@ -13,6 +13,7 @@
 
 #include "core/model_scale.hpp"
 #include "core/terrain_interpolation.hpp"
+#include "io/config_kind.hpp"
 #include "io/json_reader.hpp"
 #include "io/output_target.hpp"
 
@@ -128,7 +129,7 @@ void append_number(std::string& out, double v) {
 }  // namespace
 
 Terrain load_terrain(const std::string& path) {
-  const Json json = read_json_file(path);
+  const Json json = read_config_file(path, ConfigKind::kTerrain);
   const JsonReader r(json, path);
   if (r.has("description")) (void)r.string("description");
   (void)r.has("generator");  // free-form provenance

@@ -19,4 +19,14 @@ std::string text_encoding_problem(std::string_view text);
 // Mac OS, some data loggers) and the whole file reads as one line.
 std::string line_ending_problem(std::string_view line);
 
+// The offset of the first byte of `text` that begins no well-formed UTF-8
+// character (RFC 3629: no overlong form, no surrogate, nothing beyond
+// U+10FFFF), or std::string_view::npos when `text` is UTF-8 throughout.
+std::size_t invalid_utf8_offset(std::string_view text);
+
+// Why the bytes at `offset` (invalid_utf8_offset()) are no UTF-8:
+// "byte 0xE9 begins a 3-byte character, but the next byte 0x20 does not
+// continue it", "byte 0xFF begins no UTF-8 character".
+std::string invalid_utf8_description(std::string_view text, std::size_t offset);
+
 }  // namespace rover::io

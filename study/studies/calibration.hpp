@@ -101,6 +101,16 @@ enum class McmcSampler { independence, ensemble };
 inline constexpr long kIndependenceDiscard = 10;
 inline constexpr long kEnsembleDiscard = 100;
 
+// The largest settings a study file or the command line may give: fit starts,
+// evaluations (and iterations) of one search, walkers, steps and burn-in of
+// the posterior, its re-simulated draws, and points of one profile.
+inline constexpr int kMaxCalibrationStarts = 100000;
+inline constexpr int kMaxCalibrationEvaluations = 100000000;
+inline constexpr int kMaxMcmcWalkers = 100000;
+inline constexpr int kMaxMcmcSteps = 100000000;
+inline constexpr int kMaxPredictiveDraws = 100000;
+inline constexpr int kMinProfilePoints = 3, kMaxProfilePoints = 10000;
+
 struct McmcSettings {
   McmcSampler sampler = McmcSampler::independence;
   int walkers = 32;  // the ensemble's walkers, or the independent chains

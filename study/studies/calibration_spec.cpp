@@ -20,6 +20,7 @@
 #include "core/curve_overlap.hpp"
 #include "core/number_text.hpp"
 #include "core/simulate.hpp"
+#include "io/config_kind.hpp"
 #include "io/csv.hpp"
 #include "io/hdf5_file.hpp"
 #include "study/model/distribution_json.hpp"
@@ -496,6 +497,12 @@ void read_priors(const io::JsonReader& r, CalibrationStudy& s) {
   }
 }
 
+// The walkers a study file may give: at least 2, and at least twice the
+// sampled parameters, which check_mcmc_sizes() checks once they are known.
+const io::IntegerRange kWalkers{2, kMaxMcmcWalkers,
+                                "that is even, from 2 to " + std::to_string(kMaxMcmcWalkers) +
+                                    ", and at least twice the number of sampled parameters"};
+
 // "mcmc": the sampler and its target, the noise model.
 void read_mcmc_settings(const io::JsonReader& r, CalibrationStudy& s) {
   if (r.has("mcmc")) {
@@ -504,14 +511,14 @@ void read_mcmc_settings(const io::JsonReader& r, CalibrationStudy& s) {
     if (sampler == "independence") s.mcmc.sampler = McmcSampler::independence;
     else if (sampler == "ensemble") s.mcmc.sampler = McmcSampler::ensemble;
     else m.fail("sampler", "unknown sampler '" + sampler + "' (independence or ensemble)");
-    s.mcmc.walkers = m.integer_or("walkers", s.mcmc.walkers);
-    s.mcmc.steps = m.integer_or("steps", static_cast<int>(s.mcmc.steps));
-    if (m.has("discard")) s.mcmc.discard = m.integer_or("discard", 0);
+    s.mcmc.walkers = m.integer_or("walkers", s.mcmc.walkers, kWalkers);
+    s.mcmc.steps = m.integer_or("steps", static_cast<int>(s.mcmc.steps), {1, kMaxMcmcSteps});
+    if (m.has("discard")) s.mcmc.discard = m.integer("discard", {0, kMaxMcmcSteps});
     s.mcmc.target_ess = m.has("target_ess") ? m.non_negative("target_ess") : s.mcmc.target_ess;
     s.mcmc.max_rhat = m.has("max_rhat") ? m.positive("max_rhat") : s.mcmc.max_rhat;
     if (!(s.mcmc.max_rhat > 1.0)) m.fail("max_rhat", "must be above 1, got " + format_number(s.mcmc.max_rhat, 6));
     s.mcmc.seed = m.seed_or("seed", s.mcmc.seed);
-    s.mcmc.predictive_draws = m.integer_or("predictive_draws", s.mcmc.predictive_draws);
+    s.mcmc.predictive_draws = m.integer_or("predictive_draws", s.mcmc.predictive_draws, {0, kMaxPredictiveDraws});
     if (m.has("noise_sd")) {
       if (m.raw("noise_sd").is_number()) {
         s.mcmc.sample_noise = false;
@@ -533,7 +540,6 @@ void read_mcmc_settings(const io::JsonReader& r, CalibrationStudy& s) {
         noise.finish();
       }
     }
-    if (s.mcmc.predictive_draws < 0) m.fail("predictive_draws", "must not be negative");
     m.finish();
   }
 }
@@ -619,8 +625,8 @@ void check_mcmc_sizes(const io::JsonReader& r, const CalibrationOverrides& o, Ca
 void read_fit_options(const io::JsonReader& r, const CalibrationOverrides& o, CalibrationStudy& s) {
   // Read every key even when the command line overrides it (no "unknown key").
   const std::string configured_algorithm = r.string_or("algorithm", kLeastSquaresAlgorithm);
-  const int configured_evaluations = r.integer_or("max_evaluations", 40);
-  const int configured_starts = r.integer_or("starts", 1);
+  const int configured_evaluations = r.integer_or("max_evaluations", 40, {1, kMaxCalibrationEvaluations});
+  const int configured_starts = r.integer_or("starts", 1, {1, kMaxCalibrationStarts});
   s.algorithm = !o.algorithm.empty() ? o.algorithm : configured_algorithm;
   const bool algorithm_flag = !o.algorithm.empty();
   if (s.algorithm != kLeastSquaresAlgorithm && static_cast<int>(nlopt_algorithm_from_string(s.algorithm.c_str())) < 0)
@@ -632,7 +638,10 @@ void read_fit_options(const io::JsonReader& r, const CalibrationOverrides& o, Ca
                  "'" + s.algorithm + "' needs gradients, which the simulated RMS does not have; "
                  "use a derivative-free algorithm (LN_BOBYQA, LN_SBPLX, LN_NELDERMEAD, GN_DIRECT_L, ...)");
   s.max_evaluations = o.max_evaluations ? *o.max_evaluations : configured_evaluations;
-  const int configured_iterations = r.integer_or("max_iterations", 0);
+  const int configured_iterations = r.integer_or(
+      "max_iterations", 0,
+      {0, kMaxCalibrationEvaluations,
+       "from 0 (10 + 5 per parameter) to " + std::to_string(kMaxCalibrationEvaluations)});
   s.max_iterations = o.max_iterations ? *o.max_iterations : configured_iterations;
   if (s.max_iterations < 0)
     fail_setting(r, o.max_iterations.has_value(), "--max-iterations", "max_iterations",
@@ -644,10 +653,9 @@ void read_fit_options(const io::JsonReader& r, const CalibrationOverrides& o, Ca
   s.starts = o.starts ? *o.starts : configured_starts;
   if (s.starts <= 0)
     fail_setting(r, o.starts.has_value(), "--starts", "starts", "must be positive, got " + std::to_string(s.starts));
-  s.seed = static_cast<std::uint64_t>(r.integer_or("seed", 1));
+  s.seed = r.seed_or("seed", 1);
   s.profile = r.boolean_or("profile", false) || o.profile;
-  s.profile_points = r.integer_or("profile_points", s.profile_points);
-  if (s.profile_points < 3) r.fail("profile_points", "must be at least 3");
+  s.profile_points = r.integer_or("profile_points", s.profile_points, {kMinProfilePoints, kMaxProfilePoints});
 }
 
 // The integrator of every run: the study's "integrator" (over the study
@@ -699,7 +707,7 @@ std::string calibration_fingerprint(const CalibrationStudy& s, const Calibration
 }  // namespace
 
 CalibrationStudy load_calibration_study(const std::string& path, const CalibrationOverrides& o) {
-  const io::Json json = io::read_json_file(path);
+  const io::Json json = io::read_config_file(path, io::ConfigKind::kStudy);
   const io::JsonReader r(json, path);
   CalibrationStudy s;
   s.identity = parse_study_identity(r, {"calibration"});

@@ -6,6 +6,7 @@
 
 #include "study/runtime/study_runner.hpp"
 #include "study/studies/study_output.hpp"
+#include "io/config_kind.hpp"
 
 namespace rover::study {
 namespace {
@@ -48,7 +49,7 @@ void apply_design_overrides(const DesignOverrides& o, StudySpec& spec) {
 }  // namespace
 
 MonteCarloStudy load_montecarlo_study(const std::string& path, const DesignOverrides& overrides) {
-  const io::Json json = io::read_json_file(path);
+  const io::Json json = io::read_config_file(path, io::ConfigKind::kStudy);
   const io::JsonReader r(json, path);
   MonteCarloStudy s;
   s.spec = parse_study_spec(r, {"montecarlo"});
@@ -58,10 +59,12 @@ MonteCarloStudy load_montecarlo_study(const std::string& path, const DesignOverr
     if (!(s.confidence > kMinConfidence && s.confidence < kMaxConfidence)) r.fail("confidence", "must lie in (0.5, 1)");
   }
   if (r.has("bootstrap")) {
-    s.bootstrap_resamples = r.integer("bootstrap");
-    if (s.bootstrap_resamples != kNoSdInterval &&
-        (s.bootstrap_resamples < kMinBootstrap || s.bootstrap_resamples > kMaxBootstrap))
-      r.fail("bootstrap", "give 100 .. 100000 resamples, or 0 for no sd interval");
+    const io::IntegerRange resamples{kNoSdInterval, kMaxBootstrap,
+                                     std::to_string(kNoSdInterval) + " (no sd interval), or from " +
+                                         std::to_string(kMinBootstrap) + " to " + std::to_string(kMaxBootstrap)};
+    s.bootstrap_resamples = r.integer("bootstrap", resamples);
+    if (s.bootstrap_resamples != kNoSdInterval && s.bootstrap_resamples < kMinBootstrap)
+      r.fail("bootstrap", io::whole_number_rule(resamples));
   }
   const bool sd_interval = s.bootstrap_resamples != kNoSdInterval;
   if (const std::string problem = sd_interval ? bootstrap_resolution_problem(s.confidence, "'confidence'",

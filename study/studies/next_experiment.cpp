@@ -13,6 +13,7 @@
 #include <Eigen/Cholesky>
 
 #include "core/number_text.hpp"
+#include "io/config_kind.hpp"
 #include "io/csv.hpp"
 #include "io/json_reader.hpp"
 #include "io/result_label.hpp"
@@ -154,7 +155,7 @@ Eigen::VectorXd half_widths(const Eigen::MatrixXd& information, std::size_t p) {
 
 std::vector<NextExperimentCandidate> load_next_experiment_candidates(const std::string& path,
                                                                      const CalibrationStudy& study) {
-  const io::Json json = io::read_json_file(path);
+  const io::Json json = io::read_config_file(path, io::ConfigKind::kCandidates);
   const io::JsonReader r(json, path);
   (void)r.string_or("description", "");
   if (study.offset_fitted())

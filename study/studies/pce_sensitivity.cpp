@@ -245,15 +245,14 @@ PceSensitivityOptions parse_pce_options(const io::JsonReader& r, double confiden
     return o;
   }
   const io::JsonReader p = r.child("pce");
-  o.settings.max_degree = p.integer_or("max_degree", o.settings.max_degree);
-  if (o.settings.max_degree < 1 || o.settings.max_degree > kMaxPceDegree)
-    p.fail("max_degree", "must be from 1 to " + std::to_string(kMaxPceDegree));
+  o.settings.max_degree = p.integer_or("max_degree", o.settings.max_degree, {1, kMaxPceDegree});
   o.settings.q_norm = p.number_or("q_norm", o.settings.q_norm);
   if (!(o.settings.q_norm > 0.0 && o.settings.q_norm <= 1.0)) p.fail("q_norm", "must lie in (0, 1]");
-  o.bootstrap = p.integer_or("bootstrap", o.bootstrap);
-  if (o.bootstrap < 0 || (o.bootstrap > 0 && o.bootstrap < kMinPceBootstrap) || o.bootstrap > kMaxPceBootstrap)
-    p.fail("bootstrap", "give 0 (no intervals) or " + std::to_string(kMinPceBootstrap) + " .. " +
-                            std::to_string(kMaxPceBootstrap) + " resamples");
+  const io::IntegerRange resamples{0, kMaxPceBootstrap,
+                                   "0 (no intervals), or from " + std::to_string(kMinPceBootstrap) + " to " +
+                                       std::to_string(kMaxPceBootstrap)};
+  o.bootstrap = p.integer_or("bootstrap", o.bootstrap, resamples);
+  if (o.bootstrap > 0 && o.bootstrap < kMinPceBootstrap) p.fail("bootstrap", io::whole_number_rule(resamples));
   refuse_unresolved_confidence(r, o, "'pce.bootstrap'");
   o.settings.q2_threshold = p.number_or("q2_threshold", o.settings.q2_threshold);
   if (!(o.settings.q2_threshold > 0.0 && o.settings.q2_threshold <= 1.0)) p.fail("q2_threshold", "must lie in (0, 1]");

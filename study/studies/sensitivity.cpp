@@ -16,6 +16,7 @@
 #include "study/runtime/study_runner.hpp"
 #include "study/studies/report_format.hpp"
 #include "study/studies/study_output.hpp"
+#include "io/config_kind.hpp"
 
 namespace rover::study {
 namespace {
@@ -25,6 +26,9 @@ namespace {
 constexpr double kRecordOverhead = 1.2;
 // A bootstrap of indices: 0 (no intervals), or this many resamples.
 constexpr int kMinBootstrap = 100, kMaxBootstrap = 100000;
+// Morris trajectories, and the levels of its grid (even: each step spans half of them).
+constexpr int kMinStudyTrajectories = 2, kMaxStudyTrajectories = 100000;
+constexpr int kMinMorrisLevels = 2, kMaxMorrisLevels = 1000, kDefaultMorrisLevels = 4;
 
 int varied_count(const StudySpec& spec) { return static_cast<int>(spec.inputs.size()); }
 
@@ -212,9 +216,11 @@ struct IndexIntervals {
 };
 IndexIntervals read_index_intervals(const io::JsonReader& r, SensitivityMethod method) {
   IndexIntervals out;
-  out.bootstrap = r.has("bootstrap") ? r.integer("bootstrap") : out.bootstrap;
-  if (out.bootstrap < 0 || (out.bootstrap > 0 && out.bootstrap < kMinBootstrap) || out.bootstrap > kMaxBootstrap)
-    r.fail("bootstrap", "give 0 (no intervals) or 100 .. 100000 resamples");
+  const io::IntegerRange resamples{0, kMaxBootstrap,
+                                   "0 (no intervals), or from " + std::to_string(kMinBootstrap) + " to " +
+                                       std::to_string(kMaxBootstrap)};
+  out.bootstrap = r.integer_or("bootstrap", out.bootstrap, resamples);
+  if (out.bootstrap > 0 && out.bootstrap < kMinBootstrap) r.fail("bootstrap", io::whole_number_rule(resamples));
   out.confidence = r.number_or("confidence", out.confidence);
   if (!(out.confidence > 0.5 && out.confidence < 1.0)) r.fail("confidence", "must lie in (0.5, 1)");
   if (method != SensitivityMethod::kPce && out.bootstrap > 0)
@@ -276,7 +282,7 @@ void refuse_failures_beyond_the_limit(const io::JsonReader& r, const Sensitivity
 }
 
 SensitivityStudy load_sensitivity_study(const std::string& path, const DesignOverrides& overrides) {
-  const io::Json json = io::read_json_file(path);
+  const io::Json json = io::read_config_file(path, io::ConfigKind::kStudy);
   const io::JsonReader r(json, path);
   SensitivityStudy s;
   s.spec = parse_study_spec(r, {"sensitivity"}, DesignKey::kByCaller);
@@ -332,10 +338,12 @@ SensitivityStudy load_sensitivity_study(const std::string& path, const DesignOve
     s.sobol.confidence = confidence;
     s.sobol.seed = s.spec.design.seed;
   } else {
-    s.trajectories = d.integer("trajectories");
-    if (s.trajectories < 2 || s.trajectories > 100000) d.fail("trajectories", "must be from 2 to 100000");
-    s.levels = d.has("levels") ? d.integer("levels") : 4;
-    if (s.levels < 2 || s.levels % 2 != 0) d.fail("levels", "must be an even number >= 2");
+    s.trajectories = d.integer("trajectories", {kMinStudyTrajectories, kMaxStudyTrajectories});
+    const io::IntegerRange levels{kMinMorrisLevels, kMaxMorrisLevels,
+                                  "that is even, from " + std::to_string(kMinMorrisLevels) + " to " +
+                                      std::to_string(kMaxMorrisLevels)};
+    s.levels = d.integer_or("levels", kDefaultMorrisLevels, levels);
+    if (s.levels % 2 != 0) d.fail("levels", io::whole_number_rule(levels));
     if (const double distinct = distinct_morris_steps(d_inputs, s.levels); s.trajectories > distinct)
       d.fail("trajectories", std::to_string(s.trajectories) + " trajectories, but " + std::to_string(d_inputs) +
                                  " input(s) on " + std::to_string(s.levels) + " levels give each input only " +

@@ -14,6 +14,7 @@
 #include "core/number_text.hpp"
 #include "core/reference_miss.hpp"
 #include "core/rover_parameters.hpp"
+#include "io/config_kind.hpp"
 #include "io/checkpoint.hpp"
 #include "io/output_target.hpp"
 #include "io/result_label.hpp"
@@ -493,6 +494,35 @@ std::vector<Channel> parse_channels(const io::JsonReader& r) {
   return channels;
 }
 
+// The points a grid design may have (and so the levels of one input).
+constexpr int kMaxGridPoints = 100'000'000;
+
+// How "levels" is written: one whole number for every varied input, or an
+// object naming each one ({"c_q": 3, "f": 2}), shown with the numbers of an
+// array given in its place.
+std::string grid_levels_form(const std::vector<UncertainInput>& inputs, const io::Json& levels) {
+  constexpr int kExampleLevels = 3;
+  std::string example;
+  std::size_t k = 0;
+  for (const UncertainInput& in : inputs) {
+    if (in.distribution.kind == DistributionKind::kFixed) continue;
+    const bool from_array = levels.is_array() && k < levels.size() && levels[k].is_number();
+    const std::string n = from_array ? levels[k].dump() : std::to_string(kExampleLevels);
+    example += (example.empty() ? "{" : ", ") + std::string("\"") + in.label + "\": " + n;
+    ++k;
+  }
+  return "give one whole number of levels for every input (\"levels\": " + std::to_string(kExampleLevels) +
+         "), or an object naming the levels of each input (\"levels\": " + example + "})";
+}
+
+// "300 x 400000" for the levels of a grid.
+std::string grid_points_text(const std::vector<int>& levels) {
+  std::string text;
+  for (const int n : levels)
+    if (n > 1) text += (text.empty() ? "" : " x ") + std::to_string(n);
+  return text;
+}
+
 DesignSpec parse_design(const io::JsonReader& d, const std::vector<UncertainInput>& inputs) {
   DesignSpec spec;
   try {
@@ -505,25 +535,24 @@ DesignSpec parse_design(const io::JsonReader& d, const std::vector<UncertainInpu
     const io::Json& levels = d.raw("levels");
     std::optional<io::JsonReader> per_input;
     if (levels.is_object()) per_input.emplace(d.child("levels"));
+    else if (!levels.is_number()) d.fail("levels", grid_levels_form(inputs, levels));
+    const io::IntegerRange level_range{1, kMaxGridPoints};
     long long total = 1;
     for (const UncertainInput& in : inputs) {
       int n = 1;
       if (in.distribution.kind != DistributionKind::kFixed) {
-        if (levels.is_number_integer()) {
-          n = d.integer("levels");
-        } else if (per_input && levels.contains(in.label)) {
-          n = per_input->integer(in.label);
-        } else {
-          d.fail("levels", "give the number of levels of '" + in.label + "' (or one number for every input)");
-        }
-        if (n < 1) d.fail("levels", "must be at least 1, got " + std::to_string(n));
+        if (levels.is_number()) n = d.integer("levels", level_range);
+        else if (levels.contains(in.label)) n = per_input->integer(in.label, level_range);
+        else d.fail("levels", "names no levels of '" + in.label + "': " + grid_levels_form(inputs, levels));
         if (n > 1 && (!std::isfinite(in.distribution.support_lower()) || !std::isfinite(in.distribution.support_upper())))
           d.fail("type", "a grid needs bounded distributions (uniform, log_uniform); '" + in.label + "' is " +
                              in.distribution.describe());
       }
       spec.grid_levels.push_back(n);
       total *= n;
-      if (total > 100'000'000) d.fail("levels", "the grid would have more than 1e8 points");
+      if (total > kMaxGridPoints)
+        d.fail("levels", "the grid would have more than " + std::to_string(kMaxGridPoints) + " points (" +
+                             grid_points_text(spec.grid_levels) + "): give fewer levels");
     }
     if (per_input) per_input->finish();
     spec.samples = static_cast<int>(total);
@@ -591,24 +620,8 @@ std::optional<IntegratorSettings> study_integrator(const io::JsonReader& r, cons
   return std::nullopt;
 }
 
-// The other configuration files a --study may be given by mistake, told by
-// their keys: a scenario (it names its rover), a rover (its bodies) and a
-// next-experiment candidates file.
-void refuse_other_config_files(const io::JsonReader& r) {
-  if (r.has("type")) return;
-  if (r.has("rover"))
-    r.fail("rover", "this is a scenario file (it names its rover file here), not a study file: give a study file "
-                    "(configs/studies/), whose \"scenario\" names this one");
-  if (r.has("bodies"))
-    r.fail("bodies", "this is a rover file (its bodies), not a study file: give a study file (configs/studies/), "
-                     "whose scenario names this rover");
-  if (r.has("candidates"))
-    r.fail("candidates", "this is a candidates file of rover calibrate --next-experiment, not a study file: give it "
-                         "to --next-experiment, and a calibration study to --study");
-}
-
 StudyIdentity parse_study_identity(const io::JsonReader& r, const std::vector<std::string>& types) {
-  refuse_other_config_files(r);
+  io::refuse_other_config_kind(r.raw_object(), r.file(), io::ConfigKind::kStudy);
   StudyIdentity id;
   id.path = r.file();
   id.type = r.string("type");

@@ -6,6 +6,7 @@
 #include "core/number_text.hpp"
 #include "core/reference_miss.hpp"
 #include "core/simulate.hpp"
+#include "io/config_kind.hpp"
 #include "io/trajectory_io.hpp"
 #include "io/output_target.hpp"
 #include "study/design/design.hpp"
@@ -30,9 +31,7 @@ const std::vector<std::string> kSurfaceInputs{"s_structure.f", "s_structure.c_q"
 std::vector<double> parse_axis(const io::JsonReader& parent, const std::string& key, bool* log_spacing = nullptr) {
   const io::JsonReader a = parent.child(key);
   const double min = a.positive("min"), max = a.positive("max");
-  const int count = a.integer("count");
-  if (count < 1) a.fail("count", "the grid needs at least one point");
-  if (count > kMaxAxisPoints) a.fail("count", "more than 1e6 points on one axis");
+  const int count = a.integer("count", {1, kMaxAxisPoints});
   if (!(max >= min)) a.fail("max", "must not be below min (" + number_text(min) + ")");
   if (count == 1 && max > min)
     a.fail("count", "1 point runs min = " + number_text(min) + " only, and max = " + number_text(max) +
@@ -277,7 +276,7 @@ LinearFit linear_regression(const std::vector<double>& x, const std::vector<doub
 }
 
 SurfaceStudy load_surface_study(const std::string& path) {
-  const io::Json json = io::read_json_file(path);
+  const io::Json json = io::read_config_file(path, io::ConfigKind::kStudy);
   const io::JsonReader r(json, path);
   SurfaceStudy s;
   s.path = path;

@@ -118,10 +118,7 @@ SurfaceKrigingSpec parse_surface_kriging(const io::JsonReader& r, const std::str
   const std::string kind = r.string("surrogate");
   if (kind != "gp") r.fail("surrogate", "expected \"gp\" (kriging of the surface from \"runs\" runs), got \"" + kind + "\"");
   s.enabled = true;
-  s.runs = r.integer("runs");
-  if (s.runs < kMinSurfaceKrigingRuns || s.runs > kMaxSurfaceKrigingRuns)
-    r.fail("runs", "must be from " + std::to_string(kMinSurfaceKrigingRuns) + " to " +
-                       std::to_string(kMaxSurfaceKrigingRuns) + ", got " + std::to_string(s.runs));
+  s.runs = r.integer("runs", {kMinSurfaceKrigingRuns, kMaxSurfaceKrigingRuns});
   s.seed = r.seed_or("seed", s.seed);
   if (r.has("check")) {
     if (r.raw("check").is_string()) {
@@ -143,8 +140,7 @@ SurfaceKrigingSpec parse_surface_kriging(const io::JsonReader& r, const std::str
     const std::string trend = g.string_or("trend", "constant");
     if (trend == "linear") s.gp.trend = KrigingTrend::kLinear;
     else if (trend != "constant") g.fail("trend", "expected \"constant\" or \"linear\", got \"" + trend + "\"");
-    s.gp.starts = g.integer_or("starts", s.gp.starts);
-    if (s.gp.starts < 1 || s.gp.starts > kMaxStarts) g.fail("starts", "must be from 1 to " + std::to_string(kMaxStarts));
+    s.gp.starts = g.integer_or("starts", s.gp.starts, {1, kMaxStarts});
     g.finish();
   }
   if (!(f_max > f_min) || !(c_q_max > c_q_min))

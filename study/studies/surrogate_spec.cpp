@@ -7,6 +7,7 @@
 
 #include "core/number_text.hpp"
 #include "core/name_list.hpp"
+#include "io/config_kind.hpp"
 #include "io/hdf5_file.hpp"
 #include "io/scenario_config.hpp"
 #include "study/studies/surrogate_file.hpp"
@@ -65,9 +66,7 @@ GaussianProcessSettings parse_gp_options(const io::JsonReader& r, std::uint64_t 
   const std::string trend = g.string_or("trend", "constant");
   if (trend == "linear") gp.trend = KrigingTrend::kLinear;
   else if (trend != "constant") g.fail("trend", "expected \"constant\" or \"linear\", got \"" + trend + "\"");
-  gp.starts = g.integer_or("starts", gp.starts);
-  if (gp.starts < 1 || gp.starts > kMaxGaussianProcessStarts)
-    g.fail("starts", "must be from 1 to " + std::to_string(kMaxGaussianProcessStarts));
+  gp.starts = g.integer_or("starts", gp.starts, {1, kMaxGaussianProcessStarts});
   if (g.has("nugget") && g.raw("nugget").is_string()) {
     const std::string nugget = g.string("nugget");
     if (nugget != "estimate") g.fail("nugget", "expected a number in [0, 0.1] or \"estimate\", got \"" + nugget + "\"");
@@ -226,7 +225,7 @@ int min_training_runs(const SurrogateStudy& s) {
 }
 
 SurrogateStudy load_surrogate_study(const std::string& path, const DesignOverrides& overrides) {
-  io::Json json = io::read_json_file(path);
+  io::Json json = io::read_config_file(path, io::ConfigKind::kStudy);
   default_design_type(json);
   const io::JsonReader r(json, path);
   SurrogateStudy s;

@@ -182,19 +182,55 @@ std::string read_value(const std::string& text, Accessor accessor) {
   }
 }
 
-TEST(JsonReader, IntegerAcceptsExactlyTheInts) {
-  const auto integer = [](const JsonReader& r) { return r.integer("n"); };
+TEST(JsonReader, IntegerAcceptsExactlyTheWholeNumbersOfItsRange) {
+  const auto integer = [](const JsonReader& r) { return r.integer("n", {INT_MIN, INT_MAX}); };
   EXPECT_EQ(read_value("7", integer), "7");
   EXPECT_EQ(read_value("-3", integer), "-3");
   EXPECT_EQ(read_value("1e3", integer), "1000");
+  EXPECT_EQ(read_value("10.0", integer), "10");
   EXPECT_EQ(read_value("2147483647", integer), "2147483647");
   EXPECT_EQ(read_value("-2147483648", integer), "-2147483648");
   for (const std::string bad : {"2.5", "4294967298", "2147483648", "-2147483649", "1e300",
                                 "18446744073709551621", "\"7\"", "true", "null", "[1]"}) {
     const std::string result = read_value(bad, integer);
     EXPECT_TRUE(contains(result, "error: counts.json: field 'n'")) << bad << " -> " << result;
-    EXPECT_TRUE(contains(result, "expected an integer from -2147483648 to 2147483647")) << result;
+    EXPECT_TRUE(contains(result, "must be a whole number from -2147483648 to 2147483647")) << result;
   }
+}
+
+TEST(JsonReader, IntegerStatesTheRangeItEnforces) {
+  const auto count = [](const JsonReader& r) { return r.integer("n", {1, 1000000}); };
+  EXPECT_EQ(read_value("1e1", count), "10");
+  for (const std::string bad : {"2.5", "0", "-5", "3e9", "1000001"}) {
+    const std::string result = read_value(bad, count);
+    EXPECT_TRUE(contains(result, "field 'n' (value ")) << bad << " -> " << result;
+    EXPECT_TRUE(contains(result, "must be a whole number from 1 to 1000000")) << bad << " -> " << result;
+  }
+  const auto even = [](const JsonReader& r) { return r.integer("n", {2, 100, "that is even, from 2 to 100"}); };
+  EXPECT_TRUE(contains(read_value("1.5", even), "must be a whole number that is even, from 2 to 100"));
+}
+
+TEST(JsonReader, TextThatIsNotUtf8IsNamedByLineColumnAndByte) {
+  const auto message = [](const std::string& text) {
+    try {
+      parse_json_text(text, "c.json");
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string latin1 = message("{\n  \"name\": \"Caf\xe9 x\"\n}");
+  EXPECT_TRUE(contains(latin1, "c.json:2:15: is not UTF-8 text: byte 0xE9")) << latin1;
+  EXPECT_TRUE(contains(latin1, "save a config as UTF-8")) << latin1;
+  EXPECT_FALSE(contains(latin1, "backslash")) << latin1;
+  EXPECT_TRUE(contains(message("{\"a\": \"\xff\xfe x\"}"), "c.json:1:8: is not UTF-8 text: byte 0xFF"));
+  const std::string truncated = message("{\"a\": \"x\xc3\"}");
+  EXPECT_TRUE(contains(truncated, "1:9: is not UTF-8 text: byte 0xC3 begins a 2-byte UTF-8 character, but byte 0x22"))
+      << truncated;
+  EXPECT_EQ(message("{\"a\": \"Caf\xc3\xa9\"}"), "no error");
+  const std::string surrogate = message("{\"a\": \"\\ud800\"}");
+  EXPECT_TRUE(contains(surrogate, "a lone UTF-16 surrogate escape")) << surrogate;
+  EXPECT_FALSE(contains(surrogate, "Windows path")) << surrogate;
 }
 
 TEST(JsonReader, CountsAndSeedsAreExact64BitIntegers) {
