@@ -5234,5 +5234,57 @@ TEST_F(Audit, OverlapsReachableTargetsAnglesAndRestTimes) {
   run_table(w().dir(), cases);
 }
 
+// Config text that is not UTF-8, integer fields with their own ranges, grid
+// levels in any whole-number form, and a file of another kind than the one
+// a flag or field reads.
+TEST_F(Audit, ConfigTextCountsAndFileKinds) {
+  const std::string dir = w().dir();
+  std::vector<Case> cases;
+  // JSON text that is not UTF-8 is named by its line, column and byte.
+  const std::string mc_text = io::read_json_file(w().montecarlo([](Json&) {})).dump(1);
+  const std::string latin1 = w().text_file("latin1", "{\"description\": \"Caf\xe9 x\",\n" + mc_text.substr(1));
+  cases.push_back({"a study file holding a Latin-1 byte", study("montecarlo", latin1) + " --dry-run", Want::kError,
+                   {latin1 + ":1:21: is not UTF-8 text: byte 0xE9", "save a config as UTF-8"}, {}, {}, {"backslash"}});
+  const std::string truncated = w().text_file("truncated", "{\"description\": \"x\xc3\",\n" + mc_text.substr(1));
+  cases.push_back({"a study file whose string ends in half a character", study("montecarlo", truncated) + " --dry-run",
+                   Want::kError, {":1:19: is not UTF-8 text: byte 0xC3"}, {}, {}, {"backslash"}});
+  const std::string surrogate = w().text_file("surrogate", "{\"description\": \"\\ud800\",\n" + mc_text.substr(1));
+  cases.push_back({"a lone surrogate escape", study("montecarlo", surrogate) + " --dry-run", Want::kError,
+                   {"a lone UTF-16 surrogate escape"}, {}, {}, {"Windows path"}});
+  // An integer field states the range it accepts.
+  cases.push_back({"a surface axis of 2.5 points",
+                   study("surface", w().surface([](Json& j) { j["c_q"]["count"] = 2.5; })) + " --dry-run",
+                   Want::kError, {"field 'c_q.count' (value 2.5)", "must be a whole number from 1 to 1000000"}, {},
+                   {}, {"2147483647"}});
+  cases.push_back({"a surface axis of 3e9 points",
+                   study("surface", w().surface([](Json& j) { j["c_q"]["count"] = 3e9; })) + " --dry-run",
+                   Want::kError, {"field 'c_q.count'", "must be a whole number from 1 to 1000000"}});
+  cases.push_back({"a Monte Carlo bootstrap of 2.5 resamples",
+                   study("montecarlo", w().montecarlo([](Json& j) { j["bootstrap"] = 2.5; })) + " --dry-run",
+                   Want::kError, {"field 'bootstrap'", "0 (no sd interval), or from 100 to 100000"}});
+  // A file of another kind is named for what it is.
+  const std::string a_study = w().montecarlo([](Json&) {});
+  cases.push_back({"simulate a study file", "simulate --scenario " + a_study + " --out " + w().out(), Want::kError,
+                   {"this is a study file", "not a scenario file"}, {}, {}, {"missing required field"}});
+  cases.push_back({"simulate the rover file", "simulate --scenario " + source_path("configs/rover.json") + " --out " +
+                                                  w().out(),
+                   Want::kError, {"this is a rover file", "not a scenario file"}, {}, {}, {"missing required field"}});
+  const std::string csv = w().text_file("d1", "# t [s], B_l_z [m]\n0,0.1\n", "csv");
+  cases.push_back({"a data CSV given as a study", study("montecarlo", csv) + " --dry-run", Want::kError,
+                   {csv + ": a CSV (text data) file", "not a JSON study file"}, {}, {}, {"invalid JSON"}});
+  // Grid levels: whole numbers in any form; an array shows the object form.
+  const auto grid = [&](const Json& levels) {
+    return study("montecarlo", w().montecarlo([&](Json& j) {
+             j["design"] = {{"type", "grid"}, {"levels", levels}};
+           })) + " --dry-run";
+  };
+  cases.push_back({"grid levels 1e1", grid(1e1), Want::kRuns, {}});
+  cases.push_back({"grid levels 2.5", grid(2.5), Want::kError,
+                   {"field 'design.levels' (value 2.5)", "must be a whole number from 1 to 100000000"}});
+  cases.push_back({"grid levels as an array", grid(Json::array({3})), Want::kError,
+                   {"field 'design.levels'", "\"levels\": {\"c_q\": 3}"}});
+  run_table(dir, cases);
+}
+
 }  // namespace
 }  // namespace rover
