@@ -97,11 +97,15 @@ bool scenario_is_valid(const Scenario& scenario, std::string* why) {
                            " s (use the period divided by a whole number)");
     // The stall watch ends any run slower than this pace as collapsed.
     const double max_steps = static_cast<double>(StallWatch::kWindowSteps) / StallWatch::kWindowFraction;
-    if (const double run_steps = scenario.duration_s / scenario.integrator.fixed_step_s; run_steps > max_steps)
+    if (const double run_steps = scenario.duration_s / scenario.integrator.fixed_step_s; run_steps > max_steps) {
+      // The smallest step that both divides the output period and stays within max_steps.
+      const double divisions = std::max(1.0, std::floor(period / (scenario.duration_s / max_steps)));
       return fail(why, "rk4: fixed_step " + number_text(scenario.integrator.fixed_step_s) + " s takes " +
                            number_text(run_steps) + " steps over the duration " + number_text(scenario.duration_s) +
                            " s, more than the " + number_text(max_steps) + " a run may take; use at least " +
-                           number_text(scenario.duration_s / max_steps) + " s");
+                           number_text(period / divisions) + " s (the output period " + number_text(period) +
+                           " s divided by " + number_text(divisions) + ")");
+    }
   }
   return true;
 }

@@ -4316,7 +4316,15 @@ TEST_F(Audit, EncodingsFormatsAndUnfinishableSettings) {
   cases.push_back({"rk4 at 1e-12 s", simulate(w().scenario([](Json& j) {
                      j["integrator"] = {{"method", "rk4"}, {"fixed_step", 1e-12}};
                    })),
-                   Want::kError, {"rk4: fixed_step 1e-12 s takes", "use at least"}, {}, {}, {"collapsed"}});
+                   Want::kError, {"rk4: fixed_step 1e-12 s takes", "use at least 5e-11 s (the output period 0.005 s "
+                                  "divided by 100000000)"}, {}, {}, {"collapsed"}});
+  // The step advised is one the scenario accepts.
+  cases.push_back({"rk4 at the step advised", study("montecarlo", w().montecarlo([&](Json& j) {
+                     j["scenario"] = w().scenario([](Json& k) {
+                       k["integrator"] = {{"method", "rk4"}, {"fixed_step", 5e-11}};
+                     });
+                   })) + " --dry-run",
+                   Want::kRuns, {"rk4 with fixed step 5e-11 s"}});
   cases.push_back({"an S-structure deflection of 100 rad", simulate(w().scenario([](Json& j) {
                      j["initial_q"]["b12"] = 100;
                    })),
