@@ -130,8 +130,9 @@ DesignType design_type_from_name(const std::string& name) {
   for (DesignType type : {DesignType::kMonteCarlo, DesignType::kLatinHypercube, DesignType::kSobol,
                           DesignType::kGrid})
     if (name == design_type_name(type)) return type;
+  if (name == "lhs") return DesignType::kLatinHypercube;  // the alias every study type takes
   throw std::invalid_argument("unknown design type '" + name +
-                              "'; valid: monte_carlo, latin_hypercube, sobol, grid");
+                              "'; valid: monte_carlo, latin_hypercube (or lhs), sobol, grid");
 }
 
 int sobol_max_dimensions() {

@@ -431,6 +431,13 @@ void read_datasets(const io::JsonReader& r, const std::string& path, const Calib
           item.has("scenario") ? io::named_input_file(item, "scenario", "a JSON file") : study_scenario;
       const std::string channel = item.string_or("channel", "B_l_z");
       refuse_curve_listed_twice(item, file, s.datasets);
+      if (item.has("scenario")) {
+        try {  // the scenario's own checks, named by this entry's field
+          (void)io::build_scenario(io::read_scenario_sources(scenario));
+        } catch (const std::exception& e) {
+          item.fail("scenario", e.what());
+        }
+      }
       try {
         (void)calibration_channel(channel);
       } catch (const std::invalid_argument& e) {

@@ -93,7 +93,11 @@ NextExperimentCandidate read_candidate(const io::JsonReader& c, std::size_t inde
   if (out.rate_hz > kMaxRateHz) c.fail("rate_hz", "must be at most 1e5 Hz, got " + number(out.rate_hz, 6));
   out.noise_sd_m = c.positive("noise_sd");
   if (!noise_sd_resolved(out.noise_sd_m)) c.fail("noise_sd", noise_scale_problem(out.noise_sd_m));
-  out.sources = io::read_scenario_sources(out.scenario_path);
+  try {
+    out.sources = io::read_scenario_sources(out.scenario_path);
+  } catch (const std::exception& e) {
+    c.fail("scenario", e.what());
+  }
   if (c.has("set")) {
     const io::JsonReader set = c.child("set");
     const io::Json rover = out.sources.rover, scenario = out.sources.scenario;

@@ -5295,5 +5295,31 @@ TEST_F(Audit, ConfigTextCountsAndFileKinds) {
   run_table(dir, cases);
 }
 
+// A scenario named inside a candidates file or a calibration's data list
+// that is no scenario is named with that file and field; a design type's
+// alias is one for every study.
+TEST_F(Audit, NamedScenariosAndDesignAliases) {
+  const std::string dir = w().dir();
+  std::vector<Case> cases;
+  const std::string calibration = w().calibration([](Json&) {});
+  const std::string candidates = w().json_file(
+      "cand", Json{{"candidates", {{{"scenario", calibration}, {"rate_hz", 200}, {"noise_sd", 1e-4}}}}});
+  cases.push_back({"a candidate's scenario that is a study file",
+                   "calibrate --no-plot --study " + calibration + " --next-experiment " + candidates + " --out " +
+                       w().out() + " --dry-run",
+                   Want::kError, {candidates, "field 'candidates[0].scenario'", "this is a study file"}});
+  const std::string broken = w().scenario([](Json& j) { j["duration"] = -1.0; });
+  const std::string joint = w().calibration([&](Json& j) {
+    j["data"] = {{{"file", j["data"]}, {"scenario", broken}}};
+  });
+  cases.push_back({"a data entry's scenario that is refused", study("calibrate", joint) + " --dry-run", Want::kError,
+                   {joint, "field 'data[0].scenario'", "duration"}});
+  cases.push_back({"a Monte Carlo design of type lhs", study("montecarlo", w().montecarlo([](Json& j) {
+                     j["design"]["type"] = "lhs";
+                   })) + " --dry-run",
+                   Want::kRuns, {"latin_hypercube"}});
+  run_table(dir, cases);
+}
+
 }  // namespace
 }  // namespace rover
