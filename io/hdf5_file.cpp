@@ -452,6 +452,13 @@ void Hdf5Writer::attribute(const std::string& object, const std::string& name, l
   write_attribute(file_, path_, object, name, H5T_NATIVE_LLONG, H5T_STD_I64LE, space.get(), &value);
 }
 
+void Hdf5Writer::unsigned_attribute(const std::string& object, const std::string& name, std::uint64_t value) {
+  const std::string what = attribute_label(object, name);
+  require_open(what);
+  const Handle space = checked_handle(H5Screate(H5S_SCALAR), H5Sclose, path_, what, "dataspace");
+  write_attribute(file_, path_, object, name, H5T_NATIVE_UINT64, H5T_STD_U64LE, space.get(), &value);
+}
+
 void Hdf5Writer::attribute(const std::string& object, const std::string& name,
                            const std::string& value) {
   const std::string what = attribute_label(object, name);

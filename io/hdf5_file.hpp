@@ -74,6 +74,8 @@ class Hdf5Writer {
   // Writing an existing attribute replaces it.
   void attribute(const std::string& object, const std::string& name, double value);
   void attribute(const std::string& object, const std::string& name, long long value);
+  // An unsigned 64-bit integer (a seed: 0 .. 2^64 - 1), stored as such.
+  void unsigned_attribute(const std::string& object, const std::string& name, std::uint64_t value);
   void attribute(const std::string& object, const std::string& name, const std::string& value);
   void attribute(const std::string& object, const std::string& name,
                  const std::vector<double>& values);

@@ -45,12 +45,13 @@ std::string length_or_control_problem(const std::string& name, std::size_t max_l
 std::string result_label_problem(const std::string& label) {
   const std::string rule = " (it names HDF5 datasets, figure files and CSV columns: give 1 to " +
                            std::to_string(kMaxResultLabelLength) +
-                           " characters without '/', '\\', ',', '\"', \"..\" or control characters)";
+                           " characters without '/', '\\', ',', '\"', \"..\" or control characters, and not \".\")";
   if (std::string problem = length_or_control_problem(label, kMaxResultLabelLength, rule); !problem.empty())
     return problem;
   if (const std::size_t at = label.find_first_of("/\\,\""); at != std::string::npos)
     return shown(label) + " holds '" + label.substr(at, 1) + "'" + rule;
   if (label.find("..") != std::string::npos) return shown(label) + " holds \"..\"" + rule;
+  if (label == ".") return shown(label) + " names no dataset (the group itself)" + rule;
   return "";
 }
 

@@ -471,15 +471,11 @@ IntegratorSettings parse_integrator_settings(const JsonReader& r, IntegratorSett
     } catch (const std::invalid_argument& e) {
       r.fail("method", e.what());
     }
-    // Another method comes with its own tolerances (a Rosenbrock run at
-    // dopri5's rtol 1e-6, atol 1e-9 would be slow for nothing); the fields
-    // below still override them.
-    if (method != s.method) {
-      const IntegratorSettings defaults = default_integrator_settings(method);
-      s.method = method;
-      s.relative_tolerance = defaults.relative_tolerance;
-      s.absolute_tolerance = defaults.absolute_tolerance;
-    }
+    // Another method comes with all its own settings (a Rosenbrock run at
+    // dopri5's rtol 1e-6, atol 1e-9 would be slow for nothing, and at its
+    // min_step or max_step would fail or crawl); the fields below still
+    // override them.
+    if (method != s.method) s = default_integrator_settings(method);
   }
   if (r.has("rtol")) s.relative_tolerance = r.positive("rtol");
   if (r.has("atol")) s.absolute_tolerance = r.positive("atol");

@@ -19,9 +19,12 @@ constexpr const char* kScenarioPrefix = "scenario.";
 constexpr const char* kPreloadScale = "s_structure.preload_scale";
 constexpr const char* kPreloadMean = "s_structure.preload_mean";
 
-// Rover keys that are derived or labels, not parameters.
+// The spread of the "M0": {"from_config": true} draws, which no run reads.
+constexpr const char* kPreloadSpread = "s_structure.preload_sd";
+
+// Rover keys that are derived, labels or the spread of a draw, not parameters.
 bool excluded_rover_key(const std::string& path) {
-  for (const char* key : {"friction.gammas", "friction.gammas_fitted_to", "s_structure.preload_order"}) {
+  for (const char* key : {"friction.gammas", "friction.gammas_fitted_to", "s_structure.preload_order", kPreloadSpread}) {
     const std::string k = key;
     if (path == k || path.rfind(k + "[", 0) == 0) return true;
   }
@@ -201,6 +204,11 @@ std::string ParameterSpace::canonical(const std::string& name) const {
                                 "from run to run (every run is recorded on its scenario's one time grid): give "
                                 "the scenario a duration instead, or run one study per value");
   if (std::binary_search(names_.begin(), names_.end(), target)) return target;
+  if (target.rfind(kPreloadSpread, 0) == 0)
+    throw std::invalid_argument("parameter '" + name + "' is no input of a run: the rover file's preload_sd is the "
+                                "spread of the preloads drawn by \"M0\": {\"distribution\": \"normal\", "
+                                "\"from_config\": true}, and a run reads only the preloads themselves; vary the "
+                                "preloads (M0, M0_11 ... M0_42, M0_scale) instead");
   if (target.rfind(kScenarioPrefix, 0) == 0 && time_grid_key(target.substr(std::string(kScenarioPrefix).size())))
     throw std::invalid_argument("parameter '" + name + "' sets the length or output rate of the runs, which "
                                 "cannot vary from run to run (every run is recorded on its scenario's one time "

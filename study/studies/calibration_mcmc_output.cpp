@@ -90,7 +90,7 @@ void write_calibration_posterior(const CalibrationPosterior& posterior, const Ca
   h5.attribute("/", "integrator", describe_integrator(s.integrator));
   h5.attribute("/", "walkers", static_cast<long long>(posterior.chains));
   h5.attribute("/", "steps", static_cast<long long>(posterior.steps));
-  h5.attribute("/", "seed", static_cast<long long>(s.mcmc.seed));
+  h5.unsigned_attribute("/", "seed", s.mcmc.seed);
   h5.attribute("/", "calibration_fingerprint", io::key_summary(s.fingerprint));
 }
 

@@ -341,9 +341,10 @@ void refuse_curve_listed_twice(const io::JsonReader& item, const std::string& fi
 // rounding), counts the same measurements twice: the newest dataset is
 // refused when, at half or more of its times (or of the earlier curve's, the
 // shorter), an earlier curve of its channel has the same time and a height
-// within kCopiedHeightTolerance_m. Repeated measurements differ by their
-// noise, far more than that.
-constexpr double kCopiedHeightTolerance_m = 1e-9;
+// within kCopiedHeightTolerance_m (a copy rounded to micrometres, 6
+// decimals of a metre, stays within it). Repeated measurements differ by
+// their noise, tens of micrometres at the least.
+constexpr double kCopiedHeightTolerance_m = 1e-6;
 constexpr double kSameTimeTolerance_s = 1e-9;
 
 struct SharedSamples {

@@ -309,10 +309,7 @@ SensitivityStudy load_sensitivity_study(const std::string& path, const DesignOve
   if (!(s.max_failed_fraction >= 0.0 && s.max_failed_fraction < 1.0))
     r.fail("max_failed_fraction", "must lie in [0, 1)");
   const io::JsonReader d = r.child("design");
-  const double seed = d.number_or("seed", 1.0);
-  if (!(seed >= 0 && seed < 9.007199254740992e15 && seed == std::floor(seed)))
-    d.fail("seed", "must be a whole number from 0 to 2^53");
-  s.spec.design.seed = static_cast<std::uint64_t>(seed);
+  s.spec.design.seed = d.seed_or("seed", 1);
   const int d_inputs = varied_count(s.spec);
   if (overrides.samples && s.method == SensitivityMethod::kMorris)
     throw std::invalid_argument("--samples sets the Sobol' base sample count or the PCE runs; a Morris study has "

@@ -161,7 +161,7 @@ void write_study_provenance(io::Hdf5Writer& h5, const StudySpec& spec, const std
     h5.attribute("/", "model", spec.model->describe());
   }
   h5.attribute("/", "design", design_type_name(spec.design.type));
-  h5.attribute("/", "seed", static_cast<long long>(spec.design.seed));
+  h5.unsigned_attribute("/", "seed", spec.design.seed);
   h5.attribute("/", "samples", static_cast<long long>(spec.design.samples));
   std::string warnings;  // one per line
   for (const std::string& w : spec.warnings) warnings += (warnings.empty() ? "" : "\n") + w;

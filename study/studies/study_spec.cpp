@@ -562,10 +562,7 @@ DesignSpec parse_design(const io::JsonReader& d, const std::vector<UncertainInpu
       d.fail("samples", "must be a whole number of samples from 1 to 1e8");
     spec.samples = static_cast<int>(n);
   }
-  const double seed = d.number_or("seed", 1.0);
-  if (!(seed >= 0 && seed < 9.007199254740992e15 && seed == std::floor(seed)))
-    d.fail("seed", "must be a whole number from 0 to 2^53");
-  spec.seed = static_cast<std::uint64_t>(seed);
+  spec.seed = d.seed_or("seed", 1);
   d.finish();
   return spec;
 }

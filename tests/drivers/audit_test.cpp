@@ -5318,6 +5318,40 @@ TEST_F(Audit, NamedScenariosAndDesignAliases) {
                      j["design"]["type"] = "lhs";
                    })) + " --dry-run",
                    Want::kRuns, {"latin_hypercube"}});
+  // The spread of the from_config preload draws is no input of a run; a QoI
+  // label "." names no dataset.
+  cases.push_back({"a preload's sd as an uncertain input", study("montecarlo", w().montecarlo([](Json& j) {
+                     j["parameters"]["s_structure.preload_sd[0]"] = {
+                         {"distribution", "uniform"}, {"min", 0.01}, {"max", 0.05}};
+                   })) + " --dry-run",
+                   Want::kError, {"s_structure.preload_sd[0]", "is no input of a run", "M0_11"}});
+  cases.push_back({"a QoI labelled '.'", study("montecarlo", w().montecarlo([](Json& j) {
+                     j["qoi"] = {{{"name", "t_min"}, {"label", "."}}};
+                   })) + " --dry-run",
+                   Want::kError, {"'qoi[0].label'", "names no dataset"}});
+  // A seed of the full 64-bit range, in the study file, recorded as given.
+  const std::string seeded = dir + "/seeded.h5";
+  cases.push_back({"the largest seed in a study file",
+                   study_args("montecarlo", w().montecarlo([](Json& j) {
+                     j["design"]["seed"] = std::numeric_limits<std::uint64_t>::max();
+                   }), seeded),
+                   Want::kRuns, {"seed 18446744073709551615"}, [=] {
+                     const io::Hdf5Reader h5(seeded);
+                     return h5.attribute_double("/", "seed") > 1.8e19 ? std::string() : seeded + ": seed not recorded";
+                   }});
+  // A study's integrator replaces all of the scenario's: no dopri5 min_step
+  // carried into its Rosenbrock runs.
+  const std::string fenced = w().scenario([](Json& j) {
+    j["duration"] = 0.3;  // past the touchdown, where steps shrink
+    j["output_rate"] = 1000;
+    j["integrator"] = {{"method", "dopri5"}, {"min_step", 0.002}, {"initial_step", 0.002}};
+  });
+  cases.push_back({"a study's rosenbrock over a scenario's dopri5 step limits",
+                   study("montecarlo", w().montecarlo([&](Json& j) {
+                     j["scenario"] = fenced;
+                     j["integrator"] = {{"method", "rosenbrock"}};
+                   })),
+                   Want::kRuns, {"2 runs (0 failed)"}});
   run_table(dir, cases);
 }
 

@@ -518,3 +518,21 @@ TEST(ScenarioConfig, PoseAnglesInDegreesAreRefused) {
 
 }  // namespace
 }  // namespace rover
+
+// A method named alone replaces all the settings of another method, step
+// limits included: a Rosenbrock run at dopri5's min_step would fail.
+TEST(IntegratorSettings, AnotherMethodBringsAllItsOwnSettings) {
+  rover::IntegratorSettings base = rover::default_integrator_settings(rover::IntegratorMethod::kDormandPrince45);
+  base.min_step_s = 0.002;
+  base.initial_step_s = 0.002;
+  base.max_step_s = 0.01;
+  const rover::io::Json block = {{"method", "rosenbrock"}};
+  const rover::IntegratorSettings parsed =
+      rover::io::parse_integrator_settings(rover::io::JsonReader(block, "study.json", "integrator"), base);
+  const rover::IntegratorSettings own = rover::default_integrator_settings(rover::IntegratorMethod::kRosenbrockW);
+  EXPECT_EQ(parsed.method, rover::IntegratorMethod::kRosenbrockW);
+  EXPECT_EQ(parsed.min_step_s, own.min_step_s);
+  EXPECT_EQ(parsed.initial_step_s, own.initial_step_s);
+  EXPECT_EQ(parsed.max_step_s, own.max_step_s);
+  EXPECT_EQ(parsed.relative_tolerance, own.relative_tolerance);
+}

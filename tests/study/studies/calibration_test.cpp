@@ -336,6 +336,8 @@ TEST(Calibration, StudyFileChecksNameTheField) {
     return write_file(dir, "near_" + name + ".json", study_text);
   };
   expect_refused(shifted_copy("near_copy.csv", 1e-12, 1), "holds the curve of data[1]");
+  // A copy rounded to micrometres (heights moved by up to half of one).
+  expect_refused(shifted_copy("rounded_copy.csv", 4e-7, 0), "holds the curve of data[1]");
   EXPECT_EQ(load_calibration_study(shifted_copy("repeat.csv", 1e-5, 0)).datasets.size(), 3u);
   // The same numbers as another channel are another curve.
   std::string as_centre = copied;
