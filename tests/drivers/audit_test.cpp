@@ -5116,8 +5116,12 @@ TEST_F(Audit, OutputNamesMountsDesignsAndNamedFiles) {
                      Want::kError, {"No space left", "the finished runs are kept in " + tiny + "/m.h5.checkpoint",
                                     "--resume"}, absent_file(tiny + "/m.h5")});
   run_table(dir, cases);
-  if (mounts) EXPECT_EQ(run_command("umount " + mounted, &log), 0) << log;
-  if (small_disk) EXPECT_EQ(run_command("umount " + tiny, &log), 0) << log;
+  if (mounts) {
+    EXPECT_EQ(run_command("umount " + mounted, &log), 0) << log;
+  }
+  if (small_disk) {
+    EXPECT_EQ(run_command("umount " + tiny, &log), 0) << log;
+  }
 }
 
 // Inputs that set one number twice (M0_scale beside a preload), a posterior
