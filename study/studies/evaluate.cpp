@@ -208,8 +208,7 @@ EvaluateStudy load_evaluate(const EvaluateRequest& request) {
   s.request = request;
   io::ScenarioSources sources = io::read_scenario_sources(request.scenario_path);
   const ParameterSpace space(sources.rover, sources.scenario);
-  s.design = read_design_csv(request.design_path, [&](const DesignTable& t) { (void)canonical_columns(t, space); });
-  s.names = canonical_columns(s.design, space);
+  s.design = read_design_csv(request.design_path, [&](const DesignTable& t) { s.names = canonical_columns(t, space); });
   std::vector<Channel> channels;
   for (const std::string& c : request.channel_names) channels.push_back(channel_from_name(c));
   std::optional<IntegratorSettings> integrator;
