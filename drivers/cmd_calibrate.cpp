@@ -74,6 +74,30 @@ void refuse_study_flags_without_use(const CLI::App& app, bool ranking, bool chec
                  "mcmc keeps one)");
 }
 
+// The NLopt searches' settings: --starts serves the first search only,
+// --max-evaluations that and the profiles; a least-squares fit alone uses
+// neither. The same keys of the study file, which other flags may put to
+// use, are noted instead.
+void refuse_search_settings_without_use(const CalibrateOptions& o, const study::CalibrationStudy& s, bool profiles,
+                                        FlagChecks& checks) {
+  if (s.algorithm != study::kLeastSquaresAlgorithm) return;
+  const study::CalibrationOverrides& v = o.overrides;
+  if (v.starts)
+    checks.add("--starts " + std::to_string(*v.starts) + ": independent starts need an NLopt first search (--algorithm "
+               "LN_BOBYQA, GN_DIRECT_L, ...); the least-squares fit (levenberg_marquardt) starts once, at the "
+               "study's \"initial\": drop --starts, or give --algorithm");
+  if (profiles) return;
+  if (v.max_evaluations)
+    checks.add("--max-evaluations " + std::to_string(*v.max_evaluations) + " bounds the simulations of an NLopt first "
+               "search (--algorithm) or of each profile point (--profile); the least-squares fit "
+               "(levenberg_marquardt) is bounded by --max-iterations instead");
+  else if (!s.search_budget_keys.empty())
+    std::cerr << "rover calibrate: note: " << s.search_budget_keys.front()
+              << (s.search_budget_keys.size() > 1 ? " and " + s.search_budget_keys.back() : "") << " in " << o.study_path
+              << " bound an NLopt first search (\"algorithm\") or the profiles (\"profile\"), and this fit runs "
+                 "neither: levenberg_marquardt alone is bounded by \"max_iterations\"\n";
+}
+
 // Flags the chosen program would not use are refused, never dropped:
 // --next-experiment ranks after a least-squares fit (no posterior, no
 // profiles), a posterior (mcmc) computes no profile, and the sampler's sizes apply to
@@ -97,6 +121,7 @@ void refuse_flags_that_do_not_apply(const CLI::App& app, const CalibrateOptions&
   else if (ranking && s.profile)
     std::cerr << "rover calibrate: note: the profile likelihoods that " << o.study_path
               << " asks for (\"profile\": true) are not computed: --next-experiment ranks from the fit's Jacobian\n";
+  refuse_search_settings_without_use(o, s, s.profile && !ranking && !mcmc, checks);
   if (v.profile && posterior)
     checks.add("--profile: profile likelihoods follow a least-squares fit, and " + method +
                " samples the posterior instead, computing none: drop --profile or give --method optimize");
@@ -177,10 +202,10 @@ const RegisterCommand calibrate_command{
       app.add_option("--algorithm", o->overrides.algorithm,
                      "levenberg_marquardt (default), or a derivative-free NLopt algorithm for a first search "
                      "that the least-squares iterations polish: LN_BOBYQA, GN_DIRECT_L, GN_CRS2_LM, ...");
-      app.add_option("--starts", o->overrides.starts, "Number of independent starts (fanned out over ranks)")
+      app.add_option("--starts", o->overrides.starts, "Independent starts of an NLopt first search (--algorithm), fanned out over ranks")
           ->check(CLI::Range(1, kMaxStarts));
       app.add_option("--max-evaluations", o->overrides.max_evaluations,
-                     "Simulations per start of an NLopt first search (--algorithm)")
+                     "Simulations per start of an NLopt first search (--algorithm), and per profile point (--profile)")
           ->check(CLI::Range(1, kMaxEvaluations));
       app.add_option("--max-iterations", o->overrides.max_iterations,
                      "Least-squares iterations (Jacobians) at most; default 10 + 5 per fitted parameter")

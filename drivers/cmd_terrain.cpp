@@ -68,6 +68,15 @@ void require_resolved(const TrapezoidObstacle& obstacle, const ObstacleOptions& 
   const bool top = obstacle.top_length_m > 0.0;
   const double finest = top ? std::min(ramp, obstacle.top_length_m) : ramp;
   if (o.spacing_m <= finest * (1.0 + 1e-9)) return;
+  if (finest < kMinTerrainSpacing_m)
+    throw CommandLineError({ramp <= finest
+        ? "the obstacle's ramps are " + number_text(ramp) + " m long (--height " + number_text(obstacle.height_m) +
+              " m at --ramp-angle-deg " + number_text(o.ramp_angle_deg) + "), shorter than the finest grid the "
+              "terrain readers accept (" + number_text(kMinTerrainSpacing_m) + " m): give a smaller "
+              "--ramp-angle-deg or a greater --height"
+        : "the obstacle's top is " + number_text(obstacle.top_length_m) + " m long (--top-length), shorter than "
+              "the finest grid the terrain readers accept (" + number_text(kMinTerrainSpacing_m) + " m): give a "
+              "longer top, or --top-length 0 for a ridge"});
   throw CommandLineError({"--spacing " + number_text(o.spacing_m) + " m does not resolve the obstacle: its ramps are " +
                           number_text(ramp) + " m long (--height " + number_text(obstacle.height_m) +
                           " m at --ramp-angle-deg " + number_text(o.ramp_angle_deg) + ")" +

@@ -35,6 +35,7 @@
 #include "drivers/command_registry.hpp"
 #include "drivers/launcher.hpp"
 #include "drivers/options.hpp"
+#include "io/decimal_number.hpp"
 #include "io/json_reader.hpp"
 #include "study/runtime/mpi_session.hpp"
 #include "study/runtime/study_runner.hpp"
@@ -130,6 +131,21 @@ void read_integral_numbers_as_integers(CLI::App& app) {
         "", "integral"));
   }
   for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) read_integral_numbers_as_integers(*sub);
+}
+
+// A real-valued flag takes decimal digits as a JSON config does: CLI11 would
+// also read C's hexadecimal floats (--cq 0x1p-3 as 0.125).
+void read_real_numbers_in_decimal(CLI::App& app) {
+  for (CLI::Option* option : app.get_options()) {
+    if (!option->get_type_name().starts_with("FLOAT")) continue;
+    option->check(CLI::Validator(
+        [](std::string& text) {
+          if (io::decimal_number_hint(text).find("hexadecimal") == std::string::npos) return std::string();
+          return "must be a number in decimal digits (as 0.125 or 1.25e-1), got " + text;
+        },
+        "", "decimal"));
+  }
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) read_real_numbers_in_decimal(*sub);
 }
 
 void reject_empty_values(const CLI::App& app) {
@@ -247,6 +263,7 @@ int main(int argc, char** argv) {
       shared_among_processes += (shared_among_processes.empty() ? "" : ", ") + entry.name;
   }
   read_integral_numbers_as_integers(app);
+  read_real_numbers_in_decimal(app);
   if (argc > 1 && argv[1][0] != '-' &&
       std::none_of(registry.begin(), registry.end(),
                    [&](const CommandEntry& entry) { return entry.name == argv[1]; })) {

@@ -22,6 +22,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <optional>
 #include <sstream>
@@ -38,6 +39,7 @@
 #include "core/number_text.hpp"
 #include "core/scenario.hpp"
 #include "core/simulate.hpp"
+#include "io/decimal_number.hpp"
 #include "io/input_files.hpp"
 #include "io/json_reader.hpp"
 #include "io/output_target.hpp"
@@ -280,15 +282,16 @@ inline std::optional<std::array<double, kNumSJoints>> parse_preloads(const std::
       return std::nullopt;
     }
     const std::size_t index = n++;
-    try {
-      std::size_t used = 0;
-      preloads[index] = std::stod(item, &used);
-      if (item.find_first_not_of(" \t", used) != std::string::npos) throw std::invalid_argument(item);
-    } catch (const std::exception&) {
-      checks.add("--M0: '" + item + "' is not a number");
+    const std::size_t first = item.find_first_not_of(" \t"), last = item.find_last_not_of(" \t");
+    const io::DecimalNumber value =
+        io::parse_decimal_number(first == std::string::npos ? "" : item.substr(first, last - first + 1));
+    if (value.status == io::DecimalStatus::kNotANumber) {
+      const std::string hint = io::decimal_number_hint(item);
+      checks.add("--M0: '" + item + "' is not a number" + (hint.empty() ? "" : ": " + hint));
       ok = false;
       continue;
     }
+    preloads[index] = value.status == io::DecimalStatus::kOk ? value.value : std::strtod(item.c_str(), nullptr);
     if (!(std::isfinite(preloads[index]) && preloads[index] >= 0.0)) {
       checks.add("--M0: value " + std::to_string(index + 1) + " must be a finite preload >= 0 N m (as in rover.json), got " +
                  number_text(preloads[index]));

@@ -20,6 +20,7 @@
 #include <string_view>
 #include <system_error>
 
+#include "io/decimal_number.hpp"
 #include "io/json_reader.hpp"
 #include "io/output_target.hpp"
 #include "io/text_encoding.hpp"
@@ -213,18 +214,17 @@ CsvTable read_csv(const std::string& path, const std::vector<std::string>& requi
       const std::string_view field = fields[j];
       const std::string column = "column '" + table.header[j] + "': ";
       if (field.empty()) throw ConfigError(where + column + "empty value");
-      // from_chars does not take a leading '+'.
-      const std::string_view digits = field.front() == '+' ? field.substr(1) : field;
-      double value = 0.0;
-      const auto [end, error] =
-          std::from_chars(digits.data(), digits.data() + digits.size(), value);
-      if (error == std::errc::result_out_of_range && end == digits.data() + digits.size())
+      const DecimalNumber number = parse_decimal_number(field);
+      if (number.status == DecimalStatus::kOutOfRange)
         throw ConfigError(where + column + "'" + std::string(field) + "' is out of range");
-      if (error != std::errc() || end != digits.data() + digits.size() || digits.empty())
-        throw ConfigError(where + column + "'" + std::string(field) + "' is not a number");
-      if (!std::isfinite(value))
+      if (number.status == DecimalStatus::kNotFinite)
         throw ConfigError(where + column + "'" + std::string(field) + "' is not a finite number");
-      table.columns[j].push_back(value);
+      if (number.status != DecimalStatus::kOk) {
+        const std::string hint = decimal_number_hint(field);
+        throw ConfigError(where + column + "'" + std::string(field) + "' is not a number" +
+                          (hint.empty() ? "" : ": " + hint));
+      }
+      table.columns[j].push_back(number.value);
     }
     table.line_numbers.push_back(line_number);
   }

@@ -181,6 +181,10 @@ struct CalibrationStudy {
   std::string algorithm = "levenberg_marquardt";
   int max_evaluations = 40;
   double xtol_rel = 1e-3;
+  // The keys of the study file that set the NLopt searches' budget
+  // ("max_evaluations", "xtol_rel"): the first search and the profiles use
+  // them, a least-squares fit alone does not.
+  std::vector<std::string> search_budget_keys{};
   double offset_min_s = -0.2, offset_max_s = 0.2, offset_initial_s = 0.0;
   int starts = 1;
   std::uint64_t seed = 1;

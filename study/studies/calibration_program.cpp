@@ -29,8 +29,13 @@ std::string fit_banner(const CalibrationStudy& s) {
   std::ostringstream text;
   text << "fitting";
   for (const FitParameter& p : s.fit) text << " " << p.name << " in [" << p.lower << ", " << p.upper << "]";
-  text << " to " << s.data_path << " (" << s.datasets.size() << " curve(s)) with " << s.algorithm << ", "
-       << s.starts << " start(s) on " << world_size() << " rank(s)";
+  text << " to " << s.data_path << " (" << s.datasets.size() << " curve(s)) with ";
+  if (s.algorithm == kLeastSquaresAlgorithm)
+    text << s.algorithm << " from \"initial\"";
+  else
+    text << s.algorithm << " (" << s.starts << " start(s) of at most " << s.max_evaluations
+         << " simulations), then levenberg_marquardt";
+  text << " on " << world_size() << " rank(s)";
   return text.str();
 }
 
@@ -135,8 +140,10 @@ namespace {
 // <stem>_1.png, ...) and the profile of each fitted parameter.
 std::vector<PlannedFigure> fit_figures(const CalibrationStudy& s) {
   std::vector<PlannedFigure> figures;
-  for (std::size_t k = 0; k < s.datasets.size(); ++k)
-    figures.push_back({(k == 0 ? "" : "_" + std::to_string(k)) + ".png", "curve " + std::to_string(k)});
+  for (std::size_t k = 0; k < s.datasets.size(); ++k) {
+    std::string suffix = k == 0 ? std::string(".png") : std::string("_") + std::to_string(k) + ".png";
+    figures.push_back({std::move(suffix), "curve " + std::to_string(k)});
+  }
   for (const FitParameter& f : s.fit) figures.push_back({"_profile_" + f.name + ".png", "the profile of " + f.name});
   return figures;
 }

@@ -658,9 +658,15 @@ void read_fit_options(const io::JsonReader& r, const CalibrationOverrides& o, Ca
     fail_setting(r, o.max_evaluations.has_value(), "--max-evaluations", "max_evaluations",
                  "must be positive, got " + std::to_string(s.max_evaluations));
   s.xtol_rel = r.has("xtol_rel") ? r.positive("xtol_rel") : 1e-3;
+  for (const char* key : {"max_evaluations", "xtol_rel"})
+    if (r.has(key)) s.search_budget_keys.emplace_back(key);
   s.starts = o.starts ? *o.starts : configured_starts;
   if (s.starts <= 0)
     fail_setting(r, o.starts.has_value(), "--starts", "starts", "must be positive, got " + std::to_string(s.starts));
+  if (s.starts > 1 && !o.starts && s.algorithm == kLeastSquaresAlgorithm)
+    r.fail("starts", std::to_string(s.starts) + " independent starts need an NLopt first search (\"algorithm\" or "
+           "--algorithm: LN_BOBYQA, GN_DIRECT_L, ...); the least-squares fit (levenberg_marquardt) starts once, "
+           "at \"initial\"");
   s.seed = r.seed_or("seed", 1);
   s.profile = r.boolean_or("profile", false) || o.profile;
   s.profile_points = r.integer_or("profile_points", s.profile_points, {kMinProfilePoints, kMaxProfilePoints});

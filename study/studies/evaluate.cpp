@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "io/checkpoint.hpp"
+#include "io/decimal_number.hpp"
 #include "core/number_text.hpp"
 #include "io/hdf5_file.hpp"
 #include "io/json_reader.hpp"
@@ -42,6 +43,17 @@ std::vector<std::string> split_commas(const std::string& line) {
   while (std::getline(ss, cell, ',')) cells.push_back(trim(cell));
   if (!line.empty() && line.back() == ',') cells.emplace_back();
   return cells;
+}
+
+// A header cell as RFC 4180 quotes it ("c_q", or "a""b" for a"b), unquoted.
+std::string unquoted(const std::string& cell) {
+  if (cell.size() < 2 || cell.front() != '"' || cell.back() != '"') return cell;
+  std::string name;
+  for (std::size_t k = 1; k + 1 < cell.size(); ++k) {
+    name += cell[k];
+    if (cell[k] == '"' && cell[k + 1] == '"') ++k;
+  }
+  return name;
 }
 
 std::string csv_quoted(const std::string& s) {
@@ -83,6 +95,7 @@ DesignTable read_design_csv(const std::string& path, const std::function<void(co
     const std::string where = path + ":" + std::to_string(line_number);
     if (header) {
       table.columns = cells;
+      for (std::string& name : table.columns) name = unquoted(name);
       table.header_line = line_number;
       for (std::size_t j = 0; j < cells.size(); ++j)
         if (cells[j].empty()) throw io::ConfigError(where + ": column " + std::to_string(j + 1) + " has no name");
@@ -95,17 +108,12 @@ DesignTable read_design_csv(const std::string& path, const std::function<void(co
                             std::to_string(cells.size()));
     std::vector<double> row;
     for (std::size_t j = 0; j < cells.size(); ++j) {
-      std::size_t used = 0;
-      double v = std::nan("");
-      try {
-        v = std::stod(cells[j], &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != cells[j].size() || !std::isfinite(v))
+      const io::DecimalNumber cell = io::parse_decimal_number(cells[j]);
+      const std::string hint = io::decimal_number_hint(cells[j]);
+      if (cell.status != io::DecimalStatus::kOk)
         throw io::ConfigError(where + ": column " + std::to_string(j + 1) + " (" + table.columns[j] +
-                              "): '" + cells[j] + "' is not a finite number");
-      row.push_back(v);
+                              "): '" + cells[j] + "' is not a finite number" + (hint.empty() ? "" : ": " + hint));
+      row.push_back(cell.value);
     }
     rows.push_back(std::move(row));
     table.line_numbers.push_back(line_number);

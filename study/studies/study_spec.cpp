@@ -405,6 +405,16 @@ std::shared_ptr<ReferenceCurve> parse_rms_reference(const io::JsonReader& o, con
   return ref;
 }
 
+// Why qoi[k] cannot be stored beside qoi[j] under the same `name`: the
+// same QoI twice, or a label that repeats another's name or label.
+std::string repeated_qoi_name(const io::Json& list, std::size_t j, std::size_t k, const std::string& name) {
+  const auto labelled = [&](std::size_t i) { return list[i].is_object() && list[i].contains("label"); };
+  if (!labelled(j) && !labelled(k)) return "QoI '" + name + "' appears twice (give one a \"label\")";
+  return std::string(labelled(k) ? "its label '" : "its name '") + name + "' is also the " +
+         (labelled(j) ? "label" : "name") + " of qoi[" + std::to_string(j) +
+         "]: every QoI is stored under its own label; give another";
+}
+
 std::vector<QoiSpec> parse_qois(const io::JsonReader& r, const std::string& study_path) {
   std::vector<QoiSpec> qois;
   const io::Json& list = r.raw("qoi");
@@ -445,8 +455,8 @@ std::vector<QoiSpec> parse_qois(const io::JsonReader& r, const std::string& stud
     }
     if (q.kind == QoiKind::kRmsVs && !q.reference)
       r.fail(field, "rms_vs needs a reference: {\"name\": \"rms_vs\", \"reference\": \"curve.csv\"}");
-    for (const QoiSpec& seen : qois)
-      if (seen.name == q.name) r.fail(field, "QoI '" + q.name + "' appears twice (give one a \"label\")");
+    for (std::size_t j = 0; j < qois.size(); ++j)
+      if (qois[j].name == q.name) r.fail(field, repeated_qoi_name(list, j, k, q.name));
     qois.push_back(q);
   }
   return qois;
@@ -576,6 +586,13 @@ std::vector<std::string> design_warnings(const StudySpec& spec) {
     warnings.push_back("design: " + std::to_string(n) + " Sobol' points are not a power of two; the sequence is "
                        "balanced at 2^k points (" + std::to_string(std::bit_floor(n)) + " or " +
                        std::to_string(std::bit_ceil(n)) + "), where its error is smallest");
+  if (spec.design.type == DesignType::kGrid)
+    for (std::size_t j = 0; j < spec.inputs.size() && j < spec.design.grid_levels.size(); ++j)
+      if (const UncertainInput& in = spec.inputs[j];
+          spec.design.grid_levels[j] == 1 && in.distribution.kind != DistributionKind::kFixed)
+        warnings.push_back("design: a grid of 1 level holds '" + in.label + "' (" + in.distribution.describe() +
+                           ") at its median " + number_text(in.distribution.quantile(0.5)) +
+                           " in every run: it does not vary; give it 2 or more levels, or make it fixed");
   return warnings;
 }
 
@@ -605,7 +622,20 @@ std::optional<IntegratorSettings> study_integrator(const io::JsonReader& r, cons
                                                    std::string* choice) {
   if (r.has("integrator") && r.has("accuracy"))
     r.fail("accuracy", "give either \"accuracy\" or \"integrator\", not both");
-  if (r.has("integrator")) return io::parse_integrator_settings(r.child("integrator"), base);
+  if (r.has("integrator")) {
+    // A block that names its method replaces the scenario's integrator: that
+    // method's defaults for whatever the block leaves out. One without a
+    // method adjusts the scenario's.
+    const io::JsonReader block = r.child("integrator");
+    IntegratorSettings start = base;
+    if (block.has("method")) {
+      try {
+        start = default_integrator_settings(integrator_from_name(block.string("method")));
+      } catch (const std::invalid_argument&) {  // named with its field by the parse below
+      }
+    }
+    return io::parse_integrator_settings(block, start);
+  }
   if (!r.has("accuracy")) return std::nullopt;
   try {
     const IntegratorChoice chosen = integrator_for_accuracy(r.number("accuracy"));

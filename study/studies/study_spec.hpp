@@ -37,7 +37,8 @@ struct DesignSpec {
   std::vector<int> grid_levels;  // per input (1 for fixed ones), grid only
 };
 
-// The study's integrator: its "integrator" block applied to `base`, or the
+// The study's integrator: its "integrator" block (applied to the defaults of
+// the method it names, else to `base`, the scenario's settings), or the
 // setting integrator_for_accuracy (core/accuracy_choice.hpp) chooses for its
 // "accuracy" [m], in (1e-12, 1e-2); std::nullopt when it gives neither. Both
 // at once, or an accuracy outside the range, is a ConfigError naming the

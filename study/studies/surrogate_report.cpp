@@ -72,8 +72,16 @@ std::string held_out_q2_text(const SurrogateValidation& v) {
   return std::isfinite(v.q2_test) ? fixed_text(v.q2_test, 4) : "undefined";
 }
 
-std::string validation_text(const SurrogateValidation& v) {
-  std::string s = "Q2 LOO " + fixed_text(v.q2_loo, 4);
+// The leave-one-out Q2, or "undefined" for an output without variance
+// (1 - PRESS / SST is 0 / 0 there).
+std::string loo_q2_text(const FittedSurrogate& m) {
+  const bool constant = m.kind == SurrogateKind::kPolynomialChaos && m.pce.constant_output;
+  return constant ? "undefined (constant output)" : fixed_text(m.validation().q2_loo, 4);
+}
+
+std::string validation_text(const FittedSurrogate& m) {
+  const SurrogateValidation& v = m.validation();
+  std::string s = "Q2 LOO " + loo_q2_text(m);
   if (v.test_points > 0)
     s += ", held-out Q2 " + held_out_q2_text(v) + " (RMSE " + general(v.rmse_test) + ", " +
          std::to_string(v.test_points) + (v.test_points == 1 ? " run)" : " runs)");
@@ -114,7 +122,7 @@ void report_qoi(std::ostream& out, const SurrogateQoiResult& q, const std::vecto
     return;
   }
   out << q.name << ": " << model_text(q.model, labels) << "; " << q.runs_used << " runs; "
-      << validation_text(q.model.validation());
+      << validation_text(q.model);
   if (q.model.kind == SurrogateKind::kPolynomialChaos)
     out << "; mean " << general(q.indices.mean) << ", sd " << general(std::sqrt(q.indices.variance));
   out << "\n";
@@ -132,7 +140,7 @@ std::optional<io::LinePlot> predicted_panel(const SurrogateQoiResult& q) {
   if (!q.fitted || q.actual.size() == 0) return std::nullopt;
   io::LinePlot p;
   const SurrogateValidation& v = q.model.validation();
-  p.title = q.name + ": Q2 LOO " + fixed_text(v.q2_loo, 4) + (v.test_points > 0 ? ", held-out " + held_out_q2_text(v) : "");
+  p.title = q.name + ": Q2 LOO " + loo_q2_text(q.model) + (v.test_points > 0 ? ", held-out " + held_out_q2_text(v) : "");
   p.x_label = "model";
   p.y_label = "surrogate";
   p.max_ticks = 4;

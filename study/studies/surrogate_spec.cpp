@@ -37,7 +37,7 @@ void check_inputs(const io::JsonReader& r, const StudySpec& spec) {
 
 // Curves need a polynomial chaos and runs made now.
 void check_channels(const io::JsonReader& r, const SurrogateStudy& s) {
-  if (!r.has("channels")) return;
+  if (!r.has("channels") || (r.raw("channels").is_array() && r.raw("channels").empty())) return;  // [] asks for none
   if (s.kind != SurrogateKind::kPolynomialChaos)
     r.fail("channels", "curves along time get a polynomial chaos surrogate: use \"surrogate\": \"pce\"");
   if (!s.training_file.empty())

@@ -5359,5 +5359,87 @@ TEST_F(Audit, NamedScenariosAndDesignAliases) {
   run_table(dir, cases);
 }
 
+// The NLopt searches' settings where a least-squares fit alone runs; numbers
+// written in hexadecimal; grids, integrators, QoI labels and obstacles whose
+// settings would not do what they say.
+TEST_F(Audit, SearchSettingsHexNumbersGridsAndLabels) {
+  const std::string dir = w().dir();
+  std::vector<Case> cases;
+  const std::string calibration = w().calibration([](Json& j) { j.erase("max_evaluations"); });
+  cases.push_back({"a least-squares fit given --max-evaluations",
+                   study("calibrate", calibration) + " --max-evaluations 5 --dry-run", Want::kError,
+                   {"--max-evaluations 5", "NLopt first search", "--max-iterations"}});
+  cases.push_back({"a least-squares fit given --starts", study("calibrate", calibration) + " --starts 2 --dry-run",
+                   Want::kError, {"--starts 2", "--algorithm"}});
+  cases.push_back({"a least-squares fit with its profiles given --max-evaluations",
+                   study("calibrate", calibration) + " --max-evaluations 5 --profile --dry-run", Want::kRuns, {}});
+  cases.push_back({"a study file's starts for a least-squares fit",
+                   study("calibrate", w().calibration([](Json& j) { j["starts"] = 3; })) + " --dry-run",
+                   Want::kError, {"field 'starts'", "NLopt first search"}});
+  cases.push_back({"a study file's starts for a first search",
+                   study("calibrate", w().calibration([](Json& j) { j["starts"] = 3; })) +
+                       " --algorithm LN_BOBYQA --dry-run",
+                   Want::kRuns, {"3 start(s) of at most 2 simulations"}});
+  cases.push_back({"a study file's search budget for a least-squares fit",
+                   study("calibrate", w().calibration([](Json& j) { j["xtol_rel"] = 0.1; })) + " --dry-run",
+                   Want::kRuns, {"note: max_evaluations and xtol_rel in", "levenberg_marquardt alone"}});
+  cases.push_back({"a hexadecimal damping flag",
+                   "simulate --scenario " + w().quick() + " --cq 0x1p-3 --out " + w().out("csv"), Want::kError,
+                   {"--cq", "decimal digits", "0x1p-3"}});
+  const std::string hex_design = w().text_file("hex", "c_q\n0x1p-3\n", "csv");
+  cases.push_back({"a hexadecimal design cell",
+                   "evaluate --scenario " + w().quick() + " --design " + hex_design + " --dry-run --out " +
+                       w().out("csv"),
+                   Want::kError, {hex_design + ":2", "hexadecimal is not read"}});
+  const std::string quoted = w().text_file("quoted", "\"c_q\",\"f\"\n0.1,1e4\n", "csv");
+  cases.push_back({"a design header quoted as RFC 4180 allows",
+                   "evaluate --scenario " + w().quick() + " --design " + quoted + " --dry-run --out " + w().out("csv"),
+                   Want::kRuns, {}});
+  cases.push_back({"a grid that holds an uncertain input at its midpoint",
+                   study("montecarlo", w().montecarlo([](Json& j) {
+                     j["parameters"]["f"] = {{"distribution", "uniform"}, {"min", 1e3}, {"max", 1e4}};
+                     j["design"] = {{"type", "grid"}, {"levels", {{"c_q", 1}, {"f", 2}}}};
+                   })) + " --dry-run",
+                   Want::kRuns, {"holds 'c_q'", "at its median 0.15", "does not vary"}});
+  const std::string tight = w().scenario([](Json& j) {
+    j["integrator"] = {{"method", "rosenbrock"}, {"rtol", 1e-9}, {"atol", 1e-9}};
+  });
+  cases.push_back({"a study's rosenbrock over a scenario's tight rosenbrock",
+                   study("montecarlo", w().montecarlo([&](Json& j) {
+                     j["scenario"] = tight;
+                     j["integrator"] = {{"method", "rosenbrock"}};
+                   })) + " --dry-run",
+                   Want::kRuns, {"rtol 1e-05"}, {}, {}, {"rtol 1e-09"}});
+  cases.push_back({"Sobol' indices from a base that is no power of two",
+                   study("sensitivity", w().sensitivity([](Json& j) { j["design"]["samples"] = 12; })) +
+                       " --dry-run",
+                   Want::kRuns, {"12 Sobol' base points are not a power of two"}});
+  cases.push_back({"a QoI label that repeats another QoI's name",
+                   study("montecarlo", w().montecarlo([](Json& j) {
+                     j["qoi"] = {"B_l_z_min", {{"name", "t_min"}, {"label", "B_l_z_min"}}};
+                   })) + " --dry-run",
+                   Want::kError, {"'qoi[1]'", "its label 'B_l_z_min' is also the name of qoi[0]"}});
+  cases.push_back({"an obstacle top shorter than any grid",
+                   "terrain obstacle --top-length 1e-9 --out " + w().out("json"), Want::kError,
+                   {"top is 1e-09 m long", "--top-length 0 for a ridge"}, {}, {}, {"spacing of at most"}});
+  run_table(dir, cases);
+}
+
+// A polynomial chaos of a QoI no input moves: its leave-one-out Q2 is
+// 0 / 0, undefined, never 1.
+TEST_F(Audit, TheQ2OfAConstantOutputIsUndefined) {
+  const std::string dir = w().dir();
+  const std::string surrogate = w().json_file(
+      "steering", Json{{"type", "surrogate"},
+                       {"name", "k"},
+                       {"scenario", w().quick()},
+                       {"parameters", {{"steering.limit", {{"distribution", "uniform"}, {"min", 1.0}, {"max", 1.7}}}}},
+                       {"design", {{"type", "lhs"}, {"samples", 8}, {"seed", 1}}},
+                       {"pce", {{"max_degree", 1}, {"bootstrap", 0}}},
+                       {"qoi", {"B_l_z_min"}}});
+  run_table(dir, {{"a PCE of a QoI no input moves", study_args("surrogate", surrogate, dir + "/k.h5"), Want::kRuns,
+                   {"Q2 LOO undefined (constant output)"}, {}, {}, {"Q2 LOO 1.0000"}}});
+}
+
 }  // namespace
 }  // namespace rover
