@@ -123,10 +123,16 @@ void check_height_column(const CompareOptions& o, FlagChecks& checks) {
       {"u", "a matrix of the 23 speeds"}, {"Fn", "a matrix of the 4 wheels' normal forces"},
       {"pitch", "an angle"},             {"roll", "an angle"},
       {"coordinate_names", "the coordinates' names"}};
-  if (const auto found = kNotHeights.find(o.column); found != kNotHeights.end())
-    checks.add("--column " + o.column + " is " + found->second + ", not a height: compare measures heights (its "
-               "RMS in metres, eqs. 10-11 of a drop's rise to rest); give B_l_z, B_r_z, G_z or a CSV's height "
-               "column");
+  // The columns of a simulated CSV: Fn_1 ... Fn_4, u_<coordinate>, q_<coordinate>.
+  const std::string& c = o.column;
+  std::string what;
+  if (const auto found = kNotHeights.find(c); found != kNotHeights.end()) what = found->second;
+  else if (c.size() == 4 && c.starts_with("Fn_") && c[3] >= '1' && c[3] <= '4') what = "a wheel's normal force [N]";
+  else if (c.starts_with("u_")) what = "a speed of the coordinate " + c.substr(2);
+  else if (c.starts_with("q_") && c != "q_z") what = "the coordinate " + c.substr(2) + " (an angle or a horizontal position)";
+  if (!what.empty())
+    checks.add("--column " + c + " is " + what + ", not a height: compare measures heights (its RMS in metres, "
+               "eqs. 10-11 of a drop's rise to rest); give B_l_z, B_r_z, G_z, q_z or a CSV's height column");
 }
 
 int run_compare(const CompareOptions& o) {

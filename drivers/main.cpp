@@ -264,16 +264,16 @@ int main(int argc, char** argv) {
   }
   read_integral_numbers_as_integers(app);
   read_real_numbers_in_decimal(app);
-  if (argc > 1 && argv[1][0] != '-' &&
-      std::none_of(registry.begin(), registry.end(),
-                   [&](const CommandEntry& entry) { return entry.name == argv[1]; })) {
-    report_input_problem({unknown_subcommand_message(argv[1], registry), "Run 'rover --help' for the list."});
-    return 1;
-  }
   const std::vector<std::string> args(argv + 1, argv + argc);
   if (const std::vector<std::string> lines = typed_word_error_lines(args, app, typed_subcommands(app, argc, argv));
       !lines.empty()) {
     report_input_problem(lines);
+    return 1;
+  }
+  if (argc > 1 && argv[1][0] != '-' &&
+      std::none_of(registry.begin(), registry.end(),
+                   [&](const CommandEntry& entry) { return entry.name == argv[1]; })) {
+    report_input_problem({unknown_subcommand_message(argv[1], registry), "Run 'rover --help' for the list."});
     return 1;
   }
   try {

@@ -56,7 +56,16 @@ class StrictDomBuilder final : public nlohmann::json_sax<Json> {
   bool boolean(bool value) override { return add(Json(value)); }
   bool number_integer(number_integer_t value) override { return add(Json(value)); }
   bool number_unsigned(number_unsigned_t value) override { return add(Json(value)); }
-  bool number_float(number_float_t value, const string_t& /*text*/) override {
+  bool number_float(number_float_t value, const string_t& text) override {
+    // A number below the smallest double reads as 0: refused, as one above
+    // the largest is (1e-400 is no zero that the user wrote).
+    const std::string_view mantissa = std::string_view(text).substr(0, text.find_first_of("eE"));
+    if (value == 0.0 && mantissa.find_first_of("123456789") != std::string_view::npos) {
+      error_ = source_ + ": " + (open_.empty() ? std::string() : "field '" + next_path() + "': ") + "number " + text +
+               " is below the smallest double (about 4.9e-324) and would read as 0; write 0, or the value in "
+               "other units";
+      return false;
+    }
     return add(Json(value));
   }
   bool string(string_t& value) override { return add(Json(std::move(value))); }
@@ -114,6 +123,13 @@ class StrictDomBuilder final : public nlohmann::json_sax<Json> {
     std::string path;  // its field path ("" for the top level)
     std::string key;   // objects: the key whose value comes next
   };
+
+  // The field path of the value that comes next.
+  std::string next_path() const {
+    const Level& level = open_.back();
+    if (level.value->is_object()) return child_path(level.path, level.key);
+    return level.path + "[" + std::to_string(level.value->size()) + "]";
+  }
 
   static std::string child_path(const std::string& path, const std::string& key) {
     return path.empty() ? key : path + "." + key;

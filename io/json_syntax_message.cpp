@@ -101,6 +101,18 @@ std::string json_syntax_problem(const std::string& library_reason, const std::st
     return found(reason) == "'}'" ? "a comma before '}': JSON allows no comma after an object's last entry"
                                   : "expected a key in double quotes, found " + found(reason);
   if (contains(reason, "parsing object separator")) return "expected ':' after the key, found " + found(reason);
+  // "09.81": nlohmann reads the 0 as a number and the 9.81 as the next value.
+  if (contains(reason, "parsing object -") || contains(reason, "parsing array -")) {
+    std::size_t start = number_start(text, offending);
+    const std::size_t word = start;
+    if (start < text.size() && text[start] == '-') ++start;
+    std::size_t digits = start;
+    while (digits + 1 < text.size() && text[digits] == '0' && std::isdigit(static_cast<unsigned char>(text[digits + 1])))
+      ++digits;
+    if (digits > start)
+      return "'" + word_at(text, word) + "' is not a JSON number: a number starts with no 0 before other digits (" +
+             "write " + text.substr(word, start - word) + word_at(text, digits) + ")";
+  }
   if (contains(reason, "parsing object -"))
     return "expected ',' or '}' after a value, found " + found(reason) + " (a missing comma?)";
   if (contains(reason, "parsing array -"))

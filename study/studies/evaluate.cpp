@@ -66,13 +66,6 @@ std::string csv_quoted(const std::string& s) {
   return out + "\"";
 }
 
-// The shortest text that reads back to exactly x.
-std::string number(double x) {
-  char text[32];
-  const auto result = std::to_chars(text, text + sizeof text, x);
-  return std::string(text, result.ptr);
-}
-
 }  // namespace
 
 DesignTable read_design_csv(const std::string& path, const std::function<void(const DesignTable&)>& check_columns) {
@@ -323,8 +316,8 @@ void write_evaluate_csv(const EvaluateResult& result, const std::string& path) {
   csv << "status,message\n";
   for (Eigen::Index i = 0; i < x.rows(); ++i) {
     const auto row = static_cast<std::size_t>(i);
-    for (Eigen::Index j = 0; j < x.cols(); ++j) csv << number(x(i, j)) << ",";
-    for (const std::vector<double>& q : result.qoi) csv << number(q[row]) << ",";
+    for (Eigen::Index j = 0; j < x.cols(); ++j) csv << exact_number_text(x(i, j)) << ",";
+    for (const std::vector<double>& q : result.qoi) csv << exact_number_text(q[row]) << ",";
     csv << result.status[row] << "," << csv_quoted(result.messages[row]) << "\n";
   }
   csv.close();

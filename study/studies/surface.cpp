@@ -46,9 +46,9 @@ std::vector<double> parse_axis(const io::JsonReader& parent, const std::string& 
   else a.fail("spacing", "must be 'linear' or 'log'");
   for (std::size_t i = 1; i < v.size(); ++i)
     if (!(v[i] - v[i - 1] > kMinRelativeSpacing * v[i]))
-      a.fail("count", std::to_string(count) + " points between " + number_text(min) + " and " + number_text(max) +
-                          " lie closer than " + number_text(kMinRelativeSpacing) + " of their size (" +
-                          number_text(v[i - 1]) + " and " + number_text(v[i]) +
+      a.fail("count", std::to_string(count) + " points between " + exact_number_text(min) + " and " +
+                          exact_number_text(max) + " lie closer than " + number_text(kMinRelativeSpacing) +
+                          " of their size (" + exact_number_text(v[i - 1]) + " and " + exact_number_text(v[i]) +
                           "): their runs would differ by rounding only; widen the axis or give fewer points");
   if (log_spacing != nullptr) *log_spacing = spacing == "log";
   a.finish();

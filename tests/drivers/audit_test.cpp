@@ -5441,5 +5441,33 @@ TEST_F(Audit, TheQ2OfAConstantOutputIsUndefined) {
                    {"Q2 LOO undefined (constant output)"}, {}, {}, {"Q2 LOO 1.0000"}}});
 }
 
+// Numbers that a double cannot hold or JSON does not allow, dashes copied
+// from documents before any subcommand, and compare given a column that is
+// no height.
+TEST_F(Audit, UnderflowsLeadingZerosDashesAndNonHeights) {
+  const std::string dir = w().dir();
+  std::vector<Case> cases;
+  const std::string underflow = w().text_file("underflow", R"({"duration": 1e-400})", "json");
+  cases.push_back({"a JSON number below the smallest double", "simulate --scenario " + underflow, Want::kError,
+                   {underflow, "field 'duration'", "1e-400 is below the smallest double"}});
+  const std::string leading_zero = w().text_file("leading_zero", R"({"duration": 09.5})", "json");
+  cases.push_back({"a JSON number with a leading zero", "simulate --scenario " + leading_zero, Want::kError,
+                   {leading_zero + ":1:", "'09.5' is not a JSON number", "write 9.5"}, {}, {}, {"missing comma"}});
+  cases.push_back({"an em dash before any subcommand", "\xE2\x80\x94study x", Want::kError,
+                   {"starts with an em dash (U+2014)"}, {}, {}, {"unknown subcommand"}});
+  const std::string run = w().dir() + "/run.csv";
+  ASSERT_EQ(run_command(rover_binary() + " simulate --scenario " + w().quick() + " --csv " + run + " --out " +
+                        w().dir() + "/run.h5 --no-plot"),
+            0);
+  for (const std::string column : {"Fn_1", "u_z", "q_chi"})
+    cases.push_back({"compare --column " + column + " of a simulated CSV",
+                     "compare " + run + " " + run + " --column " + column, Want::kError,
+                     {"--column " + column + " is ", "not a height"}});
+  // q_z is a height (this drop has no rebound yet, so no deflection error).
+  cases.push_back({"compare --column q_z of a simulated CSV", "compare " + run + " " + run + " --column q_z",
+                   Want::kError, {"column q_z), the reference, rises by 0 m"}, {}, {}, {"not a height"}});
+  run_table(dir, cases);
+}
+
 }  // namespace
 }  // namespace rover
