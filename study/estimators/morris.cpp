@@ -145,7 +145,7 @@ MorrisDesign morris_design(int dimensions, int trajectories, int levels, std::ui
   Engine engine(seed);
   std::vector<GridTrajectory> chosen = drawn_trajectories(d, trajectories, levels, engine);
   if (chosen.empty()) chosen = packed_trajectories(d, trajectories, levels, engine);
-  const auto unit = [levels](int k) { return (k + 0.5) / levels; };
+  const auto unit = [levels](int k) { return static_cast<double>(k) / (levels - 1); };
   for (int t = 0; t < trajectories; ++t) {
     const Eigen::Index first = static_cast<Eigen::Index>(t) * (d + 1);
     std::vector<int> grid = chosen[static_cast<std::size_t>(t)].start;
@@ -157,7 +157,7 @@ MorrisDesign morris_design(int dimensions, int trajectories, int levels, std::ui
       grid[i] += jump;
       design.points(first + k + 1, i) = unit(grid[i]);
       design.changed_input.push_back(i);
-      design.step.push_back(static_cast<double>(jump) / levels);
+      design.step.push_back(static_cast<double>(jump) / (levels - 1));
     }
   }
   return design;

@@ -2,8 +2,9 @@
 // mu* of Campolongo, Cariboni & Saltelli (2007) and a bootstrap percentile
 // interval for mu* over trajectories (Efron & Tibshirani 1993).
 //
-// A trajectory starts at a random point of a p-level grid in the unit cube and
-// moves each input once, in random order, by the jump Delta = 1/2 (p/2 levels):
+// A trajectory starts at a random point of the p-level grid {0, 1/(p-1), ...,
+// 1} in the unit cube and moves each input once, in random order, by the jump
+// Delta = p / (2 (p - 1)) (p/2 levels; Morris 1991, Saltelli et al. 2004):
 // an input in the lower half of the grid moves up, one in the upper half down,
 // so every point stays on the grid and the direction of each jump is random
 // (Morris's random orientation of the trajectory). No two trajectories take
@@ -21,9 +22,11 @@
 
 namespace rover::study {
 
-// Morris (1991) one-at-a-time trajectories on a p-level grid in the unit cube. Levels are CENTRED,
-// (k + 0.5) / p for k = 0..p-1, so distributions with infinite support map to finite values; the
-// jump is p/2 levels (p even) = 1/2 in unit coordinates. Trajectory t is rows t(d+1) .. t(d+1)+d.
+// Morris (1991) one-at-a-time trajectories on a p-level grid in the unit cube: levels k / (p - 1)
+// for k = 0..p-1, a jump of p/2 levels (p even), p / (2 (p - 1)) in unit coordinates. A jump of
+// exactly half the cube would be blind to any effect periodic in half the range (sin^2 over
+// [-pi, pi]). A distribution with infinite support is mapped from the centred levels
+// (morris_centred_level). Trajectory t is rows t(d+1) .. t(d+1)+d.
 struct MorrisDesign {
   DesignMatrix points;             // r (d + 1) x d, unit coordinates
   std::vector<int> changed_input;  // r d entries: which input changes between consecutive rows
@@ -47,6 +50,11 @@ double distinct_morris_steps(int dimensions, int levels);
 // trajectories >= 1 and levels is even, >= 2, and for more trajectories than
 // distinct_morris_steps.
 MorrisDesign morris_design(int dimensions, int trajectories, int levels, std::uint64_t seed);
+
+// The unit coordinate u = k / (p - 1) of a level moved to the centre of its
+// cell, (k + 1/2) / p: where a distribution with infinite support is read
+// (its quantiles at 0 and 1 are infinite).
+inline double morris_centred_level(double u, int levels) { return (0.5 + u * (levels - 1)) / levels; }
 
 struct MorrisOptions {
   int bootstrap_resamples = 1000;  // 0: no interval (NaN bounds)

@@ -113,12 +113,21 @@ void quantile_interval(const std::vector<double>& sorted, double confidence, Qua
   q.coverage = coverage;
 }
 
+// The mean of x, summed as deviations from its first value: exactly that
+// value when all are equal (a plain sum / n rounds 8 x 0.181 to another
+// double, and the sd of a constant QoI would come out 3e-17, not 0).
+double shifted_mean(const std::vector<double>& x) {
+  double sum = 0.0;
+  for (const double v : x) sum += v - x.front();
+  return x.front() + sum / static_cast<double>(x.size());
+}
+
 double sample_sd(const std::vector<double>& x) {
   double sum = 0.0;
-  for (const double v : x) sum += v;
-  const double n = static_cast<double>(x.size()), mean = sum / n;
+  for (const double v : x) sum += v - x.front();
+  const double n = static_cast<double>(x.size()), shifted = sum / n;
   double ss = 0.0;
-  for (const double v : x) ss += (v - mean) * (v - mean);
+  for (const double v : x) ss += (v - x.front() - shifted) * (v - x.front() - shifted);
   return std::sqrt(ss / (n - 1.0));
 }
 
@@ -192,9 +201,7 @@ QoiSummary summarize_qoi(std::vector<double> values, const std::vector<double>& 
     return s;
   }
 
-  double sum = 0.0;
-  for (const double v : values) sum += v;
-  s.mean = sum / static_cast<double>(n);
+  s.mean = shifted_mean(values);
   if (n >= 2) {
     s.sd = sample_sd(values);
     const boost::math::students_t t(static_cast<double>(n - 1));

@@ -379,10 +379,13 @@ DesignMatrix sensitivity_design(const SensitivityStudy& study) {
   } else {
     unit = morris_design(d, study.trajectories, study.levels, spec.design.seed).points;
   }
+  const bool morris = study.method == SensitivityMethod::kMorris;
   DesignMatrix x(unit.rows(), unit.cols());
   for (Eigen::Index j = 0; j < unit.cols(); ++j) {
     const Distribution& dist = spec.inputs[static_cast<std::size_t>(j)].distribution;
-    for (Eigen::Index i = 0; i < unit.rows(); ++i) x(i, j) = dist.quantile(unit(i, j));
+    const bool unbounded = !std::isfinite(dist.support_lower()) || !std::isfinite(dist.support_upper());
+    for (Eigen::Index i = 0; i < unit.rows(); ++i)
+      x(i, j) = dist.quantile(morris && unbounded ? morris_centred_level(unit(i, j), study.levels) : unit(i, j));
   }
   return x;
 }

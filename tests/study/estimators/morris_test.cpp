@@ -25,7 +25,7 @@ Eigen::VectorXd outputs(const MorrisDesign& design, Model f) {
   return y;
 }
 
-TEST(Morris, TrajectoriesMoveEachInputOnceByHalfTheCubeOnTheCentredGrid) {
+TEST(Morris, TrajectoriesMoveEachInputOnceByHalfTheLevelsOnTheGrid) {
   const int d = 5, r = 40, p = 6;
   const MorrisDesign design = morris_design(d, r, p, 3);
   ASSERT_EQ(design.points.rows(), r * (d + 1));
@@ -38,7 +38,7 @@ TEST(Morris, TrajectoriesMoveEachInputOnceByHalfTheCubeOnTheCentredGrid) {
   int upward = 0;
   for (Eigen::Index row = 0; row < design.points.rows(); ++row)
     for (int i = 0; i < d; ++i) {
-      const double level = design.points(row, i) * p - 0.5;  // integer in 0 .. p-1
+      const double level = design.points(row, i) * (p - 1);  // integer in 0 .. p-1
       EXPECT_NEAR(level, std::round(level), 1e-12);
       EXPECT_GE(std::round(level), 0.0);
       EXPECT_LE(std::round(level), p - 1.0);
@@ -49,7 +49,7 @@ TEST(Morris, TrajectoriesMoveEachInputOnceByHalfTheCubeOnTheCentredGrid) {
       const int move = t * d + k, i = design.changed_input[move];
       const Eigen::Index before = t * (d + 1) + k;
       moved.insert(i);
-      EXPECT_EQ(std::abs(design.step[move]), 0.5);
+      EXPECT_NEAR(std::abs(design.step[move]), p / (2.0 * (p - 1)), 1e-15);  // p/2 levels
       upward += design.step[move] > 0;
       for (int j = 0; j < d; ++j)
         EXPECT_NEAR(design.points(before + 1, j) - design.points(before, j),
@@ -64,6 +64,24 @@ TEST(Morris, TrajectoriesMoveEachInputOnceByHalfTheCubeOnTheCentredGrid) {
   EXPECT_NE(morris_design(d, r, p, 4).points, design.points);
   EXPECT_THROW(morris_design(d, r, 5, 3), std::invalid_argument);
   EXPECT_THROW(morris_design(0, r, 4, 3), std::invalid_argument);
+}
+
+// Ishigami's x2 enters as 7 sin^2(x2), of period pi, half its range [-pi, pi]:
+// a jump of half the cube would never see it. On the grid of p levels its
+// effects are those of the exact jump, and it ranks where its first-order
+// index (0.44, the largest) puts it, above x3 (S1 = 0).
+TEST(Morris, SeesAnEffectPeriodicInHalfTheRange) {
+  const int d = 3, r = 20;
+  for (const int p : {4, 6}) {
+    const MorrisDesign design = morris_design(d, r, p, 1);
+    const auto ishigami = [](const double* u) {
+      const double x1 = -M_PI + 2 * M_PI * u[0], x2 = -M_PI + 2 * M_PI * u[1], x3 = -M_PI + 2 * M_PI * u[2];
+      return std::sin(x1) + 7.0 * std::sin(x2) * std::sin(x2) + 0.1 * std::pow(x3, 4) * std::sin(x1);
+    };
+    const MorrisResult m = morris_effects(design, outputs(design, ishigami), {.bootstrap_resamples = 0});
+    // A design blind to it gives rounding only (about 1e-15).
+    EXPECT_GT(m.mu_star[1], 1.0) << "p " << p;
+  }
 }
 
 // How many of a design's elementary-effect steps repeat an earlier one: each

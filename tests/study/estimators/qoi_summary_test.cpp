@@ -193,6 +193,21 @@ TEST(QoiSummary, FailedRunsAreLeftOutAndTinySamplesHaveNoIntervals) {
   EXPECT_THROW(summarize_qoi({1.0}, {0.5}, 0.95, -1, 1), std::invalid_argument);
 }
 
+// A QoI no input moves (every run the same double, whose n-fold sum divided
+// by n is another double): mean that value, sd and its interval exactly 0,
+// by the chi-square interval and by the bootstrap.
+TEST(QoiSummary, AConstantQoiHasSdExactlyZero) {
+  for (const int n : {8, 64}) {
+    const QoiSummary s = summarize_qoi(std::vector<double>(static_cast<std::size_t>(n), 0.181), {0.5}, 0.95, 200, 1);
+    EXPECT_EQ(s.mean, 0.181) << n;
+    EXPECT_EQ(s.sd, 0.0) << n;
+    EXPECT_EQ(s.sd_lower, 0.0) << n;
+    EXPECT_EQ(s.sd_upper, 0.0) << n;
+    EXPECT_EQ(s.mean_lower, 0.181) << n;
+    EXPECT_EQ(s.mean_upper, 0.181) << n;
+  }
+}
+
 // Below kMinBootstrapSdSamples the sd's interval is the chi-square one of a
 // normal sample: its ends against OpenTURNS 1.20's chi-square quantiles
 // (sqrt(dof / ChiSquare(dof).computeQuantile(q)), an independent code), an
