@@ -190,7 +190,7 @@ class FlagChecks {
     } catch (const io::ConfigError&) {
     }
     if (!value) {
-      add(flag + " must be an integer from 0 to 18446744073709551615, got '" + text + "'");
+      add(flag + " must be an integer from 0 to 18446744073709551615" + io::kExponentFormLimit + ", got '" + text + "'");
       return 0;
     }
     return *value;

@@ -367,13 +367,13 @@ int JsonReader::integer(const std::string& key, const IntegerRange& range) const
 
 std::uint64_t JsonReader::count(const std::string& key) const {
   const std::optional<std::uint64_t> n = exact_unsigned_integer(raw(key));
-  if (!n) fail(key, "expected a count, an integer from 0 to 18446744073709551615");
+  if (!n) fail(key, std::string("expected a count, an integer from 0 to 18446744073709551615") + kExponentFormLimit);
   return *n;
 }
 
 std::uint64_t JsonReader::seed(const std::string& key) const {
   const std::optional<std::uint64_t> n = exact_unsigned_integer(raw(key));
-  if (!n) fail(key, "expected a seed, an integer from 0 to 18446744073709551615");
+  if (!n) fail(key, std::string("expected a seed, an integer from 0 to 18446744073709551615") + kExponentFormLimit);
   return *n;
 }
 

@@ -74,6 +74,10 @@ Json parse_json_quietly(const std::string& text);
 // that was written. Empty for anything else (negative, fractional, 2^64 + 5,
 // not a number).
 std::optional<std::uint64_t> exact_unsigned_integer(const Json& value);
+// Appended to the range of such an integer: a number in exponent or decimal
+// form is a double, exact as an integer only up to 2^53.
+inline constexpr const char* kExponentFormLimit =
+    " (in exponent form, as 1e3, at most 2^53 = 9007199254740992: write larger ones in digits)";
 
 // The whole numbers an integer field accepts: those from `min` to `max`;
 // `accepted`, when given, states them in place of "from <min> to <max>"

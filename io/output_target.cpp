@@ -225,6 +225,11 @@ constexpr long kDefaultNameMax = 255;
 // by making one under a name of this process and removing it; empty when one can.
 // An append-only or immutable directory is refused unprobed: a result is
 // written under a temporary name and renamed, which neither allows.
+// What a probe says when another process (another MPI rank of the same job,
+// probing the same path) made or removed the directory under it: look again.
+constexpr std::string_view kProbeRaced = "\x01probe raced";
+constexpr int kProbeAttempts = 5;
+
 std::string creation_refusal(const std::string& output) {
   const fs::path dir = fs::path(output).parent_path();
   const std::string dir_name = dir.empty() ? std::string(".") : dir.string();
@@ -236,6 +241,7 @@ std::string creation_refusal(const std::string& output) {
   const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
   if (fd < 0) {
     if (errno == EEXIST) return "";
+    if (errno == ENOENT && !dir.empty() && !fs::is_directory(dir)) return std::string(kProbeRaced);  // another rank's probe removed it
     return "no file can be created in '" + dir_name + "' (" + std::strerror(errno) + ")";
   }
   ::close(fd);
@@ -261,7 +267,11 @@ std::string name_length_refusal(const std::string& output, std::string_view sibl
          " characters";
 }
 
-std::string parent_directory_refusal(const std::string& output) {
+namespace {
+
+// parent_directory_refusal's one look at the path (kProbeRaced if another
+// process changed it meanwhile).
+std::string parent_directory_refusal_once(const std::string& output) {
   std::error_code error;
   fs::path dir = fs::path(output).parent_path();
   if (dir.empty()) {
@@ -286,10 +296,26 @@ std::string parent_directory_refusal(const std::string& output) {
     return "cannot create the directory '" + dir.string() + "': '" + first.string() +
            "' is a symbolic link to '" + fs::read_symlink(first, error).string() +
            "', which does not exist; create its target or give another path";
-  if (::mkdir(first.c_str(), 0777) != 0)
-    return "cannot create the directory '" + dir.string() + "' (" + std::strerror(errno) + ")";
+  if (::mkdir(first.c_str(), 0777) != 0) {
+    const int failure = errno;
+    // Made meanwhile, or its parent (another process's probe) removed meanwhile.
+    if ((failure == EEXIST && fs::is_directory(first, error)) ||
+        (failure == ENOENT && !fs::is_directory(first.parent_path(), error)))
+      return std::string(kProbeRaced);
+    return "cannot create the directory '" + dir.string() + "' (" + std::strerror(failure) + ")";
+  }
   fs::remove(first, error);
   return "";
+}
+
+}  // namespace
+
+std::string parent_directory_refusal(const std::string& output) {
+  // The ranks of an MPI job probe the same path at once: one's directory can
+  // appear or vanish under another's look, which is then taken again.
+  for (int attempt = 0; attempt < kProbeAttempts; ++attempt)
+    if (std::string refusal = parent_directory_refusal_once(output); refusal != kProbeRaced) return refusal;
+  return "";  // made and removed by others all along: it can be made
 }
 
 void create_parent_directories(const std::string& output) {

@@ -270,6 +270,17 @@ class TempFile {
   std::string path_;
 };
 
+// Whether the file ends as every complete PNG does, in its IEND chunk (gnuplot
+// exits 0 after a write the disk had no room for).
+bool ends_in_png_end_chunk(const std::string& path) {
+  static constexpr char kEndChunk[12] = {0, 0, 0, 0, 'I', 'E', 'N', 'D', '\xAE', '\x42', '\x60', '\x82'};
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  if (!in || in.tellg() < static_cast<std::streamoff>(sizeof kEndChunk)) return false;
+  in.seekg(-static_cast<std::streamoff>(sizeof kEndChunk), std::ios::end);
+  char tail[sizeof kEndChunk] = {};
+  return static_cast<bool>(in.read(tail, sizeof tail)) && std::equal(tail, tail + sizeof tail, kEndChunk);
+}
+
 // Writes the script that `script_for(output path)` returns, runs gnuplot on
 // it, and moves the output onto png_path only when gnuplot succeeded.
 void render(const std::string& png_path,
@@ -299,7 +310,11 @@ void render(const std::string& png_path,
                     png_path + ": " + log);
   std::error_code error;
   const auto size = fs::file_size(partial.path(), error);
-  if (error || size == 0) throw PlotError("plot: gnuplot wrote nothing for " + png_path + ": " + log);
+  const std::string why = log.empty() ? "gnuplot said nothing: is the disk full?" : log;
+  if (error || size == 0) throw PlotError("plot: gnuplot wrote nothing for " + png_path + " (" + why + ")");
+  if (!ends_in_png_end_chunk(partial.path()))
+    throw PlotError("plot: gnuplot wrote " + std::to_string(size) + " bytes of " + png_path +
+                    " and no PNG end chunk: an incomplete image, not kept (" + why + ")");
   // The temporary file was created private (0600); a new plot is for everyone
   // to read, one that replaces a plot keeps that file's permissions.
   const fs::file_status replaced = fs::status(png_path, error);

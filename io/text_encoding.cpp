@@ -76,6 +76,9 @@ std::string text_encoding_problem(std::string_view text) {
   using namespace std::string_view_literals;
   if (text.starts_with("\x00\x00\xFE\xFF"sv) || text.starts_with("\xFF\xFE\x00\x00"sv)) return "is UTF-32 text";
   if (text.starts_with("\xFE\xFF"sv) || text.starts_with("\xFF\xFE"sv)) return "is UTF-16 text";
+  // Binary files rover writes, by their signatures (no NUL in the first line).
+  if (text.starts_with("\x89HDF"sv)) return "is an HDF5 file, not text (a result file? give its CSV)";
+  if (text.starts_with("\x89PNG"sv)) return "is a PNG image, not text";
   const std::size_t nul = text.find('\0');
   if (nul == std::string_view::npos) return "";
   // UTF-16 or UTF-32 text of ASCII characters has a NUL in every other byte or more.

@@ -98,28 +98,52 @@ void check_resumable(const std::string& results_path, const std::string& fingerp
   }
 }
 
+// The result file's path, checked (see prepare) on this process.
+std::string checked_output(const std::string& name, const std::string& fingerprint, bool csv_allowed,
+                           const io::InputFiles& inputs, const std::vector<PlannedFigure>& figures,
+                           const StudyRunOptions& options) {
+  const bool given = !options.results_path.empty() && !options.results_path_is_default;
+  // An input the output would destroy comes first, before the path's form.
+  check_outputs(given ? "--out" : "--out (default)",
+                options.results_path.empty() ? "results/" + name + ".h5" : options.results_path, inputs, options.plots);
+  const std::string results_path =
+      checked_results_path(name, options.results_path, csv_allowed, options.results_path_is_default);
+  if (const std::string shared = shared_figure_names(results_path, figures); !shared.empty())
+    throw std::invalid_argument("--plots: " + shared + ", one replacing the other: give the QoI another \"label\", "
+                                "or pass --plots summary or --plots none");
+  for (const PlannedFigure& figure : figures) {
+    const std::string path = sibling_path(results_path, figure.suffix);
+    if (const std::string refusal = io::name_length_refusal(path, io::kFigureTemporarySuffix); !refusal.empty())
+      throw std::invalid_argument("--plots: the figure of " + figure.shows + ", " + path + ": " + refusal +
+                                  " (shorten --out), or pass --plots none");
+  }
+  if (options.resume) check_resumable(results_path, fingerprint);
+  return results_path;
+}
+
 }  // namespace
 
 StudyRunOptions prepare(const std::string& command, const std::string& name, const std::string& fingerprint,
                         const MemoryEstimate& memory, const std::string& banner, bool csv_allowed,
                         const io::InputFiles& inputs, const std::vector<PlannedFigure>& figures,
                         StudyRunOptions options) {
-  const bool given = !options.results_path.empty() && !options.results_path_is_default;
-  // An input the output would destroy comes first, before the path's form.
-  check_outputs(given ? "--out" : "--out (default)",
-                options.results_path.empty() ? "results/" + name + ".h5" : options.results_path, inputs, options.plots);
-  options.results_path =
-      checked_results_path(name, options.results_path, csv_allowed, options.results_path_is_default);
-  if (const std::string shared = shared_figure_names(options.results_path, figures); !shared.empty())
-    throw std::invalid_argument("--plots: " + shared + ", one replacing the other: give the QoI another \"label\", "
-                                "or pass --plots summary or --plots none");
-  for (const PlannedFigure& figure : figures) {
-    const std::string path = sibling_path(options.results_path, figure.suffix);
-    if (const std::string refusal = io::name_length_refusal(path, io::kFigureTemporarySuffix); !refusal.empty())
-      throw std::invalid_argument("--plots: the figure of " + figure.shows + ", " + path + ": " + refusal +
-                                  " (shorten --out), or pass --plots none");
+  // The checks probe the file system (a file made and removed, a directory
+  // made and removed): rank 0 alone makes them, and every rank follows its
+  // verdict. Ranks probing one new directory at once would see each other's
+  // probes come and go, and one refusing alone would leave the others
+  // waiting for it forever.
+  std::string refusal;
+  std::string results_path = options.results_path.empty() ? "results/" + name + ".h5" : options.results_path;
+  if (world_rank() == 0) {
+    try {
+      results_path = checked_output(name, fingerprint, csv_allowed, inputs, figures, options);
+    } catch (const std::invalid_argument& e) {
+      refusal = e.what();
+    }
   }
-  if (options.resume) check_resumable(options.results_path, fingerprint);
+  if (broadcast_flag_from_rank0(!refusal.empty()))
+    throw std::invalid_argument(refusal.empty() ? "refused on rank 0 (which says why)" : refusal);
+  options.results_path = results_path;
   if (memory.bytes > 0.0) require_memory(memory.what, memory.bytes);
   options.label = command;
   options.fingerprint = fingerprint;

@@ -681,7 +681,10 @@ StudySpec parse_study_spec(const io::JsonReader& r, const std::vector<std::strin
       r.fail("model", e.what());
     }
     s.inputs = analytic_inputs(r, *m);
-    if (r.has("qoi")) r.raw("qoi");  // analytic models have the one QoI "y"
+    // An analytic model has one output, y: "qoi" may name it, nothing else.
+    if (r.has("qoi") && r.raw("qoi") != io::Json::array({"y"}))
+      r.fail("qoi", "the analytic model '" + r.string("model") + "' has one output, y, which the study analyses: "
+                    "leave \"qoi\" out (or give [\"y\"]); the rover's QoIs need a \"scenario\"");
     s.model = m;
   } else {
     const std::string scenario = io::resolve_relative(s.path, r.string("scenario"));

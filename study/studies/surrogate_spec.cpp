@@ -148,11 +148,24 @@ void check_held_out_runs(const io::JsonReader& r, const SurrogateStudy& s) {
     if (runs < kMinHeldOutRuns)
       h.fail("file", s.held_out_file + " holds " + std::to_string(runs) + " run(s); a held-out Q2 needs at least " +
                          std::to_string(kMinHeldOutRuns));
+    TrainingRuns held_out;
     try {  // its inputs, QoIs, scenario and rover: before any run, not after them
-      (void)read_result_runs(s.held_out_file, s, "held-out");
+      held_out = read_result_runs(s.held_out_file, s, "held-out");
     } catch (const std::exception& e) {
       h.fail("file", e.what());
     }
+    // Runs the surrogate will be fitted to, found now: the design is a
+    // function of its seed, a training file is read already.
+    TrainingRuns training;
+    if (s.training_file.empty()) {
+      training.x = study_design(s.spec);
+    } else {
+      try {
+        training = read_result_runs(s.training_file, s, "training");
+      } catch (const std::exception&) {  // named by check_training_runs
+      }
+    }
+    if (const std::string shared = shared_runs(training, held_out); !shared.empty()) h.fail("file", shared);
   } else if (s.training_file.empty() && s.held_out_runs() < kMinHeldOutRuns) {
     h.fail("fraction", held_out_count_problem(s.held_out_fraction, s.spec.design.samples));
   }

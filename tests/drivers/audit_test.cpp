@@ -5469,5 +5469,104 @@ TEST_F(Audit, UnderflowsLeadingZerosDashesAndNonHeights) {
   run_table(dir, cases);
 }
 
+// Under mpirun both ranks check an output whose directories do not exist
+// yet, at once: each sees the other's probe directory come and go, and
+// neither may refuse it alone (the other would wait for it forever).
+TEST_F(Audit, TwoRanksMakeAMissingOutputDirectoryTogether) {
+  const std::string study = w().montecarlo([](Json& j) { j["design"]["samples"] = 4; });
+  for (int attempt = 0; attempt < 6; ++attempt) {
+    const std::string out = w().dir() + "/new" + std::to_string(attempt) + "/deeper/m.h5";
+    std::string output;
+    EXPECT_EQ(run_command("timeout 60 " + testing::mpiexec() + " -np 2 " + rover_binary() + " montecarlo --study " +
+                              study + " --no-plot --out " + out + " 2>&1",
+                          &output),
+              0)
+        << output;
+    EXPECT_TRUE(std::filesystem::exists(out)) << output;
+  }
+}
+
+// A Morris design blind to an effect periodic in half the range, the sd of
+// a constant QoI, QoIs an analytic model does not have, held-out runs that
+// are the design's own, binary files given as CSV, and seeds in exponent form
+// beyond 2^53.
+TEST_F(Audit, BlindScreeningConstantsForeignQoisAndBinaryCsv) {
+  const std::string dir = w().dir();
+  std::vector<Case> cases;
+  const std::string morris = w().json_file(
+      "morris", Json{{"type", "sensitivity"}, {"method", "morris"}, {"name", "mor"}, {"model", "ishigami"},
+                     {"design", {{"trajectories", 20}, {"levels", 4}, {"seed", 1}}}});
+  const std::string mor = dir + "/mor.h5";
+  cases.push_back({"Morris screening of Ishigami", study_args("sensitivity", morris, mor) + " --no-plot", Want::kRuns,
+                   {}, [=] {
+                     // x2 enters as 7 sin^2(x2): its mu* is of order 7, not rounding.
+                     const double mu_star = io::Hdf5Reader(mor).read_doubles("/morris/y/mu_star").at(1);
+                     return mu_star > 1.0 ? std::string() : "mu* of x2 is " + std::to_string(mu_star);
+                   }});
+  const std::string constant = dir + "/constant.h5";
+  cases.push_back({"a Monte Carlo QoI no input moves",
+                   study_args("montecarlo", w().montecarlo([](Json& j) {
+                     j["parameters"] = {{"drive.tau_max", {{"distribution", "uniform"}, {"min", 3}, {"max", 4}}}};
+                     j["design"]["samples"] = 8;
+                   }), constant) + " --no-plot",
+                   Want::kRuns, {}, [=] {
+                     const io::Hdf5Reader h5(constant);
+                     const double sd = h5.read_doubles("/summary/t_min/sd").at(0);
+                     return sd == 0.0 ? std::string() : "sd of a constant t_min is " + std::to_string(sd);
+                   }});
+  cases.push_back({"a QoI of the rover asked of an analytic model",
+                   study("sensitivity", w().sensitivity([](Json& j) { j["qoi"] = {"B_l_z_min"}; })) + " --dry-run",
+                   Want::kError, {"field 'qoi'", "has one output, y"}});
+  // Held-out runs made by the surrogate study's own design.
+  const Json own{{"type", "surrogate"},
+                 {"name", "own"},
+                 {"model", "linear"},
+                 {"parameters", {{"x1", {{"distribution", "uniform"}, {"min", 0.0}, {"max", 1.0}}}}},
+                 {"design", {{"type", "lhs"}, {"samples", 12}, {"seed", 3}}},
+                 {"pce", {{"max_degree", 1}, {"bootstrap", 0}}}};
+  const std::string trained = dir + "/own.h5";
+  std::string log;
+  ASSERT_EQ(run_command(rover_binary() + " " + study_args("surrogate", w().json_file("own", own), trained) +
+                            " --no-plot", &log), 0) << log;
+  Json again = own;
+  again["held_out"] = {{"file", trained}};
+  cases.push_back({"held-out runs that the design will make again",
+                   study_args("surrogate", w().json_file("again", again), dir + "/again.h5") + " --dry-run",
+                   Want::kError, {"field 'held_out.file'", "12 of the 12 held-out runs", "are training runs too"}});
+  cases.push_back({"an HDF5 result given as a design",
+                   "evaluate --scenario " + w().quick() + " --design " + trained + " --dry-run --out " + w().out("csv"),
+                   Want::kError, {trained, "is an HDF5 file, not text"}, {}, {}, {"\x89"}});
+  cases.push_back({"an HDF5 result given as measured data",
+                   study("calibrate", w().calibration([](Json&) {})) + " --data " + trained + " --dry-run",
+                   Want::kError, {trained}, {}, {}, {"\x89"}});
+  cases.push_back({"a seed of 1e16", study("montecarlo", w().montecarlo([](Json&) {})) + " --seed 1e16 --dry-run",
+                   Want::kError, {"--seed", "2^53", "write larger ones in digits"}});
+  run_table(dir, cases);
+}
+
+// On a disk with no room left for a figure, the earlier figure stays, and
+// no figure is reported written (where this process may mount a tmpfs).
+TEST_F(Audit, AFigureThatDoesNotFitKeepsTheEarlierOne) {
+  const std::string dir = w().dir(), disk = dir + "/small";
+  fs::create_directory(disk);
+  std::string log;
+  if (run_command("mount -t tmpfs -o size=1000k tmpfs " + disk + " 2>&1", &log) != 0)
+    GTEST_SKIP() << "cannot mount a tmpfs here: " << log;
+  const std::string out = disk + "/s.h5", png = disk + "/s.png";
+  ASSERT_EQ(run_command(rover_binary() + " simulate --scenario " + w().quick() + " --out " + out, &log), 0) << log;
+  const auto result_bytes = fs::file_size(out);
+  fs::remove(out);
+  fs::remove(disk + "/s_attitude.png");
+  // Leave room for the result and a few kilobytes of the figure.
+  const auto free_bytes = fs::space(disk).available;
+  const auto keep = result_bytes + 16 * 1024;
+  ASSERT_GT(free_bytes, keep);
+  write_file(disk + "/fill", std::string(free_bytes - keep, 'x'));
+  run_table(dir, {{"simulate with no room for its figure",
+                   "simulate --scenario " + w().quick() + " --out " + out, Want::kRunsOrFails,
+                   {"s.png"}, unchanged(png), {}, {"wrote " + png}}});
+  EXPECT_EQ(run_command("umount " + disk, &log), 0) << log;
+}
+
 }  // namespace
 }  // namespace rover

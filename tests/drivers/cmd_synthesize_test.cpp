@@ -56,7 +56,7 @@ TEST(CmdSynthesize, EveryBadFlagIsReportedBeforeAnyRun) {
                                "--noise must be a finite number >= 0, got -1"}},
       {"--rate nan --offset inf --f -3", {"--rate", "--offset must be a finite number, got inf",
                                           "--f must be a positive finite number, got -3"}},
-      {"--seed -1", {"--seed must be an integer from 0 to 18446744073709551615, got '-1'"}},
+      {"--seed -1", {"--seed must be an integer from 0 to 18446744073709551615", "got '-1'"}},
       {"--seed 18446744073709551621", {"--seed must be an integer", "'18446744073709551621'"}},
       {"--seed 2.5 --cq nan --M0 1,1,1,1,1,1,1,-1",
        {"--seed", "--cq must be a finite number >= 0, got nan", "--M0: value 8"}},
