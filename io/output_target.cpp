@@ -299,7 +299,7 @@ std::string parent_directory_refusal_once(const std::string& output) {
   if (::mkdir(first.c_str(), 0777) != 0) {
     const int failure = errno;
     // Made meanwhile, or its parent (another process's probe) removed meanwhile.
-    if ((failure == EEXIST && fs::is_directory(first, error)) ||
+    if ((failure == EEXIST && !fs::is_regular_file(fs::symlink_status(first, error))) ||
         (failure == ENOENT && !fs::is_directory(first.parent_path(), error)))
       return std::string(kProbeRaced);
     return "cannot create the directory '" + dir.string() + "' (" + std::strerror(failure) + ")";
