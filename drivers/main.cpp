@@ -140,7 +140,7 @@ void read_real_numbers_in_decimal(CLI::App& app) {
     if (!option->get_type_name().starts_with("FLOAT")) continue;
     option->check(CLI::Validator(
         [](std::string& text) {
-          if (io::decimal_number_hint(text).find("hexadecimal") == std::string::npos) return std::string();
+          if (!io::is_hexadecimal_number(text)) return std::string();
           return "must be a number in decimal digits (as 0.125 or 1.25e-1), got " + text;
         },
         "", "decimal"));

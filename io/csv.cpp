@@ -190,11 +190,10 @@ CsvTable read_csv(const std::string& path, const std::vector<std::string>& requi
       header_line = line_number;
       std::set<std::string> seen;
       for (std::string_view field : fields) {
-        if (field.size() >= 2 && field.front() == '"' && field.back() == '"')
-          field = trim(field.substr(1, field.size() - 2));
-        else if (const std::string problem = separator_problem(field); !problem.empty())
-          throw ConfigError(where + problem);
-        std::string name(field);
+        const bool quoted = field.size() >= 2 && field.front() == '"' && field.back() == '"';
+        if (!quoted)
+          if (const std::string problem = separator_problem(field); !problem.empty()) throw ConfigError(where + problem);
+        std::string name = quoted ? std::string(trim(unquoted_csv_cell(field))) : std::string(field);
         if (name.empty()) throw ConfigError(where + "empty column name in the header");
         if (!seen.insert(name).second) throw ConfigError(where + "duplicate column '" + name + "'");
         table.header.push_back(std::move(name));
@@ -336,6 +335,16 @@ std::string declared_channel(const std::string& path) {
     return end != std::string::npos && line[end] == ',' ? line.substr(start, end - start) : "";
   }
   return "";
+}
+
+std::string unquoted_csv_cell(std::string_view cell) {
+  if (cell.size() < 2 || cell.front() != '"' || cell.back() != '"') return std::string(cell);
+  std::string name;
+  for (std::size_t k = 1; k + 1 < cell.size(); ++k) {
+    name += cell[k];
+    if (cell[k] == '"' && cell[k + 1] == '"') ++k;
+  }
+  return name;
 }
 
 }  // namespace rover::io

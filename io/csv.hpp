@@ -17,6 +17,7 @@
 
 #include <cstddef>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace rover::io {
@@ -39,6 +40,10 @@ struct CsvTable {
 // directory, an empty file, a malformed line, a header without one of
 // `required_columns`, or a file without data rows.
 CsvTable read_csv(const std::string& path, const std::vector<std::string>& required_columns = {});
+
+// A header cell as RFC 4180 quotes it ("c_q", or "a""b" for a"b), unquoted;
+// any other cell as it is.
+std::string unquoted_csv_cell(std::string_view cell);
 
 // A sampled curve: strictly increasing times and finite values.
 struct MeasuredCurve {

@@ -21,9 +21,13 @@ DecimalNumber parse_decimal_number(std::string_view text) {
   return {value, DecimalStatus::kOk};
 }
 
-std::string decimal_number_hint(std::string_view text) {
+bool is_hexadecimal_number(std::string_view text) {
   const std::string_view unsigned_text = !text.empty() && (text.front() == '+' || text.front() == '-') ? text.substr(1) : text;
-  if (unsigned_text.starts_with("0x") || unsigned_text.starts_with("0X"))
+  return unsigned_text.starts_with("0x") || unsigned_text.starts_with("0X");
+}
+
+std::string decimal_number_hint(std::string_view text) {
+  if (is_hexadecimal_number(text))
     return "hexadecimal is not read: write the number in decimal digits (0.125, not 0x1p-3)";
   if (const std::size_t comma = text.find(','); comma != std::string_view::npos &&
       parse_decimal_number(std::string(text.substr(0, comma)) + "." + std::string(text.substr(comma + 1))).status ==

@@ -24,6 +24,9 @@ struct DecimalNumber {
 // `text` read whole as a finite decimal number, or why it is none.
 DecimalNumber parse_decimal_number(std::string_view text);
 
+// Whether `text` is written as C's hexadecimal numbers are ("0x10", "-0X1p-3").
+bool is_hexadecimal_number(std::string_view text);
+
 // Why `text` is no decimal number when it looks like one written another
 // way ("hexadecimal is not read", "a decimal comma?"), else empty.
 std::string decimal_number_hint(std::string_view text);

@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "io/checkpoint.hpp"
+#include "io/csv.hpp"
 #include "io/decimal_number.hpp"
 #include "core/number_text.hpp"
 #include "io/hdf5_file.hpp"
@@ -43,17 +44,6 @@ std::vector<std::string> split_commas(const std::string& line) {
   while (std::getline(ss, cell, ',')) cells.push_back(trim(cell));
   if (!line.empty() && line.back() == ',') cells.emplace_back();
   return cells;
-}
-
-// A header cell as RFC 4180 quotes it ("c_q", or "a""b" for a"b), unquoted.
-std::string unquoted(const std::string& cell) {
-  if (cell.size() < 2 || cell.front() != '"' || cell.back() != '"') return cell;
-  std::string name;
-  for (std::size_t k = 1; k + 1 < cell.size(); ++k) {
-    name += cell[k];
-    if (cell[k] == '"' && cell[k + 1] == '"') ++k;
-  }
-  return name;
 }
 
 std::string csv_quoted(const std::string& s) {
@@ -88,7 +78,7 @@ DesignTable read_design_csv(const std::string& path, const std::function<void(co
     const std::string where = path + ":" + std::to_string(line_number);
     if (header) {
       table.columns = cells;
-      for (std::string& name : table.columns) name = unquoted(name);
+      for (std::string& name : table.columns) name = io::unquoted_csv_cell(name);
       table.header_line = line_number;
       for (std::size_t j = 0; j < cells.size(); ++j)
         if (cells[j].empty()) throw io::ConfigError(where + ": column " + std::to_string(j + 1) + " has no name");

@@ -4,7 +4,6 @@
 #include "study/runtime/elapsed_time.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <chrono>
 #include <cmath>
 #include <iomanip>
@@ -325,11 +324,10 @@ SensitivityStudy load_sensitivity_study(const std::string& path, const DesignOve
     s.layout.base_samples = design_size(d, overrides, 2);
     s.spec.fingerprint = with_setting(s.spec.fingerprint, "--samples", std::to_string(s.layout.base_samples),
                                       overrides.samples.has_value());
-    if (const auto n = static_cast<std::uint64_t>(s.layout.base_samples);
-        s.spec.design.type == DesignType::kSobol && !std::has_single_bit(n))
-      s.spec.warnings.push_back("design: " + std::to_string(n) + " Sobol' base points are not a power of two; the "
-                                "sequence is balanced at 2^k points (" + std::to_string(std::bit_floor(n)) + " or " +
-                                std::to_string(std::bit_ceil(n)) + "), where the indices' error is smallest");
+    if (s.spec.design.type == DesignType::kSobol)
+      if (std::string w = sobol_balance_warning(static_cast<std::uint64_t>(s.layout.base_samples), "base points");
+          !w.empty())
+        s.spec.warnings.push_back(std::move(w));
     s.layout.dimensions = d_inputs;
     s.layout.second_order = r.boolean_or("second_order", false);
     s.spec.design.samples = s.layout.total_runs();

@@ -579,13 +579,18 @@ DesignSpec parse_design(const io::JsonReader& d, const std::vector<UncertainInpu
 
 }  // namespace
 
+std::string sobol_balance_warning(std::uint64_t n, const std::string& points) {
+  if (n == 0 || std::has_single_bit(n)) return "";
+  return "design: " + std::to_string(n) + " Sobol' " + points + " are not a power of two; the sequence is "
+         "balanced at 2^k points (" + std::to_string(std::bit_floor(n)) + " or " + std::to_string(std::bit_ceil(n)) +
+         "), where its error is smallest";
+}
+
 std::vector<std::string> design_warnings(const StudySpec& spec) {
   std::vector<std::string> warnings = spec.warnings;
   const auto n = static_cast<std::uint64_t>(spec.design.samples);
-  if (spec.design.type == DesignType::kSobol && n > 0 && !std::has_single_bit(n))
-    warnings.push_back("design: " + std::to_string(n) + " Sobol' points are not a power of two; the sequence is "
-                       "balanced at 2^k points (" + std::to_string(std::bit_floor(n)) + " or " +
-                       std::to_string(std::bit_ceil(n)) + "), where its error is smallest");
+  if (spec.design.type == DesignType::kSobol)
+    if (std::string w = sobol_balance_warning(n, "points"); !w.empty()) warnings.push_back(std::move(w));
   if (spec.design.type == DesignType::kGrid)
     for (std::size_t j = 0; j < spec.inputs.size() && j < spec.design.grid_levels.size(); ++j)
       if (const UncertainInput& in = spec.inputs[j];

@@ -87,6 +87,9 @@ DesignMatrix study_design(const StudySpec& spec);
 // is not a power of two (the sequence is balanced at 2^k points): read at
 // the run, after any --samples override.
 std::vector<std::string> design_warnings(const StudySpec& spec);
+// The warning for `n` Sobol' `points` ("points", "base points") that are not
+// a power of two, where the sequence is balanced; empty when n is one.
+std::string sobol_balance_warning(std::uint64_t n, const std::string& points);
 
 // Labels of the inputs, in order (for /inputs/names and CSV headers).
 std::vector<std::string> input_labels(const StudySpec& spec);
