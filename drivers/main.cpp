@@ -164,14 +164,21 @@ void print_lines(const std::vector<std::string>& lines) {
 
 // A problem of the command line or of an input file: under mpirun every rank
 // checks the same arguments and files and finds the same problem, so rank 0
-// alone reports it. Other errors (a rank's own) are reported by the rank,
-// which then names itself.
-void report_input_problem(const std::vector<std::string>& lines) {
-  if (launcher_rank() == 0) print_lines(lines);
+// alone reports it; another rank keeps its lines in `held`, to print them if
+// it finds itself alone in refusing. Other errors (a rank's own) are
+// reported by the rank, which then names itself.
+void report_input_problem(const std::vector<std::string>& lines, std::vector<std::string>* held = nullptr) {
+  if (launcher_rank() == 0)
+    print_lines(lines);
+  else if (held != nullptr)
+    held->insert(held->end(), lines.begin(), lines.end());
+}
+std::string rank_label() {
+  const int rank = launcher_rank();
+  return rank == 0 ? "" : "(rank " + std::to_string(rank) + ") ";
 }
 void report_error(const std::string& prefix, const std::string& what) {
-  const int rank = launcher_rank();
-  print_lines({prefix + (rank == 0 ? "" : "(rank " + std::to_string(rank) + ") ") + what});
+  print_lines({prefix + rank_label() + what});
 }
 
 // The subcommands typed, as far as CLI11 knows them: "simulate", "terrain
@@ -190,31 +197,27 @@ std::string typed_subcommands(const CLI::App& app, int argc, char** argv) {
 }
 
 // Runs the parsed subcommand `sub`: its exit status, or 1 with rover's
-// message for every error (130 when a study was interrupted). Under mpirun
-// a command that shares its runs (`shares_runs`) holds MPI until its message
-// is printed: rank 0 prints before any rank leaves MPI, so mpirun never ends
-// the job on another rank's exit before the user has read why.
-int run_subcommand(CLI::App& sub, const std::function<int()>& run, bool shares_runs) {
+// message for every error (130 when a study was interrupted). A refusal of
+// the inputs that rank 0 does not print is kept in `held`.
+int run_reporting_errors(CLI::App& sub, const std::function<int()>& run, std::vector<std::string>& held) {
   const std::string prefix = "rover " + sub.get_name() + ": error: ";
   int status = 1;
-  std::optional<rover::study::MpiSession> mpi;
   try {
-    if (shares_runs && launcher_size() > 1) mpi.emplace(nullptr, nullptr);
     reject_empty_values(sub);
     status = run();
   } catch (const CommandLineError& e) {
     std::vector<std::string> lines;
     for (const std::string& problem : e.problems()) lines.push_back(prefix + problem);
-    report_input_problem(lines);
+    report_input_problem(lines, &held);
     return 1;
   } catch (const rover::study::StudyInterrupted& e) {
     std::cerr << "rover " << sub.get_name() << ": " << e.what() << "\n";
     return rover::study::StudyInterrupted::kExitCode;
   } catch (const rover::io::ConfigError& e) {
-    report_input_problem({prefix + e.what()});
+    report_input_problem({prefix + e.what()}, &held);
     return 1;
   } catch (const std::invalid_argument& e) {  // refused before any run
-    report_input_problem({prefix + e.what()});
+    report_input_problem({prefix + e.what()}, &held);
     return 1;
   } catch (const std::bad_alloc&) {
     report_error(prefix, "out of memory while running rover " + sub.get_name() +
@@ -230,6 +233,31 @@ int run_subcommand(CLI::App& sub, const std::function<int()>& run, bool shares_r
   if (!std::cout && status != rover::study::StudyInterrupted::kExitCode) {
     std::cerr << prefix << "cannot write to standard output" << (errno ? std::string(" (") + std::strerror(errno) + ")" : "") << "\n";
     return 1;
+  }
+  return status;
+}
+
+// Runs `sub`; under mpirun a command that shares its runs (`shares_runs`)
+// holds MPI until every rank has reached its exit, so that rank 0 prints
+// before mpirun ends the job on another rank's exit. A rank that refused
+// alone, while the others went on to the runs, prints its held message and
+// ends the job instead of leaving them waiting.
+int run_subcommand(CLI::App& sub, const std::function<int()>& run, bool shares_runs) {
+  std::optional<rover::study::MpiSession> mpi;
+  try {
+    if (shares_runs && launcher_size() > 1) mpi.emplace(nullptr, nullptr);
+  } catch (const std::invalid_argument& e) {  // an environment MPI could not start with
+    report_input_problem({"rover " + sub.get_name() + ": error: " + e.what()});
+    return 1;
+  }
+  std::vector<std::string> held;
+  const int status = run_reporting_errors(sub, run, held);
+  if (mpi && !mpi->meet_on_exit(status == 1)) {
+    for (std::string& line : held) line = rank_label() + line;
+    held.push_back("rover " + sub.get_name() + ": error: " + rank_label() +
+                   "the other ranks did not refuse and went on to the runs; ending the job");
+    print_lines(held);
+    mpi->abort_job(status);
   }
   return status;
 }

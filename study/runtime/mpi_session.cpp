@@ -6,6 +6,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 #include <mpi.h>
 
@@ -85,9 +86,32 @@ MpiSession::MpiSession(int* argc, char*** argv) {
   }
   MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
   MPI_Comm_size(MPI_COMM_WORLD, &size_);
+  if (size_ > 1) MPI_Comm_dup(MPI_COMM_WORLD, &exit_comm_);
+}
+
+bool MpiSession::meet_on_exit(bool refused) {
+  if (exit_comm_ == MPI_COMM_NULL) return true;
+  constexpr std::chrono::milliseconds kPollInterval{10};
+  MPI_Request meeting = MPI_REQUEST_NULL;
+  MPI_Ibarrier(exit_comm_, &meeting);
+  if (!refused) {
+    MPI_Wait(&meeting, MPI_STATUS_IGNORE);
+    return true;
+  }
+  const auto deadline = std::chrono::steady_clock::now() + kRefusalGrace;
+  for (int met = 0;; std::this_thread::sleep_for(kPollInterval)) {
+    MPI_Test(&meeting, &met, MPI_STATUS_IGNORE);
+    if (met) return true;
+    if (std::chrono::steady_clock::now() > deadline) return false;
+  }
+}
+
+void MpiSession::abort_job(int exit_status) {
+  std::_Exit(exit_status);
 }
 
 MpiSession::~MpiSession() {
+  if (exit_comm_ != MPI_COMM_NULL) MPI_Comm_free(&exit_comm_);
   if (owns_) {
     int finalized = 0;
     MPI_Finalized(&finalized);

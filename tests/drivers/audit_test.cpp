@@ -5568,5 +5568,34 @@ TEST_F(Audit, AFigureThatDoesNotFitKeepsTheEarlierOne) {
   EXPECT_EQ(run_command("umount " + disk, &log), 0) << log;
 }
 
+// Under mpirun one rank refuses its study file while the other, given a
+// good one (an MPMD launch, or files that differ between nodes), goes on to
+// the runs: the job ends within seconds, with the refusing rank's reason.
+TEST_F(Audit, ARefusalOfOneRankEndsTheWholeJob) {
+  const std::string good = w().montecarlo([](Json& j) { j["design"]["samples"] = 16; });
+  const std::string bad = w().montecarlo([](Json& j) { j["parameters"]["c_q"]["min"] = -0.1; });
+  const std::string good_fit = w().calibration([](Json&) {});
+  const std::string bad_fit = w().calibration([](Json& j) { j["initial"]["c_q"] = 5.0; });
+  struct Launch {
+    std::string command, rank0_file, rank1_file, reason;
+  };
+  for (const Launch& launch : {Launch{"montecarlo", good, bad, "narrow the distribution"},
+                               Launch{"calibrate", bad_fit, good_fit, "outside bounds.c_q"}}) {
+    const std::string out = w().out("h5");
+    const auto rank = [&](const std::string& file) {
+      return " -np 1 " + rover_binary() + " " + launch.command + " --study " + file + " --no-plot --out " + out;
+    };
+    std::string output;
+    const int status = run_command("timeout 120 " + testing::mpiexec() + rank(launch.rank0_file) + " :" +
+                                       rank(launch.rank1_file) + " 2>&1",
+                                   &output);
+    EXPECT_NE(status, 0) << output;
+    EXPECT_NE(status, 124) << "the job hung:\n" << output;
+    EXPECT_NE(output.find(launch.reason), std::string::npos) << output;
+    EXPECT_NE(output.find("the other ranks did not refuse"), std::string::npos) << output;
+    EXPECT_FALSE(std::filesystem::exists(out)) << output;
+  }
+}
+
 }  // namespace
 }  // namespace rover
