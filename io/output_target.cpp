@@ -8,8 +8,8 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cctype>
 #include <array>
+#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -22,6 +22,18 @@
 
 namespace rover::io {
 namespace {
+
+// ASCII control characters (a newline, a tab, DEL); bytes of UTF-8 are not.
+bool is_control_byte(char c) {
+  const auto byte = static_cast<unsigned char>(c);
+  return byte < 0x20 || byte == 0x7f;
+}
+// "0x0a"
+std::string byte_text(unsigned char byte) {
+  char text[8];
+  std::snprintf(text, sizeof text, "0x%02x", byte);
+  return text;
+}
 
 // "immutable" or "append-only" for a file with that attribute (chattr +i,
 // +a), which neither rename nor unlink may replace; empty otherwise or where
@@ -142,6 +154,10 @@ OutputTarget stream_target(OutputFormat format, const std::string& what) {
 
 OutputTarget inspect_output(const std::string& path, OutputFormat format) {
   if (path.empty()) return refused("is an empty path");
+  if (const auto control = std::find_if(path.begin(), path.end(), is_control_byte); control != path.end())
+    return refused("holds a control character (byte " + byte_text(static_cast<unsigned char>(*control)) +
+                   " at position " + std::to_string(control - path.begin() + 1) +
+                   "), which every listing and message of the file would show garbled: give a name without one");
   // "dir/", "dir/." or "..": a directory, existing or not (nothing is made for it).
   if (const fs::path name = fs::path(path).filename(); name.empty() || name == "." || name == "..")
     return refused("names a directory; give a file name");

@@ -2,8 +2,10 @@
 #include "io/terrain_json.hpp"
 
 #include <array>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -211,13 +213,15 @@ void save_terrain_grid(const HeightGrid& grid, const std::string& path, const Js
   const std::string temp = path + ".tmp." + std::to_string(::getpid());
   create_temporary(temp, path);
   {
+    errno = 0;
     std::ofstream file(temp, std::ios::binary | std::ios::trunc);
     file << out;
     file.close();
     if (!file) {
+      const std::string reason = errno != 0 ? std::string(" (") + std::strerror(errno) + ")" : "";
       std::error_code ignored;
       std::filesystem::remove(temp, ignored);
-      throw std::runtime_error(path + ": cannot write terrain file (temporary " + temp + ")");
+      throw std::runtime_error(path + ": cannot write terrain file" + reason);
     }
   }
   std::error_code error;

@@ -52,7 +52,7 @@ MonteCarloStudy load_montecarlo_study(const std::string& path, const DesignOverr
   const io::Json json = io::read_config_file(path, io::ConfigKind::kStudy);
   const io::JsonReader r(json, path);
   MonteCarloStudy s;
-  s.spec = parse_study_spec(r, {"montecarlo"});
+  s.spec = parse_study_spec(r, {"montecarlo"}, DesignKey::kRequired, kMinSamples);
   apply_design_overrides(overrides, s.spec);
   if (r.has("confidence")) {
     s.confidence = r.number("confidence");

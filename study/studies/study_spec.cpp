@@ -533,7 +533,7 @@ std::string grid_points_text(const std::vector<int>& levels) {
   return text;
 }
 
-DesignSpec parse_design(const io::JsonReader& d, const std::vector<UncertainInput>& inputs) {
+DesignSpec parse_design(const io::JsonReader& d, const std::vector<UncertainInput>& inputs, int min_samples) {
   DesignSpec spec;
   try {
     spec.type = design_type_from_name(d.string("type"));
@@ -542,6 +542,7 @@ DesignSpec parse_design(const io::JsonReader& d, const std::vector<UncertainInpu
   }
   if (spec.type == DesignType::kGrid) {
     if (d.has("samples")) d.fail("samples", "a grid's size is the product of its \"levels\"");
+    if (d.has("seed")) d.fail("seed", "a grid draws nothing (its points are its levels); remove the seed");
     const io::Json& levels = d.raw("levels");
     std::optional<io::JsonReader> per_input;
     if (levels.is_object()) per_input.emplace(d.child("levels"));
@@ -568,8 +569,10 @@ DesignSpec parse_design(const io::JsonReader& d, const std::vector<UncertainInpu
     spec.samples = static_cast<int>(total);
   } else {
     const double n = d.number("samples");
+    // Fewer than min_samples (but some) are the study's to refuse: a --samples
+    // flag may replace them.
     if (!(n >= 1 && n <= 1e8 && n == std::floor(n)))
-      d.fail("samples", "must be a whole number of samples from 1 to 1e8");
+      d.fail("samples", "must be a whole number of samples from " + std::to_string(min_samples) + " to 1e8");
     spec.samples = static_cast<int>(n);
   }
   spec.seed = d.seed_or("seed", 1);
@@ -667,7 +670,7 @@ StudyIdentity parse_study_identity(const io::JsonReader& r, const std::vector<st
 }
 
 StudySpec parse_study_spec(const io::JsonReader& r, const std::vector<std::string>& types,
-                           DesignKey design_key) {
+                           DesignKey design_key, int min_samples) {
   StudySpec s;
   const StudyIdentity identity = parse_study_identity(r, types);
   s.path = identity.path;
@@ -735,7 +738,7 @@ StudySpec parse_study_spec(const io::JsonReader& r, const std::vector<std::strin
   if (design_key == DesignKey::kByCaller) {
     // the caller reads "design"
   } else if (r.has("design")) {
-    s.design = parse_design(r.child("design"), s.inputs);
+    s.design = parse_design(r.child("design"), s.inputs, min_samples);
   } else {
     r.fail("design", "missing: {\"type\": \"monte_carlo\" | \"latin_hypercube\" | \"sobol\" | \"grid\", "
                      "\"samples\": N, \"seed\": S}");

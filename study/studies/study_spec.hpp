@@ -75,10 +75,12 @@ struct StudySpec {
 
 // Reads the keys above and marks them used; the caller reads its own keys,
 // then calls r.finish(). Errors name the study file and the field. With
-// kByCaller the "design" key is left to the caller (sensitivity designs).
+// kByCaller the "design" key is left to the caller (sensitivity designs);
+// `min_samples` is the fewest "design.samples" the study accepts (named
+// in the message for a count that is none).
 enum class DesignKey { kRequired, kByCaller };
 StudySpec parse_study_spec(const io::JsonReader& r, const std::vector<std::string>& types,
-                           DesignKey design = DesignKey::kRequired);
+                           DesignKey design = DesignKey::kRequired, int min_samples = 1);
 
 // The design in physical units: samples x inputs (fixed inputs are constant
 // columns). Row i depends only on the seed and i (LHS: on the seed).

@@ -30,7 +30,11 @@ const std::vector<std::string> kSurfaceInputs{"s_structure.f", "s_structure.c_q"
 
 std::vector<double> parse_axis(const io::JsonReader& parent, const std::string& key, bool* log_spacing = nullptr) {
   const io::JsonReader a = parent.child(key);
-  const double min = a.positive("min"), max = a.positive("max");
+  const std::string spacing = a.string_or("spacing", "linear");
+  if (spacing != "log" && spacing != "linear") a.fail("spacing", "must be 'linear' or 'log'");
+  // A linear axis may start at 0 (no damping); a log axis needs positive ends.
+  const double min = spacing == "log" ? a.positive("min") : a.non_negative("min");
+  const double max = spacing == "log" ? a.positive("max") : a.non_negative("max");
   const int count = a.integer("count", {1, kMaxAxisPoints});
   if (!(max >= min)) a.fail("max", "must not be below min (" + number_text(min) + ")");
   if (count == 1 && max > min)
@@ -39,11 +43,7 @@ std::vector<double> parse_axis(const io::JsonReader& parent, const std::string& 
   if (count > 1 && !(max > min))
     a.fail("count", std::to_string(count) + " points between min = max = " + number_text(min) +
                         " would be identical runs: give count 1, or max above min");
-  const std::string spacing = a.string_or("spacing", "linear");
-  std::vector<double> v;
-  if (spacing == "log") v = log_grid(min, max, count);
-  else if (spacing == "linear") v = linear_grid(min, max, count);
-  else a.fail("spacing", "must be 'linear' or 'log'");
+  const std::vector<double> v = spacing == "log" ? log_grid(min, max, count) : linear_grid(min, max, count);
   for (std::size_t i = 1; i < v.size(); ++i)
     if (!(v[i] - v[i - 1] > kMinRelativeSpacing * v[i]))
       a.fail("count", std::to_string(count) + " points between " + exact_number_text(min) + " and " +

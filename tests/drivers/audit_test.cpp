@@ -699,6 +699,8 @@ TEST_F(Audit, MonteCarloStudy) {
           {"'design.levels'", "0"});
   mc_case("grid levels of another input", [](Json& j) { j["design"] = {{"type", "grid"}, {"levels", {{"f", 3}}}}; },
           Want::kError, {"'design.levels'", "c_q"});
+  mc_case("a seed of a grid", [](Json& j) { j["design"] = {{"type", "grid"}, {"levels", 3}, {"seed", 4}}; },
+          Want::kError, {"'design.seed'", "4", "draws nothing"});
   mc_case("grid of a normal",
           [](Json& j) {
             j["parameters"]["c_q"] = {{"distribution", "normal"}, {"sd", 0.01}};
@@ -871,6 +873,12 @@ TEST_F(Audit, SurfaceStudy) {
   s_case("cubic spacing", [](Json& j) { j["c_q"]["spacing"] = "cubic"; }, Want::kError, {"'c_q.spacing'", "cubic"});
   s_case("log spacing from 0", [](Json& j) { j["c_q"] = {{"min", 0.0}, {"max", 0.2}, {"count", 2}, {"spacing", "log"}}; },
          Want::kError, {"'c_q.min'", "0"});
+  s_case("linear spacing from no damping",
+         [](Json& j) { j["c_q"] = {{"min", 0.0}, {"max", 0.2}, {"count", 2}, {"spacing", "linear"}}; }, Want::kRuns,
+         {});
+  s_case("linear spacing from negative damping",
+         [](Json& j) { j["c_q"] = {{"min", -0.1}, {"max", 0.2}, {"count", 2}}; }, Want::kError,
+         {"'c_q.min'", "-0.1", "must not be negative"});
   s_case("empty reference", [](Json& j) { j["reference"] = Json::object(); }, Want::kError, {"'reference.file'"});
   s_case("missing reference file", [&](Json& j) { j["reference"] = {{"file", w().dir() + "/none.csv"}}; },
          Want::kError, {"'reference.file'", "none.csv"});
@@ -1781,6 +1789,9 @@ TEST_F(Audit, ResultsWithoutMeaning) {
   cases.push_back({"a one-sample Monte Carlo",
                    study("montecarlo", w().montecarlo([](Json& j) { j["design"]["samples"] = 1; })), Want::kError,
                    {"'design'", "at least 2 samples", "got 1"}});
+  cases.push_back({"a zero-sample Monte Carlo names the Monte Carlo's range",
+                   study("montecarlo", w().montecarlo([](Json& j) { j["design"]["samples"] = 0; })), Want::kError,
+                   {"'design.samples'", "from 2 to 1e8"}});
   cases.push_back({"montecarlo --samples 1", study("montecarlo", w().montecarlo([](Json&) {})) + " --samples 1",
                    Want::kError, {"--samples", "from 2"}});
   // On the quick drop nothing touches the ground: B_l_z does not depend on f or c_q.
@@ -5545,7 +5556,8 @@ TEST_F(Audit, BlindScreeningConstantsForeignQoisAndBinaryCsv) {
 }
 
 // On a disk with no room left for a figure, the earlier figure stays, and
-// no figure is reported written (where this process may mount a tmpfs).
+// no figure is reported written; a terrain file that does not fit is named
+// with the system's reason (where this process may mount a tmpfs).
 TEST_F(Audit, AFigureThatDoesNotFitKeepsTheEarlierOne) {
   const std::string dir = w().dir(), disk = dir + "/small";
   fs::create_directory(disk);
@@ -5565,6 +5577,11 @@ TEST_F(Audit, AFigureThatDoesNotFitKeepsTheEarlierOne) {
   run_table(dir, {{"simulate with no room for its figure",
                    "simulate --scenario " + w().quick() + " --out " + out, Want::kRunsOrFails,
                    {"s.png"}, unchanged(png), {}, {"wrote " + png}}});
+  // A terrain file says why it was not written, as the other writers do.
+  const std::string terrain = disk + "/t.json";
+  run_table(dir, {{"terrain obstacle with no room for its file",
+                   "terrain obstacle --spacing 0.005 --out " + terrain, Want::kError,
+                   {"t.json", "No space left"}, absent_file(terrain)}});
   EXPECT_EQ(run_command("umount " + disk, &log), 0) << log;
 }
 
@@ -5595,6 +5612,26 @@ TEST_F(Audit, ARefusalOfOneRankEndsTheWholeJob) {
     EXPECT_NE(output.find("the other ranks did not refuse"), std::string::npos) << output;
     EXPECT_FALSE(std::filesystem::exists(out)) << output;
   }
+}
+
+// Output paths holding a control character (typed by a slip of the shell's
+// quoting) are refused for every kind of output; a UTF-8 name is written.
+TEST_F(Audit, OutputNamesWithControlCharactersAreRefused) {
+  const std::string dir = w().dir();
+  const auto named = [&](const std::string& printf_format) { return "\"$(printf '" + dir + "/" + printf_format + "')\""; };
+  std::vector<Case> cases;
+  cases.push_back({"--out with a newline", "simulate --no-plot --scenario " + w().quick() + " --out " + named("a\\nb.h5"),
+                   Want::kError, {"--out", "control character (byte 0x0a"}, absent_file(dir + "/a\nb.h5")});
+  cases.push_back({"--csv with a tab", "simulate --no-plot --scenario " + w().quick() + " --csv " + named("t\\tx.csv"),
+                   Want::kError, {"--csv", "byte 0x09"}, absent_file(dir + "/t\tx.csv")});
+  cases.push_back({"a study's --out with an escape",
+                   "montecarlo --no-plot --study " + w().montecarlo([](Json&) {}) + " --out " + named("e\\033.h5"),
+                   Want::kError, {"--out", "byte 0x1b"}, absent_file(dir + "/e\033.h5")});
+  cases.push_back({"terrain --out with DEL", "terrain obstacle --out " + named("d\\177.json"), Want::kError,
+                   {"--out", "byte 0x7f"}, absent_file(dir + "/d\177.json")});
+  cases.push_back({"a UTF-8 name", "simulate --no-plot --scenario " + w().quick() + " --out " + named("r\\303\\251.h5"),
+                   Want::kRuns, {}, [=] { return fs::exists(dir + "/r\u00e9.h5") ? "" : std::string("no r\u00e9.h5"); }});
+  run_table(dir, cases);
 }
 
 }  // namespace
