@@ -259,15 +259,25 @@ bool write_csv(const std::string& path, const std::vector<std::string>& header,
     // A pipe no process reads would block the open forever: refused. The
     // probe stays open until the stream is, so a reader never sees an end.
     const PipeProbe probe(path);
+    // A write that failed because its reader has gone (EPIPE) after a signal
+    // was raised (the SIGPIPE of that write) is the signal's stop.
+    const auto stopped = [&] { return stop != nullptr && stop->load(); };
     errno = 0;
     if (const int fd = own_descriptor(path); fd >= 0) {
-      write_table_to_descriptor(fd, path, header, columns, rows, comment);
+      try {
+        write_table_to_descriptor(fd, path, header, columns, rows, comment);
+      } catch (const std::runtime_error&) {
+        if (stopped()) return false;
+        throw;
+      }
       return true;
     }
     std::ofstream out(path, std::ios::app);
     if (!out) throw std::runtime_error(path + ": cannot open for writing" + system_reason());
-    if (!write_table(out, header, columns, rows, comment))
+    if (!write_table(out, header, columns, rows, comment)) {
+      if (stopped()) return false;
       throw std::runtime_error(path + ": cannot write" + system_reason());
+    }
     return true;
   }
 

@@ -82,7 +82,9 @@ MeasuredCurve curve_from_table(const CsvTable& table, const std::string& value_c
 // is written first, each of its lines prefixed with "# ".
 // `stop` (if given) is read every kStopCheckRows rows of a regular file: once
 // it is set, the temporary is removed and false is returned, the file at
-// `path` left as it was (a signal's request to stop); true otherwise.
+// `path` left as it was (a signal's request to stop); true otherwise. A
+// write to a device or pipe that fails once `stop` is set (a closed pipe's
+// SIGPIPE) also returns false.
 inline constexpr std::size_t kStopCheckRows = 4096;
 bool write_csv(const std::string& path, const std::vector<std::string>& header,
                const std::vector<std::vector<double>>& columns, const std::string& comment = "",

@@ -1337,7 +1337,9 @@ TEST_F(Audit, OutputPaths) {
   run_table(dir, cases);
 }
 
-// A pipe receives the CSV.
+// A pipe receives the CSV. A reader that leaves before the end (`| head`,
+// the README's own example) stops the CSV as a SIGPIPE does (status 130),
+// with the result file written before it kept.
 TEST_F(Audit, CsvIntoAPipe) {
   std::string output;
   const int status = run_command("cd " + w().dir() + " && " + rover_binary() + " simulate --no-plot --scenario " +
@@ -1345,6 +1347,21 @@ TEST_F(Audit, CsvIntoAPipe) {
                                  &output);
   EXPECT_EQ(status, 0);
   EXPECT_EQ(output.rfind("t,", 0), 0u) << output;
+  // Some hundred kilobytes of rows: more than a pipe holds, so the reader
+  // is gone before the last write.
+  const std::string longer = w().scenario([](Json& j) {
+    j["duration"] = 0.5;
+    j["output_rate"] = 1000;
+  });
+  const std::string dir = w().dir(), out = dir + "/piped.h5", status_file = dir + "/piped.status";
+  run_command("cd " + dir + " && { " + rover_binary() + " simulate --no-plot --scenario " + longer + " --out " + out +
+                  " --csv /dev/stdout 2>" + dir + "/piped.log; echo \"status $?\" > " + status_file + "; } | head -3",
+              &output);
+  const std::string log = file_bytes(dir + "/piped.log");
+  EXPECT_EQ(file_bytes(status_file), "status 130\n") << log;
+  EXPECT_NE(log.find("interrupted (SIGPIPE"), std::string::npos) << log;
+  EXPECT_EQ(log.find("error"), std::string::npos) << log;
+  EXPECT_TRUE(fs::exists(out)) << log;
 }
 
 // ---- class 2: leftover checkpoints and failed studies ------------------
