@@ -40,9 +40,10 @@ void check_flag_inputs(const CalibrateOptions& o) {
   io::InputFiles inputs;
   inputs.add(v.data_path, "--data");
   inputs.add_config(o.next_experiment, "--next-experiment");
+  // A ranking (--next-experiment) draws no figure.
+  const bool draws = o.run.plots != study::PlotSelection::kNone && o.next_experiment.empty();
   checks.not_an_input("--out", study_results_path(o.run, o.study_path), inputs,
-                      o.run.plots == study::PlotSelection::kNone ? io::WrittenBeside::kTemporaries
-                                                                 : io::WrittenBeside::kTemporariesAndPlots);
+                      draws ? io::WrittenBeside::kTemporariesAndPlots : io::WrittenBeside::kTemporaries);
   checks.throw_if_any();
 }
 

@@ -103,9 +103,11 @@ std::string checked_output(const std::string& name, const std::string& fingerpri
                            const io::InputFiles& inputs, const std::vector<PlannedFigure>& figures,
                            const StudyRunOptions& options) {
   const bool given = !options.results_path.empty() && !options.results_path_is_default;
-  // An input the output would destroy comes first, before the path's form.
+  // An input the output would destroy comes first, before the path's form;
+  // a study that draws no figure (a ranking, --plots none) writes no plot.
   check_outputs(given ? "--out" : "--out (default)",
-                options.results_path.empty() ? "results/" + name + ".h5" : options.results_path, inputs, options.plots);
+                options.results_path.empty() ? "results/" + name + ".h5" : options.results_path, inputs,
+                figures.empty() ? PlotSelection::kNone : options.plots);
   const std::string results_path =
       checked_results_path(name, options.results_path, csv_allowed, options.results_path_is_default);
   if (const std::string shared = shared_figure_names(results_path, figures); !shared.empty())

@@ -5651,5 +5651,30 @@ TEST_F(Audit, OutputNamesWithControlCharactersAreRefused) {
   run_table(dir, cases);
 }
 
+// A ranking draws no figure: a candidate's rover file named like a plot of
+// --out (<stem>_1.png) is not refused as one that plot would replace; the
+// ranking's result itself still may not replace it.
+TEST_F(Audit, ARankingIsNotRefusedForAPlotItNeverDraws) {
+  const std::string dir = w().dir();
+  const LandingDrop drop = landing_drop(w());
+  const std::string fit = landing_fit(w(), drop, 1.0);
+  const std::string png_rover = dir + "/nr_1.png";
+  fs::copy_file(source_path("configs/rover.json"), png_rover);
+  const std::string scenario = w().scenario([&](Json& j) {
+    j["duration"] = 0.3;
+    j["rover"] = png_rover;
+  });
+  const std::string candidates = w().json_file(
+      "cands", Json{{"candidates", {{{"scenario", scenario}, {"rate_hz", 500}, {"noise_sd", 1e-4}}}}});
+  std::vector<Case> cases;
+  cases.push_back({"a ranking beside a rover file named like its plot",
+                   "calibrate --study " + fit + " --next-experiment " + candidates + " --out " + dir + "/nr.h5 --dry-run",
+                   Want::kRuns, {}, unchanged(png_rover)});
+  cases.push_back({"a ranking over that rover file",
+                   "calibrate --study " + fit + " --next-experiment " + candidates + " --out " + png_rover + " --dry-run",
+                   Want::kError, {"--out", "nr_1.png"}, unchanged(png_rover)});
+  run_table(dir, cases);
+}
+
 }  // namespace
 }  // namespace rover
