@@ -378,9 +378,13 @@ ParsedKey parse_key(const std::string& key) {
   return parsed;
 }
 
-// "--samples 320", or "the study file's 300 (no --samples)".
+// "--samples 300"; "samples 16 (from the study file, no --samples)"; "the
+// scenario's integrator (no --integrator)"; a setting no flag gives: "study
+// montecarlo 'mc'".
 std::string describe_setting(const RunSetting& s) {
-  if (s.from_flag) return s.flag + " " + s.value;
+  if (s.from_flag || !s.flag.starts_with("--")) return s.flag + " " + s.value;
+  if (s.origin == RunSetting{}.origin)
+    return s.flag.substr(2) + " " + s.value + " (from " + s.origin + ", no " + s.flag + ")";
   return s.origin + "'s " + s.value + " (no " + s.flag + ")";
 }
 

@@ -712,7 +712,7 @@ std::string calibration_fingerprint(const CalibrationStudy& s, const Calibration
       {"--walkers", {std::to_string(s.mcmc.walkers), o.walkers.has_value()}},
       {"--steps", {std::to_string(s.mcmc.steps), o.steps.has_value()}},
       {"--discard", {std::to_string(mcmc_discard(s.mcmc, s.mcmc.sampler)), o.discard.has_value()}}};
-  std::string fingerprint = io::config_fingerprint(key.str());
+  std::string fingerprint = with_study_identity(io::config_fingerprint(key.str()), s.identity);
   for (const auto& [flag, setting] : settings)
     fingerprint = with_setting(fingerprint, flag, setting.first, setting.second);
   return fingerprint;

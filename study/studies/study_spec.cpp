@@ -655,6 +655,10 @@ std::optional<IntegratorSettings> study_integrator(const io::JsonReader& r, cons
   return std::nullopt;
 }
 
+std::string with_study_identity(const std::string& fingerprint, const StudyIdentity& identity) {
+  return io::add_run_setting(fingerprint, {"study", identity.type + " '" + identity.name + "'"});
+}
+
 StudyIdentity parse_study_identity(const io::JsonReader& r, const std::vector<std::string>& types) {
   io::refuse_other_config_kind(r.raw_object(), r.file(), io::ConfigKind::kStudy);
   StudyIdentity id;
@@ -743,7 +747,7 @@ StudySpec parse_study_spec(const io::JsonReader& r, const std::vector<std::strin
     r.fail("design", "missing: {\"type\": \"monte_carlo\" | \"latin_hypercube\" | \"sobol\" | \"grid\", "
                      "\"samples\": N, \"seed\": S}");
   }
-  s.fingerprint = io::config_fingerprint(fingerprint_text);
+  s.fingerprint = with_study_identity(io::config_fingerprint(fingerprint_text), identity);
   return s;
 }
 

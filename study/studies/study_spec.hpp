@@ -54,6 +54,9 @@ struct StudyIdentity {
 // Reads "type" (one of `types`), "name" (a plain file name: results go to
 // results/<name>.h5) and "description"; errors name the file and the field.
 StudyIdentity parse_study_identity(const io::JsonReader& r, const std::vector<std::string>& types);
+// `fingerprint` with the setting "study", "<type> '<name>'": a checkpoint of
+// another study at the same --out is named as such.
+std::string with_study_identity(const std::string& fingerprint, const StudyIdentity& identity);
 
 struct StudySpec {
   std::string path, type, name, description;

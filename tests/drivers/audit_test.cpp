@@ -4653,8 +4653,14 @@ TEST_F(Audit, ResumeNamesTheFlagWhoseValueDiffersFromTheCheckpoints) {
   ASSERT_TRUE(fs::exists(out + ".checkpoint")) << output;
   std::vector<Case> cases;
   cases.push_back({"--resume with another --samples", study_args("sensitivity", study_file, out) + " --resume --samples 8",
-                   Want::kError, {"--samples 8 here", "made with the study file's 16 (no --samples)"},
+                   Want::kError, {"--samples 8 here", "made with samples 16 (from the study file, no --samples)"},
                    unchanged(out + ".checkpoint"), {}, {"in some byte"}});
+  // Another study aimed at that --out is told whose checkpoint it is.
+  const std::string other = w().montecarlo([](Json& j) { j["name"] = "other_mc"; });
+  cases.push_back({"--resume of a Monte Carlo over a sensitivity checkpoint",
+                   study_args("montecarlo", other, out) + " --resume --dry-run", Want::kError,
+                   {"study montecarlo 'other_mc' here", "made with study sensitivity '"},
+                   unchanged(out + ".checkpoint")});
   run_table(dir, cases);
 }
 

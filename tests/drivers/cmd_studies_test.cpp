@@ -136,7 +136,7 @@ TEST(CmdStudies, MonteCarloResumeRefusesChangedOptions) {
                             dir + "/r.h5", &log), 0);
   // The flag that differs is named, with the value the checkpoint's runs were made with.
   EXPECT_NE(log.find("--seed 5 here"), std::string::npos) << log;
-  EXPECT_NE(log.find("the study file's 99"), std::string::npos) << log;
+  EXPECT_NE(log.find("seed 99 (from the study file, no --seed)"), std::string::npos) << log;
 }
 
 TEST(CmdStudies, InterruptSavesTheCheckpointAndTellsHowToResume) {

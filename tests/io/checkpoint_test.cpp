@@ -219,7 +219,7 @@ TEST(ResultCheckpoint, ASettingThatDiffersIsNamedWithBothValues) {
   const std::string more = add_run_setting(add_run_setting(inputs, {"--samples", "320", true}), {"--seed", "3", false});
   EXPECT_FALSE(keys_match(made, more));
   expect_error_naming([&] { ResultCheckpoint(results, more).load(); },
-                      {"--samples 320 here", "made with the study file's 300 (no --samples)"});
+                      {"--samples 320 here", "made with samples 300 (from the study file, no --samples)"});
   const std::string message = key_mismatch(made, more);
   EXPECT_EQ(message.find("the study file or a file it names"), std::string::npos) << message;
   // Inputs added to the key keep its settings.
