@@ -164,14 +164,29 @@ std::vector<QoiSpec> plain_qois(const std::vector<std::string>& qoi_names) {
   return qois;
 }
 
-// Every row is checked before any run starts.
+// "c_q = 0.2, geometry.wheel_radius = 0.3": row `i` as the file gives it
+// (its first kShownColumns columns), for a message about what it causes.
+std::string row_values_text(const DesignTable& design, Eigen::Index i) {
+  constexpr std::size_t kShownColumns = 8;
+  std::string text;
+  for (std::size_t j = 0; j < design.columns.size() && j < kShownColumns; ++j)
+    text += (j == 0 ? "" : ", ") + design.columns[j] + " = " +
+            exact_number_text(design.values(i, static_cast<Eigen::Index>(j)));
+  if (design.columns.size() > kShownColumns) text += ", ...";
+  return text;
+}
+
+// Every row is checked before any run starts. The model's message may name
+// the scenario field the row's values upset (a larger wheel radius puts the
+// wheels below the ground at the scenario's initial_q): the row is named too.
 void check_rows(const DesignTable& design, const RoverStudyModel& model) {
   for (Eigen::Index i = 0; i < design.values.rows(); ++i) {
     try {
       (void)model.setup_at(design.values.row(i).data());
     } catch (const std::exception& e) {
       throw io::ConfigError(design.path + ":" + std::to_string(design.line_numbers[static_cast<std::size_t>(i)]) +
-                            ": this row's values are not a valid configuration: " + e.what());
+                            ": this row's values (" + row_values_text(design, i) +
+                            ") are not a valid configuration: " + e.what());
     }
   }
 }

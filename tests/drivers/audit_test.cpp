@@ -1898,10 +1898,20 @@ TEST_F(Audit, RefusedDesignRowEndsEveryRank) {
                                  &output);
   EXPECT_NE(status, 124) << "hung:\n" << output;
   EXPECT_NE(status, 0) << output;
-  const std::string message = design + ":3: this row's values are not a valid configuration";
+  const std::string message = design + ":3: this row's values (c_q = 2000, f = 10000) are not a valid configuration";
   const std::size_t first = output.find(message);
   ASSERT_NE(first, std::string::npos) << output;
   EXPECT_EQ(output.find(message, first + 1), std::string::npos) << "printed twice:\n" << output;
+}
+
+// A design row whose geometry puts the wheels below the ground is refused
+// with the row's own values, not only the scenario field they upset.
+TEST_F(Audit, ARefusedDesignRowNamesItsValues) {
+  const std::string design = w().text_file("wheels", "geometry.wheel_radius\n0.3\n", "csv");
+  run_table(w().dir(), {{"a wheel radius that sinks the wheels",
+                         "evaluate --scenario " + w().quick() + " --design " + design + " --qoi t_min --out " +
+                             w().out("csv"),
+                         Want::kError, {design + ":2: this row's values (geometry.wheel_radius = 0.3)"}}});
 }
 
 // ---- The third audit -----------------------------------------------------------
