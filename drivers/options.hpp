@@ -148,8 +148,7 @@ class FlagChecks {
   // `without` says how to do without it ("pass --no-plot").
   void plotter(const std::string& asked_by, const std::string& without) {
     if (const std::string problem = io::plotter_problem(); !problem.empty())
-      add(asked_by + " needs gnuplot (with the pngcairo terminal), but there is " + problem + ": install it, or " +
-          without);
+      add(asked_by + " needs gnuplot (with the pngcairo terminal), but " + problem + ", or " + without);
   }
 
   // An output that would replace one of `inputs`, the files the command reads

@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <charconv>
+#include <csignal>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -281,6 +283,39 @@ bool ends_in_png_end_chunk(const std::string& path) {
   return static_cast<bool>(in.read(tail, sizeof tail)) && std::equal(tail, tail + sizeof tail, kEndChunk);
 }
 
+// How long one figure may take to render (unless the environment variable
+// ROVER_PLOT_TIMEOUT gives another whole number of seconds), and how long a
+// plotter that ignores SIGTERM then has before SIGKILL; timeout(1)'s
+// statuses for each.
+constexpr const char* kPlotterTimeLimitVariable = "ROVER_PLOT_TIMEOUT";
+constexpr int kPlotterTimeLimit_s = 300;
+constexpr int kMaxPlotterTimeLimit_s = 86'400;
+constexpr int kPlotterKillGrace_s = 5;
+constexpr int kTimedOutStatus = 124;
+constexpr int kKilledStatus = 128 + SIGKILL;
+
+// Why ROVER_PLOT_TIMEOUT cannot be read, or empty (also when it is unset).
+std::string plotter_time_limit_problem() {
+  const char* text = std::getenv(kPlotterTimeLimitVariable);
+  if (text == nullptr) return "";
+  const std::string value(text);
+  int seconds = 0;
+  const auto [end, error] = std::from_chars(value.data(), value.data() + value.size(), seconds);
+  if (!value.empty() && error == std::errc() && end == value.data() + value.size() && seconds >= 1 &&
+      seconds <= kMaxPlotterTimeLimit_s)
+    return "";
+  return "the environment variable " + std::string(kPlotterTimeLimitVariable) + "='" + value +
+         "', which limits its time, is not a whole number of seconds from 1 to " +
+         std::to_string(kMaxPlotterTimeLimit_s) + ": unset it (then " + std::to_string(kPlotterTimeLimit_s) +
+         " s) or give such a number";
+}
+
+int plotter_time_limit_s() {
+  if (const std::string problem = plotter_time_limit_problem(); !problem.empty()) throw PlotError("plot: " + problem);
+  const char* text = std::getenv(kPlotterTimeLimitVariable);
+  return text == nullptr ? kPlotterTimeLimit_s : std::atoi(text);
+}
+
 // Writes the script that `script_for(output path)` returns, runs gnuplot on
 // it, and moves the output onto png_path only when gnuplot succeeded.
 void render(const std::string& png_path,
@@ -294,7 +329,12 @@ void render(const std::string& png_path,
     out << script_for(partial.path());
     if (!out) throw PlotError("plot: cannot write gnuplot script '" + script.path() + "'");
   }
-  const std::string command = "gnuplot " + shell_quoted(script.path()) + " 2>&1";
+  // A plotter that never returns (a broken installation, a wrapper waiting
+  // on a display) is ended (timeout(1), SIGTERM then SIGKILL), not waited
+  // for forever; rover's own figures render in seconds.
+  const int time_limit_s = plotter_time_limit_s();
+  const std::string command = "timeout -k " + std::to_string(kPlotterKillGrace_s) + " " +
+                              std::to_string(time_limit_s) + " gnuplot " + shell_quoted(script.path()) + " 2>&1";
   FILE* pipe = ::popen(command.c_str(), "r");
   if (!pipe) throw PlotError("plot: cannot run gnuplot: " + std::string(std::strerror(errno)));
   std::string log;
@@ -305,6 +345,10 @@ void render(const std::string& png_path,
   if (code == 127)
     throw PlotError("plot: gnuplot not found on PATH (install gnuplot with the pngcairo "
                     "terminal); " + png_path + " not written");
+  if (code == kTimedOutStatus || code == kKilledStatus)
+    throw PlotError("plot: gnuplot did not finish within " + std::to_string(time_limit_s) + " s and was ended; " +
+                    png_path + " not written (check the gnuplot on PATH, or give more time: " +
+                    kPlotterTimeLimitVariable + "=<seconds>)");
   if (code != 0)
     throw PlotError("plot: gnuplot failed (exit " + std::to_string(code) + ") writing " +
                     png_path + ": " + log);
@@ -332,6 +376,7 @@ void render(const std::string& png_path,
 }  // namespace
 
 std::string plotter_problem() {
+  if (std::string problem = plotter_time_limit_problem(); !problem.empty()) return problem;
   const char* path = std::getenv("PATH");
   std::stringstream directories(path ? path : "");
   for (std::string dir; std::getline(directories, dir, ':');) {
@@ -339,7 +384,7 @@ std::string plotter_problem() {
     std::error_code error;
     if (fs::is_regular_file(candidate, error) && ::access(candidate.c_str(), X_OK) == 0) return "";
   }
-  return "no gnuplot on PATH (" + std::string(path ? path : "unset") + ")";
+  return "there is no gnuplot on PATH (" + std::string(path ? path : "unset") + "): install it";
 }
 
 double nice_tick_step(double span, int max_intervals) {

@@ -130,8 +130,10 @@ void write_png(const PanelGrid& grid, const std::string& png_path);
 double nice_tick_step(double span, int max_intervals);
 
 // "" when gnuplot is on PATH (an executable file of that name in one of its
-// directories), else why no plot can be drawn ("no gnuplot on PATH (<PATH>)"):
-// the commands check it before any run, where plots are asked for.
+// directories) and ROVER_PLOT_TIMEOUT, if set, is a time limit in seconds
+// (1 to 86400; 300 unless set), else why no plot can be drawn, with the
+// remedy ("there is no gnuplot on PATH (<PATH>): install it"): the commands
+// check it before any run, where plots are asked for.
 std::string plotter_problem();
 
 // For callers whose numbers are already saved: writes the plot and logs

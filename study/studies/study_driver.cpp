@@ -157,8 +157,8 @@ bool is_csv_path(const std::string& path) { return path.ends_with(".csv"); }
 
 void require_plotter() {
   if (const std::string problem = io::plotter_problem(); !problem.empty())
-    throw std::invalid_argument("--plots: the study's figures need gnuplot (with the pngcairo terminal), but there "
-                                "is " + problem + ": install it, or pass --no-plot (--plots none)");
+    throw std::invalid_argument("--plots: the study's figures need gnuplot (with the pngcairo terminal), but " +
+                                problem + ", or pass --no-plot (--plots none)");
 }
 
 void commit(const std::string& command, const std::string& results_path, io::Hdf5Writer* h5,

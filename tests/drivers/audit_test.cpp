@@ -5692,5 +5692,32 @@ TEST_F(Audit, ARankingIsNotRefusedForAPlotItNeverDraws) {
   run_table(dir, cases);
 }
 
+// A plotter that never returns is ended after ROVER_PLOT_TIMEOUT seconds:
+// the result stays written, the figure is reported not drawn; a time limit
+// that is not a number of seconds is refused before any run.
+TEST_F(Audit, APlotterThatNeverReturnsIsEnded) {
+  const std::string dir = w().dir(), bin = dir + "/hung";
+  fs::create_directory(bin);
+  write_file(bin + "/gnuplot", "#!/bin/sh\nexec /bin/sleep 100\n");
+  fs::permissions(bin + "/gnuplot", fs::perms::owner_all);
+  const std::string hung = "PATH=" + bin + ":$PATH";
+  const std::string out = dir + "/hung.h5";
+  std::vector<Case> cases;
+  cases.push_back({"simulate with a plotter that never returns",
+                   "simulate --scenario " + w().quick() + " --out " + out, Want::kRuns,
+                   {"gnuplot did not finish within 1 s", "hung.png not written"},
+                   [=] { return fs::exists(out) && !fs::exists(dir + "/hung.png") ? "" : std::string("files"); },
+                   hung + " ROVER_PLOT_TIMEOUT=1"});
+  const std::string refused = dir + "/refused.h5";
+  cases.push_back({"a time limit of no seconds",
+                   "montecarlo --study " + w().montecarlo([](Json&) {}) + " --out " + refused, Want::kError,
+                   {"ROVER_PLOT_TIMEOUT='0'", "from 1 to 86400", "--no-plot"}, absent_file(refused),
+                   "ROVER_PLOT_TIMEOUT=0"});
+  cases.push_back({"a time limit in words", "simulate --scenario " + w().quick() + " --out " + dir + "/words.h5",
+                   Want::kError, {"ROVER_PLOT_TIMEOUT='ten'", "--no-plot"}, absent_file(dir + "/words.h5"),
+                   "ROVER_PLOT_TIMEOUT=ten"});
+  run_table(dir, cases);
+}
+
 }  // namespace
 }  // namespace rover
