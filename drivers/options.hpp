@@ -39,6 +39,7 @@
 #include "core/number_text.hpp"
 #include "core/scenario.hpp"
 #include "core/simulate.hpp"
+#include "drivers/launcher.hpp"
 #include "io/decimal_number.hpp"
 #include "io/input_files.hpp"
 #include "io/json_reader.hpp"
@@ -106,7 +107,10 @@ class FlagChecks {
         io::inspect_output(path, regular_only ? io::OutputFormat::kSeekable : io::OutputFormat::kText);
     if (!target.refusal.empty()) {
       add(flag + " '" + path + "' " + target.refusal);
-    } else if (target.mode == io::OutputMode::kReplace) {
+    } else if (target.mode == io::OutputMode::kReplace && launcher_rank() == 0) {
+      // The probe makes and removes a directory: under mpirun rank 0 alone
+      // makes it, as rank 0 alone makes the directory itself. Another
+      // rank's probe could remove rank 0's new directory under it.
       if (const std::string refusal = io::parent_directory_refusal(path); !refusal.empty())
         add(flag + " '" + path + "': " + refusal);
     }
@@ -195,6 +199,7 @@ class FlagChecks {
     return *value;
   }
 
+  bool any() const { return !problems_.empty(); }
   void throw_if_any() const {
     if (!problems_.empty()) throw CommandLineError(problems_);
   }

@@ -169,6 +169,9 @@ int run_study_session(const CLI::App& subcommand, study::StudyRunOptions options
   study::MpiSession mpi(nullptr, nullptr);
   FlagChecks checks;
   check_study_output_path(checks, options, study_path);
+  // Rank 0 alone probes --out's directory: its verdict is every rank's.
+  if (study::broadcast_flag_from_rank0(checks.any()) && !checks.any())
+    throw std::invalid_argument("--out is refused on rank 0 (which says why)");
   checks.throw_if_any();
   options.resume_command = resume_command(subcommand);
   return run(options);

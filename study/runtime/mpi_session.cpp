@@ -86,7 +86,7 @@ MpiSession::MpiSession(int* argc, char*** argv) {
   }
   MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
   MPI_Comm_size(MPI_COMM_WORLD, &size_);
-  if (size_ > 1) MPI_Comm_dup(MPI_COMM_WORLD, &exit_comm_);
+  if (owns_ && size_ > 1) MPI_Comm_dup(MPI_COMM_WORLD, &exit_comm_);  // the outermost session meets on exit
 }
 
 bool MpiSession::meet_on_exit(bool refused) {

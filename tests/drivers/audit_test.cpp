@@ -5528,6 +5528,15 @@ TEST_F(Audit, TwoRanksMakeAMissingOutputDirectoryTogether) {
         << output;
     EXPECT_TRUE(std::filesystem::exists(out)) << output;
   }
+  // A directory that cannot be made is refused by rank 0, for every rank.
+  std::string output;
+  EXPECT_EQ(run_command("timeout 60 " + testing::mpiexec() + " -np 2 " + rover_binary() + " montecarlo --study " +
+                            study + " --no-plot --out /proc/rover_no_such_dir/m.h5 2>&1",
+                        &output),
+            1)
+      << output;
+  EXPECT_NE(output.find("cannot create the directory '/proc/rover_no_such_dir'"), std::string::npos) << output;
+  EXPECT_EQ(output.find("the other ranks did not refuse"), std::string::npos) << output;
 }
 
 // A Morris design blind to an effect periodic in half the range, the sd of
