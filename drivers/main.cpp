@@ -253,9 +253,9 @@ int run_subcommand(CLI::App& sub, const std::function<int()>& run, bool shares_r
   std::vector<std::string> held;
   const int status = run_reporting_errors(sub, run, held);
   if (mpi && !mpi->meet_on_exit(status == 1)) {
+    held.push_back("rover " + sub.get_name() + ": error: the other ranks did not refuse and went on to the runs; "
+                   "ending the job");
     for (std::string& line : held) line = rank_label() + line;
-    held.push_back("rover " + sub.get_name() + ": error: " + rank_label() +
-                   "the other ranks did not refuse and went on to the runs; ending the job");
     print_lines(held);
     mpi->abort_job(status);
   }
