@@ -106,7 +106,7 @@ bool MpiSession::meet_on_exit(bool refused) {
   }
 }
 
-void MpiSession::abort_job(int exit_status) {
+void MpiSession::end_job(int exit_status) {
   std::_Exit(exit_status);
 }
 

@@ -8,7 +8,7 @@
 // rank that refused its inputs waits for them a few seconds only: a refusal
 // that only some ranks reach (a file that differs between nodes, an MPMD
 // launch) would otherwise leave the others waiting for its runs forever; the
-// refusing rank then ends the whole job (abort_job).
+// refusing rank then ends the whole job (end_job).
 #pragma once
 
 #include <chrono>
@@ -33,8 +33,10 @@ class MpiSession {
   // that did not refuse (it may wait for rank 0 to write the result), at
   // most kRefusalGrace for one that did. False when the others did not come.
   bool meet_on_exit(bool refused);
-  // Ends every rank of the job with `exit_status` (MPI_Abort).
-  [[noreturn]] void abort_job(int exit_status);
+  // Ends this rank at once with `exit_status`, without MPI_Finalize (which
+  // would wait for the others): mpirun then ends the other ranks, as after
+  // any rank's non-zero exit, with its own short notice and not MPI_Abort's.
+  [[noreturn]] void end_job(int exit_status);
 
  private:
   int rank_ = 0, size_ = 1;
