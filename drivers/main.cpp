@@ -257,6 +257,7 @@ int run_subcommand(CLI::App& sub, const std::function<int()>& run, bool shares_r
                    "ending the job");
     for (std::string& line : held) line = rank_label() + line;
     print_lines(held);
+    std::cout.flush();
     mpi->end_job(status);
   }
   return status;
