@@ -10,6 +10,7 @@
 #include "core/metrics.hpp"
 #include "core/number_text.hpp"
 #include "core/run_note.hpp"
+#include "io/checkpoint.hpp"
 
 namespace rover::study {
 namespace {
@@ -176,6 +177,20 @@ std::string qoi_description(const QoiSpec& spec) {
     d += " (band " + number_text(spec.settling_band) + " m)";
   if (spec.kind == QoiKind::kRmsVs && spec.reference)
     d += " " + spec.reference->path + " (channel " + channel_name(spec.channel) + ")";
+  return d;
+}
+
+std::string qoi_definition(const QoiSpec& spec) {
+  std::string d = info(spec.kind).name;
+  if (spec.kind == QoiKind::kSettlingTime) d += ", band " + exact_number_text(spec.settling_band) + " m";
+  if (spec.kind == QoiKind::kRmsVs && spec.reference) {
+    std::string samples;
+    for (std::size_t i = 0; i < spec.reference->t.size(); ++i)
+      samples += exact_number_text(spec.reference->t[i]) + "," + exact_number_text(spec.reference->value[i]) + "\n";
+    d += " of " + std::string(channel_name(spec.channel)) + " against a reference curve of " +
+         std::to_string(spec.reference->t.size()) + " samples (digest " + io::config_fingerprint(samples) +
+         "), time offset " + exact_number_text(spec.reference->time_offset_s) + " s";
+  }
   return d;
 }
 

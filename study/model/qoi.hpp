@@ -71,6 +71,12 @@ const std::vector<std::string>& qoi_kind_names();
 QoiKind qoi_kind_from_name(const std::string& name);  // throws std::invalid_argument listing them
 const char* qoi_unit(const QoiSpec& spec);
 std::string qoi_description(const QoiSpec& spec);
+// What a QoI's values are, exactly enough to tell two files' values of one
+// name apart: its kind, and the settling band, or the channel, reference
+// curve (its samples, digested) and time offset of rms_vs. Written with the
+// values, as the attribute kQoiDefinitionAttribute of /qoi/<name>.
+std::string qoi_definition(const QoiSpec& spec);
+inline constexpr const char* kQoiDefinitionAttribute = "definition";
 
 // The fewest samples of a reference curve inside the span of a run: fewer
 // and the RMS compares the run with a line between two points.

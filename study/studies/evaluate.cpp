@@ -295,6 +295,7 @@ void write_evaluate(const EvaluateResult& result, io::Hdf5Writer& h5) {
   h5.write("/inputs/labels", study.design.columns);
   h5.write("/inputs/values", Eigen::MatrixXd(study.design.values));
   for (std::size_t q = 0; q < result.qoi.size(); ++q) h5.write("/qoi/" + study.request.qoi_names[q], result.qoi[q]);
+  write_qoi_definitions(h5, study.model->qois());
   h5.write("/samples/status", result.status);
   h5.write("/samples/message", result.messages);
   if (!study.request.channel_names.empty()) h5.write("/t", study.model->time_s());

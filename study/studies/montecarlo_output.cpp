@@ -66,6 +66,7 @@ void write_montecarlo(const MonteCarloResult& result, io::Hdf5Writer& h5) {
     h5.attribute("/qoi/" + name, "unit", model.qoi_units()[q]);
     write_summary(h5, name, result.summaries[q], result.study.confidence);
   }
+  if (spec.rover) write_qoi_definitions(h5, spec.rover->qois());
   for (std::size_t c = 0; c < result.bands.size(); ++c) write_band(h5, model.channel_names()[c], result.bands[c]);
   h5.write("/samples/status", result.status);
   h5.write("/samples/message", result.messages);

@@ -122,6 +122,7 @@ void write_sensitivity(const SensitivityResult& result, io::Hdf5Writer& h5) {
   h5.attribute("/", "runs_wall_time_s", result.runs_wall_time_s);
   h5.attribute("/", "analysis_wall_time_s", result.analysis_wall_time_s);
   for (std::size_t q = 0; q < result.qoi.size(); ++q) h5.write("/qoi/" + model.qoi_names()[q], result.qoi[q]);
+  if (study.spec.rover) write_qoi_definitions(h5, study.spec.rover->qois());
   h5.write("/samples/status", result.status);
   h5.write("/samples/message", result.messages);
   for (std::size_t q = 0; q < result.sobol.size(); ++q) {

@@ -168,6 +168,10 @@ void write_study_provenance(io::Hdf5Writer& h5, const StudySpec& spec, const std
   if (!warnings.empty()) h5.attribute("/", "input_warnings", warnings);
 }
 
+void write_qoi_definitions(io::Hdf5Writer& h5, const std::vector<QoiSpec>& qois, const std::string& prefix) {
+  for (const QoiSpec& q : qois) h5.attribute(prefix + "/qoi/" + q.name, kQoiDefinitionAttribute, qoi_definition(q));
+}
+
 void write_study_inputs(io::Hdf5Writer& h5, const StudySpec& spec, const DesignMatrix& x) {
   std::vector<std::string> names, labels, distributions;
   for (const UncertainInput& in : spec.inputs) {

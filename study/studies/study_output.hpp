@@ -90,5 +90,9 @@ void write_study_provenance(io::Hdf5Writer& h5, const StudySpec& spec, const std
 std::string runs_description(const StudySpec& spec);
 
 void write_study_inputs(io::Hdf5Writer& h5, const StudySpec& spec, const DesignMatrix& x);
+// The definition (qoi_definition) of each QoI of `qois` as an attribute of
+// its values, <prefix>/qoi/<name>, written already: a study trained on the
+// file later checks that its QoIs of those names are the same.
+void write_qoi_definitions(io::Hdf5Writer& h5, const std::vector<QoiSpec>& qois, const std::string& prefix = "");
 
 }  // namespace rover::study

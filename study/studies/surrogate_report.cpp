@@ -31,6 +31,7 @@ void write_runs(io::Hdf5Writer& h5, const std::string& prefix, const SurrogateSt
   const std::vector<std::string> qois = study.qoi_names();
   for (std::size_t q = 0; q < qois.size(); ++q)
     h5.write(prefix + "/qoi/" + qois[q], to_vector(runs.y.col(static_cast<Eigen::Index>(q))));
+  if (study.spec.rover) write_qoi_definitions(h5, study.spec.rover->qois(), prefix);
   h5.write(prefix + "/samples/status", runs.status);
   h5.write(prefix + "/samples/message", runs.messages);
 }

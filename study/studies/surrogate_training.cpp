@@ -131,6 +131,23 @@ std::string first_difference(const io::Json& file, const io::Json& study) {
   return "field '" + (where.size() > 1 ? where.substr(1) : where) + "' (" + value(a) + " against " + value(b) + ")";
 }
 
+// The file's QoIs of the study's names are the study's QoIs: the same
+// settling band, or the same reference curve and time offset of rms_vs, as
+// the definitions the file records with its values say (a file without
+// them, from an analytic model, is not checked).
+void check_qoi_definitions(const FileErrors& errors, const io::Hdf5Reader& h5, const SurrogateStudy& study) {
+  if (!study.spec.rover) return;
+  for (const QoiSpec& q : study.spec.rover->qois()) {
+    const std::string values = "/qoi/" + q.name;
+    if (!h5.exists(values) || !h5.has_attribute(values, kQoiDefinitionAttribute)) continue;
+    const std::string recorded = h5.attribute_string(values, kQoiDefinitionAttribute), own = qoi_definition(q);
+    if (recorded != own)
+      errors.fail("QoI '" + q.name + "': its runs computed " + recorded + ", but " + study.spec.path +
+                  " defines it as " + own + ": train on runs of the same QoI (the same band, reference "
+                  "curve and time offset), or give the study's QoI that definition");
+  }
+}
+
 // The runs of a file were made on the study's scenario and rover: the
 // scenario and rover configs the file records (/ scenario_json, rover_json)
 // equal the study's, up to names, descriptions and file paths.
@@ -284,6 +301,7 @@ TrainingRuns read_result_runs(const std::string& path, const SurrogateStudy& stu
                   std::to_string(values.rows()) + " runs");
     runs.y.col(static_cast<Eigen::Index>(q)) = Eigen::Map<const Eigen::VectorXd>(v.data(), values.rows());
   }
+  check_qoi_definitions(errors, h5, study);
   runs.status = statuses(errors, h5, runs.y);
   runs.messages = h5.exists("/samples/message") ? h5.read_strings("/samples/message")
                                                  : std::vector<std::string>(runs.status.size());

@@ -5728,5 +5728,46 @@ TEST_F(Audit, APlotterThatNeverReturnsIsEnded) {
   run_table(dir, cases);
 }
 
+// A surrogate trained on a file whose QoIs of the same names were computed
+// otherwise (rms_vs against another reference curve or time offset, a
+// settling time in another band) is refused before its fit, naming the QoI;
+// the same definitions train.
+TEST_F(Audit, TrainingRunsOfAnotherQoiDefinitionAreRefused) {
+  const LandingDrop drop = landing_drop(w());
+  const std::string other_reference = w().out("csv");
+  std::string log;
+  ASSERT_EQ(run_command(rover_binary() + " synthesize --scenario " + drop.scenario + " --cq 0.1 --out " +
+                            other_reference, &log), 0) << log;
+  const Json parameters = {{"c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.3}}}};
+  const Json made_qois = Json::array({Json{{"name", "rms_vs"}, {"reference", drop.data}},
+                                      Json{{"name", "settling_time"}, {"band", 0.002}}});
+  const std::string runs = w().out();
+  ASSERT_EQ(run_command(rover_binary() + " " + study_args("montecarlo", w().montecarlo([&](Json& j) {
+              j["scenario"] = drop.scenario;
+              j["parameters"] = parameters;
+              j["design"] = {{"type", "latin_hypercube"}, {"samples", 12}, {"seed", 2}};
+              j["qoi"] = made_qois;
+            }), runs), &log), 0) << log;
+  auto surrogate = [&](const Json& qois) {
+    return study("surrogate", w().json_file("surrogate", Json{{"type", "surrogate"}, {"name", "pce"},
+                                                              {"scenario", drop.scenario},
+                                                              {"training", {{"file", runs}}},
+                                                              {"parameters", parameters},
+                                                              {"pce", {{"max_degree", 2}, {"bootstrap", 0}}},
+                                                              {"qoi", qois}}));
+  };
+  std::vector<Case> cases;
+  cases.push_back({"rms_vs against another reference curve",
+                   surrogate(Json::array({Json{{"name", "rms_vs"}, {"reference", other_reference}}})), Want::kError,
+                   {"QoI 'rms_vs'", "reference curve", "train on runs of the same QoI"}});
+  cases.push_back({"rms_vs at another time offset",
+                   surrogate(Json::array({Json{{"name", "rms_vs"}, {"reference", drop.data}, {"time_offset", 0.01}}})),
+                   Want::kError, {"QoI 'rms_vs'", "time offset 0.01 s"}});
+  cases.push_back({"a settling time in another band", surrogate(Json::array({"settling_time"})), Want::kError,
+                   {"QoI 'settling_time'", "band 0.002 m", "defines it as settling_time, band"}});
+  cases.push_back({"the same definitions", surrogate(made_qois), Want::kRuns, {}});
+  run_table(w().dir(), cases);
+}
+
 }  // namespace
 }  // namespace rover
