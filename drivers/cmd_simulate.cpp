@@ -94,7 +94,7 @@ void check_outputs_over_inputs(const SimulateOptions& o, const io::ScenarioSetup
   FlagChecks checks;
   checks.not_an_input(out_flag, out, inputs,
                       o.no_plot ? io::WrittenBeside::kTemporaries : io::WrittenBeside::kTemporariesAndPlots);
-  checks.not_an_input("--csv", o.csv, inputs);
+  checks.not_an_input("--csv", o.csv, inputs, io::WrittenBeside::kTemporaries);  // <csv>.partial too
   checks.throw_if_any();
 }
 

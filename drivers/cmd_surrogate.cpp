@@ -70,7 +70,11 @@ int predict(const CLI::App& app, const SurrogateOptions& o) {
   checks.distinct_files("--csv", o.csv_path, "--predict", o.predict_path);
   checks.throw_if_any();
   const study::SurrogateSet set = study::read_surrogate_set(o.predict_path);
-  checks.not_an_input("--csv", o.csv_path, training_files(o.predict_path));
+  // The table's temporary <csv>.partial may not replace an input either.
+  io::InputFiles inputs = training_files(o.predict_path);
+  inputs.add(o.design_path, "--design");
+  inputs.add(o.predict_path, "--predict");
+  checks.not_an_input("--csv", o.csv_path, inputs, io::WrittenBeside::kTemporaries);
   checks.throw_if_any();
   checks.output_format("--csv", o.csv_path, "CSV", ".csv");  // after: an input it would destroy is named first
   checks.throw_if_any();

@@ -200,7 +200,7 @@ int run_synthesize(SynthesizeOptions o) {
   io::InputFiles inputs;  // the scenario and the files it names
   inputs.add(scenario_path, "--scenario");
   inputs.add_all(setup.files);
-  checks.not_an_input("--out", o.out, inputs);
+  checks.not_an_input("--out", o.out, inputs, io::WrittenBeside::kTemporaries);  // <out>.partial too
   checks.throw_if_any();
   checks.output_format("--out", o.out, "CSV", ".csv");  // after: an input it would destroy is named first
   checks.throw_if_any();

@@ -5769,5 +5769,41 @@ TEST_F(Audit, TrainingRunsOfAnotherQoiDefinitionAreRefused) {
   run_table(w().dir(), cases);
 }
 
+// A CSV output's temporary file, <csv>.partial, never replaces an input of
+// that name: a scenario, a design, a saved surrogate.
+TEST_F(Audit, ACsvTemporaryNeverReplacesAnInput) {
+  const std::string dir = w().dir();
+  const std::string scenario = dir + "/o.csv.partial";
+  fs::copy_file(w().quick(), scenario);
+  const Json linear{{"type", "surrogate"},
+                    {"name", "lin"},
+                    {"model", "linear"},
+                    {"parameters", {{"x1", {{"distribution", "uniform"}, {"min", 0.0}, {"max", 1.0}}}}},
+                    {"design", {{"type", "lhs"}, {"samples", 12}, {"seed", 3}}},
+                    {"pce", {{"max_degree", 1}, {"bootstrap", 0}}}};
+  const std::string model = dir + "/m.csv.partial", trained = dir + "/lin.h5";
+  std::string log;
+  ASSERT_EQ(run_command(rover_binary() + " " + study_args("surrogate", w().json_file("lin", linear), trained) +
+                            " --no-plot", &log), 0) << log;
+  fs::copy_file(trained, model);
+  const std::string design = dir + "/d.csv.partial";
+  write_file(design, "x1\n0.5\n");
+  std::vector<Case> cases;
+  cases.push_back({"synthesize over its scenario's name + .partial",
+                   "synthesize --scenario " + scenario + " --out " + dir + "/o.csv", Want::kError,
+                   {"--out", "o.csv.partial"}, unchanged(scenario)});
+  cases.push_back({"simulate --csv over its scenario's name + .partial",
+                   "simulate --no-plot --scenario " + scenario + " --out " + w().out() + " --csv " + dir + "/o.csv",
+                   Want::kError, {"--csv", "o.csv.partial"}, unchanged(scenario)});
+  cases.push_back({"a prediction over its design's name + .partial",
+                   "surrogate --predict " + trained + " --design " + design + " --csv " + dir + "/d.csv",
+                   Want::kError, {"--csv", "d.csv.partial"}, unchanged(design)});
+  cases.push_back({"a prediction over its model's name + .partial",
+                   "surrogate --predict " + model + " --design " + w().text_file("x", "x1\n0.2\n", "csv") +
+                       " --csv " + dir + "/m.csv",
+                   Want::kError, {"--csv", "m.csv.partial"}, unchanged(model)});
+  run_table(dir, cases);
+}
+
 }  // namespace
 }  // namespace rover
