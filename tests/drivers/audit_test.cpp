@@ -275,10 +275,12 @@ std::function<std::string()> all_of(std::vector<std::function<std::string()>> ch
 Outcome run_one(const std::string& dir, const Case& c) {
   Outcome o;
   // A hang is the timeout's status 124 (137 once killed), never 0, 1 or 2.
+  // The limit leaves room for the slowest case (a 12 s fit, four cases at a
+  // time on two cores) on a machine loaded by other work.
   // Each run is a single process: Open MPI's singleton need not start its
   // support daemon (half of a study command's start-up time).
   o.status = run_command("cd " + dir + " && OMPI_MCA_ess_singleton_isolated=1 " + c.environment +
-                             " timeout -k 2 30 " + rover_binary() + " " + c.args,
+                             " timeout -k 2 90 " + rover_binary() + " " + c.args,
                          &o.output);
   return o;
 }
