@@ -448,7 +448,7 @@ std::vector<QoiSpec> parse_qois(const io::JsonReader& r, const std::string& stud
         if (q.kind == QoiKind::kRmsVs) q.reference = parse_rms_reference(o, study_path, r.field(field), q);
         o.finish();
       } else {
-        r.fail(field, "expected a QoI name or {\"name\": ...}");
+        r.fail(field, "expected a QoI name or {\"name\": ...}, got " + list[k].dump());
       }
     } catch (const std::invalid_argument& e) {
       r.fail(field, e.what());
