@@ -349,7 +349,12 @@ void write_pce_sensitivity(io::Hdf5Writer& h5, const StudySpec& spec, const PceS
   h5.attribute("/", "pce_q_norm", options.settings.q_norm);
   h5.attribute("/", "pce_q2_threshold", options.settings.q2_threshold);
   h5.attribute("/", "runs_used", static_cast<long long>(result.runs_used));
-  for (const PceQoiResult& q : result.qoi) write_qoi(h5, q, options);
+  std::vector<std::string> undefined;
+  for (const PceQoiResult& q : result.qoi) {
+    write_qoi(h5, q, options);
+    if (!q.indices.defined) undefined.push_back(q.name);
+  }
+  write_undefined_indices(h5, undefined);
   if (!result.channels.empty()) h5.write("/t", spec.model->time_s());
   for (const PceChannelResult& c : result.channels) write_channel(h5, c);
 }

@@ -141,11 +141,9 @@ void write_sensitivity(const SensitivityResult& result, io::Hdf5Writer& h5) {
     if (const std::string* why = undefined_reason(result, name)) write_undefined(h5, "/morris/" + name, *why);
     else write_morris(h5, name, result.morris[q]);
   }
-  if (!result.undefined.empty()) {
-    std::string names;
-    for (const UndefinedIndices& u : result.undefined) names += (names.empty() ? "" : ", ") + u.qoi;
-    h5.attribute("/", "undefined_indices", names);
-  }
+  std::vector<std::string> undefined;
+  for (const UndefinedIndices& u : result.undefined) undefined.push_back(u.qoi);
+  write_undefined_indices(h5, undefined);
   if (study.method == SensitivityMethod::kPce) write_pce_sensitivity(h5, study.spec, study.pce, result.pce);
 }
 

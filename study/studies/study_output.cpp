@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "core/name_list.hpp"
 #include "io/checkpoint.hpp"
 #include "io/output_target.hpp"
 #include "study/runtime/study_runner.hpp"
@@ -170,6 +171,10 @@ void write_study_provenance(io::Hdf5Writer& h5, const StudySpec& spec, const std
 
 void write_qoi_definitions(io::Hdf5Writer& h5, const std::vector<QoiSpec>& qois, const std::string& prefix) {
   for (const QoiSpec& q : qois) h5.attribute(prefix + "/qoi/" + q.name, kQoiDefinitionAttribute, qoi_definition(q));
+}
+
+void write_undefined_indices(io::Hdf5Writer& h5, const std::vector<std::string>& qois) {
+  if (!qois.empty()) h5.attribute("/", "undefined_indices", comma_separated(qois));
 }
 
 void write_study_inputs(io::Hdf5Writer& h5, const StudySpec& spec, const DesignMatrix& x) {

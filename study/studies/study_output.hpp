@@ -94,5 +94,8 @@ void write_study_inputs(io::Hdf5Writer& h5, const StudySpec& spec, const DesignM
 // its values, <prefix>/qoi/<name>, written already: a study trained on the
 // file later checks that its QoIs of those names are the same.
 void write_qoi_definitions(io::Hdf5Writer& h5, const std::vector<QoiSpec>& qois, const std::string& prefix = "");
+// The root attribute undefined_indices, "t_min, at_rest": the QoIs that have
+// no sensitivity indices (constant over the runs); nothing when none.
+void write_undefined_indices(io::Hdf5Writer& h5, const std::vector<std::string>& qois);
 
 }  // namespace rover::study

@@ -234,10 +234,13 @@ void write_surrogate_study(io::Hdf5Writer& h5, const SurrogateStudy& study, cons
   h5.attribute("/", "runs_wall_time_s", r.runs_wall_time_s);
   h5.attribute("/", "fit_wall_time_s", r.fit_wall_time_s);
   write_surrogate_set(h5, r.set);
+  std::vector<std::string> undefined;
   for (const SurrogateQoiResult& q : r.qoi) {
     if (study.kind == SurrogateKind::kPolynomialChaos) write_indices(h5, q, study.pce);
+    if (study.kind == SurrogateKind::kPolynomialChaos && !q.indices_defined) undefined.push_back(q.name);
     write_validation(h5, q);
   }
+  write_undefined_indices(h5, undefined);
   if (!r.channels.empty()) h5.write("/t", study.spec.model->time_s());
   for (const PceChannelResult& c : r.channels) write_pce_channel(h5, c);
 }

@@ -289,6 +289,16 @@ TEST(SurrogateStudy, ConstantQoiIsReportedWithoutIndices) {
     EXPECT_NE(q.undefined_reason.find("constant"), std::string::npos) << q.undefined_reason;
     ASSERT_FALSE(r.warnings.empty()) << kind;
     EXPECT_NE(r.warnings.back().find("y:"), std::string::npos) << r.warnings.back();
+    // The saved result names it at its root, as a sensitivity result does (a GP has no indices at all).
+    const std::string saved = dir + "/" + kind + ".h5";
+    {
+      io::Hdf5Writer h5(saved);
+      write_surrogate_study(h5, s, r);
+      h5.commit();
+    }
+    const io::Hdf5Reader h5(saved);
+    EXPECT_EQ(h5.has_attribute("/", "undefined_indices"), std::string(kind) == "pce") << kind;
+    if (std::string(kind) == "pce") EXPECT_EQ(h5.attribute_string("/", "undefined_indices"), "y");
   }
 }
 
