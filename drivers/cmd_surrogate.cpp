@@ -29,12 +29,20 @@ struct SurrogateOptions {
   study::StudyRunOptions run;
 };
 
-study::StudyProgram<study::SurrogateStudyResult> load(const SurrogateOptions& o) {
+study::StudyProgram<study::SurrogateStudyResult> load(const CLI::App& app, const SurrogateOptions& o) {
   FlagChecks checks;
   if (o.samples && (*o.samples < 1 || *o.samples > kMaxSurrogateSamples))
     checks.add("--samples must be from 1 to 1e7, got " + std::to_string(*o.samples));
   checks.throw_if_any();
-  return study::surrogate_program(study::load_surrogate_study(o.study_path, {o.samples, std::nullopt}));
+  study::SurrogateStudy s = study::load_surrogate_study(o.study_path, {o.samples, std::nullopt});
+  // Trained on a result file, the study runs nothing and keeps no checkpoint.
+  if (!s.training_file.empty())
+    for (const char* flag : {"--resume", "--checkpoint-every"})
+      if (app.count(flag) > 0)
+        checks.add(std::string(flag) + ": this study trains on the runs of " + s.training_file +
+                   " and runs none itself, so it keeps no checkpoint: there is nothing to resume or flush; drop it");
+  checks.throw_if_any();
+  return study::surrogate_program(std::move(s));
 }
 
 // The files a saved surrogate was trained on, as its root attributes name
@@ -116,7 +124,7 @@ int run_surrogate_command(const CLI::App& app, const SurrogateOptions& o) {
     if (app.count(flag) > 0)
       refused.push_back(std::string(flag) + " applies to --predict, not to --study (a study's result goes to --out)");
   if (!refused.empty()) throw CommandLineError(refused);
-  return run_study_command(app, o.run, o.study_path, [&] { return load(o); });
+  return run_study_command(app, o.run, o.study_path, [&] { return load(app, o); });
 }
 
 const RegisterCommand surrogate_command{

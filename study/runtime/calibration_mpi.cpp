@@ -25,4 +25,15 @@ bool broadcast_flag_from_rank0(bool flag) {
   return value[0] != 0.0;
 }
 
+bool differs_from_rank0_anywhere(const std::string& text) {
+  std::vector<double> rank0_text(text.begin(), text.end());
+  broadcast_from_rank0(rank0_text);
+  int differs = rank0_text != std::vector<double>(text.begin(), text.end()) ? 1 : 0;
+  int initialized = 0, finalized = 0;
+  MPI_Initialized(&initialized);
+  MPI_Finalized(&finalized);
+  if (initialized && !finalized) MPI_Allreduce(MPI_IN_PLACE, &differs, 1, MPI_INT, MPI_LOR, MPI_COMM_WORLD);
+  return differs != 0;
+}
+
 }  // namespace rover::study

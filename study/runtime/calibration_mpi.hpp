@@ -4,6 +4,7 @@
 // inputs. Without MPI initialised, or on one rank, a no-op.
 #pragma once
 
+#include <string>
 #include <vector>
 
 namespace rover::study {
@@ -15,5 +16,9 @@ void broadcast_from_rank0(std::vector<double>& values);
 // Collective: rank 0's `flag` on every rank (a verdict only rank 0 can reach,
 // such as a refusal that every rank must act on).
 bool broadcast_flag_from_rank0(bool flag);
+
+// Collective: whether `text` differs from rank 0's on any rank (every rank
+// gets the same answer).
+bool differs_from_rank0_anywhere(const std::string& text);
 
 }  // namespace rover::study

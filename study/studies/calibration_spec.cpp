@@ -31,6 +31,8 @@ namespace rover::study {
 namespace {
 
 constexpr const char* kTimeOffset = "time_offset";
+// The runs' wall-time limit: a scenario key, but no property a fit could tell.
+constexpr const char* kWallTimeBudget = "scenario.wall_time_budget";
 // A measured curve whose heights span less than this is constant.
 constexpr double kConstantCurveRange_m = 1e-9;
 // Data may end this share of the duration past the simulated end (rounding of
@@ -123,11 +125,16 @@ std::vector<std::string> fit_names(const io::JsonReader& r, const CalibrationOve
 std::string canonical_fit_name(const io::JsonReader& r, const CalibrationOverrides& o,
                                const ParameterSpace& space, const std::string& name) {
   if (name == kTimeOffset) return "";
+  std::string canonical;
   try {
-    return space.canonical(name);
+    canonical = space.canonical(name);
   } catch (const std::invalid_argument& e) {
     fail_on_fit(r, o, e.what());
   }
+  if (canonical == kWallTimeBudget)
+    fail_on_fit(r, o, "'" + name + "' is the runs' wall-time limit, not a property of the rover or the drop: the "
+                          "data cannot tell its value; fit a model parameter");
+  return canonical;
 }
 
 // "the default start 0 (time_offset's default)", "the default start 0.14 (the
@@ -180,6 +187,9 @@ void read_fit_parameters(const io::JsonReader& r, const CalibrationOverrides& o,
                             format_number(p.upper, 6) + "]");
     p.initial_given = initial.has(name);
     p.initial = p.initial_given ? initial.number(name) : (p.canonical.empty() ? 0.0 : space.nominal(p.canonical));
+    if (!std::isfinite(p.initial))
+      r.fail("initial." + name, "missing, and the rover and scenario files set no value of '" + name +
+                                    "' to start from: give one inside the bounds");
     if (!(p.initial >= p.lower && p.initial <= p.upper)) refuse_start_outside_bounds(bounds, initial, p);
     p.prior = p.log_scale ? log_uniform(p.lower, p.upper) : uniform(p.lower, p.upper);
     s.fit.push_back(p);

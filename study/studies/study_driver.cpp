@@ -145,6 +145,12 @@ StudyRunOptions prepare(const std::string& command, const std::string& name, con
   }
   if (broadcast_flag_from_rank0(!refusal.empty()))
     throw std::invalid_argument(refusal.empty() ? "refused on rank 0 (which says why)" : refusal);
+  // Ranks started with other study files, flags or inputs (an MPMD launch)
+  // would each run their own study into one result.
+  if (differs_from_rank0_anywhere(fingerprint))
+    throw std::invalid_argument("the ranks were not all given the same study: another rank's study file, flags or "
+                                "input files differ from rank 0's (launched with other command lines?), and their "
+                                "runs would be mixed into one result; give every rank the same command");
   options.results_path = results_path;
   if (memory.bytes > 0.0) require_memory(memory.what, memory.bytes);
   options.label = command;

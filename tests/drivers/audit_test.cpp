@@ -5828,5 +5828,68 @@ TEST_F(Audit, ACsvTemporaryNeverReplacesAnInput) {
   run_table(dir, cases);
 }
 
+
+// A surrogate trained on a result file runs nothing, so --resume and
+// --checkpoint-every have nothing to act on; a fitted parameter the files
+// give no value of needs its start; the runs' wall-time limit is no fit
+// parameter.
+TEST_F(Audit, FlagsAndFitsWithNothingToActOnAreRefused) {
+  const std::string runs = w().out();
+  std::string log;
+  ASSERT_EQ(run_command(rover_binary() + " " + study_args("montecarlo", w().montecarlo([](Json& j) {
+              j["design"]["samples"] = 6;
+            }), runs), &log), 0) << log;
+  const std::string trained = w().json_file("surrogate", Json{
+      {"type", "surrogate"}, {"name", "g"}, {"scenario", w().quick()}, {"surrogate", "gp"},
+      {"training", {{"file", runs}}},
+      {"parameters", {{"c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.2}}}}},
+      {"qoi", {"t_min"}}});
+  std::vector<Case> cases;
+  cases.push_back({"surrogate on a file with --resume", study_args("surrogate", trained, w().out()) + " --resume",
+                   Want::kError, {"--resume", "trains on the runs of", "nothing to resume"}});
+  cases.push_back({"surrogate on a file with --checkpoint-every",
+                   study_args("surrogate", trained, w().out()) + " --checkpoint-every 5", Want::kError,
+                   {"--checkpoint-every", "keeps no checkpoint"}});
+  cases.push_back({"a fitted parameter without a value in the files",
+                   study("calibrate", w().calibration([](Json& j) {
+                           j["fit"] = {"c_q", "scenario.forward_speed"};
+                           j["bounds"]["scenario.forward_speed"] = {0.0, 0.1};
+                         })) + " --dry-run",
+                   Want::kError, {"'initial.scenario.forward_speed'", "give one inside the bounds"}, {}, {},
+                   {"nan"}});
+  cases.push_back({"the wall-time limit fitted", study("calibrate", w().calibration([](Json& j) {
+                                                   j["fit"] = {"c_q", "scenario.wall_time_budget"};
+                                                   j["bounds"]["scenario.wall_time_budget"] = {1.0, 10.0};
+                                                 })) + " --dry-run",
+                   Want::kError, {"wall-time limit", "fit a model parameter"}});
+  run_table(w().dir(), cases);
+}
+
+
+// Ranks launched with other study files or flags (an MPMD launch) would mix
+// their runs into one result: every rank refuses before any run.
+TEST_F(Audit, RanksGivenOtherStudiesRefuseTogether) {
+  const std::string mc = w().montecarlo([](Json& j) { j["design"]["samples"] = 8; });
+  const std::string mc_more = w().montecarlo([](Json& j) { j["design"]["samples"] = 9; });
+  struct Launch {
+    std::string rank0, rank1;
+  };
+  for (const Launch& launch : {Launch{"--study " + mc, "--study " + mc_more},
+                               Launch{"--study " + mc + " --seed 3", "--study " + mc + " --seed 4"},
+                               Launch{"--study " + mc, "--study " + mc + " --samples 6"}}) {
+    const std::string out = w().out("h5");
+    const auto rank = [&](const std::string& flags) {
+      return " -np 1 " + rover_binary() + " montecarlo --no-plot --out " + out + " " + flags;
+    };
+    std::string output;
+    const int status =
+        run_command("timeout 120 " + testing::mpiexec() + rank(launch.rank0) + " :" + rank(launch.rank1) + " 2>&1",
+                    &output);
+    EXPECT_EQ(status, 1) << output;
+    EXPECT_NE(output.find("not all given the same study"), std::string::npos) << output;
+    EXPECT_FALSE(std::filesystem::exists(out)) << output;
+  }
+}
+
 }  // namespace
 }  // namespace rover
