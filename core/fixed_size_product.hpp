@@ -4,11 +4,12 @@
 // (general_matrix_vector_product, which Eigen calls for these sizes): each
 // row's sum is one chain over the columns in order, from zero, by packet
 // multiply-adds (fused where the processor has FMA) for the rows that fill
-// Eigen's packets and by a separate product and sum for the N mod 2 rows left
-// over; the sum is then scaled, alpha c + 0. The results are those of
-// Eigen's product to the last bit (tests/core/fixed_size_product_test.cpp)
-// at sizes where Eigen calls that kernel; below about 8 it evaluates a
-// fixed-size product coefficient by coefficient instead.
+// Eigen's packets, then scaled, alpha c + 0; the N mod 2 rows left over go
+// through Eigen's kernel itself (detail::eigen_scalar_row). The results are
+// those of Eigen's product to the last bit on every target
+// (tests/core/fixed_size_product_test.cpp) at sizes where Eigen calls that
+// kernel; below about 8 it evaluates a fixed-size product coefficient by
+// coefficient instead.
 //
 // Eigen's kernel takes the sizes at run time and runs the rows a packet or
 // two at a time, each chain of N dependent multiply-adds after the previous
@@ -34,6 +35,23 @@ inline double unfused_product(double a, double b) {
   p = kept;
 #endif
   return p;
+}
+
+// alpha (row . x) for the one row of a column-major N x N matrix that
+// Eigen's kernel leaves to scalar code, by that kernel itself (it is never
+// inlined, so this runs the very instructions Eigen's product runs for that
+// row): whether the compiler fuses its sum with the products depends on the
+// target and its tuning (GCC keeps such chains unfused on AMD Zen and fuses
+// them on Intel), and only the same code gives the same bits everywhere.
+inline double eigen_scalar_row(const double* row, Eigen::Index n, const double* x, double alpha) {
+  using Eigen::internal::const_blas_data_mapper;
+  using LhsMapper = const_blas_data_mapper<double, Eigen::Index, Eigen::ColMajor>;
+  using RhsMapper = const_blas_data_mapper<double, Eigen::Index, Eigen::RowMajor>;
+  double result = 0.0;
+  Eigen::internal::general_matrix_vector_product<Eigen::Index, double, LhsMapper, Eigen::ColMajor, false, double,
+                                                 RhsMapper, false>::run(1, n, LhsMapper(row, n), RhsMapper(x, 1),
+                                                                        &result, 1, alpha);
+  return result;
 }
 
 // a * b + c as Eigen's packet multiply-add computes it: fused where Eigen
@@ -64,20 +82,18 @@ Eigen::Matrix<double, N, 1> fixed_size_product(const Eigen::Matrix<double, N, N>
   Packet sums[kFull > 0 ? kFull : 1];
   for (int p = 0; p < kFull; ++p) sums[p] = pset1<Packet>(0.0);
   double rest[kRest > 0 ? kRest : 1] = {};
-  double scalar_sum = 0.0;
   for (int j = 0; j < N; ++j) {
     const double* column = a.data() + j * N;
     const Packet b = pset1<Packet>(x[j]);
     for (int p = 0; p < kFull; ++p) sums[p] = pmadd(ploadu<Packet>(column + p * kPacket), b, sums[p]);
     for (int r = 0; r < kRest; ++r)
       rest[r] = detail::packet_multiply_add(column[kFull * kPacket + r], x[j], rest[r]);
-    if constexpr (N % 2 == 1) scalar_sum += detail::unfused_product(column[N - 1], x[j]);
   }
   double sums_out[kFull > 0 ? kFull * kPacket : 1];
   for (int p = 0; p < kFull; ++p) Eigen::internal::pstoreu(sums_out + p * kPacket, sums[p]);
   for (int i = 0; i < kFull * kPacket; ++i) out[i] = detail::packet_multiply_add(sums_out[i], alpha, 0.0);
   for (int r = 0; r < kRest; ++r) out[kFull * kPacket + r] = detail::packet_multiply_add(rest[r], alpha, 0.0);
-  if constexpr (N % 2 == 1) out[N - 1] = detail::packet_multiply_add(scalar_sum, alpha, 0.0);
+  if constexpr (N % 2 == 1) out[N - 1] = detail::eigen_scalar_row(a.data() + (N - 1), N, x.data(), alpha);
   return out;
 }
 
