@@ -15,6 +15,7 @@
 
 #include "core/model_scale.hpp"
 #include "core/terrain_interpolation.hpp"
+#include "io/checkpoint.hpp"
 #include "io/config_kind.hpp"
 #include "io/json_reader.hpp"
 #include "io/output_target.hpp"
@@ -231,6 +232,28 @@ void save_terrain_grid(const HeightGrid& grid, const std::string& path, const Js
     std::filesystem::remove(temp, ignored);
     throw std::runtime_error(path + ": cannot write terrain file: " + error.message());
   }
+}
+
+std::string terrain_digest(const Terrain& terrain) {
+  std::string text;
+  const HeightGrid* grid = terrain.grid();
+  // A grid of one height is that plane everywhere (the edge values extend).
+  if (grid == nullptr || terrain.min_height() == terrain.max_height()) {
+    text = "flat ";
+    append_number(text, terrain.max_height() + 0.0);  // + 0.0: -0 and 0 are one height
+    return config_fingerprint(text);
+  }
+  text = "grid";
+  for (const double v : {grid->origin_x_m, grid->origin_y_m, grid->spacing_x_m, grid->spacing_y_m,
+                         static_cast<double>(grid->nx), static_cast<double>(grid->ny)}) {
+    text += ' ';
+    append_number(text, v);
+  }
+  for (const double h : grid->heights_m) {
+    text += ' ';
+    append_number(text, h + 0.0);
+  }
+  return config_fingerprint(text);
 }
 
 }  // namespace rover::io

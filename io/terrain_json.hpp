@@ -47,4 +47,14 @@ Terrain load_terrain(const std::string& path);
 void save_terrain_grid(const HeightGrid& grid, const std::string& path,
                        const Json& provenance = nullptr);
 
+// A short digest (16 hex digits) of the ground a terrain describes: the
+// plane's height, or the grid's origin, spacing, counts and heights, each
+// number exactly (a grid of one height is that plane). Equal for files that
+// differ only in layout, description or type ("control_points" against the
+// "grid" it interpolates onto, a constant grid against "flat"); recorded
+// with a study's runs so that runs made on other ground are recognised.
+std::string terrain_digest(const Terrain& terrain);
+// The root attribute of a result that holds its runs' terrain_digest().
+inline constexpr const char* kTerrainDigestAttribute = "terrain_digest";
+
 }  // namespace rover::io

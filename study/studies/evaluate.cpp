@@ -20,6 +20,7 @@
 #include "io/json_reader.hpp"
 #include "io/text_encoding.hpp"
 #include "io/output_target.hpp"
+#include "io/terrain_json.hpp"
 #include "study/runtime/calibration_mpi.hpp"
 #include "study/studies/calibration.hpp"
 #include "study/studies/study_output.hpp"
@@ -303,6 +304,7 @@ void write_evaluate(const EvaluateResult& result, io::Hdf5Writer& h5) {
   h5.attribute("/", "scenario_file", study.request.scenario_path);
   h5.attribute("/", "scenario_json", study.model->sources().scenario.dump());
   h5.attribute("/", "rover_json", study.model->sources().rover.dump());
+  h5.attribute("/", io::kTerrainDigestAttribute, io::terrain_digest(study.model->sources().terrain));
   const IntegratorSettings& integrator = study.model->nominal().scenario.integrator;  // --integrator's, if given
   write_integrator_provenance(h5, integrator);
   h5.attribute("/", "design_file", study.request.design_path);

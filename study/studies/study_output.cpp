@@ -14,6 +14,7 @@
 #include "core/name_list.hpp"
 #include "io/checkpoint.hpp"
 #include "io/output_target.hpp"
+#include "io/terrain_json.hpp"
 #include "study/runtime/study_runner.hpp"
 #include "study/studies/calibration.hpp"
 
@@ -158,6 +159,7 @@ void write_study_provenance(io::Hdf5Writer& h5, const StudySpec& spec, const std
     h5.attribute("/", "terrain_file", setup.terrain_path);
     h5.attribute("/", "scenario_json", spec.rover->sources().scenario.dump());
     h5.attribute("/", "rover_json", spec.rover->sources().rover.dump());
+    h5.attribute("/", io::kTerrainDigestAttribute, io::terrain_digest(spec.rover->sources().terrain));
   } else {
     h5.attribute("/", "model", spec.model->describe());
   }

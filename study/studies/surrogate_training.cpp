@@ -10,6 +10,7 @@
 
 #include "io/hdf5_file.hpp"
 #include "io/json_reader.hpp"
+#include "io/terrain_json.hpp"
 #include "study/runtime/study_runner.hpp"
 #include "study/studies/calibration.hpp"
 #include "study/studies/study_output.hpp"
@@ -148,20 +149,39 @@ void check_qoi_definitions(const FileErrors& errors, const io::Hdf5Reader& h5, c
   }
 }
 
-// The runs of a file were made on the study's scenario and rover: the
-// scenario and rover configs the file records (/ scenario_json, rover_json)
-// equal the study's, up to names, descriptions and file paths.
+// The runs of a file were made on the study's ground: the terrain digest the
+// file records (/ terrain_digest) equals the digest of the study's terrain,
+// whatever files named it. False when the file records none.
+bool check_terrain(const FileErrors& errors, const io::Hdf5Reader& h5, const io::ScenarioSources& sources) {
+  if (!h5.has_attribute("/", io::kTerrainDigestAttribute)) return false;
+  const std::string recorded = h5.attribute_string("/", io::kTerrainDigestAttribute);
+  const std::string own = io::terrain_digest(sources.terrain);
+  if (recorded != own)
+    errors.fail("were made on another terrain than the study's (" +
+                (sources.terrain_path.empty() ? "flat ground, as " + sources.scenario_path + " names no terrain"
+                                              : sources.terrain_path) +
+                "): the ground's digest is " + recorded + " against " + own +
+                "; the terrain file was changed since the runs, or they were made on another: train on runs made "
+                "on this terrain");
+  return true;
+}
+
+// The runs of a file were made on the study's scenario, rover and terrain:
+// the scenario and rover configs the file records (/ scenario_json,
+// rover_json) equal the study's, up to names, descriptions and file paths,
+// and so does the ground (check_terrain).
 void check_scenario(const FileErrors& errors, const io::Hdf5Reader& h5, const SurrogateStudy& study,
                     TrainingRuns& runs) {
   if (!study.spec.rover) return;  // an analytic model: no scenario
   const io::ScenarioSources& sources = study.spec.rover->sources();
   const std::pair<const char*, const io::Json*> configs[] = {{"scenario", &sources.scenario},
                                                              {"rover", &sources.rover}};
-  std::vector<std::string> unrecorded;
+  std::vector<std::string> unrecorded, attributes;
   for (const auto& [what, config] : configs) {
     const std::string attribute = std::string(what) + "_json";
     if (!h5.has_attribute("/", attribute)) {  // a file of an analytic model, or of an earlier version
-      unrecorded.push_back(what);
+      unrecorded.push_back(std::string(what) + " config");
+      attributes.push_back("/" + attribute);
       continue;
     }
     const io::Json recorded = io::parse_json_quietly(h5.attribute_string("/", attribute));
@@ -170,12 +190,15 @@ void check_scenario(const FileErrors& errors, const io::Hdf5Reader& h5, const Su
                   (what == std::string("scenario") ? sources.scenario_path : sources.rover_path) + ": " + difference +
                   "; name the " + what + " file the runs were made on");
   }
+  if (!check_terrain(errors, h5, sources)) {
+    unrecorded.push_back("terrain digest");
+    attributes.push_back(std::string("/") + io::kTerrainDigestAttribute);
+  }
   if (unrecorded.empty()) return;
-  const std::string which = unrecorded.size() == 1 ? unrecorded[0] : "scenario and rover";
-  runs.unchecked_provenance = errors.path + " records no " + which + " config (" +
-                              (unrecorded.size() == 1 ? "/" + which + "_json" : "/scenario_json, /rover_json") +
+  const std::string which = comma_separated(unrecorded);
+  runs.unchecked_provenance = errors.path + " records no " + which + " (" + comma_separated(attributes) +
                               "; a file of an earlier version or of an analytic model): its runs cannot be checked "
-                              "against the study's " + which + "; make sure they were made on them";
+                              "against the study's scenario, rover and terrain; make sure they were made on them";
 }
 
 // The settings that make two integrators' runs the same: the fixed step of

@@ -3104,7 +3104,7 @@ void copy_runs(const std::string& from, const std::string& to, double input_fact
   out.write("/inputs/values", Eigen::MatrixXd(input_factor * in.read_matrix("/inputs/values")));
   out.write("/qoi/B_l_z_min", in.read_doubles("/qoi/B_l_z_min"));
   out.write("/samples/status", in.read_ints("/samples/status"));
-  for (const char* config : {"scenario_json", "rover_json"})
+  for (const char* config : {"scenario_json", "rover_json", "terrain_digest"})
     if (with_configs) out.attribute("/", config, in.attribute_string("/", config));
   out.commit();
 }
@@ -3142,7 +3142,8 @@ TEST_F(Audit, SurrogateRunsOfUnknownOriginOrNoNovelty) {
   copy_runs(trained, older, 1.0, /*with_configs=*/false);
   copy_runs(trained, nudged, 1.0 + 1e-9, /*with_configs=*/true);
   cases.push_back({"training runs that record no scenario", surrogate(older, ""), Want::kRuns,
-                   {"warning: training runs: " + older + " records no scenario and rover config", "cannot be checked"}});
+                   {"warning: training runs: " + older + " records no scenario config, rover config, terrain digest",
+                    "cannot be checked"}});
   cases.push_back({"training runs that record their scenario", surrogate(trained, ""), Want::kRuns, {}, {}, {},
                    {"records no"}});
   cases.push_back({"held-out runs at the training inputs times 1 + 1e-9", surrogate(trained, nudged), Want::kError,
@@ -3169,6 +3170,61 @@ TEST_F(Audit, SurrogateRunsOfUnknownOriginOrNoNovelty) {
                             evaluated, &log), 0) << log;
   cases.push_back({"held-out runs of evaluate --integrator dopri5", surrogate(trained, evaluated), Want::kRuns,
                    {"the held-out runs were made with dopri5"}});
+  run_table(w().dir(), cases);
+}
+
+// Runs made on a terrain whose heights changed since (its file rewritten in
+// place) are runs of other ground: refused, whatever the file is called;
+// the same ground under another file and layout is the same.
+TEST_F(Audit, TrainingRunsOnChangedGroundAreRefused) {
+  const Json parameters = {{"c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.3}}}};
+  const Json grid{{"type", "grid"}, {"origin", {-5.0, -5.0}}, {"spacing", {10.0, 10.0}}, {"counts", {2, 2}},
+                  {"heights", {{0.0, 0.0}, {0.0, 0.0}}}};
+  const std::string terrain = w().json_file("terrain", grid);
+  // A 0.3 s drop (the wheels land), on the terrain named, or on none.
+  const auto drop_on = [&](const std::string& terrain_path) {
+    return w().scenario([&](Json& j) {
+      j["duration"] = 0.3;
+      if (terrain_path.empty()) j.erase("terrain");
+      else j["terrain"] = terrain_path;
+    });
+  };
+  const std::string landing = drop_on(terrain);
+  const std::string trained = w().out();
+  std::string log;
+  ASSERT_EQ(run_command(rover_binary() + " " + study_args("montecarlo", w().montecarlo([&](Json& j) {
+              j["scenario"] = landing;
+              j["parameters"] = parameters;
+              j["design"] = {{"type", "latin_hypercube"}, {"samples", 6}, {"seed", 3}};
+              j["qoi"] = {"B_l_z_min"};
+            }), trained), &log), 0) << log;
+  auto surrogate = [&](const std::string& scenario) {
+    return study("surrogate", w().json_file("surrogate", Json{{"type", "surrogate"}, {"name", "gp"},
+                                                             {"surrogate", "gp"}, {"scenario", scenario},
+                                                             {"training", {{"file", trained}}},
+                                                             {"parameters", parameters}, {"qoi", {"B_l_z_min"}}}));
+  };
+  const std::string same_ground = w().text_file("terrain_relaid", grid.dump(4));
+  std::vector<Case> cases;
+  cases.push_back({"training runs on the same terrain file", surrogate(landing), Want::kRuns, {}, {}, {},
+                   {"another terrain", "records no"}});
+  cases.push_back({"training runs on the same ground in another file",
+                   surrogate(drop_on(same_ground)), Want::kRuns, {}, {}, {},
+                   {"another terrain"}});
+  cases.push_back({"training runs on flat ground named by no terrain",
+                   surrogate(drop_on("")), Want::kRuns, {}, {}, {},
+                   {"another terrain"}});
+  run_table(w().dir(), cases);
+
+  Json raised = grid;
+  raised["heights"][1][1] = 1e-4;  // one node 0.1 mm higher
+  std::ofstream(terrain, std::ios::trunc) << raised.dump(1);
+  cases = {{"training runs on a terrain file changed since", surrogate(landing), Want::kError,
+            {"training runs: were made on another terrain than the study's (" + terrain + ")",
+             "changed since the runs"}}};
+  cases.push_back({"training runs on another terrain's ground",
+                   surrogate(drop_on(w().json_file("terrain", Json{{"type", "flat"}, {"height", 0.01}}))),
+                   Want::kError, {"were made on another terrain"}});
   run_table(w().dir(), cases);
 }
 

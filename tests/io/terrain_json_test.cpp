@@ -206,5 +206,29 @@ TEST(TerrainJson, MissingFileAndBadSavesFailCleanly) {
   EXPECT_TRUE(std::filesystem::is_empty(dir));
 }
 
+// The digest names the ground, not the file: layout, description and a
+// constant grid against its plane do not change it; one node's height does.
+TEST(TerrainJson, TheDigestChangesWithTheGroundOnly) {
+  const std::string dir = rover::testing::temp_dir();
+  const std::string ramp = R"("origin": [1.0, 2.0], "spacing": [0.5, 0.25], "counts": [3, 2])";
+  const std::string digest = terrain_digest(load_terrain(write_file(
+      dir, "a.json", R"({"type": "grid", )" + ramp + R"(, "heights": [[0, 0, 0], [0.1, 0.1, 0.1]]})")));
+  EXPECT_EQ(terrain_digest(load_terrain(write_file(dir, "b.json",
+                                                   "{\n \"description\": \"the same ramp\",\n \"type\": \"grid\", " +
+                                                       ramp + ",\n \"heights\": [[0.0, -0.0, 0e3], [1e-1, 0.1, 0.10]]}"))),
+            digest);
+  EXPECT_NE(terrain_digest(load_terrain(write_file(
+                dir, "c.json", R"({"type": "grid", )" + ramp + R"(, "heights": [[0, 0, 0], [0.1, 0.1, 0.1000001]]})"))),
+            digest);
+  EXPECT_NE(terrain_digest(load_terrain(write_file(
+                dir, "d.json", R"({"type": "grid", "origin": [1.0, 2.0], "spacing": [0.5, 0.5], "counts": [3, 2],
+                                  "heights": [[0, 0, 0], [0.1, 0.1, 0.1]]})"))),
+            digest);
+  const std::string level = R"({"type": "grid", )" + ramp + R"(, "heights": [[0.2, 0.2, 0.2], [0.2, 0.2, 0.2]]})";
+  EXPECT_EQ(terrain_digest(load_terrain(write_file(dir, "e.json", level))), terrain_digest(Terrain::flat(0.2)));
+  EXPECT_NE(terrain_digest(Terrain::flat(0.2)), terrain_digest(Terrain::flat(0.2000000001)));
+  EXPECT_EQ(terrain_digest(Terrain::flat(-0.0)), terrain_digest(Terrain::flat(0.0)));
+}
+
 }  // namespace
 }  // namespace rover::io
