@@ -10,6 +10,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/name_list.hpp"
+#include "core/number_text.hpp"
 #include "io/plot.hpp"
 #include "study/estimators/bootstrap_resolution.hpp"
 #include "study/estimators/work_stopped.hpp"
@@ -55,6 +57,9 @@ std::string undefined_because_non_finite(const Eigen::MatrixXd& y) {
          " successful runs gave a non-finite value, so the indices are undefined";
 }
 
+// A channel whose spread over the runs is below this fraction of its size varies by rounding only.
+constexpr double kRoundingRelative = 1e-12;
+
 PceChannelResult channel_indices(const std::string& name, const DesignMatrix& x_ok, const Eigen::MatrixXd& y_ok,
                                  const std::vector<Distribution>& inputs, const PceSensitivityOptions& options) {
   PceChannelResult c;
@@ -73,7 +78,13 @@ PceChannelResult channel_indices(const std::string& name, const DesignMatrix& x_
   }
   c.indices = curve_sobol_indices(c.curves);
   c.defined = c.indices.aggregated_defined;
-  if (!c.defined) c.undefined_reason = "the channel does not vary over the runs";
+  if (c.defined) return c;
+  const bool varies = y_ok.rows() > 0 && (y_ok.colwise().maxCoeff() - y_ok.colwise().minCoeff()).maxCoeff() >
+                                            kRoundingRelative * y_ok.cwiseAbs().maxCoeff();
+  c.undefined_reason = varies ? "the channel varies over the runs, but its expansion selected no term beyond the "
+                                "constant: no input explains its variance at this size; use more runs, or a "
+                                "higher pce.max_degree"
+                              : "the channel does not vary over the runs";
   return c;
 }
 
@@ -100,6 +111,7 @@ void write_qoi(io::Hdf5Writer& h5, const PceQoiResult& q, const PceSensitivityOp
     h5.write(g + "S1_upper", to_vector(q.intervals.S1_upper));
     h5.write(g + "ST_lower", to_vector(q.intervals.ST_lower));
     h5.write(g + "ST_upper", to_vector(q.intervals.ST_upper));
+    write_pce_fixed_by_selection(h5, g, q.intervals);
   }
   if (!q.fit_done) return;
   const PolynomialChaosExpansion& e = q.expansion;
@@ -145,8 +157,9 @@ void write_channel(io::Hdf5Writer& h5, const PceChannelResult& c) {
   h5.attribute("/pce_t/" + c.name + "/coefficients", "components", static_cast<long long>(c.curves.components));
 }
 
-std::string interval(const Eigen::VectorXd& lower, const Eigen::VectorXd& upper, Eigen::Index i, bool has) {
-  return has ? "[" + fixed_text(lower[i]) + ", " + fixed_text(upper[i]) + "]" : "";
+std::string interval(const Eigen::VectorXd& lower, const Eigen::VectorXd& upper, const std::vector<bool>& fixed,
+                     Eigen::Index i, bool has) {
+  return has ? pce_interval_text(lower, upper, fixed, i) : "";
 }
 
 void print_qoi(std::ostream& out, const PceQoiResult& q, const std::vector<std::string>& labels, double confidence) {
@@ -169,8 +182,10 @@ void print_qoi(std::ostream& out, const PceQoiResult& q, const std::vector<std::
   for (Eigen::Index i : order)
     out << "  " << std::left << std::setw(kIndexLabelWidth) << labels[static_cast<std::size_t>(i)] << std::right
         << " S1 " << std::setw(6) << fixed_text(s.S1[i]) << " " << std::setw(16)
-        << interval(ci.S1_lower, ci.S1_upper, i, q.has_intervals) << "   ST " << std::setw(6) << fixed_text(s.ST[i]) << " "
-        << interval(ci.ST_lower, ci.ST_upper, i, q.has_intervals) << "\n";
+        << interval(ci.S1_lower, ci.S1_upper, ci.fixed_by_selection.S1, i, q.has_intervals) << "   ST "
+        << std::setw(6) << fixed_text(s.ST[i]) << " "
+        << interval(ci.ST_lower, ci.ST_upper, ci.fixed_by_selection.ST, i, q.has_intervals) << "\n";
+  if (q.has_intervals) out << pce_fixed_by_selection_note(ci);
 }
 
 void plot_qoi(const std::string& png, const PceQoiResult& q, const std::vector<std::string>& labels) {
@@ -209,6 +224,40 @@ void plot_channel(const std::string& png, const PceChannelResult& c, const std::
 }
 
 }  // namespace
+
+void write_pce_fixed_by_selection(io::Hdf5Writer& h5, const std::string& group, const PceSobolIntervals& intervals) {
+  const auto flags = [](const std::vector<bool>& fixed) { return std::vector<int>(fixed.begin(), fixed.end()); };
+  h5.write(group + "S1_fixed_by_selection", flags(intervals.fixed_by_selection.S1));
+  h5.write(group + "ST_fixed_by_selection", flags(intervals.fixed_by_selection.ST));
+}
+
+std::string pce_interval_text(const Eigen::VectorXd& lower, const Eigen::VectorXd& upper,
+                              const std::vector<bool>& fixed, Eigen::Index i) {
+  if (fixed[static_cast<std::size_t>(i)]) return kFixedBySelectionText;
+  return "[" + fixed_text(lower[i]) + ", " + fixed_text(upper[i]) + "]";
+}
+
+std::string pce_fixed_by_selection_note(const PceSobolIntervals& intervals) {
+  if (!intervals.fixed_by_selection.any()) return "";
+  return std::string("  ") + kFixedBySelectionText +
+         ": the selected terms make the index 0 or 1 whatever their coefficients; the bootstrap refits the "
+         "coefficients only, so it cannot show how uncertain that selection is\n";
+}
+
+std::string pce_fixed_by_selection_warning(const std::string& qoi, const PceSobolIntervals& intervals,
+                                           const std::vector<std::string>& labels, double q2_loo,
+                                           double q2_threshold) {
+  if (!intervals.fixed_by_selection.any() || q2_loo >= q2_threshold) return "";
+  std::vector<std::string> fixed;
+  for (std::size_t i = 0; i < labels.size(); ++i) {
+    if (intervals.fixed_by_selection.S1[i]) fixed.push_back("S1 " + labels[i]);
+    if (intervals.fixed_by_selection.ST[i]) fixed.push_back("ST " + labels[i]);
+  }
+  return qoi + ": the selected terms fix " + comma_separated(fixed) + " at 0 or 1, and with Q2_LOO " +
+         fixed_text(q2_loo, 4) + " below " + number_text(q2_threshold) +
+         " that selection is itself uncertain: the bootstrap intervals, which refit the coefficients only, "
+         "leave it out; the indices may be far from the model's: use more runs";
+}
 
 PceChannelResult pce_channel_indices(const std::string& name, const DesignMatrix& x_ok, const Eigen::MatrixXd& y_ok,
                                      const std::vector<Distribution>& inputs, const PceSensitivityOptions& options) {
@@ -281,10 +330,18 @@ PceQoiResult pce_qoi_indices(const std::string& name, const DesignMatrix& x_ok, 
   }
   q.fit_done = true;
   q.indices = pce_sobol_indices(q.expansion);
-  if (q.expansion.constant_output || !q.indices.defined) {
+  if (q.expansion.constant_output) {
     q.indices.defined = false;
     q.undefined_reason = "the QoI is constant over the " + std::to_string(q.runs_used) + " runs (" +
                          fixed_text(y_ok.size() ? y_ok[0] : 0.0, 6) + "): no variance to apportion";
+    return q;
+  }
+  if (!q.indices.defined) {  // the QoI varies, but no term beyond the constant was selected
+    q.undefined_reason = "the QoI varies over the " + std::to_string(q.runs_used) +
+                         " runs, but the expansion selected no term beyond the constant (Q2_LOO " +
+                         fixed_text(q.expansion.validation.q2_loo, 4) + ", degree " +
+                         std::to_string(q.expansion.degree) + "): no input explains its variance at this size; " +
+                         "use more runs, or a higher pce.max_degree";
     return q;
   }
   if (options.bootstrap == 0) return q;
@@ -329,6 +386,12 @@ PceSensitivityResult analyse_pce_sensitivity(const StudySpec& spec, const PceSen
   for (const PceQoiResult& q : out.qoi) {
     if (!q.indices.defined) out.warnings.push_back(q.name + ": indices undefined: " + q.undefined_reason);
     else if (!q.expansion.validation.warning.empty()) out.warnings.push_back(q.expansion.validation.warning);
+    if (q.has_intervals)
+      if (const std::string w = pce_fixed_by_selection_warning(q.name, q.intervals, input_labels(spec),
+                                                                q.expansion.validation.q2_loo,
+                                                                options.settings.q2_threshold);
+          !w.empty())
+        out.warnings.push_back(w);
     if (q.indices.defined && options.bootstrap > 0 && !q.has_intervals)
       out.warnings.push_back(q.name + ": " + std::to_string(q.intervals.resamples_used) + " of " +
                              std::to_string(options.bootstrap) + " bootstrap resamples could be refitted (the " +

@@ -20,7 +20,9 @@
 //
 // HDF5 (the names of the pick-freeze results where they mean the same):
 //   /indices/<qoi>/{S1,ST,S1_lower,S1_upper,ST_lower,ST_upper,mean,variance}
-//     group attributes: defined (0/1), undefined_reason, runs_used; on S1:
+//     and, with the intervals, {S1,ST}_fixed_by_selection (d ints: 1 where
+//     the selected terms fix the index at 0 or 1, so its interval says
+//     nothing of the selection's uncertainty); group attributes: defined (0/1), undefined_reason, runs_used; on S1:
 //     confidence, bootstrap_resamples, resamples_used. An undefined QoI has
 //     no S1/ST (a constant one keeps its mean and zero variance).
 //   /pce/<qoi>/{q2_loo, degree, terms, multi_indices (terms x d), coefficients}
@@ -95,6 +97,21 @@ struct PceSensitivityResult {
 // the indices are undefined.
 PceQoiResult pce_qoi_indices(const std::string& name, const DesignMatrix& x_ok, const Eigen::VectorXd& y_ok,
                              const std::vector<Distribution>& inputs, const PceSensitivityOptions& options);
+
+// Bootstrap intervals whose index the selected terms fix at 0 or 1
+// (pce_indices_fixed_by_selection): the interval text of index i, "[lo, hi]"
+// or kFixedBySelectionText; the note that explains that text under a table
+// that shows it (empty when none); and, when the expansion validates below
+// q2_threshold, a warning naming those indices (else empty).
+inline constexpr const char* kFixedBySelectionText = "fixed by terms";
+// <group>S1_fixed_by_selection and <group>ST_fixed_by_selection: 1 where fixed, else 0.
+void write_pce_fixed_by_selection(io::Hdf5Writer& h5, const std::string& group, const PceSobolIntervals& intervals);
+std::string pce_interval_text(const Eigen::VectorXd& lower, const Eigen::VectorXd& upper,
+                              const std::vector<bool>& fixed, Eigen::Index i);
+std::string pce_fixed_by_selection_note(const PceSobolIntervals& intervals);
+std::string pce_fixed_by_selection_warning(const std::string& qoi, const PceSobolIntervals& intervals,
+                                           const std::vector<std::string>& labels, double q2_loo,
+                                           double q2_threshold);
 
 // One channel's curve PCE and indices along time from the successful runs
 // (x_ok rows) and their curves (runs x time samples). Never throws: the

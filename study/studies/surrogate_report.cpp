@@ -56,6 +56,7 @@ void write_indices(io::Hdf5Writer& h5, const SurrogateQoiResult& q, const PceSen
   h5.write(g + "S1_upper", to_vector(q.intervals.S1_upper));
   h5.write(g + "ST_lower", to_vector(q.intervals.ST_lower));
   h5.write(g + "ST_upper", to_vector(q.intervals.ST_upper));
+  write_pce_fixed_by_selection(h5, g, q.intervals);
 }
 
 void write_validation(io::Hdf5Writer& h5, const SurrogateQoiResult& q) {
@@ -101,19 +102,18 @@ std::string model_text(const FittedSurrogate& m, const std::vector<std::string>&
 }
 
 void report_indices(std::ostream& out, const SurrogateQoiResult& q, const std::vector<std::string>& labels) {
-  const auto interval = [&](const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, Eigen::Index i) {
-    std::ostringstream os;
-    if (q.has_intervals) os << std::fixed << std::setprecision(3) << "[" << lo(i) << ", " << hi(i) << "]";
-    return os.str();
-  };
+  const auto interval = [&](const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, const std::vector<bool>& fixed,
+                            Eigen::Index i) { return q.has_intervals ? pce_interval_text(lo, hi, fixed, i) : ""; };
   std::vector<Eigen::Index> order(static_cast<std::size_t>(q.indices.ST.size()));
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) { return q.indices.ST(a) > q.indices.ST(b); });
   for (Eigen::Index i : order)
     out << "  " << std::left << std::setw(kSurrogateLabelWidth) << labels[static_cast<std::size_t>(i)] << std::right << " S1 "
         << std::setw(6) << fixed_text(q.indices.S1(i)) << " " << std::setw(16)
-        << interval(q.intervals.S1_lower, q.intervals.S1_upper, i) << "   ST " << std::setw(6)
-        << fixed_text(q.indices.ST(i)) << " " << interval(q.intervals.ST_lower, q.intervals.ST_upper, i) << "\n";
+        << interval(q.intervals.S1_lower, q.intervals.S1_upper, q.intervals.fixed_by_selection.S1, i) << "   ST "
+        << std::setw(6) << fixed_text(q.indices.ST(i)) << " "
+        << interval(q.intervals.ST_lower, q.intervals.ST_upper, q.intervals.fixed_by_selection.ST, i) << "\n";
+  if (q.has_intervals) out << pce_fixed_by_selection_note(q.intervals);
 }
 
 void report_qoi(std::ostream& out, const SurrogateQoiResult& q, const std::vector<std::string>& labels,

@@ -189,6 +189,12 @@ std::vector<std::string> study_warnings(const SurrogateStudy& study, const Surro
       w.push_back(q.model.validation().warning);
     if (const std::string why = q.fitted ? held_out_q2_undefined_reason(q.model.validation()) : ""; !why.empty())
       w.push_back(q.name + ": held-out Q2 undefined: " + why);
+    if (q.has_intervals)
+      if (const std::string fixed = pce_fixed_by_selection_warning(q.name, q.intervals, input_labels(study.spec),
+                                                                    q.model.validation().q2_loo,
+                                                                    study.q2_threshold());
+          !fixed.empty())
+        w.push_back(fixed);
     if (q.indices_defined && study.pce.bootstrap > 0 && !q.has_intervals)
       w.push_back(q.name + ": " + std::to_string(q.intervals.resamples_used) + " of " +
                   std::to_string(study.pce.bootstrap) +

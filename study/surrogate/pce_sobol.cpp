@@ -146,6 +146,30 @@ PceSobolIndices pce_sobol_indices(const PolynomialChaosExpansion& e) {
   return pce_sobol_indices(e.multi_indices, e.coefficients);
 }
 
+bool PceIndicesFixedBySelection::any() const {
+  return std::find(S1.begin(), S1.end(), true) != S1.end() || std::find(ST.begin(), ST.end(), true) != ST.end();
+}
+
+PceIndicesFixedBySelection pce_indices_fixed_by_selection(const std::vector<MultiIndex>& multi_indices,
+                                                          int input_count) {
+  const auto d = static_cast<std::size_t>(input_count);
+  std::vector<int> alone(d, 0), within(d, 0);  // terms whose support is {i}; terms holding i
+  int nonconstant = 0;
+  for (const MultiIndex& alpha : multi_indices) {
+    const std::vector<int> s = support(alpha);
+    if (s.empty()) continue;
+    ++nonconstant;
+    if (s.size() == 1) ++alone[static_cast<std::size_t>(s[0])];
+    for (const int i : s) ++within[static_cast<std::size_t>(i)];
+  }
+  PceIndicesFixedBySelection fixed{std::vector<bool>(d), std::vector<bool>(d)};
+  for (std::size_t i = 0; i < d; ++i) {
+    fixed.S1[i] = alone[i] == 0 || alone[i] == nonconstant;
+    fixed.ST[i] = within[i] == 0 || within[i] == nonconstant;
+  }
+  return fixed;
+}
+
 PceSobolIntervals bootstrap_pce_sobol(const PolynomialChaosExpansion& e, const DesignMatrix& x,
                                       const Eigen::VectorXd& y, const PceBootstrapSettings& s) {
   check_bootstrap(e, x, y, s);
@@ -179,6 +203,7 @@ PceSobolIntervals bootstrap_pce_sobol(const PolynomialChaosExpansion& e, const D
   PceSobolIntervals out = intervals_from(replicates, s.confidence);
   out.resamples_used = s.resamples - skipped;
   out.resamples_skipped = skipped;
+  out.fixed_by_selection = pce_indices_fixed_by_selection(e.multi_indices, static_cast<int>(e.inputs.size()));
   return out;
 }
 

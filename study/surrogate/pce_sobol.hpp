@@ -39,6 +39,18 @@ PceSobolIndices pce_sobol_indices(const PolynomialChaosExpansion& expansion);
 PceSobolIndices pce_sobol_indices(const std::vector<MultiIndex>& multi_indices,
                                   const Eigen::VectorXd& coefficients);
 
+// The indices the selected terms fix whatever their coefficients: S1_i is 0
+// when no term has support {i} and 1 when every nonconstant term has; ST_i
+// is 0 when no term holds input i and 1 when every nonconstant term does.
+// Refitting the coefficients cannot move them, so their bootstrap intervals
+// have zero width and show nothing of how uncertain the selection is.
+struct PceIndicesFixedBySelection {
+  std::vector<bool> S1, ST;  // d each
+  bool any() const;
+};
+PceIndicesFixedBySelection pce_indices_fixed_by_selection(const std::vector<MultiIndex>& multi_indices,
+                                                          int input_count);
+
 struct PceBootstrapSettings {
   int resamples = 200;      // 2 .. 1,000,000
   double confidence = 0.95; // (0, 1)
@@ -54,6 +66,7 @@ struct PceSobolIntervals {
   double mean_lower = 0, mean_upper = 0, variance_lower = 0, variance_upper = 0;
   Eigen::VectorXd S1_lower, S1_upper, ST_lower, ST_upper;
   Eigen::MatrixXd S2_lower, S2_upper;  // entries i < j filled, 0 elsewhere
+  PceIndicesFixedBySelection fixed_by_selection;  // of the expansion's terms
 };
 
 // Percentile intervals by the bootstrap over the runs (x, y) the expansion was

@@ -109,6 +109,42 @@ TEST(PceSensitivity, ALowQ2WarnsNamingTheQoiAndALargerN) {
   EXPECT_TRUE(warned);
 }
 
+// Ishigami from 30 runs at degree 1: no term beyond the constant explains
+// it (sin x1 is the only odd effect, and weak at this size). The QoI varies:
+// its indices are undefined for that reason, never called constant.
+TEST(PceSensitivity, AnExpansionOfTheConstantAloneIsNotAConstantQoi) {
+  const SensitivityStudy s = load(R"({"type": "sensitivity", "method": "pce", "name": "i", "model": "ishigami",
+      "design": {"type": "lhs", "samples": 30, "seed": 3}, "pce": {"max_degree": 1, "bootstrap": 100}})");
+  const SensitivityResult r = run_in_process(s);
+  const PceQoiResult& q = r.pce.qoi.at(0);
+  EXPECT_FALSE(q.indices.defined);
+  EXPECT_NE(q.undefined_reason.find("varies over the 30 runs"), std::string::npos) << q.undefined_reason;
+  EXPECT_NE(q.undefined_reason.find("selected no term beyond the constant"), std::string::npos) << q.undefined_reason;
+  EXPECT_EQ(q.undefined_reason.find("constant over"), std::string::npos) << q.undefined_reason;
+}
+
+// Ishigami from 20 runs at degree 3: the selection leaves x2 out (its true
+// S1 is 0.44), so its indices are 0 whatever the coefficients. The bootstrap
+// cannot show that uncertainty: the result marks them and warns.
+TEST(PceSensitivity, IndicesTheSelectionFixesAreMarkedAndWarnedOf) {
+  const SensitivityStudy s = load(R"({"type": "sensitivity", "method": "pce", "name": "i", "model": "ishigami",
+      "design": {"type": "lhs", "samples": 20, "seed": 3}, "pce": {"max_degree": 3, "bootstrap": 100}})");
+  SensitivityResult r = run_in_process(s);
+  r.study = s;  // as run_sensitivity() sets it, for the report
+  const PceQoiResult& q = r.pce.qoi.at(0);
+  ASSERT_TRUE(q.has_intervals);
+  ASSERT_TRUE(q.intervals.fixed_by_selection.ST[1]) << "x2 was selected: the case no longer shows a fixed index";
+  EXPECT_EQ(q.intervals.ST_lower(1), q.intervals.ST_upper(1));
+  bool warned = false;
+  for (const std::string& w : r.warnings)
+    warned = warned || (w.find("the selected terms fix S1 x2, ST x2 at 0 or 1") != std::string::npos &&
+                        w.find("Q2_LOO") != std::string::npos);
+  EXPECT_TRUE(warned);
+  std::ostringstream report;
+  report_sensitivity(r, report);
+  EXPECT_NE(report.str().find(std::string("ST  0.000 ") + kFixedBySelectionText), std::string::npos) << report.str();
+}
+
 TEST(PceSensitivity, ConstantAndNanQoisAreUndefinedWhileTheOthersAreWritten) {
   StudySpec spec;
   spec.name = "constant";

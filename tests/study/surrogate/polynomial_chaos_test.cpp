@@ -198,6 +198,50 @@ TEST(PolynomialChaos, BootstrapIntervalsAreDeterministicAndCoverTheEstimate) {
   EXPECT_NE(bootstrap_pce_sobol(e, x, y, b).S1_lower, a1.S1_lower);
 }
 
+// Which indices the selected terms fix at 0 or 1, from the terms alone.
+TEST(PolynomialChaos, IndicesFixedBySelectionFollowTheTermsSupports) {
+  const auto fixed = [](const std::vector<MultiIndex>& terms) { return pce_indices_fixed_by_selection(terms, 2); };
+  // x1 alone: both indices of both inputs fixed (x1 at 1, x2 at 0).
+  PceIndicesFixedBySelection f = fixed({{0, 0}, {1, 0}, {3, 0}});
+  EXPECT_EQ(f.S1, (std::vector<bool>{true, true}));
+  EXPECT_EQ(f.ST, (std::vector<bool>{true, true}));
+  // Both inputs alone: nothing fixed.
+  f = fixed({{0, 0}, {1, 0}, {0, 2}});
+  EXPECT_FALSE(f.any());
+  // Only an interaction: both S1 fixed at 0, both ST at 1.
+  f = fixed({{0, 0}, {1, 1}});
+  EXPECT_EQ(f.S1, (std::vector<bool>{true, true}));
+  EXPECT_EQ(f.ST, (std::vector<bool>{true, true}));
+  // x1 alone and with x2: S1 of x2 is 0, ST of x1 is 1; the rest can move.
+  f = fixed({{0, 0}, {2, 0}, {1, 1}});
+  EXPECT_EQ(f.S1, (std::vector<bool>{false, true}));
+  EXPECT_EQ(f.ST, (std::vector<bool>{true, false}));
+}
+
+// An expansion of one input's terms has zero-width bootstrap intervals that
+// its result marks, and warns of once its Q2 is below the threshold.
+TEST(PolynomialChaos, ZeroWidthIntervalsOfTheSelectionAreMarked) {
+  const std::vector<Distribution> inputs(2, uniform(0.0, 1.0));
+  const DesignMatrix x = to_inputs(latin_hypercube(40, 2, 7), inputs);
+  Eigen::VectorXd y(40);
+  for (int r = 0; r < 40; ++r) y(r) = 1.0 + 2.0 * x(r, 0);
+  const PolynomialChaosExpansion e = fit_polynomial_chaos(x, y, inputs, {}, "line");
+  PceBootstrapSettings b;
+  b.resamples = 50;
+  const PceSobolIntervals ci = bootstrap_pce_sobol(e, x, y, b);
+  EXPECT_DOUBLE_EQ(ci.S1_lower(0), 1.0);
+  EXPECT_DOUBLE_EQ(ci.S1_upper(0), 1.0);
+  EXPECT_EQ(ci.fixed_by_selection.S1, (std::vector<bool>{true, true}));
+  EXPECT_EQ(ci.fixed_by_selection.ST, (std::vector<bool>{true, true}));
+  const PceSobolIntervals ishigami_ci = [&] {
+    const std::vector<Distribution> three(3, uniform(-kPi, kPi));
+    const DesignMatrix xi = to_inputs(latin_hypercube(300, 3, 5), three);
+    const Eigen::VectorXd yi = apply(xi, ishigami_default);
+    return bootstrap_pce_sobol(fit_polynomial_chaos(xi, yi, three, {}, "ishigami"), xi, yi, b);
+  }();
+  EXPECT_EQ(ishigami_ci.fixed_by_selection.ST, (std::vector<bool>{false, false, false}));
+}
+
 TEST(PolynomialChaos, ConstantOutputHasUndefinedIndicesNotNaN) {
   const std::vector<Distribution> inputs(2, uniform(0.0, 1.0));
   const DesignMatrix x = to_inputs(latin_hypercube(30, 2, 3), inputs);
