@@ -237,6 +237,19 @@ int run_reporting_errors(CLI::App& sub, const std::function<int()>& run, std::ve
   return status;
 }
 
+// Meets the other ranks on the way out (MpiSession::meet_on_exit); a rank
+// that refused (status 1) while they went on prints its `held` lines, named,
+// and ends the job.
+void leave_together(rover::study::MpiSession& mpi, int status, std::vector<std::string> held,
+                    const std::string& command) {
+  if (mpi.meet_on_exit(status == 1)) return;
+  held.push_back(command + ": error: the other ranks did not refuse and went on to the runs; ending the job");
+  for (std::string& line : held) line = rank_label() + line;
+  print_lines(held);
+  std::cout.flush();
+  mpi.end_job(status);
+}
+
 // Runs `sub`; under mpirun a command that shares its runs (`shares_runs`)
 // holds MPI until every rank has reached its exit, so that rank 0 prints
 // before mpirun ends the job on another rank's exit. A rank that refused
@@ -252,15 +265,27 @@ int run_subcommand(CLI::App& sub, const std::function<int()>& run, bool shares_r
   }
   std::vector<std::string> held;
   const int status = run_reporting_errors(sub, run, held);
-  if (mpi && !mpi->meet_on_exit(status == 1)) {
-    held.push_back("rover " + sub.get_name() + ": error: the other ranks did not refuse and went on to the runs; "
-                   "ending the job");
-    for (std::string& line : held) line = rank_label() + line;
-    print_lines(held);
-    std::cout.flush();
-    mpi->end_job(status);
-  }
+  if (mpi) leave_together(*mpi, status, held, "rover " + sub.get_name());
   return status;
+}
+
+// A command line refused before any subcommand ran (exit status 1). Under
+// mpirun the ranks meet as run_subcommand's do, so that a rank refusing alone
+// (an MPMD launch that gave it other arguments) says why and ends the job,
+// while a refusal every rank shares is printed once, by rank 0.
+int refuse_command_line(const std::vector<std::string>& lines) {
+  std::vector<std::string> held;
+  report_input_problem(lines, &held);
+  if (launcher_size() <= 1) return 1;
+  std::optional<rover::study::MpiSession> mpi;
+  try {
+    mpi.emplace(nullptr, nullptr);
+  } catch (const std::invalid_argument& e) {  // an environment MPI could not start with
+    report_input_problem({std::string("rover: error: ") + e.what()});
+    return 1;
+  }
+  leave_together(*mpi, 1, held, "rover");
+  return 1;
 }
 
 }  // namespace
@@ -295,16 +320,12 @@ int main(int argc, char** argv) {
   read_real_numbers_in_decimal(app);
   const std::vector<std::string> args(argv + 1, argv + argc);
   if (const std::vector<std::string> lines = typed_word_error_lines(args, app, typed_subcommands(app, argc, argv));
-      !lines.empty()) {
-    report_input_problem(lines);
-    return 1;
-  }
+      !lines.empty())
+    return refuse_command_line(lines);
   if (argc > 1 && argv[1][0] != '-' &&
       std::none_of(registry.begin(), registry.end(),
-                   [&](const CommandEntry& entry) { return entry.name == argv[1]; })) {
-    report_input_problem({unknown_subcommand_message(argv[1], registry), "Run 'rover --help' for the list."});
-    return 1;
-  }
+                   [&](const CommandEntry& entry) { return entry.name == argv[1]; }))
+    return refuse_command_line({unknown_subcommand_message(argv[1], registry), "Run 'rover --help' for the list."});
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {
@@ -312,15 +333,13 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // Every refused command line exits 1, as a refused config file does
     // (CLI11's own codes, 101-115, are not documented), in rover's words.
-    report_input_problem(command_line_error_lines(e, app, typed_subcommands(app, argc, argv), args));
-    return 1;
+    return refuse_command_line(command_line_error_lines(e, app, typed_subcommands(app, argc, argv), args));
   }
   for (auto& [sub, run] : runners) {
     if (!sub->parsed()) continue;
     if (const int size = launcher_size(); size > 1 && processes[sub] == Processes::kOne) {
-      report_input_problem({"rover " + sub->get_name() + ": error: " + one_process_refusal(size) + "; only " +
-                            shared_among_processes + " share their runs among processes"});
-      return 1;
+      return refuse_command_line({"rover " + sub->get_name() + ": error: " + one_process_refusal(size) + "; only " +
+                                  shared_among_processes + " share their runs among processes"});
     }
     return run_subcommand(*sub, run, processes[sub] == Processes::kMany);
   }

@@ -83,6 +83,16 @@ struct Outcome {
   std::string output;
 };
 
+// An MPMD launch, `mpirun -np 1 rover <rank0> : -np 1 rover <rank1>`, ended
+// after 120 s (status 124); stderr joins stdout.
+Outcome mpmd_launch(const std::string& rank0, const std::string& rank1) {
+  Outcome o;
+  o.status = run_command("timeout 120 " + testing::mpiexec() + " -np 1 " + rover_binary() + " " + rank0 + " : -np 1 " +
+                             rover_binary() + " " + rank1 + " 2>&1",
+                         &o.output);
+  return o;
+}
+
 // Messages that only a crash or an unhandled library error prints.
 const std::vector<std::string> kForbidden = {
     "terminate called", "Segmentation", "core dumped", "Aborted", "[json.exception", "basic_string",
@@ -5715,23 +5725,27 @@ TEST_F(Audit, ARefusalOfOneRankEndsTheWholeJob) {
   const std::string good_fit = w().calibration([](Json&) {});
   const std::string bad_fit = w().calibration([](Json& j) { j["initial"]["c_q"] = 5.0; });
   struct Launch {
-    std::string command, rank0_file, rank1_file, reason;
+    std::string rank0, rank1, reason;
   };
-  for (const Launch& launch : {Launch{"montecarlo", good, bad, "narrow the distribution"},
-                               Launch{"calibrate", bad_fit, good_fit, "outside bounds.c_q"}}) {
-    const std::string out = w().out("h5");
-    const auto rank = [&](const std::string& file) {
-      return " -np 1 " + rover_binary() + " " + launch.command + " --study " + file + " --no-plot --out " + out;
-    };
-    std::string output;
-    const int status = run_command("timeout 120 " + testing::mpiexec() + rank(launch.rank0_file) + " :" +
-                                       rank(launch.rank1_file) + " 2>&1",
-                                   &output);
-    EXPECT_NE(status, 0) << output;
-    EXPECT_NE(status, 124) << "the job hung:\n" << output;
-    EXPECT_NE(output.find(launch.reason), std::string::npos) << output;
-    EXPECT_NE(output.find("the other ranks did not refuse"), std::string::npos) << output;
-    EXPECT_FALSE(std::filesystem::exists(out)) << output;
+  const std::string out = w().out("h5");
+  const auto args = [&](const std::string& command, const std::string& file) {
+    return command + " --study " + file + " --no-plot --out " + out;
+  };
+  // A study file one rank refuses, and a command line one rank refuses
+  // before any study starts (a flag montecarlo does not have, a subcommand
+  // that is none), on either rank.
+  for (const Launch& launch :
+       {Launch{args("montecarlo", good), args("montecarlo", bad), "narrow the distribution"},
+        Launch{args("calibrate", bad_fit), args("calibrate", good_fit), "outside bounds.c_q"},
+        Launch{args("montecarlo", good), args("montecarlo", good) + " --integrator rk4", "(rank 1)"},
+        Launch{args("montecarlo", good) + " --integrator rk4", args("montecarlo", good), "--integrator"},
+        Launch{args("montecarlo", good), "montecarl --study " + good, "unknown subcommand 'montecarl'"}}) {
+    const Outcome o = mpmd_launch(launch.rank0, launch.rank1);
+    EXPECT_NE(o.status, 0) << o.output;
+    EXPECT_NE(o.status, 124) << "the job hung:\n" << o.output;
+    EXPECT_NE(o.output.find(launch.reason), std::string::npos) << o.output;
+    EXPECT_NE(o.output.find("the other ranks did not refuse"), std::string::npos) << o.output;
+    EXPECT_FALSE(std::filesystem::exists(out)) << o.output;
   }
 }
 
@@ -5934,16 +5948,11 @@ TEST_F(Audit, RanksGivenOtherStudiesRefuseTogether) {
                                Launch{"--study " + mc + " --seed 3", "--study " + mc + " --seed 4"},
                                Launch{"--study " + mc, "--study " + mc + " --samples 6"}}) {
     const std::string out = w().out("h5");
-    const auto rank = [&](const std::string& flags) {
-      return " -np 1 " + rover_binary() + " montecarlo --no-plot --out " + out + " " + flags;
-    };
-    std::string output;
-    const int status =
-        run_command("timeout 120 " + testing::mpiexec() + rank(launch.rank0) + " :" + rank(launch.rank1) + " 2>&1",
-                    &output);
-    EXPECT_EQ(status, 1) << output;
-    EXPECT_NE(output.find("not all given the same study"), std::string::npos) << output;
-    EXPECT_FALSE(std::filesystem::exists(out)) << output;
+    const auto rank = [&](const std::string& flags) { return "montecarlo --no-plot --out " + out + " " + flags; };
+    const Outcome o = mpmd_launch(rank(launch.rank0), rank(launch.rank1));
+    EXPECT_EQ(o.status, 1) << o.output;
+    EXPECT_NE(o.output.find("not all given the same study"), std::string::npos) << o.output;
+    EXPECT_FALSE(std::filesystem::exists(out)) << o.output;
   }
 }
 
