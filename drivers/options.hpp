@@ -277,6 +277,10 @@ inline std::vector<std::string> split_names(const std::string& flag, const std::
 inline std::optional<std::array<double, kNumSJoints>> parse_preloads(const std::string& text,
                                                                       FlagChecks& checks) {
   std::array<double, kNumSJoints> preloads{};
+  if (const std::size_t last = text.find_last_not_of(" \t"); last != std::string::npos && text[last] == ',') {
+    checks.add("--M0 '" + text + "': ends with a comma (a stray comma?); give the 8 preloads separated by commas");
+    return std::nullopt;
+  }
   std::stringstream ss(text);
   std::size_t n = 0;
   bool ok = true;

@@ -46,18 +46,6 @@ std::vector<std::string_view> split_fields(std::string_view line) {
   }
 }
 
-// A header name holding a tab or a semicolon: the file is separated by that
-// character, not by commas. Empty when the name is an ordinary one.
-std::string separator_problem(std::string_view name) {
-  const bool tab = name.find('\t') != std::string_view::npos;
-  if (!tab && name.find(';') == std::string_view::npos) return "";
-  std::string shown;
-  for (const char c : name) shown += c == '\t' ? std::string("\\t") : std::string(1, c);
-  return std::string("the header '") + shown + "' is separated by " + (tab ? "tabs" : "semicolons ';'") +
-         ": rover reads comma-separated values only; save the file with commas between the columns "
-         "(and '.' as the decimal point)";
-}
-
 std::string join(const std::vector<std::string>& names) {
   std::string out;
   for (const std::string& name : names) out += (out.empty() ? "" : ", ") + name;
@@ -192,7 +180,7 @@ CsvTable read_csv(const std::string& path, const std::vector<std::string>& requi
       for (std::string_view field : fields) {
         const bool quoted = field.size() >= 2 && field.front() == '"' && field.back() == '"';
         if (!quoted)
-          if (const std::string problem = separator_problem(field); !problem.empty()) throw ConfigError(where + problem);
+          if (const std::string problem = csv_separator_problem(field); !problem.empty()) throw ConfigError(where + problem);
         std::string name = quoted ? std::string(trim(unquoted_csv_cell(field))) : std::string(field);
         if (name.empty()) throw ConfigError(where + "empty column name in the header");
         if (!seen.insert(name).second) throw ConfigError(where + "duplicate column '" + name + "'");
@@ -355,6 +343,16 @@ std::string unquoted_csv_cell(std::string_view cell) {
     if (cell[k] == '"' && cell[k + 1] == '"') ++k;
   }
   return name;
+}
+
+std::string csv_separator_problem(std::string_view name) {
+  const bool tab = name.find('\t') != std::string_view::npos;
+  if (!tab && name.find(';') == std::string_view::npos) return "";
+  std::string shown;
+  for (const char c : name) shown += c == '\t' ? std::string("\\t") : std::string(1, c);
+  return std::string("the header '") + shown + "' is separated by " + (tab ? "tabs" : "semicolons ';'") +
+         ": rover reads comma-separated values only; save the file with commas between the columns "
+         "(and '.' as the decimal point)";
 }
 
 }  // namespace rover::io

@@ -45,6 +45,11 @@ CsvTable read_csv(const std::string& path, const std::vector<std::string>& requi
 // any other cell as it is.
 std::string unquoted_csv_cell(std::string_view cell);
 
+// An unquoted header name holding a tab or a semicolon: the file is
+// separated by that character, not by commas; what to do. Empty when the
+// name is an ordinary one.
+std::string csv_separator_problem(std::string_view header_name);
+
 // A sampled curve: strictly increasing times and finite values.
 struct MeasuredCurve {
   std::vector<double> t_s;

@@ -189,6 +189,10 @@ OutputTarget inspect_output(const std::string& path, OutputFormat format) {
                    "); writing by rename would replace the link by a file: give the target's path or "
                    "another name");
   }
+  if (const std::string temporary = path + std::string(kTemporarySuffix);
+      fs::is_directory(fs::symlink_status(temporary, error)))
+    return refused("would be written to the temporary file " + temporary + " first, but a directory is there: "
+                   "remove it, or give another name");
   if (!fs::exists(own)) return {};
   if (fs::is_directory(own)) return refused("is a directory; give a file name");
   if (fs::is_character_file(own) || fs::is_block_file(own)) return stream_target(format, "a device");

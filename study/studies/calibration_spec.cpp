@@ -167,8 +167,10 @@ void read_fit_parameters(const io::JsonReader& r, const CalibrationOverrides& o,
     p.name = name;
     p.canonical = canonical_fit_name(r, o, space, name);
     for (const auto& q : s.fit) {
-      if (q.name == name || (!p.canonical.empty() && q.canonical == p.canonical))
-        fail_on_fit(r, o, "parameter '" + name + "' is listed twice");
+      if (q.name == name) fail_on_fit(r, o, "parameter '" + name + "' is listed twice");
+      if (!p.canonical.empty() && q.canonical == p.canonical)
+        fail_on_fit(r, o, "parameter '" + name + "' is listed twice: it and '" + q.name + "' are both " +
+                              p.canonical + "; give it once");
       if (!p.canonical.empty() && !q.canonical.empty() && parameters_overlap(q.canonical, p.canonical))
         fail_on_fit(r, o, "parameters '" + q.name + "' and '" + name + "' overlap: " +
                               overlap_reason(q.canonical, p.canonical));

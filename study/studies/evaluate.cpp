@@ -79,6 +79,9 @@ DesignTable read_design_csv(const std::string& path, const std::function<void(co
     const std::string where = path + ":" + std::to_string(line_number);
     if (header) {
       table.columns = cells;
+      for (const std::string& name : table.columns)
+        if (const std::string problem = io::csv_separator_problem(name); !problem.empty() && !name.starts_with('"'))
+          throw io::ConfigError(where + ": " + problem);
       for (std::string& name : table.columns) name = io::unquoted_csv_cell(name);
       table.header_line = line_number;
       for (std::size_t j = 0; j < cells.size(); ++j)

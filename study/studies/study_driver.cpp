@@ -90,7 +90,14 @@ void check_resumable(const std::string& results_path, const std::string& fingerp
                                 std::filesystem::read_symlink(checkpoint, error).string() +
                                 "'); a checkpoint is never written through a link: put the file itself there, or "
                                 "start afresh with --restart");
-  if (!std::filesystem::exists(checkpoint, error)) return;
+  if (!std::filesystem::exists(checkpoint, error)) {
+    // Nothing to resume, and a finished result the runs would replace.
+    if (std::filesystem::exists(std::filesystem::symlink_status(results_path, error)))
+      throw std::invalid_argument("--resume: there is no checkpoint " + checkpoint + " to resume from, and " +
+                                  results_path + " holds a finished result: there is nothing to resume; drop "
+                                  "--resume to run the study again and replace it, or give another --out");
+    return;
+  }
   try {
     io::ResultCheckpoint(results_path, fingerprint).load();
   } catch (const std::runtime_error& e) {

@@ -33,6 +33,11 @@ std::vector<double> parse_axis(const io::JsonReader& parent, const std::string& 
   const std::string spacing = a.string_or("spacing", "linear");
   if (spacing != "log" && spacing != "linear") a.fail("spacing", "must be 'linear' or 'log'");
   // A linear axis may start at 0 (no damping); a log axis needs positive ends.
+  if (spacing == "log")
+    for (const char* end : {"min", "max"})
+      if (const double v = a.number(end); !(v > 0.0))
+        a.fail(end, "must be > 0 on a log-spaced axis (\"spacing\": \"log\"), got " + number_text(v) + ": give a " +
+                        "positive " + end + (v == 0.0 ? ", or \"spacing\": \"linear\" to include 0" : ""));
   const double min = spacing == "log" ? a.positive("min") : a.non_negative("min");
   const double max = spacing == "log" ? a.positive("max") : a.non_negative("max");
   const int count = a.integer("count", {1, kMaxAxisPoints});

@@ -905,7 +905,8 @@ TEST_F(Audit, SurfaceStudy) {
          {"'f.count'", "1000000000"});
   s_case("cubic spacing", [](Json& j) { j["c_q"]["spacing"] = "cubic"; }, Want::kError, {"'c_q.spacing'", "cubic"});
   s_case("log spacing from 0", [](Json& j) { j["c_q"] = {{"min", 0.0}, {"max", 0.2}, {"count", 2}, {"spacing", "log"}}; },
-         Want::kError, {"'c_q.min'", "0"});
+         Want::kError,
+         {"'c_q.min'", "must be > 0 on a log-spaced axis", "\"spacing\": \"linear\" to include 0"});
   s_case("linear spacing from no damping",
          [](Json& j) { j["c_q"] = {{"min", 0.0}, {"max", 0.2}, {"count", 2}, {"spacing", "linear"}}; }, Want::kRuns,
          {});
@@ -1005,7 +1006,9 @@ TEST_F(Audit, EvaluateDesign) {
   design_case("NUL byte", std::string("c_q\n0.1\0\n", 9), Want::kError, {":2"});
   design_case("non-ASCII column", "ц_q\n0.1\n", Want::kError, {"ц_q"});
   design_case("negative mass", "bodies.wheel.mass\n-0.2\n", Want::kError, {":2", "-0.2", "bodies.wheel.mass"});
-  design_case("a semicolon-separated file", "c_q;f\n0.1;1e4\n", Want::kError, {"c_q;f"});
+  design_case("a semicolon-separated file", "c_q;f\n0.1;1e4\n", Want::kError,
+              {"the header 'c_q;f' is separated by semicolons ';'", "comma-separated values only"});
+  design_case("a tab-separated file", "c_q\tf\n0.1\t1e4\n", Want::kError, {"separated by tabs"});
   // Flags and paths.
   const std::string good = w().text_file("design_good", "c_q\n0.1\n", "csv");
   cases.push_back({"design is a directory", "evaluate --scenario " + w().quick() + " --design " + w().dir() +
@@ -1125,6 +1128,8 @@ TEST_F(Audit, Flags) {
   flag_case("--cq blank", sim + " --out " + w().out() + " --cq ' '", {"--cq"});
   flag_case("--out empty", sim + " --out ''", {"--out was given an empty value"});
   flag_case("--M0 of empty values", sim + " --out " + w().out() + " --M0 ,,,,,,,", {"--M0"});
+  flag_case("--M0 with a trailing comma", sim + " --out " + w().out() + " --M0 1,1,1,1,1,1,1,1,",
+            {"--M0 '1,1,1,1,1,1,1,1,': ends with a comma"});
   const std::string q1 = w().copy_of(q), q2 = w().copy_of(q), q3 = w().copy_of(q);
   flag_case("--out over the scenario", "simulate --no-plot --scenario " + q1 + " --out " + q1,
             {"--out", q1, "same file as --scenario"});
@@ -1330,6 +1335,12 @@ TEST_F(Audit, OutputPaths) {
   const std::string ro_synth = earlier_result("ro_synth.csv", read_only);
   cases.push_back({"synthesize --out read-only", "synthesize --scenario " + q + " --out " + ro_synth, Want::kError,
                    {"--out", ro_synth, "read-only"}, unchanged(ro_synth)});
+  // A directory where the writer's temporary file goes is found before the runs.
+  const std::string blocked = dir + "/blocked.h5";
+  fs::create_directory(blocked + ".partial");
+  cases.push_back({"montecarlo --out whose .partial is a directory",
+                   study_args("montecarlo", w().montecarlo([](Json&) {}), blocked), Want::kError,
+                   {"--out", blocked + ".partial", "a directory is there"}, absent_file(blocked)});
   // Symbolic links are refused, never replaced by a file; what they point at stays.
   const std::string target = earlier_result("target.h5", fs::perms::owner_read | fs::perms::owner_write);
   const std::string link = dir + "/link.h5";
@@ -2739,6 +2750,19 @@ TEST_F(Audit, SeventhAuditCases) {
                    Want::kError, {"'s_structure.f'", "0.001 1/rad is below 1 1/rad"}});
   cases.push_back({"--resume without a checkpoint", study("montecarlo", w().montecarlo([](Json&) {})) + " --resume",
                    Want::kRuns, {"--resume found no checkpoint"}, {}, {}, {"resuming, 0 of"}});
+  // A finished result of another study at --out: --resume has nothing to
+  // resume, and must not replace it with a whole new study.
+  const std::string finished = w().out();
+  std::string log;
+  ASSERT_EQ(run_command(rover_binary() + " " + study_args("montecarlo", w().montecarlo([](Json&) {}), finished), &log),
+            0) << log;
+  const std::string finished_bytes = testing::read_file(finished);
+  cases.push_back({"--resume without a checkpoint over a finished result",
+                   study_args("montecarlo", w().montecarlo([](Json& j) { j["design"]["seed"] = 2; }), finished) +
+                       " --resume",
+                   Want::kError, {"--resume: there is no checkpoint", finished, "holds a finished result"}, [=] {
+                     return testing::read_file(finished) == finished_bytes ? std::string() : "the result was replaced";
+                   }});
   run_table(w().dir(), cases);
 }
 
@@ -4303,7 +4327,7 @@ TEST_F(Audit, AListFlagNamesEachItemOnce) {
   cases.push_back({"calibrate --fit with a parameter by name and alias",
                    study("calibrate", w().calibration([](Json& j) { j["bounds"]["s_structure.c_q"] = {0.02, 1.0}; })) +
                        " --fit c_q,s_structure.c_q --dry-run",
-                   Want::kError, {"--fit", "'s_structure.c_q' is listed twice"}});
+                   Want::kError, {"--fit", "'s_structure.c_q' is listed twice: it and 'c_q' are both"}});
   cases.push_back({"evaluate --qoi with distinct QoIs", evaluate("--qoi B_l_z_min,t_min", w().out("csv")), Want::kRuns,
                    {}});
   run_table(w().dir(), cases);
