@@ -23,7 +23,7 @@
 #include "io/hdf5_file.hpp"
 #include "io/plot.hpp"
 #include "study/studies/calibration_mcmc.hpp"
-#include "study/runtime/calibration_mpi.hpp"
+#include "study/runtime/rank0_broadcast.hpp"
 #include "study/studies/calibration_fit.hpp"
 #include "study/studies/calibration_checked_fit.hpp"
 #include "study/studies/calibration_fit_flaw.hpp"

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "study/estimators/work_stopped.hpp"
-#include "study/runtime/calibration_mpi.hpp"
+#include "study/runtime/rank0_broadcast.hpp"
 #include "study/runtime/study_runner.hpp"
 #include "study/runtime/task_farm.hpp"
 #include "study/studies/report_number.hpp"

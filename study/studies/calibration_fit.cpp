@@ -9,7 +9,7 @@
 #include <Eigen/QR>
 
 #include "study/estimators/least_squares_uncertainty.hpp"
-#include "study/runtime/calibration_mpi.hpp"
+#include "study/runtime/rank0_broadcast.hpp"
 #include "study/runtime/study_runner.hpp"
 #include "study/runtime/task_farm.hpp"
 

@@ -16,7 +16,7 @@
 #include "io/checkpoint.hpp"
 #include "study/estimators/ensemble_sampler.hpp"
 #include "study/estimators/independence_sampler.hpp"
-#include "study/runtime/calibration_mpi.hpp"
+#include "study/runtime/rank0_broadcast.hpp"
 #include "study/runtime/study_runner.hpp"
 #include "study/runtime/task_farm.hpp"
 #include "study/studies/report_number.hpp"

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "study/runtime/calibration_mpi.hpp"
+#include "study/runtime/rank0_broadcast.hpp"
 #include "study/runtime/study_runner.hpp"
 #include "study/runtime/task_farm.hpp"
 #include "study/studies/stoppable_optimization.hpp"

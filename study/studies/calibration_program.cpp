@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "study/runtime/calibration_mpi.hpp"
 #include "study/runtime/mpi_session.hpp"
+#include "study/runtime/rank0_broadcast.hpp"
 #include "study/studies/calibration_fit_flaw.hpp"
 #include "study/studies/report_number.hpp"
 #include "study/studies/study_output.hpp"

@@ -21,7 +21,7 @@
 #include "io/text_encoding.hpp"
 #include "io/output_target.hpp"
 #include "io/terrain_json.hpp"
-#include "study/runtime/calibration_mpi.hpp"
+#include "study/runtime/rank0_broadcast.hpp"
 #include "study/studies/calibration.hpp"
 #include "study/studies/study_output.hpp"
 #include "study/studies/summary_figure.hpp"

@@ -19,7 +19,7 @@
 #include "io/result_label.hpp"
 #include "io/scenario_config.hpp"
 #include "study/model/parameter_space.hpp"
-#include "study/runtime/calibration_mpi.hpp"
+#include "study/runtime/rank0_broadcast.hpp"
 #include "study/runtime/study_runner.hpp"
 #include "study/studies/calibration_fit.hpp"
 #include "study/studies/calibration_program.hpp"

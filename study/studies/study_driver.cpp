@@ -1,6 +1,6 @@
 // See study_driver.hpp.
 #include "study/studies/study_driver.hpp"
-#include "study/runtime/calibration_mpi.hpp"
+#include "study/runtime/rank0_broadcast.hpp"
 
 #include <algorithm>
 #include <cstdio>

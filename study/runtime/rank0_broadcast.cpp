@@ -1,5 +1,5 @@
-// See calibration_mpi.hpp.
-#include "study/runtime/calibration_mpi.hpp"
+// See rank0_broadcast.hpp.
+#include "study/runtime/rank0_broadcast.hpp"
 
 #include <mpi.h>
 

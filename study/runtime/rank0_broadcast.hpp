@@ -1,7 +1,9 @@
-// Broadcast of a result computed on rank 0 (the best point of a fit, the log
-// densities of an ensemble half-step) to every rank of MPI_COMM_WORLD, so that
-// all ranks can take part in the next collective task farm with the same
-// inputs. Without MPI initialised, or on one rank, a no-op.
+// Rank 0's word to every rank of MPI_COMM_WORLD: a result computed on rank 0
+// (the best point of a fit, the log densities of an ensemble half-step), so
+// that all ranks take part in the next collective task farm with the same
+// inputs; a verdict only rank 0 reaches (a refusal of the output path); and
+// whether every rank was given rank 0's study. Without MPI initialised, or
+// on one rank, each is a no-op.
 #pragma once
 
 #include <string>
