@@ -144,14 +144,25 @@ IntegratorSettings data_integrator(const IntegratorSettings& asked, const std::s
   return chosen.settings;
 }
 
+// A noise sd beyond this many times the curve's own travel is a unit mistake
+// (a sd in millimetres: 100 m of noise on an 8 cm drop), never data.
+constexpr double kMaxNoisePerTravel = 10.0;
+
 // A noise sd above the curve's own travel (5 cm of noise on a 3 cm drop: a
-// unit mistake, or data that say little of the model) is written, with a word.
-void warn_if_noise_hides_the_motion(double noise_m, const std::vector<double>& clean) {
+// unit mistake, or data that say little of the model) is written, with a
+// word; one beyond kMaxNoisePerTravel travels is refused, nothing written.
+void check_noise_against_the_motion(double noise_m, const std::vector<double>& clean) {
   if (clean.empty()) return;
   const auto [lowest, highest] = std::minmax_element(clean.begin(), clean.end());
-  if (!(noise_m > *highest - *lowest)) return;
+  const double travel = *highest - *lowest;
+  if (!(noise_m > travel)) return;
+  if (noise_m > kMaxNoisePerTravel * travel)
+    throw CommandLineError({"--noise " + number_text(noise_m) + " m is more than " + number_text(kMaxNoisePerTravel) +
+                            " times the curve's own travel (" + number_text(travel) +
+                            " m): the data would hold nothing of the model; give the noise sd in metres (a sd in "
+                            "millimetres?); nothing was written"});
   std::cerr << "synthesize: warning: --noise " << number_text(noise_m) << " m is larger than the curve's own travel ("
-            << number_text(*highest - *lowest) << " m): its data say little about the model; noise in millimetres?\n";
+            << number_text(travel) << " m): its data say little about the model; noise in millimetres?\n";
 }
 
 // The CSV's header comment: what made the curve, so it is never taken for
@@ -233,6 +244,7 @@ int run_synthesize(SynthesizeOptions o) {
     z.push_back(interpolate(tr.t, clean, td - o.offset_s) + (o.noise_m > 0 ? noise(engine) : 0.0));
   }
   // A curve that rover compare and calibrate would refuse is not written.
+  check_noise_against_the_motion(o.noise_m, clean);
   for (std::size_t k = 0; k < z.size(); ++k)
     if (!(std::abs(z[k]) < io::kMeasuredCurveMaxAbsHeight_m))
       throw CommandLineError({"--noise " + number_text(o.noise_m) + " m gives a height of " + number_text(z[k]) +
@@ -240,7 +252,6 @@ int run_synthesize(SynthesizeOptions o) {
                               number_text(io::kMeasuredCurveMaxAbsHeight_m) +
                               " m that rover compare and calibrate accept; give a noise sd in metres, far below "
                               "that; nothing was written"});
-  warn_if_noise_hides_the_motion(o.noise_m, clean);
   const std::string comment = provenance_comment(o, scenario_path, in, setup.scenario.integrator, channel, seed);
   if (!io::write_csv(o.out, {"t", "z"}, {t, z}, comment, outputs.stop()))
     outputs.interrupted_while("writing " + o.out);

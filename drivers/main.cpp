@@ -240,14 +240,14 @@ int run_reporting_errors(CLI::App& sub, const std::function<int()>& run, std::ve
 // Meets the other ranks on the way out (MpiSession::meet_on_exit); a rank
 // that refused (status 1) while they went on prints its `held` lines, named,
 // and ends the job.
-void leave_together(rover::study::MpiSession& mpi, int status, std::vector<std::string> held,
+void leave_together(rover::study::MpiSession& mpi, int status, bool early, std::vector<std::string> held,
                     const std::string& command) {
-  if (mpi.meet_on_exit(status == 1)) return;
-  held.push_back(command + ": error: the other ranks did not refuse and went on to the runs; ending the job");
+  if (mpi.meet_on_exit(early)) return;
+  held.push_back(command + ": error: the other ranks did not stop here and went on to the runs; ending the job");
   for (std::string& line : held) line = rank_label() + line;
   print_lines(held);
   std::cout.flush();
-  mpi.end_job(status);
+  mpi.end_job(status == 0 ? 1 : status);
 }
 
 // Runs `sub`; under mpirun a command that shares its runs (`shares_runs`)
@@ -260,32 +260,46 @@ int run_subcommand(CLI::App& sub, const std::function<int()>& run, bool shares_r
   try {
     if (shares_runs && launcher_size() > 1) mpi.emplace(nullptr, nullptr);
   } catch (const std::invalid_argument& e) {  // an environment MPI could not start with
-    report_input_problem({"rover " + sub.get_name() + ": error: " + e.what()});
+    // Said by every rank that has it: without MPI no rank can tell whether
+    // the others have it too (an environment set for one rank only).
+    report_error("rover " + sub.get_name() + ": error: ", e.what());
     return 1;
   }
   std::vector<std::string> held;
   const int status = run_reporting_errors(sub, run, held);
-  if (mpi) leave_together(*mpi, status, held, "rover " + sub.get_name());
+  if (mpi) leave_together(*mpi, status, status == 1, held, "rover " + sub.get_name());
   return status;
 }
 
-// A command line refused before any subcommand ran (exit status 1). Under
-// mpirun the ranks meet as run_subcommand's do, so that a rank refusing alone
-// (an MPMD launch that gave it other arguments) says why and ends the job,
-// while a refusal every rank shares is printed once, by rank 0.
-int refuse_command_line(const std::vector<std::string>& lines) {
-  std::vector<std::string> held;
-  report_input_problem(lines, &held);
-  if (launcher_size() <= 1) return 1;
+// Ends, with `status`, a command that stopped before any subcommand ran (a
+// refused command line, --help, --version). Under mpirun the ranks meet as
+// run_subcommand's do, so that a rank stopping alone (an MPMD launch that
+// gave it another command line) says why, with its `held` lines, and ends
+// the job, while a stop that every rank shares is reported once, by rank 0.
+int stop_before_subcommand(int status, const std::vector<std::string>& held) {
+  if (launcher_size() <= 1) return status;
   std::optional<rover::study::MpiSession> mpi;
   try {
     mpi.emplace(nullptr, nullptr);
-  } catch (const std::invalid_argument& e) {  // an environment MPI could not start with
-    report_input_problem({std::string("rover: error: ") + e.what()});
+  } catch (const std::invalid_argument& e) {  // an environment MPI could not start with (as above)
+    report_error("rover: error: ", e.what());
     return 1;
   }
-  leave_together(*mpi, 1, held, "rover");
-  return 1;
+  leave_together(*mpi, status, /*early=*/true, held, "rover");
+  return status;
+}
+
+// A command line refused before any subcommand ran: exit status 1.
+int refuse_command_line(const std::vector<std::string>& lines) {
+  std::vector<std::string> held;
+  report_input_problem(lines, &held);
+  return stop_before_subcommand(1, held);
+}
+
+// --help or --version: printed by rank 0 (or alone), exit status 0.
+int print_help(const CLI::App& app, const CLI::Success& request) {
+  if (launcher_rank() == 0) return stop_before_subcommand(app.exit(request), {});
+  return stop_before_subcommand(0, {"rover: error: this rank was given --help or --version and runs nothing"});
 }
 
 }  // namespace
@@ -329,7 +343,7 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {
-    return app.exit(e);  // --help, --version
+    return print_help(app, e);  // --help, --version
   } catch (const CLI::ParseError& e) {
     // Every refused command line exits 1, as a refused config file does
     // (CLI11's own codes, 101-115, are not documented), in rover's words.

@@ -321,6 +321,7 @@ MeasuredCurve read_measured_curve(const std::string& path) {
 std::string declared_channel(const std::string& path) {
   constexpr std::string_view kDeclaration = "z [m] = ";
   constexpr int kHeaderLinesRead = 32;  // the declaration stands in the leading comment block
+  if (!input_path_problem(path, "a CSV file").empty()) return "";  // its reader refuses it (a pipe: unread)
   std::ifstream in(path, std::ios::binary);
   std::string line;
   for (int k = 0; k < kHeaderLinesRead && std::getline(in, line); ++k) {

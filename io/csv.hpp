@@ -68,7 +68,8 @@ MeasuredCurve read_measured_curve(const std::string& path);
 
 // The channel a measured curve's header declares for its z column, as
 // `rover synthesize` writes it ("# Columns: t [s], z [m] = B_r_z, ..."), or
-// "" when the file declares none (a file from elsewhere, or not a CSV).
+// "" when the file declares none (a file from elsewhere, or not a CSV) or is
+// no regular file (which is not read: its reader refuses it).
 std::string declared_channel(const std::string& path);
 
 // The checks of read_measured_curve() on columns "t" and `value_column` of a

@@ -185,6 +185,8 @@ double simulated_curve_bound(const std::string& column) {
 }  // namespace
 
 Curve read_curve(const std::string& path, const std::string& column) {
+  if (const std::string problem = input_path_problem(path, "a curve file (CSV or HDF5)"); !problem.empty())
+    throw ConfigError(path + ": " + problem);
   Curve c;
   if (ends_with(path, ".csv")) {
     // Simulated trajectories have the column; measured drop data has t,z

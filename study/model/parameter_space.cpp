@@ -155,6 +155,12 @@ int preload_index_of(const std::string& canonical_name) {
 
 }  // namespace
 
+std::string run_setting_not_parameter(const std::string& canonical_name) {
+  if (canonical_name != "scenario.wall_time_budget") return "";
+  return "is the runs' wall-time limit, a setting of the computation and no property of the rover or the drop: "
+         "varying it varies no physics (only which runs are cut short), and no data can tell its value";
+}
+
 bool parameters_overlap(const std::string& a, const std::string& b) {
   if (a == b) return true;
   return (a == kPreloadScale && preload_index_of(b) >= 0) || (b == kPreloadScale && preload_index_of(a) >= 0);

@@ -55,6 +55,13 @@ class ParameterSpace {
 // The alias of a preload index 0..7: "M0_11", "M0_12", ..., "M0_42".
 std::string preload_alias(int index);
 
+// Why the canonical name is a setting of the runs and no property of the
+// rover or the scenario ("scenario.wall_time_budget", the wall-time limit of
+// a run), so that it cannot be an uncertain input of a study or a fitted
+// parameter: nothing it varies is physics (a design `evaluate` runs may still
+// set it per row). Empty for every other name.
+std::string run_setting_not_parameter(const std::string& canonical_name);
+
 // Whether the canonical names `a` and `b` set a common number of the rover:
 // the same name, or the preloads' common factor (M0_scale) and one of the
 // preloads it multiplies. Two such inputs of one run would make it depend on

@@ -32,7 +32,6 @@ namespace {
 
 constexpr const char* kTimeOffset = "time_offset";
 // The runs' wall-time limit: a scenario key, but no property a fit could tell.
-constexpr const char* kWallTimeBudget = "scenario.wall_time_budget";
 // A measured curve whose heights span less than this is constant.
 constexpr double kConstantCurveRange_m = 1e-9;
 // Data may end this share of the duration past the simulated end (rounding of
@@ -131,9 +130,8 @@ std::string canonical_fit_name(const io::JsonReader& r, const CalibrationOverrid
   } catch (const std::invalid_argument& e) {
     fail_on_fit(r, o, e.what());
   }
-  if (canonical == kWallTimeBudget)
-    fail_on_fit(r, o, "'" + name + "' is the runs' wall-time limit, not a property of the rover or the drop: the "
-                          "data cannot tell its value; fit a model parameter");
+  if (const std::string why = run_setting_not_parameter(canonical); !why.empty())
+    fail_on_fit(r, o, "'" + name + "' " + why + "; fit a model parameter");
   return canonical;
 }
 
@@ -687,13 +685,13 @@ void read_fit_options(const io::JsonReader& r, const CalibrationOverrides& o, Ca
 // The integrator of every run: the study's "integrator" (over the study
 // scenario's settings) or "accuracy", else the stiff one at its defaults.
 IntegratorSettings calibration_integrator(const io::JsonReader& r, CalibrationStudy& s) {
-  IntegratorSettings scenario_settings;
+  Scenario scenario;
   try {
-    scenario_settings = io::load_scenario(io::resolve_relative(r.file(), r.string("scenario"))).scenario.integrator;
+    scenario = io::load_scenario(io::resolve_relative(r.file(), r.string("scenario"))).scenario;
   } catch (const io::ConfigError& e) {
     r.fail("scenario", e.what());
   }
-  const std::optional<IntegratorSettings> chosen = study_integrator(r, scenario_settings, &s.accuracy_choice);
+  const std::optional<IntegratorSettings> chosen = study_integrator(r, scenario, &s.accuracy_choice);
   return chosen ? *chosen : default_integrator_settings(IntegratorMethod::kRosenbrockW);
 }
 

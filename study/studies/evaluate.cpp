@@ -60,8 +60,10 @@ std::string csv_quoted(const std::string& s) {
 }  // namespace
 
 DesignTable read_design_csv(const std::string& path, const std::function<void(const DesignTable&)>& check_columns) {
+  if (const std::string problem = io::input_path_problem(path, "a design file (CSV)"); !problem.empty())
+    throw io::ConfigError(path + ": " + problem);
   std::ifstream in(path, std::ios::binary);
-  if (!in || std::filesystem::is_directory(path)) throw io::ConfigError(path + ": cannot read the design file");
+  if (!in) throw io::ConfigError(path + ": cannot read the design file");
   DesignTable table;
   table.path = path;
   std::string line;
@@ -222,8 +224,16 @@ EvaluateStudy load_evaluate(const EvaluateRequest& request) {
   std::vector<Channel> channels;
   for (const std::string& c : request.channel_names) channels.push_back(channel_from_name(c));
   std::optional<IntegratorSettings> integrator;
-  if (!request.integrator.empty())
+  if (!request.integrator.empty()) {
     integrator = default_integrator_settings(integrator_from_name(request.integrator));
+    Scenario with = io::build_scenario(sources).scenario;
+    with.integrator = *integrator;
+    if (std::string why; !scenario_is_valid(with, &why))
+      throw std::invalid_argument("--integrator " + request.integrator + " at its default settings: " + why + " (" +
+                                  request.scenario_path + ": duration " + number_text(with.duration_s) +
+                                  " s, output rate " + number_text(with.output_rate_hz) +
+                                  " Hz); give the scenario an \"integrator\" block instead");
+  }
   s.fingerprint = evaluate_fingerprint(request, sources);
   s.files.add(request.design_path, "--design");
   s.files.add(request.scenario_path, "--scenario");

@@ -231,6 +231,14 @@ void write_pce_fixed_by_selection(io::Hdf5Writer& h5, const std::string& group, 
   h5.write(group + "ST_fixed_by_selection", flags(intervals.fixed_by_selection.ST));
 }
 
+bool pce_indices_not_to_trust(const PceSensitivityResult& result) {
+  return std::any_of(result.qoi.begin(), result.qoi.end(), [](const PceQoiResult& q) {
+    if (!q.fit_done) return false;  // a non-finite QoI: undefined, and said so
+    if (!q.indices.defined) return !q.expansion.constant_output;
+    return !worse_than_the_mean(q.name, q.expansion.validation).empty();
+  });
+}
+
 std::string pce_interval_text(const Eigen::VectorXd& lower, const Eigen::VectorXd& upper,
                               const std::vector<bool>& fixed, Eigen::Index i) {
   if (fixed[static_cast<std::size_t>(i)]) return kFixedBySelectionText;
@@ -386,6 +394,9 @@ PceSensitivityResult analyse_pce_sensitivity(const StudySpec& spec, const PceSen
   for (const PceQoiResult& q : out.qoi) {
     if (!q.indices.defined) out.warnings.push_back(q.name + ": indices undefined: " + q.undefined_reason);
     else if (!q.expansion.validation.warning.empty()) out.warnings.push_back(q.expansion.validation.warning);
+    if (const std::string worse = q.indices.defined ? worse_than_the_mean(q.name, q.expansion.validation) : "";
+        !worse.empty())
+      out.warnings.push_back(worse + " (exit status 2)");
     if (q.has_intervals)
       if (const std::string w = pce_fixed_by_selection_warning(q.name, q.intervals, input_labels(spec),
                                                                 q.expansion.validation.q2_loo,

@@ -113,6 +113,11 @@ std::string pce_fixed_by_selection_warning(const std::string& qoi, const PceSobo
                                            const std::vector<std::string>& labels, double q2_loo,
                                            double q2_threshold);
 
+// Whether some QoI's indices come from an expansion that predicts worse than
+// the mean of its runs (worse_than_the_mean), or are undefined although the
+// QoI varies (no term beyond the constant was selected): the warnings say so.
+bool pce_indices_not_to_trust(const PceSensitivityResult& result);
+
 // One channel's curve PCE and indices along time from the successful runs
 // (x_ok rows) and their curves (runs x time samples). Never throws: the
 // result says why the indices are undefined.

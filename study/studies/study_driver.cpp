@@ -105,6 +105,15 @@ void check_resumable(const std::string& results_path, const std::string& fingerp
   }
 }
 
+// What every rank of one study must have been given alike: the study (its
+// fingerprint: the files and the settings of its runs) and the flags that
+// decide where and whether it runs.
+std::string rank_agreement_text(const std::string& fingerprint, const StudyRunOptions& options) {
+  return fingerprint + "\n--out " + options.results_path + (options.resume ? "\n--resume" : "") +
+         (options.restart ? "\n--restart" : "") + (options.dry_run ? "\n--dry-run" : "") + "\n--plots " +
+         std::to_string(static_cast<int>(options.plots));
+}
+
 // The result file's path, checked (see prepare) on this process.
 std::string checked_output(const std::string& name, const std::string& fingerprint, bool csv_allowed,
                            const io::InputFiles& inputs, const std::vector<PlannedFigure>& figures,
@@ -154,10 +163,12 @@ StudyRunOptions prepare(const std::string& command, const std::string& name, con
     throw std::invalid_argument(refusal.empty() ? "refused on rank 0 (which says why)" : refusal);
   // Ranks started with other study files, flags or inputs (an MPMD launch)
   // would each run their own study into one result.
-  if (differs_from_rank0_anywhere(fingerprint))
-    throw std::invalid_argument("the ranks were not all given the same study: another rank's study file, flags or "
-                                "input files differ from rank 0's (launched with other command lines?), and their "
-                                "runs would be mixed into one result; give every rank the same command");
+  if (differs_from_rank0_anywhere(rank_agreement_text(fingerprint, options)))
+    throw std::invalid_argument("the ranks were not all given the same study: another rank's study file, flags "
+                                "(--out, --resume, --restart, --dry-run and --plots among them) or input files "
+                                "differ from rank 0's (launched with other command lines?), and the ranks would "
+                                "run different studies into one result, or wait for each other forever; give "
+                                "every rank the same command");
   options.results_path = results_path;
   if (memory.bytes > 0.0) require_memory(memory.what, memory.bytes);
   options.label = command;

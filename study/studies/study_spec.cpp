@@ -319,6 +319,8 @@ std::vector<UncertainInput> parse_rover_parameters_block(const io::JsonReader& r
     } catch (const std::invalid_argument& e) {
       params.fail(label, e.what());
     }
+    if (const std::string why = run_setting_not_parameter(name); !why.empty())
+      params.fail(label, why + "; study a model parameter");
     const double nominal = space.nominal(name);
     Distribution d;
     if (from_config) {
@@ -626,7 +628,16 @@ std::string study_file_run_text(const io::Json& study) {
   return runs.dump();
 }
 
-std::optional<IntegratorSettings> study_integrator(const io::JsonReader& r, const IntegratorSettings& base,
+void refuse_integrator_the_scenario_refuses(const io::JsonReader& r, const std::string& field,
+                                            const Scenario& scenario, const IntegratorSettings& integrator) {
+  Scenario with = scenario;
+  with.integrator = integrator;
+  if (std::string why; !scenario_is_valid(with, &why))
+    r.fail(field, why + " (the scenario's duration " + number_text(scenario.duration_s) + " s, output rate " +
+                      number_text(scenario.output_rate_hz) + " Hz)");
+}
+
+std::optional<IntegratorSettings> study_integrator(const io::JsonReader& r, const Scenario& scenario,
                                                    std::string* choice) {
   if (r.has("integrator") && r.has("accuracy"))
     r.fail("accuracy", "give either \"accuracy\" or \"integrator\", not both");
@@ -635,19 +646,22 @@ std::optional<IntegratorSettings> study_integrator(const io::JsonReader& r, cons
     // method's defaults for whatever the block leaves out. One without a
     // method adjusts the scenario's.
     const io::JsonReader block = r.child("integrator");
-    IntegratorSettings start = base;
+    IntegratorSettings start = scenario.integrator;
     if (block.has("method")) {
       try {
         start = default_integrator_settings(integrator_from_name(block.string("method")));
       } catch (const std::invalid_argument&) {  // named with its field by the parse below
       }
     }
-    return io::parse_integrator_settings(block, start);
+    const IntegratorSettings settings = io::parse_integrator_settings(block, start);
+    refuse_integrator_the_scenario_refuses(r, "integrator", scenario, settings);
+    return settings;
   }
   if (!r.has("accuracy")) return std::nullopt;
   try {
     const IntegratorChoice chosen = integrator_for_accuracy(r.number("accuracy"));
     if (choice != nullptr) *choice = chosen.description;
+    refuse_integrator_the_scenario_refuses(r, "accuracy", scenario, chosen.settings);
     return chosen.settings;
   } catch (const std::invalid_argument& e) {
     r.fail("accuracy", e.what());
@@ -701,18 +715,15 @@ StudySpec parse_study_spec(const io::JsonReader& r, const std::vector<std::strin
   } else {
     const std::string scenario = io::resolve_relative(s.path, r.string("scenario"));
     io::ScenarioSources sources;
-    IntegratorSettings scenario_integrator;
-    double duration_s = 0.0, output_rate_hz = 0.0;
+    Scenario nominal_scenario;
     try {
       sources = io::read_scenario_sources(scenario);
-      const io::ScenarioSetup nominal = io::build_scenario(sources);
-      scenario_integrator = nominal.scenario.integrator;
-      duration_s = nominal.scenario.duration_s;
-      output_rate_hz = nominal.scenario.output_rate_hz;
+      nominal_scenario = io::build_scenario(sources).scenario;
     } catch (const io::ConfigError& e) {
       r.fail("scenario", e.what());
     }
-    const std::optional<IntegratorSettings> integrator = study_integrator(r, scenario_integrator, &s.accuracy_choice);
+    const double duration_s = nominal_scenario.duration_s, output_rate_hz = nominal_scenario.output_rate_hz;
+    const std::optional<IntegratorSettings> integrator = study_integrator(r, nominal_scenario, &s.accuracy_choice);
     qois = parse_qois(r, s.path);
     refuse_references_beside_the_run(r, qois, scenario, duration_s);
     if (std::string coarse = coarse_recording_warning(qois, output_rate_hz); !coarse.empty())

@@ -37,14 +37,20 @@ struct DesignSpec {
   std::vector<int> grid_levels;  // per input (1 for fixed ones), grid only
 };
 
-// The study's integrator: its "integrator" block (applied to the defaults of
-// the method it names, else to `base`, the scenario's settings), or the
-// setting integrator_for_accuracy (core/accuracy_choice.hpp) chooses for its
-// "accuracy" [m], in (1e-12, 1e-2); std::nullopt when it gives neither. Both
-// at once, or an accuracy outside the range, is a ConfigError naming the
-// field. `choice` (if not null) receives the chosen setting's description.
-std::optional<IntegratorSettings> study_integrator(const io::JsonReader& reader, const IntegratorSettings& base,
+// The study's integrator for runs of `scenario`: its "integrator" block
+// (applied to the defaults of the method it names, else to the scenario's
+// settings), or the setting integrator_for_accuracy (core/accuracy_choice.hpp)
+// chooses for its "accuracy" [m], in (1e-12, 1e-2); std::nullopt when it
+// gives neither. Both at once, an accuracy outside the range, or settings the
+// scenario cannot run with (an rk4 step that does not divide its output
+// period) is a ConfigError naming the field. `choice` (if not null) receives
+// the chosen setting's description.
+std::optional<IntegratorSettings> study_integrator(const io::JsonReader& reader, const Scenario& scenario,
                                                    std::string* choice = nullptr);
+// Refuses, naming `field`, integrator settings `scenario` cannot run with
+// (scenario_is_valid with them in place of its own).
+void refuse_integrator_the_scenario_refuses(const io::JsonReader& reader, const std::string& field,
+                                            const Scenario& scenario, const IntegratorSettings& integrator);
 
 // What names a study file: its path, "type", "name" and "description".
 struct StudyIdentity {

@@ -296,8 +296,10 @@ SurfaceStudy load_surface_study(const std::string& path) {
   } catch (const io::ConfigError& e) {
     r.fail("scenario", e.what());
   }
-  if (r.has("integrator"))
+  if (r.has("integrator")) {
     s.integrator = io::parse_integrator_settings(r.child("integrator"), nominal.scenario.integrator);
+    refuse_integrator_the_scenario_refuses(r, "integrator", nominal.scenario, *s.integrator);
+  }
   bool f_log = false, c_q_log = false;
   s.f = parse_axis(r, "f", &f_log);
   s.c_q = parse_axis(r, "c_q", &c_q_log);

@@ -2,6 +2,7 @@
 #include "study/surrogate/surrogate_validation.hpp"
 
 #include <cmath>
+#include <iomanip>
 #include <sstream>
 #include <stdexcept>
 
@@ -26,6 +27,21 @@ void score_held_out(const Eigen::VectorXd& observed, const Eigen::VectorXd& pred
   validation->test_points = static_cast<int>(observed.size());
   validation->rmse_test = std::sqrt(sse / static_cast<double>(observed.size()));
   validation->q2_test = observed.size() >= kMinHeldOutRuns && sst > 0.0 ? 1.0 - sse / sst : std::nan("");
+}
+
+std::string worse_than_the_mean(const std::string& output_name, const SurrogateValidation& v) {
+  const auto shown = [](double q2) {
+    std::ostringstream text;
+    text << std::setprecision(3) << q2;
+    return text.str();
+  };
+  std::string q2;
+  if (v.q2_loo < 0.0) q2 = "leave-one-out Q2 " + shown(v.q2_loo);
+  if (v.test_points > 0 && std::isfinite(v.q2_test) && v.q2_test < 0.0)
+    q2 += (q2.empty() ? "" : ", ") + std::string("held-out Q2 ") + shown(v.q2_test);
+  if (q2.empty()) return "";
+  return "the surrogate of '" + output_name + "' predicts worse than the mean of its runs (" + q2 +
+         " < 0): its predictions and indices are not to be trusted";
 }
 
 std::string held_out_q2_undefined_reason(const SurrogateValidation& v) {

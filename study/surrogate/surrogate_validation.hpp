@@ -31,6 +31,12 @@ struct SurrogateValidation {
 void score_held_out(const Eigen::VectorXd& observed, const Eigen::VectorXd& predicted,
                     SurrogateValidation* validation);
 
+// Why the surrogate predicts worse than the mean of the values it is scored
+// on (a leave-one-out or defined held-out Q^2 below 0), naming `output_name`
+// and the Q^2; "" when it does not. Such a surrogate, and indices from it,
+// are results not to be trusted.
+std::string worse_than_the_mean(const std::string& output_name, const SurrogateValidation& v);
+
 // Why the held-out Q^2 is undefined ("" when it is defined or there are no
 // held-out runs).
 std::string held_out_q2_undefined_reason(const SurrogateValidation& v);

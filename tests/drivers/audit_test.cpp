@@ -85,10 +85,12 @@ struct Outcome {
 
 // An MPMD launch, `mpirun -np 1 rover <rank0> : -np 1 rover <rank1>`, ended
 // after 120 s (status 124); stderr joins stdout.
-Outcome mpmd_launch(const std::string& rank0, const std::string& rank1) {
+// `rank1_environment` ("NAME=value"), if given, is set for rank 1 only.
+Outcome mpmd_launch(const std::string& rank0, const std::string& rank1, const std::string& rank1_environment = "") {
   Outcome o;
   o.status = run_command("timeout 120 " + testing::mpiexec() + " -np 1 " + rover_binary() + " " + rank0 + " : -np 1 " +
-                             rover_binary() + " " + rank1 + " 2>&1",
+                             (rank1_environment.empty() ? "" : "env " + rank1_environment + " ") + rover_binary() +
+                             " " + rank1 + " 2>&1",
                          &o.output);
   return o;
 }
@@ -1993,7 +1995,13 @@ TEST_F(Audit, ThirdAuditRefusedUpFront) {
                    "synthesize --scenario " + w().quick() + " --offset 1 --out " + late, Want::kError,
                    {"--offset 1 s", "leaves 0 data point(s) at or after the release"}, nothing_at(late)});
   cases.push_back({"synthesize: noise of 1000 km", "synthesize --scenario " + w().quick() + " --noise 1e6 --out " + noisy,
-                   Want::kError, {"--noise 1000000 m", "|z| < 1000 m"}, nothing_at(noisy)});
+                   Want::kError, {"--noise 1000000 m is more than 10 times the curve's own travel"},
+                   nothing_at(noisy)});
+  const std::string noise_in_mm = w().out("csv");
+  cases.push_back({"synthesize: 100 m of noise on a 1 cm fall (a sd in millimetres)",
+                   "synthesize --scenario " + w().quick() + " --noise 100 --out " + noise_in_mm, Want::kError,
+                   {"--noise 100 m is more than 10 times", "in millimetres?", "nothing was written"},
+                   nothing_at(noise_in_mm)});
   // A path ending in '/' names a directory: refused, and none is made.
   for (const auto& [command, args] : std::vector<std::pair<std::string, std::string>>{
            {"simulate", "simulate --no-plot --scenario " + w().quick() + " --out "},
@@ -5649,7 +5657,7 @@ TEST_F(Audit, TwoRanksMakeAMissingOutputDirectoryTogether) {
             1)
       << output;
   EXPECT_NE(output.find("cannot create the directory '/proc/rover_no_such_dir'"), std::string::npos) << output;
-  EXPECT_EQ(output.find("the other ranks did not refuse"), std::string::npos) << output;
+  EXPECT_EQ(output.find("the other ranks did not stop here"), std::string::npos) << output;
 }
 
 // A Morris design blind to an effect periodic in half the range, the sd of
@@ -5763,14 +5771,23 @@ TEST_F(Audit, ARefusalOfOneRankEndsTheWholeJob) {
         Launch{args("calibrate", bad_fit), args("calibrate", good_fit), "outside bounds.c_q"},
         Launch{args("montecarlo", good), args("montecarlo", good) + " --integrator rk4", "(rank 1)"},
         Launch{args("montecarlo", good) + " --integrator rk4", args("montecarlo", good), "--integrator"},
-        Launch{args("montecarlo", good), "montecarl --study " + good, "unknown subcommand 'montecarl'"}}) {
+        Launch{args("montecarlo", good), "montecarl --study " + good, "unknown subcommand 'montecarl'"},
+        Launch{args("montecarlo", good), args("montecarlo", good) + " --help", "was given --help"},
+        Launch{args("montecarlo", good) + " --help", args("montecarlo", good), "Usage:"}}) {
     const Outcome o = mpmd_launch(launch.rank0, launch.rank1);
     EXPECT_NE(o.status, 0) << o.output;
     EXPECT_NE(o.status, 124) << "the job hung:\n" << o.output;
     EXPECT_NE(o.output.find(launch.reason), std::string::npos) << o.output;
-    EXPECT_NE(o.output.find("the other ranks did not refuse"), std::string::npos) << o.output;
+    EXPECT_NE(o.output.find("the other ranks did not stop here"), std::string::npos) << o.output;
     EXPECT_FALSE(std::filesystem::exists(out)) << o.output;
   }
+  // An environment MPI cannot start with, on rank 1 only: that rank says so.
+  const Outcome o = mpmd_launch(args("montecarlo", good), args("montecarlo", good),
+                                "OMPI_MCA_btl_vader_eager_limit=abc");
+  EXPECT_EQ(o.status, 1) << o.output;
+  EXPECT_NE(o.output.find("error: (rank 1) the environment variable OMPI_MCA_btl_vader_eager_limit='abc'"),
+            std::string::npos) << o.output;
+  EXPECT_FALSE(std::filesystem::exists(out)) << o.output;
 }
 
 // Output paths holding a control character (typed by a slip of the shell's
@@ -5968,16 +5985,131 @@ TEST_F(Audit, RanksGivenOtherStudiesRefuseTogether) {
   struct Launch {
     std::string rank0, rank1;
   };
+  const std::string out = w().out("h5"), other_out = w().out("h5");
+  // Another study, seed or size; another --out; or flags that decide whether
+  // and how it runs: --dry-run on one rank left the other waiting forever.
   for (const Launch& launch : {Launch{"--study " + mc, "--study " + mc_more},
                                Launch{"--study " + mc + " --seed 3", "--study " + mc + " --seed 4"},
-                               Launch{"--study " + mc, "--study " + mc + " --samples 6"}}) {
-    const std::string out = w().out("h5");
+                               Launch{"--study " + mc, "--study " + mc + " --samples 6"},
+                               Launch{"--study " + mc, "--study " + mc + " --dry-run"},
+                               Launch{"--study " + mc + " --dry-run", "--study " + mc},
+                               Launch{"--study " + mc, "--study " + mc + " --restart"}}) {
     const auto rank = [&](const std::string& flags) { return "montecarlo --no-plot --out " + out + " " + flags; };
     const Outcome o = mpmd_launch(rank(launch.rank0), rank(launch.rank1));
     EXPECT_EQ(o.status, 1) << o.output;
     EXPECT_NE(o.output.find("not all given the same study"), std::string::npos) << o.output;
     EXPECT_FALSE(std::filesystem::exists(out)) << o.output;
   }
+  const Outcome o = mpmd_launch("montecarlo --no-plot --study " + mc + " --out " + out,
+                                "montecarlo --no-plot --study " + mc + " --out " + other_out);
+  EXPECT_EQ(o.status, 1) << o.output;
+  EXPECT_NE(o.output.find("not all given the same study"), std::string::npos) << o.output;
+  EXPECT_FALSE(std::filesystem::exists(out) || std::filesystem::exists(other_out)) << o.output;
+}
+
+// Settings no run can use, found before the runs (and by --dry-run): an
+// rk4 step that does not divide the scenario's output period, given by a
+// study's "integrator", and the runs' wall-time limit as an uncertain input.
+TEST_F(Audit, SettingsNoRunCanUseAreRefusedBeforeTheRuns) {
+  const Json rk4_off_period = {{"method", "rk4"}, {"fixed_step", 0.0015}};  // the quick drop records every 5 ms
+  const std::vector<std::string> off_period = {"'integrator'", "rk4: fixed_step 0.0015 s does not divide the output "
+                                               "period 0.005 s", "output rate 200 Hz"};
+  std::vector<Case> cases;
+  cases.push_back({"montecarlo with an rk4 step off the output period",
+                   study("montecarlo", w().montecarlo([&](Json& j) { j["integrator"] = rk4_off_period; })) +
+                       " --dry-run",
+                   Want::kError, off_period});
+  cases.push_back({"calibration with an rk4 step off the output period",
+                   study("calibrate", w().calibration([&](Json& j) { j["integrator"] = rk4_off_period; })) +
+                       " --dry-run",
+                   Want::kError, off_period});
+  cases.push_back({"surface with an rk4 step off the output period",
+                   study("surface", w().surface([&](Json& j) { j["integrator"] = rk4_off_period; })) + " --dry-run",
+                   Want::kError, off_period});
+  cases.push_back({"montecarlo with an rk4 step on the output period",
+                   study("montecarlo", w().montecarlo([&](Json& j) {
+                     j["integrator"] = {{"method", "rk4"}, {"fixed_step", 0.001}};
+                   })) + " --dry-run",
+                   Want::kRuns, {"dry run"}});
+  const Json budget = {{"distribution", "uniform"}, {"min", 10.0}, {"max", 100.0}};
+  cases.push_back({"montecarlo over the wall-time limit",
+                   study("montecarlo", w().montecarlo([&](Json& j) {
+                     j["parameters"]["scenario.wall_time_budget"] = budget;
+                   })) + " --dry-run",
+                   Want::kError, {"'parameters.scenario.wall_time_budget'", "wall-time limit", "no physics"}});
+  cases.push_back({"Sobol' indices of the wall-time limit",
+                   study("sensitivity", w().json_file("sens", Json{
+                       {"type", "sensitivity"}, {"method", "sobol"}, {"name", "s"}, {"scenario", w().quick()},
+                       {"parameters", {{"c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.2}}},
+                                       {"scenario.wall_time_budget", budget}}},
+                       {"design", {{"type", "sobol"}, {"samples", 8}, {"seed", 1}}},
+                       {"qoi", {"t_min"}}})) + " --dry-run",
+                   Want::kError, {"'parameters.scenario.wall_time_budget'", "wall-time limit"}});
+  // --integrator rk4 takes rk4's default step, 1e-5 s: no divisor of 1/300 s.
+  cases.push_back({"evaluate --integrator rk4 at 300 Hz",
+                   "evaluate --scenario " + w().scenario([](Json& j) { j["output_rate"] = 300; }) +
+                       " --qoi t_min --out " + w().out("csv") + " --integrator rk4 --design " +
+                       w().text_file("design", "c_q\n0.1\n", "csv"),
+                   Want::kError, {"--integrator rk4 at its default settings", "does not divide the output period"}});
+  run_table(w().dir(), cases);
+}
+
+// Inputs that are no regular file (a pipe nothing writes to, an endless
+// device) are refused before they are opened, as every other input is: a
+// design, a compared curve, or a design to predict at.
+TEST_F(Audit, DesignsAndCurvesThatAreNoFileAreRefused) {
+  const std::string pipe = w().dir() + "/pipe.csv";
+  ASSERT_EQ(::mkfifo(pipe.c_str(), 0600), 0);
+  const std::string data = source_path("configs/data/drop_horizontal_synthetic.csv");
+  const std::string evaluate = "evaluate --scenario " + w().quick() + " --qoi t_min --out " + w().out("csv");
+  std::vector<Case> cases;
+  cases.push_back({"evaluate --design a pipe", evaluate + " --design " + pipe, Want::kError,
+                   {pipe + ": is a pipe, not a design file"}});
+  cases.push_back({"evaluate --design /dev/zero", evaluate + " --design /dev/zero", Want::kError,
+                   {"/dev/zero: is a device"}});
+  cases.push_back({"compare a pipe with data", "compare " + pipe + " " + data, Want::kError,
+                   {pipe + ": is a pipe, not a curve file"}});
+  cases.push_back({"compare data with a pipe", "compare " + data + " " + pipe, Want::kError,
+                   {pipe + ": is a pipe"}});
+  cases.push_back({"compare /dev/zero with data", "compare /dev/zero " + data, Want::kError,
+                   {"/dev/zero: is a device"}});
+  run_table(w().dir(), cases);
+}
+
+// Indices and surrogates that predict worse than the mean of their runs
+// (Q2 < 0), or no indices for want of runs, are results not to be trusted:
+// status 2, and said so; so is a prediction from such a model.
+TEST_F(Audit, SurrogatesWorseThanTheMeanAreNotToBeTrusted) {
+  const std::string ishigami = source_path("configs/studies/pce_ishigami.json");
+  std::vector<Case> cases;
+  cases.push_back({"PCE indices of Ishigami from 15 runs (Q2_LOO -0.30)",
+                   "sensitivity --no-plot --study " + ishigami + " --samples 15 --out " + w().out(), Want::kAllFailed,
+                   {"predicts worse than the mean of its runs (leave-one-out Q2 -0.303 < 0)", "exit status 2"}});
+  cases.push_back({"PCE of Ishigami from 17 runs: no term beyond the constant",
+                   "sensitivity --no-plot --study " + ishigami + " --samples 17 --out " + w().out(), Want::kAllFailed,
+                   {"the QoI varies over the 17 runs", "selected no term beyond the constant"}});
+  cases.push_back({"PCE indices of Ishigami from 100 runs", "sensitivity --no-plot --study " + ishigami +
+                                                                " --samples 100 --out " + w().out(),
+                   Want::kRuns, {}, {}, {}, {"worse than the mean"}});
+  run_table(w().dir(), cases);
+  // A surrogate of Ishigami on 15 runs, and a prediction from it.
+  const std::string model = w().out();
+  const Json surrogate{{"type", "surrogate"}, {"name", "p"}, {"surrogate", "pce"}, {"model", "ishigami"},
+                       {"design", {{"type", "lhs"}, {"samples", 15}, {"seed", 1}}},
+                       {"pce", {{"max_degree", 14}, {"bootstrap", 0}}}};
+  Outcome o;
+  o.status = run_command(rover_binary() + " " + study_args("surrogate", w().json_file("surrogate", surrogate), model) +
+                             " 2>&1",
+                         &o.output);
+  EXPECT_EQ(o.status, 2) << o.output;
+  EXPECT_NE(o.output.find("predicts worse than the mean"), std::string::npos) << o.output;
+  const std::string design = w().text_file("points", "x1,x2,x3\n0.1,0.2,0.3\n", "csv");
+  o.status = run_command(rover_binary() + " surrogate --predict " + model + " --design " + design + " --csv " +
+                             w().out("csv") + " 2>&1",
+                         &o.output);
+  EXPECT_EQ(o.status, 2) << o.output;
+  EXPECT_NE(o.output.find("WARNING: the surrogate of 'y' predicts worse than the mean"), std::string::npos)
+      << o.output;
 }
 
 }  // namespace
