@@ -81,6 +81,11 @@ struct FitParameter {
   Distribution prior;  // mcmc: its prior (default uniform on [lower, upper])
 };
 
+// The prior as the posterior uses it: its description, and the bounds it is
+// truncated to where its support reaches beyond them ("normal(mean 0.25,
+// sd 5), truncated to the bounds [0.02, 1]").
+std::string prior_within_bounds(const FitParameter& p);
+
 // The coordinates a fit searches in: log10 for a log-scale parameter.
 inline double fit_internal(const FitParameter& p, double value) { return p.log_scale ? std::log10(value) : value; }
 inline double fit_natural(const FitParameter& p, double x) { return p.log_scale ? std::pow(10.0, x) : x; }

@@ -81,8 +81,7 @@ void write_calibration_posterior(const CalibrationPosterior& posterior, const Ca
   h5.attribute("/posterior", "noise_sd", s.mcmc.sample_noise ? "sampled: " + s.mcmc.noise_prior.describe()
                                                                : "known: " + format_number(s.mcmc.known_noise_sd_m, 6) + " m");
   for (const FitParameter& f : s.fit)
-    h5.attribute("/posterior", "prior_" + f.name,
-                 f.prior.describe() + " truncated to [" + format_number(f.lower, 6) + ", " + format_number(f.upper, 6) + "]");
+    h5.attribute("/posterior", "prior_" + f.name, prior_within_bounds(f));
   write_diagnostics(posterior, s.mcmc, h5);
   write_predictive(posterior, s, h5);
   h5.attribute("/", "data_file", s.data_path);

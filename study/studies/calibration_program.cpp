@@ -43,7 +43,7 @@ std::string fit_banner(const CalibrationStudy& s) {
 std::string posterior_banner(const CalibrationStudy& s) {
   std::ostringstream text;
   text << "sampling the posterior of";
-  for (const FitParameter& p : s.fit) text << " " << p.name << " ~ " << p.prior.describe();
+  for (const FitParameter& p : s.fit) text << " " << p.name << " ~ " << prior_within_bounds(p);
   text << (s.mcmc.sample_noise ? " and the noise sd" : "") << " given " << s.data_path << " ("
        << s.datasets.size() << " curve(s)): "
        << (s.mcmc.sampler == McmcSampler::independence ? "independence sampler, " : "ensemble sampler, ")

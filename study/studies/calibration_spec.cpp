@@ -295,6 +295,12 @@ std::vector<std::size_t> CalibrationStudy::simulated() const {
   return out;
 }
 
+std::string prior_within_bounds(const FitParameter& p) {
+  const std::string prior = p.prior.describe();
+  if (p.prior.support_lower() >= p.lower && p.prior.support_upper() <= p.upper) return prior;
+  return prior + ", truncated to the bounds [" + format_number(p.lower, 6) + ", " + format_number(p.upper, 6) + "]";
+}
+
 std::vector<double> CalibrationStudy::initial_values() const {
   std::vector<double> values;
   for (const FitParameter& f : fit) values.push_back(f.initial);

@@ -4683,6 +4683,13 @@ TEST_F(Audit, PriorsStartsCopiesAndSeparatorsOfCalibrationInputs) {
   });
   cases.push_back({"a prior whose support leaves out the nominal c_q", study("calibrate", default_start) + " --dry-run",
                    Want::kError, {"'priors.c_q'", "the default start 0.14", "initial.c_q"}});
+  // A prior wider than the bounds is truncated to them, and said so.
+  const std::string wide = w().calibration([&](Json& j) {
+    j["method"] = "mcmc";
+    j["priors"] = {{"c_q", {{"distribution", "normal"}, {"mean", 0.25}, {"sd", 5.0}}}};
+  });
+  cases.push_back({"a prior wider than the bounds", study("calibrate", wide) + " --dry-run", Want::kRuns,
+                   {"c_q ~ normal(mean 0.25, sd 5), truncated to the bounds [0.02, 1]"}});
   const std::string noise_from_0 = w().calibration([&](Json& j) {
     j["method"] = "mcmc";
     j["mcmc"] = {{"noise_sd", {{"distribution", "uniform"}, {"min", 0}, {"max", 1e-3}}}};
