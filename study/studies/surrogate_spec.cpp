@@ -49,7 +49,8 @@ void check_channels(const io::JsonReader& r, const SurrogateStudy& s) {
 // (an evaluate CSV, say).
 std::string existing_file(const io::JsonReader& r, const std::string& study_path, const std::string& holds) {
   const std::string file = io::resolve_relative(study_path, r.string("file"));
-  if (!std::filesystem::is_regular_file(file)) r.fail("file", "no such result file: " + file);
+  if (const std::string problem = io::input_path_problem(file, "a result file"); !problem.empty())
+    r.fail("file", file + ": " + problem);
   if (!io::is_hdf5_file(file))
     r.fail("file", file + " is not an HDF5 file; give the .h5 result of " + holds +
                        " (a CSV keeps no input names or provenance)");

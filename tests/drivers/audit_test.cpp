@@ -6080,6 +6080,15 @@ TEST_F(Audit, DesignsAndCurvesThatAreNoFileAreRefused) {
                    {pipe + ": is a pipe"}});
   cases.push_back({"compare /dev/zero with data", "compare /dev/zero " + data, Want::kError,
                    {"/dev/zero: is a device"}});
+  const auto trained_on = [&](const std::string& file) {
+    return study("surrogate", w().json_file("surrogate", Json{{"type", "surrogate"}, {"name", "p"},
+                                                             {"surrogate", "pce"}, {"model", "ishigami"},
+                                                             {"training", {{"file", file}}}}));
+  };
+  cases.push_back({"a surrogate trained on a pipe", trained_on(pipe), Want::kError,
+                   {"'training.file'", pipe + ": is a pipe"}});
+  cases.push_back({"a surrogate trained on no file", trained_on(w().dir() + "/none.h5"), Want::kError,
+                   {"'training.file'", "none.h5: no such file"}});
   run_table(w().dir(), cases);
 }
 
