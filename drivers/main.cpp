@@ -238,8 +238,8 @@ int run_reporting_errors(CLI::App& sub, const std::function<int()>& run, std::ve
 }
 
 // Meets the other ranks on the way out (MpiSession::meet_on_exit); a rank
-// that refused (status 1) while they went on prints its `held` lines, named,
-// and ends the job.
+// that stopped `early` (it refused, or was given --help) while they went on
+// prints its `held` lines, named, and ends the job.
 void leave_together(rover::study::MpiSession& mpi, int status, bool early, std::vector<std::string> held,
                     const std::string& command) {
   if (mpi.meet_on_exit(early)) return;

@@ -211,6 +211,16 @@ std::string evaluate_fingerprint(const EvaluateRequest& request, const io::Scena
                       "the scenario");
 }
 
+// --integrator's method at its default settings, which the scenario (with
+// them in place, as `scenario` has) must be able to run with.
+void refuse_flag_integrator_the_scenario_refuses(const EvaluateRequest& request, const Scenario& scenario) {
+  if (std::string why; !scenario_is_valid(scenario, &why))
+    throw std::invalid_argument("--integrator " + request.integrator + " at its default settings: " + why + " (" +
+                                request.scenario_path + ": duration " + number_text(scenario.duration_s) +
+                                " s, output rate " + number_text(scenario.output_rate_hz) +
+                                " Hz); give the scenario an \"integrator\" block instead");
+}
+
 }  // namespace
 
 EvaluateStudy load_evaluate(const EvaluateRequest& request) {
@@ -224,22 +234,15 @@ EvaluateStudy load_evaluate(const EvaluateRequest& request) {
   std::vector<Channel> channels;
   for (const std::string& c : request.channel_names) channels.push_back(channel_from_name(c));
   std::optional<IntegratorSettings> integrator;
-  if (!request.integrator.empty()) {
+  if (!request.integrator.empty())
     integrator = default_integrator_settings(integrator_from_name(request.integrator));
-    Scenario with = io::build_scenario(sources).scenario;
-    with.integrator = *integrator;
-    if (std::string why; !scenario_is_valid(with, &why))
-      throw std::invalid_argument("--integrator " + request.integrator + " at its default settings: " + why + " (" +
-                                  request.scenario_path + ": duration " + number_text(with.duration_s) +
-                                  " s, output rate " + number_text(with.output_rate_hz) +
-                                  " Hz); give the scenario an \"integrator\" block instead");
-  }
   s.fingerprint = evaluate_fingerprint(request, sources);
   s.files.add(request.design_path, "--design");
   s.files.add(request.scenario_path, "--scenario");
   s.files.add_all(sources.files);
   s.model = std::make_shared<RoverStudyModel>(std::move(sources), s.names, plain_qois(request.qoi_names), channels,
                                               integrator);
+  if (integrator) refuse_flag_integrator_the_scenario_refuses(request, s.model->nominal().scenario);
   // Rank 0 checks and every rank learns the verdict: a refusal on rank 0
   // alone would leave the others waiting for it in the run.
   std::string refusal;
