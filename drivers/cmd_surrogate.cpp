@@ -112,11 +112,12 @@ int predict(const CLI::App& app, const SurrogateOptions& o) {
   std::cerr << "surrogate: " << x.rows() << " points of " << set.models.size() << " " << study::surrogate_kind_name(set.kind)
             << " model(s) in " << 1e6 * seconds / static_cast<double>(x.rows()) << " us per point; wrote "
             << o.csv_path << "\n";
-  // Predictions of a model worse than the mean are written, and said not to be trusted.
+  // Predictions of a model not to be trusted are written, and said to be so.
   int status = 0;
   for (const study::FittedSurrogate& model : set.models)
-    if (const std::string worse = study::worse_than_the_mean(model.output_name(), model.validation()); !worse.empty()) {
-      std::cerr << "surrogate: WARNING: " << worse << " (exit status 2)\n";
+    if (const std::string distrust = study::surrogate_not_to_trust(model.output_name(), model.validation());
+        !distrust.empty()) {
+      std::cerr << "surrogate: WARNING: " << distrust << " (exit status 2)\n";
       status = study::kSomeQoiUnfittedStatus;
     }
   return status;

@@ -17,6 +17,7 @@
 #include "study/estimators/work_stopped.hpp"
 #include "study/runtime/study_runner.hpp"
 #include "study/studies/report_format.hpp"
+#include "study/studies/reselected_cross_validation_output.hpp"
 #include "study/studies/study_output.hpp"
 
 namespace rover::study {
@@ -122,6 +123,7 @@ void write_qoi(io::Hdf5Writer& h5, const PceQoiResult& q, const PceSensitivityOp
     for (std::size_t i = 0; i < e.inputs.size(); ++i)
       alpha(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(i)) = e.multi_indices[k][i];
   h5.write(p + "q2_loo", std::vector<double>{e.validation.q2_loo});
+  write_reselected_cross_validation(h5, p + "q2_loo", e.validation.reselected);
   h5.write(p + "degree", std::vector<int>{e.degree});
   h5.write(p + "terms", std::vector<int>{static_cast<int>(e.multi_indices.size())});
   h5.write(p + "multi_indices", alpha);
@@ -170,7 +172,8 @@ void print_qoi(std::ostream& out, const PceQoiResult& q, const std::vector<std::
   const PceSobolIndices& s = q.indices;
   const PceSobolIntervals& ci = q.intervals;
   out << q.name << " (PCE degree " << q.expansion.degree << ", " << q.expansion.multi_indices.size() << " terms, "
-      << q.runs_used << " runs, Q2_LOO " << fixed_text(q.expansion.validation.q2_loo, 4) << "; mean " << s.mean
+      << q.runs_used << " runs, Q2_LOO " << fixed_text(q.expansion.validation.q2_loo, 4)
+      << reselected_q2_text(q.expansion.validation) << "; mean " << s.mean
       << ", variance " << s.variance;
   if (q.has_intervals)
     out << "; " << percent_digits(confidence) << " % bootstrap intervals, "
@@ -235,7 +238,7 @@ bool pce_indices_not_to_trust(const PceSensitivityResult& result) {
   return std::any_of(result.qoi.begin(), result.qoi.end(), [](const PceQoiResult& q) {
     if (!q.fit_done) return false;  // a non-finite QoI: undefined, and said so
     if (!q.indices.defined) return !q.expansion.constant_output;
-    return !worse_than_the_mean(q.name, q.expansion.validation).empty();
+    return !surrogate_not_to_trust(q.name, q.expansion.validation).empty();
   });
 }
 
@@ -394,9 +397,9 @@ PceSensitivityResult analyse_pce_sensitivity(const StudySpec& spec, const PceSen
   for (const PceQoiResult& q : out.qoi) {
     if (!q.indices.defined) out.warnings.push_back(q.name + ": indices undefined: " + q.undefined_reason);
     else if (!q.expansion.validation.warning.empty()) out.warnings.push_back(q.expansion.validation.warning);
-    if (const std::string worse = q.indices.defined ? worse_than_the_mean(q.name, q.expansion.validation) : "";
-        !worse.empty())
-      out.warnings.push_back(worse + " (exit status 2)");
+    if (const std::string distrust = q.indices.defined ? surrogate_not_to_trust(q.name, q.expansion.validation) : "";
+        !distrust.empty())
+      out.warnings.push_back(distrust + " (exit status 2)");
     if (q.has_intervals)
       if (const std::string w = pce_fixed_by_selection_warning(q.name, q.intervals, input_labels(spec),
                                                                 q.expansion.validation.q2_loo,

@@ -113,8 +113,9 @@ std::string pce_fixed_by_selection_warning(const std::string& qoi, const PceSobo
                                            const std::vector<std::string>& labels, double q2_loo,
                                            double q2_threshold);
 
-// Whether some QoI's indices come from an expansion that predicts worse than
-// the mean of its runs (worse_than_the_mean), or are undefined although the
+// Whether some QoI's indices come from an expansion not to be trusted (worse
+// than the mean of its runs, or too many terms for its runs:
+// surrogate_not_to_trust), or are undefined although the
 // QoI varies (no term beyond the constant was selected): the warnings say so.
 bool pce_indices_not_to_trust(const PceSensitivityResult& result);
 

@@ -529,7 +529,7 @@ StudyProgram<SensitivityResult> sensitivity_program(SensitivityStudy study) {
   p.report = report_sensitivity;
   p.plot = plot_sensitivity;
   p.figures = [study](PlotSelection plots) { return sensitivity_figures(study, plots); };
-  // No indices for want of runs, or indices of a PCE worse than the mean: a result not to use as it is.
+  // No indices for want of runs, or indices of a PCE not to be trusted: a result not to use as it is.
   p.verdict = [](const SensitivityResult& r) {
     return no_index_for_want_of_runs(r) || pce_indices_not_to_trust(r.pce) ? kNoIndicesStatus : 0;
   };

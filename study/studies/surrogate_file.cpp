@@ -2,6 +2,7 @@
 #include "study/studies/surrogate_file.hpp"
 #include "study/studies/report_format.hpp"
 #include "study/studies/report_number.hpp"
+#include "study/studies/reselected_cross_validation_output.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -122,6 +123,7 @@ void write_validation(io::Hdf5Writer& h5, const std::string& g, const FittedSurr
   h5.attribute(g, "rmse_test", v.rmse_test);
   h5.attribute(g, "warning", v.warning);
   h5.attribute(g, "runs", static_cast<long long>(m.runs()));
+  write_reselected_cross_validation(h5, g, v.reselected);
 }
 
 SurrogateValidation read_validation(const SavedModel& f, const std::string& g) {
@@ -134,6 +136,11 @@ SurrogateValidation read_validation(const SavedModel& f, const std::string& g) {
                   : f.number(g, "q2_test", -kMaxAbsSavedNumber, 1.0);
   v.rmse_test = f.number(g, "rmse_test", 0.0, kMaxAbsSavedNumber);
   v.warning = f.h5().attribute_string(g, "warning");
+  if (f.h5().has_attribute(g, kReselectedFoldsAttribute)) {
+    v.reselected.folds = static_cast<int>(f.integer(g, kReselectedFoldsAttribute, 0, kCrossValidationFolds));
+    if (v.reselected.folds > 0) v.reselected.q2 = f.number(g, kReselectedQ2Attribute, -kMaxAbsSavedNumber, 1.0);
+    else v.reselected.why_not = f.h5().attribute_string(g, kReselectedWhyNotAttribute);
+  }
   return v;
 }
 
@@ -187,6 +194,8 @@ PolynomialChaosExpansion read_pce(const SavedModel& f, const std::string& g, con
   e.constant_output = f.integer(g, "constant_output", 0, 1) != 0;
   e.runs = static_cast<int>(f.integer(g, "runs", 1, kMaxSavedRuns));
   e.validation = read_validation(f, g);
+  e.validation.selected_terms = static_cast<int>(e.multi_indices.size());
+  e.validation.training_runs = e.runs;
   return e;
 }
 

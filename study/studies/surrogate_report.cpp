@@ -83,7 +83,7 @@ std::string loo_q2_text(const FittedSurrogate& m) {
 
 std::string validation_text(const FittedSurrogate& m) {
   const SurrogateValidation& v = m.validation();
-  std::string s = "Q2 LOO " + loo_q2_text(m);
+  std::string s = "Q2 LOO " + loo_q2_text(m) + reselected_q2_text(v);
   if (v.test_points > 0)
     s += ", held-out Q2 " + held_out_q2_text(v) + " (RMSE " + general(v.rmse_test) + ", " +
          std::to_string(v.test_points) + (v.test_points == 1 ? " run)" : " runs)");

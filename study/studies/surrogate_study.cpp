@@ -187,8 +187,9 @@ std::vector<std::string> study_warnings(const SurrogateStudy& study, const Surro
     else if (!q.undefined_reason.empty()) w.push_back(q.name + ": indices undefined: " + q.undefined_reason);
     if (q.fitted && q.undefined_reason.empty() && !q.model.validation().warning.empty())
       w.push_back(q.model.validation().warning);
-    if (const std::string worse = q.fitted ? worse_than_the_mean(q.name, q.model.validation()) : ""; !worse.empty())
-      w.push_back(worse + " (exit status 2)");
+    if (const std::string distrust = q.fitted ? surrogate_not_to_trust(q.name, q.model.validation()) : "";
+        !distrust.empty())
+      w.push_back(distrust + " (exit status 2)");
     if (const std::string why = q.fitted ? held_out_q2_undefined_reason(q.model.validation()) : ""; !why.empty())
       w.push_back(q.name + ": held-out Q2 undefined: " + why);
     if (q.has_intervals)
@@ -347,12 +348,12 @@ StudyProgram<SurrogateStudyResult> surrogate_program(SurrogateStudy study) {
     return count_runs(status, messages);
   };
   p.report = [s](const SurrogateStudyResult& r, std::ostream& out) { report_surrogate_study(out, *s, r); };
-  // A QoI without a surrogate, or with one worse than the mean (its reason is
+  // A QoI without a surrogate, or with one not to be trusted (its reason is
   // among the warnings), is a result not to use as it is.
   p.verdict = [](const SurrogateStudyResult& r) {
     return std::all_of(r.qoi.begin(), r.qoi.end(),
                        [](const SurrogateQoiResult& q) {
-                         return q.fitted && worse_than_the_mean(q.name, q.model.validation()).empty();
+                         return q.fitted && surrogate_not_to_trust(q.name, q.model.validation()).empty();
                        })
                ? 0
                : kSomeQoiUnfittedStatus;

@@ -65,10 +65,12 @@ std::vector<MultiIndex> select_shared_basis(const DesignMatrix& x, const Eigen::
   const double total = energy.sum();
   if (!(total > 0.0)) return basis;
   double explained = 0.0;
+  PolynomialChaosSettings component_settings = s.pce;  // only the terms are kept: no validation needed
+  component_settings.cross_validate_crowded_selection = false;
   for (Eigen::Index k = 0; k < energy.size() && *components < s.max_components; ++k) {
     if (energy(k) <= kNegligibleVariance * total) break;
     const Eigen::VectorXd scores = svd.matrixU().col(k) * svd.singularValues()(k);
-    const PolynomialChaosExpansion e = fit_polynomial_chaos(x, scores, inputs, s.pce, "component");
+    const PolynomialChaosExpansion e = fit_polynomial_chaos(x, scores, inputs, component_settings, "component");
     std::vector<MultiIndex> merged = basis;
     merge_terms(e.multi_indices, &merged);
     if (static_cast<Eigen::Index>(merged.size()) >= x.rows() - 1 && *components > 0) break;

@@ -170,11 +170,13 @@ int min_pce_runs(const std::vector<Distribution>& inputs, const PolynomialChaosS
   return candidate_count(inputs, 1, s.q_norm, s.max_candidate_terms) + 2;
 }
 
-PolynomialChaosExpansion fit_polynomial_chaos(const DesignMatrix& x, const Eigen::VectorXd& y,
-                                              const std::vector<Distribution>& inputs,
-                                              const PolynomialChaosSettings& s,
-                                              const std::string& name) {
-  check_polynomial_chaos_settings(s);
+namespace {
+
+// The expansion its terms and degree were selected for, with its
+// leave-one-out validation.
+PolynomialChaosExpansion fit_selected_expansion(const DesignMatrix& x, const Eigen::VectorXd& y,
+                                                const std::vector<Distribution>& inputs,
+                                                const PolynomialChaosSettings& s, const std::string& name) {
   check_training_data(x, y, inputs, name);
   const int needed = min_pce_runs(inputs, s);
   if (y.size() < needed)
@@ -219,6 +221,29 @@ PolynomialChaosExpansion fit_polynomial_chaos(const DesignMatrix& x, const Eigen
   e.candidate_terms = best.candidates;
   e.runs = static_cast<int>(y.size());
   e.validation.q2_loo = 1.0 - best.corrected_loo;
+  e.validation.selected_terms = static_cast<int>(e.multi_indices.size());
+  e.validation.training_runs = e.runs;
+  return e;
+}
+
+}  // namespace
+
+PolynomialChaosExpansion fit_polynomial_chaos(const DesignMatrix& x, const Eigen::VectorXd& y,
+                                              const std::vector<Distribution>& inputs,
+                                              const PolynomialChaosSettings& s,
+                                              const std::string& name) {
+  check_polynomial_chaos_settings(s);
+  PolynomialChaosExpansion e = fit_selected_expansion(x, y, inputs, s, name);
+  if (e.constant_output) return e;
+  if (s.cross_validate_crowded_selection && crowded_selection(e.validation)) {
+    PolynomialChaosSettings refit = s;
+    refit.cross_validate_crowded_selection = false;
+    e.validation.reselected = cross_validate(
+        x, y, min_pce_runs(inputs, s),
+        [&](const DesignMatrix& x_train, const Eigen::VectorXd& y_train, const DesignMatrix& x_test) {
+          return fit_polynomial_chaos(x_train, y_train, inputs, refit, name).evaluate(x_test);
+        });
+  }
   flag_low_q2(name, e.runs, s.q2_threshold, &e.validation);
   return e;
 }

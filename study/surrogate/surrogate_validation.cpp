@@ -12,6 +12,16 @@ namespace {
 // Growth of the design suggested when a Q^2 is too low.
 constexpr int kSuggestedGrowthFactor = 2;
 
+std::string shown_q2(double q2) {
+  std::ostringstream text;
+  text << std::setprecision(3) << q2;
+  return text.str();
+}
+
+std::string reselected_q2_name(const CrossValidation& cv) {
+  return std::to_string(cv.folds) + "-fold cross-validated Q2 (terms re-selected)";
+}
+
 }  // namespace
 
 void score_held_out(const Eigen::VectorXd& observed, const Eigen::VectorXd& predicted,
@@ -29,19 +39,40 @@ void score_held_out(const Eigen::VectorXd& observed, const Eigen::VectorXd& pred
   validation->q2_test = observed.size() >= kMinHeldOutRuns && sst > 0.0 ? 1.0 - sse / sst : std::nan("");
 }
 
-std::string worse_than_the_mean(const std::string& output_name, const SurrogateValidation& v) {
-  const auto shown = [](double q2) {
-    std::ostringstream text;
-    text << std::setprecision(3) << q2;
-    return text.str();
-  };
+bool crowded_selection(const SurrogateValidation& v) {
+  return v.selected_terms > 0 && v.training_runs < kMinRunsPerSelectedTerm * v.selected_terms;
+}
+
+std::string surrogate_not_to_trust(const std::string& output_name, const SurrogateValidation& v) {
+  const bool held_out_q2_defined = v.test_points > 0 && std::isfinite(v.q2_test);
   std::string q2;
-  if (v.q2_loo < 0.0) q2 = "leave-one-out Q2 " + shown(v.q2_loo);
-  if (v.test_points > 0 && std::isfinite(v.q2_test) && v.q2_test < 0.0)
-    q2 += (q2.empty() ? "" : ", ") + std::string("held-out Q2 ") + shown(v.q2_test);
-  if (q2.empty()) return "";
-  return "the surrogate of '" + output_name + "' predicts worse than the mean of its runs (" + q2 +
-         " < 0): its predictions and indices are not to be trusted";
+  const auto below_zero = [&q2](const std::string& which, double value) {
+    if (value < 0.0) q2 += (q2.empty() ? "" : ", ") + which + " " + shown_q2(value);
+  };
+  below_zero("leave-one-out Q2", v.q2_loo);
+  if (v.reselected.folds > 0) below_zero(reselected_q2_name(v.reselected), v.reselected.q2);
+  if (held_out_q2_defined) below_zero("held-out Q2", v.q2_test);
+  if (!q2.empty())
+    return "the surrogate of '" + output_name + "' predicts worse than the mean of its runs (" + q2 +
+           " < 0): its predictions and indices are not to be trusted";
+  if (held_out_q2_defined || !crowded_selection(v) || v.reselected.folds > 0) return "";
+  return "the surrogate of '" + output_name + "' selected " + std::to_string(v.selected_terms) + " terms on " +
+         std::to_string(v.training_runs) + " runs, fewer than " + std::to_string(kMinRunsPerSelectedTerm) +
+         " runs per term, and " +
+         (v.reselected.why_not.empty()
+              ? std::string("records no cross-validation with its terms re-selected")
+              : "cannot be cross-validated with its terms re-selected (" + v.reselected.why_not + ")") +
+         ": its leave-one-out Q2 " + shown_q2(v.q2_loo) +
+         " cannot see that the terms were chosen to fit those runs, and its predictions and indices are not to "
+         "be trusted; give at least " +
+         std::to_string(kMinRunsPerSelectedTerm * v.selected_terms) + " runs";
+}
+
+std::string reselected_q2_text(const SurrogateValidation& v) {
+  if (v.reselected.folds == 0) return "";
+  std::ostringstream text;
+  text << std::fixed << std::setprecision(4) << v.reselected.q2;
+  return ", " + reselected_q2_name(v.reselected) + " " + text.str();
 }
 
 std::string held_out_q2_undefined_reason(const SurrogateValidation& v) {
@@ -56,15 +87,18 @@ void flag_low_q2(const std::string& output_name, int runs, double threshold,
                  SurrogateValidation* validation) {
   std::ostringstream text;
   const bool loo_low = validation->q2_loo < threshold;
+  const CrossValidation& cv = validation->reselected;
+  const bool cv_low = cv.folds > 0 && cv.q2 < threshold;
   const bool test_low = validation->test_points > 0 && validation->q2_test < threshold;
-  if (!loo_low && !test_low) {
+  if (!loo_low && !cv_low && !test_low) {
     validation->warning.clear();
     return;
   }
   text << "surrogate of '" << output_name << "' is not accurate enough:";
   if (loo_low) text << " leave-one-out Q2 " << validation->q2_loo;
+  if (cv_low) text << (loo_low ? "," : "") << " " << reselected_q2_name(cv) << " " << cv.q2;
   if (test_low)
-    text << (loo_low ? "," : "") << " held-out Q2 " << validation->q2_test << " on "
+    text << (loo_low || cv_low ? "," : "") << " held-out Q2 " << validation->q2_test << " on "
          << validation->test_points << " runs";
   text << " < " << threshold << " from " << runs << " runs; try a larger N (e.g. "
        << kSuggestedGrowthFactor * runs << " runs)";

@@ -2031,8 +2031,9 @@ TEST_F(Audit, ThirdAuditRefusedUpFront) {
   // move with the integrator's last bits).
   const std::string few_runs = w().text_file("pce", R"({"type": "sensitivity", "method": "pce", "name": "p",
       "model": "ishigami", "design": {"type": "lhs", "samples": 14, "seed": 1}})");
-  cases.push_back({"PCE intervals from a few bootstrap refits", study("sensitivity", few_runs), Want::kRuns,
-                   {"y: ", "bootstrap resamples could be refitted", "no intervals"}, {}, {},
+  // Those 14 runs select 12 terms, a selection cross-validation rejects: exit 2.
+  cases.push_back({"PCE intervals from a few bootstrap refits", study("sensitivity", few_runs), Want::kAllFailed,
+                   {"y: ", "bootstrap resamples could be refitted", "no intervals", "cross-validated Q2"}, {}, {},
                    {"% bootstrap intervals, "}});
   // The quick drop is still falling at its end: no run settles.
   cases.push_back({"montecarlo of a settling time that never comes", study("montecarlo", w().montecarlo([](Json& j) {
@@ -6104,6 +6105,14 @@ TEST_F(Audit, SurrogatesWorseThanTheMeanAreNotToBeTrusted) {
   cases.push_back({"PCE of Ishigami from 17 runs: no term beyond the constant",
                    "sensitivity --no-plot --study " + ishigami + " --samples 17 --out " + w().out(), Want::kAllFailed,
                    {"the QoI varies over the 17 runs", "selected no term beyond the constant"}});
+  cases.push_back({"PCE indices of Ishigami from 6 runs (5 terms, Q2_LOO 0.999)",
+                   "sensitivity --no-plot --study " + ishigami + " --samples 6 --out " + w().out(), Want::kAllFailed,
+                   {"selected 5 terms on 6 runs, fewer than 2 runs per term",
+                    "cannot be cross-validated with its terms re-selected", "give at least 10 runs", "exit status 2"}});
+  cases.push_back({"PCE indices of Ishigami from 14 runs (12 terms, Q2_LOO 0.94)",
+                   "sensitivity --no-plot --study " + ishigami + " --samples 14 --out " + w().out(), Want::kAllFailed,
+                   {"Q2_LOO 0.9421, 10-fold cross-validated Q2 (terms re-selected) -0.7919",
+                    "predicts worse than the mean", "exit status 2"}});
   cases.push_back({"PCE indices of Ishigami from 100 runs", "sensitivity --no-plot --study " + ishigami +
                                                                 " --samples 100 --out " + w().out(),
                    Want::kRuns, {}, {}, {}, {"worse than the mean"}});
@@ -6126,6 +6135,41 @@ TEST_F(Audit, SurrogatesWorseThanTheMeanAreNotToBeTrusted) {
   EXPECT_EQ(o.status, 2) << o.output;
   EXPECT_NE(o.output.find("WARNING: the surrogate of 'y' predicts worse than the mean"), std::string::npos)
       << o.output;
+}
+
+// A surrogate with about as many selected terms as runs has a leave-one-out
+// Q2 near 1 that means nothing (its true Q2 on Ishigami is below 0): too few
+// runs to cross-validate it with its terms re-selected, it is not to be
+// trusted, nor its predictions; with enough runs it is.
+TEST_F(Audit, ASurrogateWithAboutAsManyTermsAsRunsIsNotTrusted) {
+  const std::string model = w().out();
+  const auto surrogate = [](int samples, double held_out_fraction) {
+    Json spec{{"type", "surrogate"}, {"name", "p"}, {"surrogate", "pce"}, {"model", "ishigami"},
+              {"design", {{"type", "lhs"}, {"samples", samples}, {"seed", 1}}},
+              {"pce", {{"max_degree", 14}, {"bootstrap", 0}}}};
+    if (held_out_fraction > 0.0) spec["held_out"] = {{"fraction", held_out_fraction}};
+    return spec;
+  };
+  Outcome o;
+  o.status = run_command(rover_binary() + " " +
+                             study_args("surrogate", w().json_file("surrogate", surrogate(6, 0.0)), model) + " 2>&1",
+                         &o.output);
+  EXPECT_EQ(o.status, 2) << o.output;
+  EXPECT_NE(o.output.find("selected 5 terms on 6 runs"), std::string::npos) << o.output;
+  const std::string design = w().text_file("points", "x1,x2,x3\n0.1,0.2,0.3\n", "csv");
+  o.status = run_command(rover_binary() + " surrogate --predict " + model + " --design " + design + " --csv " +
+                             w().out("csv") + " 2>&1",
+                         &o.output);
+  EXPECT_EQ(o.status, 2) << o.output;
+  EXPECT_NE(o.output.find("WARNING: the surrogate of 'y' selected 5 terms on 6 runs"), std::string::npos)
+      << o.output;
+  // 100 training runs: enough runs per term, and a held-out Q2 near 1.
+  o.status = run_command(rover_binary() + " " +
+                             study_args("surrogate", w().json_file("surrogate", surrogate(125, 0.2)), w().out()) +
+                             " 2>&1",
+                         &o.output);
+  EXPECT_EQ(o.status, 0) << o.output;
+  EXPECT_EQ(o.output.find("runs per term"), std::string::npos) << o.output;
 }
 
 }  // namespace
