@@ -355,8 +355,8 @@ SobolIndices estimate_sobol_indices(const PickFreezeLayout& layout, const Eigen:
 
   Eigen::VectorXd lower = Eigen::VectorXd::Constant(estimates, kNaN);
   Eigen::VectorXd upper = lower;
-  if (options.bootstrap_resamples > 0)
-    bootstrap_intervals(columns, options, terms, totals, n, point, lower, upper);
+  result.has_intervals = options.bootstrap_resamples > 0 && result.groups_used >= kMinBootstrapSobolGroups;
+  if (result.has_intervals) bootstrap_intervals(columns, options, terms, totals, n, point, lower, upper);
 
   result.S1 = point.head(d);
   result.ST = point.segment(d, d);

@@ -73,10 +73,16 @@ struct SobolIndices {
   double mean = 0, variance = 0;           // of the output, from the A and B runs used
   int groups_total = 0, groups_used = 0;
   std::vector<int> dropped_groups;  // groups with a failed (non-finite) run, dropped whole
+  bool has_intervals = false;       // false: no bootstrap asked for, or too few groups to resample
 };
 
 // The fewest complete groups (no failed run) the estimators need.
 inline constexpr int kMinCompleteSobolGroups = 2;
+// The fewest complete groups the bootstrap resamples: with fewer, most
+// resamples repeat a few groups, there are few distinct ones (3 of 2 groups),
+// and a percentile interval covers far less often than its level says. Below
+// it the bounds are NaN and has_intervals is false.
+inline constexpr int kMinBootstrapSobolGroups = 10;
 
 // y: one output per run, in layout order; a non-finite value marks a failed run and its whole group
 // is dropped (never silently imputed). `variance` is the unbiased sample variance of the 2 N' A and

@@ -140,7 +140,11 @@ void estimate_qoi_indices(const SensitivityStudy& study, const MorrisDesign& mor
     out.warnings.push_back(name + ": indices undefined: " + reason);
     return;
   }
-  if (sobol)
+  if (sobol && study.sobol.bootstrap_resamples > 0 && !out.sobol.back().has_intervals)
+    out.warnings.push_back(name + ": no intervals: the " + std::to_string(out.sobol.back().groups_used) +
+                           " complete groups are too few to resample (at least " +
+                           std::to_string(kMinBootstrapSobolGroups) + "); use more samples");
+  else if (sobol)
     for (std::string& w : sobol_warnings(name, out.sobol.back(), labels, study.layout.base_samples))
       out.warnings.push_back(std::move(w));
 }

@@ -80,10 +80,15 @@ void print_sobol(std::ostream& out, const std::string& qoi, const SobolIndices& 
   std::vector<Eigen::Index> order(static_cast<std::size_t>(s.ST.size()));
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) { return s.ST[a] > s.ST[b]; });
+  const std::string too_few_groups = "no intervals: " + std::to_string(s.groups_used) +
+                                     " groups are too few to resample (at least " +
+                                     std::to_string(kMinBootstrapSobolGroups) + ")";
   out << qoi << " (mean " << s.mean << ", variance " << s.variance << ", " << s.groups_used << " of "
       << s.groups_total << " groups; "
-      << (intervals ? percent_digits(confidence) + " % intervals" : std::string("no intervals: \"bootstrap\": 0"))
+      << (!intervals ? std::string("no intervals: \"bootstrap\": 0")
+                     : s.has_intervals ? percent_digits(confidence) + " % intervals" : too_few_groups)
       << "), by total index:\n";
+  intervals = intervals && s.has_intervals;
   for (Eigen::Index i : order)
     out << "  " << std::left << std::setw(kIndexLabelWidth) << labels[static_cast<std::size_t>(i)] << std::right
         << " S1 " << std::setw(6) << fixed_text(s.S1[i]) << interval_text(intervals, s.S1_lower[i], s.S1_upper[i])

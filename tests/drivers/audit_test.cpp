@@ -6093,6 +6093,25 @@ TEST_F(Audit, DesignsAndCurvesThatAreNoFileAreRefused) {
   run_table(w().dir(), cases);
 }
 
+// A bootstrap of a few pick-freeze groups gives intervals that look precise
+// and cover nothing (2 groups have 3 distinct resamples): none are printed or
+// written, and the study says why; 10 groups get their intervals.
+TEST_F(Audit, SobolIntervalsNeedGroupsToResample) {
+  const std::string ishigami = source_path("configs/studies/sobol_ishigami.json");
+  const std::string two_groups = w().out();
+  std::vector<Case> cases;
+  cases.push_back({"Sobol' indices of Ishigami from 2 groups",
+                   "sensitivity --no-plot --study " + ishigami + " --samples 2 --out " + two_groups, Want::kRuns,
+                   {"no intervals: 2 groups are too few to resample (at least 10)", "use more samples"}, {}, {},
+                   {"% intervals"}});
+  cases.push_back({"Sobol' indices of Ishigami from 10 groups",
+                   "sensitivity --no-plot --study " + ishigami + " --samples 10 --out " + w().out(), Want::kRuns,
+                   {"95 % intervals"}, {}, {}, {"too few to resample"}});
+  run_table(w().dir(), cases);
+  const io::Hdf5Reader result(two_groups);
+  for (const double bound : result.read_doubles("/indices/y/S1_lower")) EXPECT_TRUE(std::isnan(bound));
+}
+
 // Indices and surrogates that predict worse than the mean of their runs
 // (Q2 < 0), or no indices for want of runs, are results not to be trusted:
 // status 2, and said so; so is a prediction from such a model.

@@ -391,6 +391,23 @@ TEST(SobolIndices, TooFewGroupsOrZeroVarianceThrowWithAReason) {
                std::invalid_argument);
 }
 
+// A bootstrap of a handful of groups (3 distinct resamples of 2 groups) gives
+// intervals that look precise and cover nothing: below the minimum the bounds
+// are NaN and the result says it has none.
+TEST(SobolIndices, TooFewGroupsToResampleGiveNoIntervals) {
+  for (const int groups : {2, kMinBootstrapSobolGroups - 1, kMinBootstrapSobolGroups}) {
+    const SobolIndices s = run(Model::kIshigami, sobol_base(groups, 3, 5), SobolOptions{}, false);
+    const bool expected = groups >= kMinBootstrapSobolGroups;
+    EXPECT_EQ(s.has_intervals, expected) << groups << " groups";
+    EXPECT_TRUE(s.S1.allFinite());
+    EXPECT_EQ(s.S1_lower.allFinite() && s.ST_upper.allFinite(), expected) << groups << " groups";
+    EXPECT_EQ(s.S1_lower.array().isNaN().all(), !expected) << groups << " groups";
+  }
+  SobolOptions none;
+  none.bootstrap_resamples = 0;
+  EXPECT_FALSE(run(Model::kIshigami, sobol_base(64, 3, 5), none, false).has_intervals);
+}
+
 TEST(SobolIndices, IshigamiSecondOrderIsTheX1X3Interaction) {
   const KnownIndices exact = ishigami_indices();
   for (SobolEstimator estimator : {SobolEstimator::kSaltelliJansen, SobolEstimator::kMartinez}) {
