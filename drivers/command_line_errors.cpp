@@ -122,6 +122,8 @@ std::string validation_text(const std::string& what) {
   std::string rest;
   if (after(message, "File does not exist: ", &rest)) {  // or cannot be reached: a link loop, a closed folder
     const std::string problem = io::input_path_problem(rest, "a file");
+    if (starts_with(name, "-") && rest.starts_with("--") && (problem.empty() || problem == "no such file"))
+      return name + " " + std::string(kGivenNoValue) + ": the word after it, '" + rest + "', is an option of its own";
     return where(name) + " '" + rest + "': " + (problem.empty() ? "no such file" : problem);
   }
   if (after(message, "File is actually a directory: ", &rest))

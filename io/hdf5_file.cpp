@@ -600,9 +600,24 @@ bool Hdf5Reader::exists(const std::string& object) const { return object_exists(
 
 namespace {
 
+// Whether `name` (which exists) is a group: an intact file of another layout
+// than the reader expects, not a damaged one.
+bool is_group(hid_t file, const std::string& name) {
+  const hid_t group = H5Gopen2(file, name.c_str(), H5P_DEFAULT);
+  if (group < 0) {
+    H5Eclear2(H5E_DEFAULT);
+    return false;
+  }
+  H5Gclose(group);
+  return true;
+}
+
 Handle open_dataset(hid_t file, const std::string& file_name, const std::string& name) {
   const std::string what = dataset_label(name);
   if (!object_exists(file, name)) fail(file_name, what, "no such dataset", Access::kRead);
+  if (is_group(file, name))
+    fail(file_name, what, "is a group, not a dataset (a file of another layout than this one reads?)",
+         Access::kRead);
   return checked_handle(H5Dopen2(file, name.c_str(), H5P_DEFAULT), H5Dclose, file_name, what,
                         "cannot open (not a dataset?)", Access::kRead);
 }

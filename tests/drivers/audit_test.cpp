@@ -4463,6 +4463,11 @@ TEST_F(Audit, EncodingsFormatsAndUnfinishableSettings) {
                    {"--samples", "0b11"}});
   cases.push_back({"--samples --dry-run", study("montecarlo", mc) + " --samples --dry-run", Want::kError,
                    {"--samples was given no value: the word after it, '--dry-run', is an option of its own"}});
+  cases.push_back({"simulate --scenario --no-plot", "simulate --scenario --no-plot", Want::kError,
+                   {"--scenario was given no value: the word after it, '--no-plot', is an option of its own"}, {}, {},
+                   {"no such file"}});
+  cases.push_back({"montecarlo --study --dry-run", "montecarlo --study --dry-run", Want::kError,
+                   {"--study was given no value: the word after it, '--dry-run', is an option of its own"}});
   // Outputs named for another format.
   cases.push_back({"simulate --csv x.h5", simulate(w().quick()) + " --csv " + dir + "/x.h5", Want::kError,
                    {"--csv '" + dir + "/x.h5' ends in .h5, the name of an HDF5 file", "give a name ending in .csv"},

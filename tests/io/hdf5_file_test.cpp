@@ -258,6 +258,13 @@ TEST(Hdf5File, ErrorsNameTheFileAndTheObject) {
                       {path, "/band/median", "no such dataset"});
   expect_error_naming([&] { reader.shape("/nothing"); }, {path, "/nothing"});
   expect_error_naming([&] { reader.read_ints("/count"); }, {path, "/count", "floating-point"});
+  // A group where a dataset is expected: an intact file of another layout, not a damaged one.
+  expect_error_naming([&] { reader.read_doubles("/band"); }, {path, "/band", "is a group, not a dataset"});
+  try {
+    reader.read_strings("/band");
+  } catch (const std::exception& e) {
+    EXPECT_EQ(std::string(e.what()).find("damaged"), std::string::npos) << e.what();
+  }
   expect_error_naming([&] { reader.read_strings("/count"); }, {path, "/count", "strings"});
   expect_error_naming([&] { reader.attribute_double("/band/mean", "level"); },
                       {path, "/band/mean", "level"});
