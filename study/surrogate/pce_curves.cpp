@@ -66,7 +66,7 @@ std::vector<MultiIndex> select_shared_basis(const DesignMatrix& x, const Eigen::
   if (!(total > 0.0)) return basis;
   double explained = 0.0;
   PolynomialChaosSettings component_settings = s.pce;  // only the terms are kept: no validation needed
-  component_settings.cross_validate_crowded_selection = false;
+  component_settings.cross_validate_selection = false;
   for (Eigen::Index k = 0; k < energy.size() && *components < s.max_components; ++k) {
     if (energy(k) <= kNegligibleVariance * total) break;
     const Eigen::VectorXd scores = svd.matrixU().col(k) * svd.singularValues()(k);

@@ -235,9 +235,9 @@ PolynomialChaosExpansion fit_polynomial_chaos(const DesignMatrix& x, const Eigen
   check_polynomial_chaos_settings(s);
   PolynomialChaosExpansion e = fit_selected_expansion(x, y, inputs, s, name);
   if (e.constant_output) return e;
-  if (s.cross_validate_crowded_selection && crowded_selection(e.validation)) {
+  if (s.cross_validate_selection) {
     PolynomialChaosSettings refit = s;
-    refit.cross_validate_crowded_selection = false;
+    refit.cross_validate_selection = false;
     e.validation.reselected = cross_validate(
         x, y, min_pce_runs(inputs, s),
         [&](const DesignMatrix& x_train, const Eigen::VectorXd& y_train, const DesignMatrix& x_test) {

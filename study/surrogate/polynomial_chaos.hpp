@@ -41,10 +41,12 @@ struct PolynomialChaosSettings {
   // Candidate sets larger than this are not built (memory runs x terms):
   // degrees beyond it are not tried. 1 .. kMaxPceCandidateTerms.
   int max_candidate_terms = 10000;
-  // With fewer than kMinRunsPerSelectedTerm runs per selected term, refit in
-  // each fold of a cross-validation (terms and degree chosen afresh) to
-  // score the whole fit (validation.reselected). false: never.
-  bool cross_validate_crowded_selection = true;
+  // Score the whole fit, not only its coefficients: refit in each fold of a
+  // cross-validation with the terms and degree chosen afresh
+  // (validation.reselected). The leave-one-out error keeps the selected
+  // terms, so it cannot see that they were chosen on the very runs it scores,
+  // and on small designs it flatters the fit. false: leave-one-out only.
+  bool cross_validate_selection = true;
   // Read at every degree and every LARS step when set: once true, the fit
   // throws WorkStopped (study/estimators/work_stopped.hpp).
   const std::atomic<bool>* stop = nullptr;
@@ -76,7 +78,7 @@ void check_polynomial_chaos_settings(const PolynomialChaosSettings& settings);
 // needs the size of its first candidate set plus 1.
 int min_pce_runs(const std::vector<Distribution>& inputs, const PolynomialChaosSettings& settings);
 
-// Fits the expansion; a crowded selection is then cross-validated (above).
+// Fits the expansion, then cross-validates its selection (above).
 // A constant y yields the constant term alone, q2_loo 1,
 // constant_output and a warning that its sensitivity indices are undefined.
 // Throws std::invalid_argument for bad settings (as above), no inputs, an

@@ -46,26 +46,32 @@ bool crowded_selection(const SurrogateValidation& v) {
 std::string surrogate_not_to_trust(const std::string& output_name, const SurrogateValidation& v) {
   const bool held_out_q2_defined = v.test_points > 0 && std::isfinite(v.q2_test);
   std::string q2;
-  const auto below_zero = [&q2](const std::string& which, double value) {
-    if (value < 0.0) q2 += (q2.empty() ? "" : ", ") + which + " " + shown_q2(value);
+  bool below_zero = false;
+  const auto below_floor = [&](const std::string& which, double value) {
+    if (!(value < kMinTrustedQ2)) return;
+    q2 += (q2.empty() ? "" : ", ") + which + " " + shown_q2(value);
+    below_zero = below_zero || value < 0.0;
   };
-  below_zero("leave-one-out Q2", v.q2_loo);
-  if (v.reselected.folds > 0) below_zero(reselected_q2_name(v.reselected), v.reselected.q2);
-  if (held_out_q2_defined) below_zero("held-out Q2", v.q2_test);
+  below_floor("leave-one-out Q2", v.q2_loo);
+  if (v.reselected.folds > 0) below_floor(reselected_q2_name(v.reselected), v.reselected.q2);
+  if (held_out_q2_defined) below_floor("held-out Q2", v.q2_test);
   if (!q2.empty())
-    return "the surrogate of '" + output_name + "' predicts worse than the mean of its runs (" + q2 +
-           " < 0): its predictions and indices are not to be trusted";
-  if (held_out_q2_defined || !crowded_selection(v) || v.reselected.folds > 0) return "";
-  return "the surrogate of '" + output_name + "' selected " + std::to_string(v.selected_terms) + " terms on " +
-         std::to_string(v.training_runs) + " runs, fewer than " + std::to_string(kMinRunsPerSelectedTerm) +
-         " runs per term, and " +
-         (v.reselected.why_not.empty()
-              ? std::string("records no cross-validation with its terms re-selected")
-              : "cannot be cross-validated with its terms re-selected (" + v.reselected.why_not + ")") +
+    return "the surrogate of '" + output_name + "' " +
+           (below_zero ? "predicts worse than the mean of its runs (" + q2 + " < 0)"
+                       : "leaves most of the variance of its runs unexplained (" + q2 + " < " +
+                             shown_q2(kMinTrustedQ2) + ")") +
+           ": its predictions and indices are not to be trusted";
+  const bool not_done = v.reselected.folds == 0 && !v.reselected.why_not.empty();
+  const bool not_recorded = v.reselected.folds == 0 && v.reselected.why_not.empty() && crowded_selection(v);
+  if (held_out_q2_defined || !(not_done || not_recorded)) return "";
+  const int runs_wanted = crowded_selection(v) ? kMinRunsPerSelectedTerm * v.selected_terms : v.training_runs + 1;
+  return "the surrogate of '" + output_name + "' (" + std::to_string(v.selected_terms) + " terms selected on " +
+         std::to_string(v.training_runs) + " runs) " +
+         (not_done ? "cannot be cross-validated with its terms re-selected (" + v.reselected.why_not + ")"
+                   : std::string("records no cross-validation with its terms re-selected")) +
          ": its leave-one-out Q2 " + shown_q2(v.q2_loo) +
-         " cannot see that the terms were chosen to fit those runs, and its predictions and indices are not to "
-         "be trusted; give at least " +
-         std::to_string(kMinRunsPerSelectedTerm * v.selected_terms) + " runs";
+         " alone cannot see that the terms were chosen to fit those runs, and its predictions and indices are not "
+         "to be trusted; give at least " + std::to_string(runs_wanted) + " runs";
 }
 
 std::string reselected_q2_text(const SurrogateValidation& v) {

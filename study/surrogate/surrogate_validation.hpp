@@ -22,6 +22,11 @@ inline constexpr int kMinHeldOutRuns = 2;
 // about as many terms as runs, the selection itself interpolates the runs and
 // leave-one-out (which keeps the terms fixed) cannot see it.
 inline constexpr int kMinRunsPerSelectedTerm = 2;
+// A surrogate whose Q^2 (leave-one-out, cross-validated or held-out) is
+// below this leaves more than half of the output's variance unexplained:
+// every Sobol' index, a share of that variance, can then be off by more than
+// a half, and its predictions are not to be trusted.
+inline constexpr double kMinTrustedQ2 = 0.5;
 
 struct SurrogateValidation {
   double q2_loo = 0.0;  // 1 - relative (corrected, for PCE) LOO error
@@ -33,15 +38,15 @@ struct SurrogateValidation {
   // without selected terms (Gaussian process).
   int selected_terms = 0;
   int training_runs = 0;
-  // With fewer than kMinRunsPerSelectedTerm runs per selected term: the
-  // cross-validation of the whole fit, terms re-selected in every fold
-  // (folds 0 when it was not needed or could not be done: why_not).
+  // The cross-validation of the whole fit, terms re-selected in every fold
+  // (folds 0 when it was not done: why_not says why when it could not be).
   CrossValidation reselected;
 };
 
 // Whether the fit selected so many terms for its runs that its leave-one-out
 // Q^2 cannot be taken at its word.
 bool crowded_selection(const SurrogateValidation& v);
+
 
 // Q^2 and RMSE of predictions against held-out values. Throws
 // std::invalid_argument if the sizes differ, are empty or hold non-finite values.
@@ -51,11 +56,12 @@ void score_held_out(const Eigen::VectorXd& observed, const Eigen::VectorXd& pred
                     SurrogateValidation* validation);
 
 // Why the surrogate is not to be trusted, naming `output_name`; "" when it
-// is. Either it predicts worse than the mean of the values it is scored on (a
-// leave-one-out, re-selected cross-validated or defined held-out Q^2 below
-// 0), or, with no held-out Q^2 defined, its selection is crowded and could
-// not be cross-validated (too few runs to refit on). Such a surrogate, and
-// indices from it, are results not to be trusted.
+// is. Either a Q^2 it has (leave-one-out, re-selected cross-validated, or a
+// defined held-out one) is below kMinTrustedQ2, so it leaves most of the
+// variance unexplained or predicts worse than the mean (below 0), or, with no
+// held-out Q^2 defined, its selection could not be cross-validated (too few
+// runs to refit a fold on: why_not set). Such a surrogate, and indices from
+// it, are results not to be trusted.
 std::string surrogate_not_to_trust(const std::string& output_name, const SurrogateValidation& v);
 
 // ", <K>-fold cross-validated Q2 (terms re-selected) <q2>" when that
