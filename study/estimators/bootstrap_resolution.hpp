@@ -13,6 +13,12 @@
 
 namespace rover::study {
 
+// The fewest independent units (pick-freeze groups, Morris trajectories) a
+// bootstrap resamples. With fewer, most resamples repeat a few units, there
+// are few distinct ones (3 of 2 units), and a percentile interval covers far
+// less often than its level says: below it an estimator gives no interval.
+inline constexpr int kMinBootstrapUnits = 10;
+
 // The fewest replicates that resolve an interval at `confidence` in (0, 1).
 inline double min_bootstrap_resamples(double confidence) {
   constexpr double kRounding = 1e-9;  // 1 / (1 - 0.95) is 20 up to rounding

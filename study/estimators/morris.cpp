@@ -215,7 +215,8 @@ MorrisResult morris_effects(const MorrisDesign& design, const Eigen::VectorXd& y
   // Bootstrap over trajectories: mu* of each resample from how often each trajectory is drawn.
   result.mu_star_lower = result.mu_star_upper = Eigen::VectorXd::Constant(d, nan);
   const int R = options.bootstrap_resamples;
-  if (R > 0) {
+  result.has_intervals = R > 0 && n >= kMinBootstrapMorrisTrajectories;
+  if (result.has_intervals) {
     const Eigen::MatrixXd absolute = effects.cwiseAbs();
     Eigen::MatrixXd replicates(d, R);
     Eigen::VectorXd counts(n);

@@ -18,6 +18,7 @@
 
 #include <Eigen/Core>
 
+#include "study/estimators/bootstrap_resolution.hpp"
 #include "study/estimators/design_matrix.hpp"
 
 namespace rover::study {
@@ -69,9 +70,13 @@ struct MorrisResult {
   std::vector<int> ranking;  // inputs by mu_star, largest first (ties: lower index first)
   int trajectories_used = 0;
   std::vector<int> dropped_trajectories;  // with a non-finite output, dropped whole
+  bool has_intervals = false;  // false: no bootstrap asked for, or too few trajectories to resample
 };
 // The fewest complete trajectories (no failed run) morris_effects needs.
 inline constexpr int kMinMorrisTrajectories = 1;
+// The fewest complete trajectories the bootstrap resamples (kMinBootstrapUnits):
+// below it the mu* bounds are NaN and has_intervals is false.
+inline constexpr int kMinBootstrapMorrisTrajectories = kMinBootstrapUnits;
 
 // y: one output per row of design.points. Elementary effect of input i on trajectory t:
 // EE = (y(after) - y(before)) / step. mu and mu_star are means over the trajectories used, sigma

@@ -23,6 +23,7 @@
 
 #include <Eigen/Core>
 
+#include "study/estimators/bootstrap_resolution.hpp"
 #include "study/estimators/design_matrix.hpp"
 
 namespace rover::study {
@@ -78,11 +79,9 @@ struct SobolIndices {
 
 // The fewest complete groups (no failed run) the estimators need.
 inline constexpr int kMinCompleteSobolGroups = 2;
-// The fewest complete groups the bootstrap resamples: with fewer, most
-// resamples repeat a few groups, there are few distinct ones (3 of 2 groups),
-// and a percentile interval covers far less often than its level says. Below
-// it the bounds are NaN and has_intervals is false.
-inline constexpr int kMinBootstrapSobolGroups = 10;
+// The fewest complete groups the bootstrap resamples (kMinBootstrapUnits):
+// below it the bounds are NaN and has_intervals is false.
+inline constexpr int kMinBootstrapSobolGroups = kMinBootstrapUnits;
 
 // y: one output per run, in layout order; a non-finite value marks a failed run and its whole group
 // is dropped (never silently imputed). `variance` is the unbiased sample variance of the 2 N' A and

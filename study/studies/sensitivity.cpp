@@ -144,6 +144,10 @@ void estimate_qoi_indices(const SensitivityStudy& study, const MorrisDesign& mor
     out.warnings.push_back(name + ": no intervals: the " + std::to_string(out.sobol.back().groups_used) +
                            " complete groups are too few to resample (at least " +
                            std::to_string(kMinBootstrapSobolGroups) + "); use more samples");
+  else if (!sobol && study.morris.bootstrap_resamples > 0 && !out.morris.back().has_intervals)
+    out.warnings.push_back(name + ": no intervals: the " + std::to_string(out.morris.back().trajectories_used) +
+                           " complete trajectories are too few to resample (at least " +
+                           std::to_string(kMinBootstrapMorrisTrajectories) + "); use more trajectories");
   else if (sobol)
     for (std::string& w : sobol_warnings(name, out.sobol.back(), labels, study.layout.base_samples))
       out.warnings.push_back(std::move(w));
@@ -360,6 +364,9 @@ SensitivityStudy load_sensitivity_study(const std::string& path, const DesignOve
     s.morris.confidence = confidence;
     s.morris.seed = s.spec.design.seed;
     if (r.has("second_order")) r.fail("second_order", "applies to the Sobol' method only");
+    if (r.has("channels") && !(r.raw("channels").is_array() && r.raw("channels").empty()))
+      r.fail("channels", "curves along time get indices from the \"sobol\" and \"pce\" methods; \"morris\" "
+                         "screens the QoIs only");
   }
   d.finish();
   r.finish();

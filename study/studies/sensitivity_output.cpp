@@ -98,7 +98,12 @@ void print_sobol(std::ostream& out, const std::string& qoi, const SobolIndices& 
 
 void print_morris(std::ostream& out, const std::string& qoi, const MorrisResult& m,
                   const std::vector<std::string>& labels, bool intervals) {
-  out << qoi << " (Morris, " << m.trajectories_used << " trajectories), by mu*:\n";
+  out << qoi << " (Morris, " << m.trajectories_used << " trajectories";
+  if (intervals && !m.has_intervals)
+    out << "; no intervals: " << m.trajectories_used << " trajectories are too few to resample (at least "
+        << kMinBootstrapMorrisTrajectories << ")";
+  out << "), by mu*:\n";
+  intervals = intervals && m.has_intervals;
   for (int i : m.ranking) {
     out << "  " << std::left << std::setw(kIndexLabelWidth) << labels[static_cast<std::size_t>(i)] << std::right
         << " mu* " << std::setw(10) << m.mu_star[i];

@@ -1867,8 +1867,8 @@ TEST_F(Audit, ResultsWithoutMeaning) {
                          {"f", {{"distribution", "uniform"}, {"min", 1e3}, {"max", 1e4}}}};
       j["design"] = design;
       j["qoi"] = {"B_l_z_min"};
-      j["channels"] = {"B_l_z"};
-      if (method == "morris") j.erase("bootstrap");
+      if (method == "morris") j.erase("bootstrap");  // and Morris screens no channel
+      else j["channels"] = {"B_l_z"};
     });
   };
   cases.push_back({"Sobol' indices of a channel that does not vary",
@@ -6098,10 +6098,11 @@ TEST_F(Audit, DesignsAndCurvesThatAreNoFileAreRefused) {
   run_table(w().dir(), cases);
 }
 
-// A bootstrap of a few pick-freeze groups gives intervals that look precise
-// and cover nothing (2 groups have 3 distinct resamples): none are printed or
-// written, and the study says why; 10 groups get their intervals.
-TEST_F(Audit, SobolIntervalsNeedGroupsToResample) {
+// A bootstrap of a few pick-freeze groups or Morris trajectories gives
+// intervals that look precise and cover nothing (2 units have 3 distinct
+// resamples): none are printed or written, and the study says why; 10 groups
+// get their intervals.
+TEST_F(Audit, IntervalsNeedUnitsToResample) {
   const std::string ishigami = source_path("configs/studies/sobol_ishigami.json");
   const std::string two_groups = w().out();
   std::vector<Case> cases;
@@ -6112,6 +6113,23 @@ TEST_F(Audit, SobolIntervalsNeedGroupsToResample) {
   cases.push_back({"Sobol' indices of Ishigami from 10 groups",
                    "sensitivity --no-plot --study " + ishigami + " --samples 10 --out " + w().out(), Want::kRuns,
                    {"95 % intervals"}, {}, {}, {"too few to resample"}});
+  // Morris: mu* intervals need as many trajectories, and curves are not screened.
+  const auto morris = [&](int trajectories) {
+    return study("sensitivity", w().sensitivity([&](Json& j) {
+      j["method"] = "morris";
+      j["design"] = {{"trajectories", trajectories}, {"levels", 4}, {"seed", 1}};
+    }));
+  };
+  cases.push_back({"Morris mu* from 2 trajectories", morris(2), Want::kRuns,
+                   {"no intervals: 2 trajectories are too few to resample (at least 10)", "use more trajectories"}});
+  cases.push_back({"Morris mu* from 10 trajectories", morris(10), Want::kRuns, {}, {}, {}, {"no intervals"}});
+  const Json morris_of_a_curve{
+      {"type", "sensitivity"}, {"method", "morris"}, {"name", "m"}, {"scenario", w().quick()},
+      {"parameters", {{"c_q", {{"distribution", "uniform"}, {"min", 0.1}, {"max", 0.3}}},
+                      {"f", {{"distribution", "log_uniform"}, {"min", 1e3}, {"max", 1e5}}}}},
+      {"design", {{"trajectories", 4}, {"levels", 4}, {"seed", 1}}}, {"qoi", {"B_l_z_min"}}, {"channels", {"B_l_z"}}};
+  cases.push_back({"Morris of a channel", study("sensitivity", w().json_file("morris", morris_of_a_curve)) + " --dry-run",
+                   Want::kError, {"'channels'", "\"morris\" screens the QoIs only"}});
   run_table(w().dir(), cases);
   const io::Hdf5Reader result(two_groups);
   for (const double bound : result.read_doubles("/indices/y/S1_lower")) EXPECT_TRUE(std::isnan(bound));
