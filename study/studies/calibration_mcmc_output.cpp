@@ -106,13 +106,18 @@ void report_calibration_posterior(const CalibrationPosterior& posterior, const C
       << (s.offset_fitted() ? "sampled" : "profiled (best offset for each proposal)") << "\n";
   const ChainDiagnostics& d = posterior.diagnostics;
   const PosteriorSummary& m = posterior.summary;
+  const double kept_draws = static_cast<double>(posterior.chains) * static_cast<double>(posterior.steps - posterior.discard);
   for (std::size_t k = 0; k < posterior.names.size(); ++k) {
     const auto i = static_cast<Eigen::Index>(k);
+    const double ess = d.effective_sample_size[i];
     out << "  " << posterior.names[k] << " = " << format_number(m.mean[k], 6) << " +- " << format_number(m.sd[k], 3)
         << " (sd); 95 % [" << format_number(m.q025[k], 6) << ", " << format_number(m.q975[k], 6) << "]; MAP "
         << format_number(m.map[k], 6) << "; tau " << format_number(d.autocorrelation_time[i], 3) << ", ESS "
-        << format_number(d.effective_sample_size[i], 3) << ", nested R-hat " << format_number(d.nested_rhat[i], 5)
-        << "\n";
+        << format_number(ess, 3)
+        << (ess > kept_draws ? " (more than the " + format_number(kept_draws, 6) +
+                                   " kept draws: a tau below 1 is an estimate from too short a chain)"
+                             : std::string())
+        << ", nested R-hat " << format_number(d.nested_rhat[i], 5) << "\n";
   }
   out << "calibrate: acceptance " << format_number(d.acceptance_fraction, 3) << "; at the MAP, residual RMS";
   for (double rms : posterior.residual_rms_m) out << " " << format_residual_statistic(rms, 4, "m");

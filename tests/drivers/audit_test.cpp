@@ -6236,5 +6236,32 @@ TEST_F(Audit, ASurrogateWithAboutAsManyTermsAsRunsIsNotTrusted) {
   EXPECT_EQ(o.output.find("not to be trusted"), std::string::npos) << o.output;
 }
 
+// An effective sample size above the kept draws (a tau below 1, estimated
+// from a short chain) is said to be one, never printed as if it were real.
+TEST_F(Audit, AnEffectiveSampleSizeAboveTheDrawsIsExplained) {
+  const Json mcmc = {{"walkers", 4}, {"steps", 20}, {"discard", 10}, {"target_ess", 0}, {"predictive_draws", 0}};
+  const std::string posterior = study("calibrate", w().calibration([&](Json& j) {
+    j["max_evaluations"] = 40;
+    j["method"] = "mcmc";
+    j["mcmc"] = mcmc;
+  }));
+  Outcome o;
+  o.status = run_command(rover_binary() + " " + posterior + " 2>&1", &o.output);
+  EXPECT_EQ(o.status, 2) << o.output;  // 20 steps: not valid
+  constexpr double kKeptDraws = 4 * (20 - 10);
+  std::istringstream lines(o.output);
+  int ess_lines = 0, above_the_draws = 0;
+  for (std::string line; std::getline(lines, line);) {
+    const std::size_t at = line.find(", ESS ");
+    if (at == std::string::npos) continue;
+    ++ess_lines;
+    const double ess = std::stod(line.substr(at + 6));
+    above_the_draws += ess > kKeptDraws;
+    EXPECT_EQ(ess > kKeptDraws, line.find("more than the 40 kept draws") != std::string::npos) << line;
+  }
+  EXPECT_EQ(ess_lines, 2) << o.output;  // c_q and noise_sd
+  EXPECT_GT(above_the_draws, 0) << "this seed no longer gives an ESS above the draws:\n" << o.output;
+}
+
 }  // namespace
 }  // namespace rover
