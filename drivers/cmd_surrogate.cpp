@@ -145,7 +145,7 @@ const RegisterCommand surrogate_command{
           "runs of the study's design (run now) or of an existing result file of montecarlo,\n"
           "evaluate, sensitivity or surrogate (\"training\": {\"file\": ...}); failed runs are left out\n"
           "and counted. Reports the leave-one-out Q2 (and the held-out Q2 and RMSE with \"held_out\"),\n"
-          "warns below q2_threshold with a larger N, and for a PCE the mean, variance and Sobol'\n"
+          "exits 2 below q2_threshold (a model not to be trusted), and for a PCE the mean, variance and Sobol'\n"
           "indices with bootstrap intervals; \"channels\" (PCE) get S_i(t), mean and sd along time.\n"
           "Writes the model under /surrogate of --out and PNGs\n"
           "<out>_surrogate.png (surrogate against model) and <out>_surrogate_indices.png.\n"

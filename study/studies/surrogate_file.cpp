@@ -196,6 +196,7 @@ PolynomialChaosExpansion read_pce(const SavedModel& f, const std::string& g, con
   e.validation = read_validation(f, g);
   e.validation.selected_terms = static_cast<int>(e.multi_indices.size());
   e.validation.training_runs = e.runs;
+  e.validation.reselected.refits = kPceRefits;
   return e;
 }
 
@@ -253,6 +254,8 @@ GaussianProcess read_gp(const SavedModel& f, const std::string& g, const std::st
   gp.neg_log_likelihood = f.number(g, "neg_log_likelihood", -kMaxAbsSavedNumber, kMaxAbsSavedNumber);
   gp.runs = static_cast<int>(f.integer(g, "runs", n, n));
   gp.validation = read_validation(f, g);
+  gp.validation.training_runs = gp.runs;
+  gp.validation.reselected.refits = kGpRefits;
   return gp;
 }
 
@@ -449,6 +452,7 @@ SurrogateSet read_surrogate_set(const std::string& path) {
     m.inputs = distributions;
     if (set.kind == SurrogateKind::kPolynomialChaos) m.pce = read_pce(f, g, name, distributions);
     else m.gp = read_gp(f, g, name, distributions.size());
+    m.validation().q2_threshold = set.q2_threshold;
     set.models.push_back(std::move(m));
   }
   if (set.models.empty())

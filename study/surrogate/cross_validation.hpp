@@ -23,6 +23,7 @@ struct CrossValidation {
   int folds = 0;         // 0: not done, and why_not says why
   double q2 = 0.0;       // Q^2_CV when folds > 0
   std::string why_not;   // empty when done
+  std::string refits;    // what each fold fits afresh, for the reports: "terms re-selected"
 };
 
 // Fits on (x_train, y_train) and returns the predictions at x_test. Throws

@@ -321,6 +321,18 @@ GaussianProcess fit_gaussian_process(const DesignMatrix& x, const Eigen::VectorX
   gp.loo_variance = gp.process_variance / q_diag.array();
   const double sst = (y.array() - y.mean()).square().sum();
   gp.validation.q2_loo = 1.0 - (y - gp.loo_mean).squaredNorm() / sst;
+  gp.validation.training_runs = gp.runs;
+  if (s.cross_validate_small_designs && s.fixed_length_scales.size() == 0 &&
+      gp.runs < kGpRunsPerInputTrustedByLeaveOneOut * x.cols()) {
+    GaussianProcessSettings refit = s;
+    refit.cross_validate_small_designs = false;
+    gp.validation.reselected = cross_validate(
+        x, y, trend_terms(s.trend, x.cols()) + 2,
+        [&](const DesignMatrix& x_train, const Eigen::VectorXd& y_train, const DesignMatrix& x_test) {
+          return predict_gaussian_process(fit_gaussian_process(x_train, y_train, refit, name), x_test).mean;
+        });
+    gp.validation.reselected.refits = kGpRefits;
+  }
   flag_low_q2(name, gp.runs, s.q2_threshold, &gp.validation);
   return gp;
 }

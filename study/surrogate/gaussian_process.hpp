@@ -65,7 +65,20 @@ struct GaussianProcessSettings {
   // at its next evaluation and the fit returns at once; its result is
   // incomplete, for a caller that discards it.
   const std::atomic<bool>* stop = nullptr;
+  // On fewer runs than kGpRunsPerInputTrustedByLeaveOneOut per input, score
+  // the whole fit by a cross-validation that estimates the length-scales
+  // afresh in each fold (validation.reselected): leave-one-out keeps the
+  // length-scales fitted to all the runs and, on so few, flatters the
+  // process. false: leave-one-out only.
+  bool cross_validate_small_designs = true;
 };
+
+// Loeppky, Sacks & Welch (2009) recommend 10 runs per input for a computer
+// experiment's Gaussian process; on fewer, the estimated length-scales, and
+// the leave-one-out Q^2 that keeps them, are not to be taken at their word.
+inline constexpr int kGpRunsPerInputTrustedByLeaveOneOut = 10;
+// What a fold of the cross-validation fits afresh (CrossValidation::refits).
+inline constexpr const char* kGpRefits = "length-scales re-estimated";
 
 struct GaussianProcess {
   std::string output_name;

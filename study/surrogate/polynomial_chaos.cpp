@@ -243,6 +243,7 @@ PolynomialChaosExpansion fit_polynomial_chaos(const DesignMatrix& x, const Eigen
         [&](const DesignMatrix& x_train, const Eigen::VectorXd& y_train, const DesignMatrix& x_test) {
           return fit_polynomial_chaos(x_train, y_train, inputs, refit, name).evaluate(x_test);
         });
+    e.validation.reselected.refits = kPceRefits;
   }
   flag_low_q2(name, e.runs, s.q2_threshold, &e.validation);
   return e;

@@ -28,6 +28,8 @@ namespace rover::study {
 enum class BasisSelection { kHybridLars, kFullLeastSquares };
 
 inline constexpr int kMaxPceDegree = 20;
+// What a fold of the cross-validation fits afresh (CrossValidation::refits).
+inline constexpr const char* kPceRefits = "terms re-selected";
 inline constexpr int kMaxPceCandidateTerms = 1000000;
 
 struct PolynomialChaosSettings {

@@ -19,7 +19,7 @@ std::string shown_q2(double q2) {
 }
 
 std::string reselected_q2_name(const CrossValidation& cv) {
-  return std::to_string(cv.folds) + "-fold cross-validated Q2 (terms re-selected)";
+  return std::to_string(cv.folds) + "-fold cross-validated Q2 (" + cv.refits + ")";
 }
 
 }  // namespace
@@ -48,7 +48,7 @@ std::string surrogate_not_to_trust(const std::string& output_name, const Surroga
   std::string q2;
   bool below_zero = false;
   const auto below_floor = [&](const std::string& which, double value) {
-    if (!(value < kMinTrustedQ2)) return;
+    if (!(value < v.q2_threshold)) return;
     q2 += (q2.empty() ? "" : ", ") + which + " " + shown_q2(value);
     below_zero = below_zero || value < 0.0;
   };
@@ -58,20 +58,19 @@ std::string surrogate_not_to_trust(const std::string& output_name, const Surroga
   if (!q2.empty())
     return "the surrogate of '" + output_name + "' " +
            (below_zero ? "predicts worse than the mean of its runs (" + q2 + " < 0)"
-                       : "leaves most of the variance of its runs unexplained (" + q2 + " < " +
-                             shown_q2(kMinTrustedQ2) + ")") +
+                       : "falls short of q2_threshold (" + q2 + " < " + shown_q2(v.q2_threshold) + ")") +
            ": its predictions and indices are not to be trusted";
   const bool not_done = v.reselected.folds == 0 && !v.reselected.why_not.empty();
   const bool not_recorded = v.reselected.folds == 0 && v.reselected.why_not.empty() && crowded_selection(v);
   if (held_out_q2_defined || !(not_done || not_recorded)) return "";
   const int runs_wanted = crowded_selection(v) ? kMinRunsPerSelectedTerm * v.selected_terms : v.training_runs + 1;
-  return "the surrogate of '" + output_name + "' (" + std::to_string(v.selected_terms) + " terms selected on " +
-         std::to_string(v.training_runs) + " runs) " +
-         (not_done ? "cannot be cross-validated with its terms re-selected (" + v.reselected.why_not + ")"
-                   : std::string("records no cross-validation with its terms re-selected")) +
+  const std::string fitted = v.selected_terms > 0 ? std::to_string(v.selected_terms) + " terms selected on " : "fitted on ";
+  return "the surrogate of '" + output_name + "' (" + fitted + std::to_string(v.training_runs) + " runs) " +
+         (not_done ? "cannot be cross-validated (" + v.reselected.why_not + ")"
+                   : std::string("records no cross-validation")) +
          ": its leave-one-out Q2 " + shown_q2(v.q2_loo) +
-         " alone cannot see that the terms were chosen to fit those runs, and its predictions and indices are not "
-         "to be trusted; give at least " + std::to_string(runs_wanted) + " runs";
+         " alone cannot be taken at its word (it keeps what was fitted to those runs), and its predictions and "
+         "indices are not to be trusted; give at least " + std::to_string(runs_wanted) + " runs, or held-out runs";
 }
 
 std::string reselected_q2_text(const SurrogateValidation& v) {
@@ -92,6 +91,7 @@ std::string held_out_q2_undefined_reason(const SurrogateValidation& v) {
 void flag_low_q2(const std::string& output_name, int runs, double threshold,
                  SurrogateValidation* validation) {
   std::ostringstream text;
+  validation->q2_threshold = threshold;
   const bool loo_low = validation->q2_loo < threshold;
   const CrossValidation& cv = validation->reselected;
   const bool cv_low = cv.folds > 0 && cv.q2 < threshold;

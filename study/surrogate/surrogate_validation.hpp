@@ -1,6 +1,8 @@
 // Validation of a surrogate model: the leave-one-out Q^2 it was fitted with,
-// Q^2 and RMSE on held-out runs when there are some, and a warning when a Q^2
-// falls below the accepted threshold.
+// for a polynomial chaos also the Q^2 of a cross-validation that re-selects
+// its terms, Q^2 and RMSE on held-out runs when there are some, a warning
+// when a Q^2 falls below the accepted threshold, and whether the surrogate is
+// to be trusted at all.
 //   Q^2 = 1 - sum (y - yhat)^2 / sum (y - mean y)^2   (the predictivity coefficient).
 #pragma once
 
@@ -17,16 +19,11 @@ inline constexpr double kDefaultQ2Threshold = 0.95;
 // A held-out Q^2 compares the prediction errors with the spread of the
 // held-out values: it needs two values at least.
 inline constexpr int kMinHeldOutRuns = 2;
-// A fit whose terms were selected on its own runs needs at least this many
-// runs per selected term for its leave-one-out Q^2 to mean anything: with
-// about as many terms as runs, the selection itself interpolates the runs and
-// leave-one-out (which keeps the terms fixed) cannot see it.
+// A fit with fewer runs than this per selected term is crowded: its
+// selection can interpolate the runs, which leave-one-out (keeping the terms
+// fixed) cannot see. A crowded model saved without the cross-validation that
+// re-selects its terms is not trusted, and advice asks for this many runs.
 inline constexpr int kMinRunsPerSelectedTerm = 2;
-// A surrogate whose Q^2 (leave-one-out, cross-validated or held-out) is
-// below this leaves more than half of the output's variance unexplained:
-// every Sobol' index, a share of that variance, can then be off by more than
-// a half, and its predictions are not to be trusted.
-inline constexpr double kMinTrustedQ2 = 0.5;
 
 struct SurrogateValidation {
   double q2_loo = 0.0;  // 1 - relative (corrected, for PCE) LOO error
@@ -34,6 +31,10 @@ struct SurrogateValidation {
   double q2_test = 0.0;  // NaN: undefined (held_out_q2_undefined_reason)
   double rmse_test = 0.0;
   std::string warning;  // empty when every Q^2 reaches the threshold
+  // The Q^2 every score must reach for the surrogate to be trusted (set by
+  // flag_low_q2): a Sobol' index is a share of the variance, so one from a
+  // surrogate that leaves a share 1 - Q^2 unexplained can be off by as much.
+  double q2_threshold = kDefaultQ2Threshold;
   // Terms selected on the training runs (polynomial chaos); 0 for a model
   // without selected terms (Gaussian process).
   int selected_terms = 0;
@@ -47,7 +48,6 @@ struct SurrogateValidation {
 // Q^2 cannot be taken at its word.
 bool crowded_selection(const SurrogateValidation& v);
 
-
 // Q^2 and RMSE of predictions against held-out values. Throws
 // std::invalid_argument if the sizes differ, are empty or hold non-finite values.
 // Q^2 of fewer than kMinHeldOutRuns values, or of equal values (no spread to
@@ -57,11 +57,12 @@ void score_held_out(const Eigen::VectorXd& observed, const Eigen::VectorXd& pred
 
 // Why the surrogate is not to be trusted, naming `output_name`; "" when it
 // is. Either a Q^2 it has (leave-one-out, re-selected cross-validated, or a
-// defined held-out one) is below kMinTrustedQ2, so it leaves most of the
-// variance unexplained or predicts worse than the mean (below 0), or, with no
+// defined held-out one) is below v.q2_threshold (below 0: it predicts worse
+// than the mean), or, with no
 // held-out Q^2 defined, its selection could not be cross-validated (too few
-// runs to refit a fold on: why_not set). Such a surrogate, and indices from
-// it, are results not to be trusted.
+// runs to refit a fold on: why_not set) or, crowded, was saved without that
+// cross-validation. Such a surrogate, and indices from it, are results not to
+// be trusted.
 std::string surrogate_not_to_trust(const std::string& output_name, const SurrogateValidation& v);
 
 // ", <K>-fold cross-validated Q2 (terms re-selected) <q2>" when that
@@ -72,7 +73,8 @@ std::string reselected_q2_text(const SurrogateValidation& v);
 // held-out runs).
 std::string held_out_q2_undefined_reason(const SurrogateValidation& v);
 
-// Sets validation->warning (or clears it) from q2_loo, the re-selected
+// Sets validation->q2_threshold, and validation->warning (or clears it) from
+// q2_loo, the re-selected
 // cross-validated Q^2 when done and, if test_points > 0 and it is defined,
 // q2_test: names the output, the Q^2, the threshold and the number of runs,
 // and suggests a larger N.

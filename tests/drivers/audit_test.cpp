@@ -2388,7 +2388,7 @@ TEST_F(Audit, UnitMistakesFlagsAndFailuresInRoversWords) {
       j.erase("bootstrap");
       j["design"] = {{"type", "lhs"}, {"samples", 100}, {"seed", 1}};
       j["confidence"] = confidence;
-      j["pce"] = {{"max_degree", 6}, {"bootstrap", resamples}};
+      j["pce"] = {{"max_degree", 10}, {"bootstrap", resamples}};
     });
   };
   cases.push_back({"PCE: confidence 0.999999 from 100 resamples", study("sensitivity", pce(0.999999, 100)),
@@ -3870,7 +3870,7 @@ TEST_F(Audit, ASignalEndsAPredictionWithNothingWritten) {
   const std::string dir = w().dir();
   const std::string study = w().json_file(
       "sg", Json{{"type", "surrogate"}, {"surrogate", "pce"}, {"name", "sg"}, {"model", "ishigami"},
-                 {"design", {{"type", "lhs"}, {"samples", 100}, {"seed", 1}}}, {"pce", {{"max_degree", 6}}}});
+                 {"design", {{"type", "lhs"}, {"samples", 100}, {"seed", 1}}}, {"pce", {{"max_degree", 10}}}});
   const std::string model = dir + "/sg.h5";
   std::string output;
   ASSERT_EQ(run_command("cd " + dir + " && OMPI_MCA_ess_singleton_isolated=1 " + rover_binary() + " " +
@@ -4228,7 +4228,8 @@ TEST_F(Audit, ASurrogateFileIsCheckedBeforeItPredicts) {
   auto trained = [&](const std::string& kind) {
     Json j{{"type", "surrogate"}, {"surrogate", kind}, {"name", kind}, {"model", "ishigami"},
            {"design", {{"type", "lhs"}, {"samples", 100}, {"seed", 1}}}};
-    if (kind == "pce") j["pce"] = {{"max_degree", 6}, {"bootstrap", 0}};
+    if (kind == "pce") j["pce"] = {{"max_degree", 10}, {"bootstrap", 0}};
+    else j["gp"] = {{"q2_threshold", 0.5}};  // 100 runs krige Ishigami to Q2 0.8 only
     const std::string model = dir + "/" + kind + ".h5";
     std::string output;
     EXPECT_EQ(run_command("cd " + dir + " && OMPI_MCA_ess_singleton_isolated=1 " + rover_binary() + " " +
@@ -5048,6 +5049,7 @@ TEST_F(Audit, SurrogateRunsAreThoseOfTheStudysRoverAndIntegrator) {
   ASSERT_TRUE(fs::exists(rk4_runs)) << output;
   Json on_rk4 = surrogate;
   on_rk4["training"] = {{"file", rk4_runs}};
+  on_rk4["pce"]["q2_threshold"] = 0.5;  // 20 runs: Q2 0.8, accepted knowingly
   // Every run of the design diverges: rk4 at 3.125 ms on the stiff contact.
   Json diverging = surrogate;
   diverging["scenario"] = w().scenario([](Json& j) {
@@ -6149,20 +6151,25 @@ TEST_F(Audit, SurrogatesWorseThanTheMeanAreNotToBeTrusted) {
                    {"the QoI varies over the 17 runs", "selected no term beyond the constant"}});
   cases.push_back({"PCE indices of Ishigami from 6 runs (5 terms, Q2_LOO 0.999)",
                    "sensitivity --no-plot --study " + ishigami + " --samples 6 --out " + w().out(), Want::kAllFailed,
-                   {"(5 terms selected on 6 runs) cannot be cross-validated with its terms re-selected",
+                   {"(5 terms selected on 6 runs) cannot be cross-validated (a fold of 6 runs leaves 5",
                     "give at least 10 runs", "exit status 2"}});
   cases.push_back({"PCE indices of Ishigami from 14 runs (12 terms, Q2_LOO 0.94)",
                    "sensitivity --no-plot --study " + ishigami + " --samples 14 --out " + w().out(), Want::kAllFailed,
                    {"Q2_LOO 0.9421, 10-fold cross-validated Q2 (terms re-selected) -0.7919",
                     "predicts worse than the mean", "exit status 2"}});
-  const std::string ishigami_seed_3 = w().text_file("pce_seed_3", [&] {
+  const auto ishigami_of_seed = [&](int seed) {
     std::string text = file_bytes(ishigami);
-    text.replace(text.find("\"seed\": 1"), 9, "\"seed\": 3");
-    return text;
-  }(), "json");
+    text.replace(text.find("\"seed\": 1"), 9, "\"seed\": " + std::to_string(seed));
+    return "sensitivity --no-plot --study " + w().text_file("pce_seed", text, "json");
+  };
   cases.push_back({"PCE indices of Ishigami from 20 runs of seed 3 (cross-validated Q2 0.09)",
-                   "sensitivity --no-plot --study " + ishigami_seed_3 + " --samples 20 --out " + w().out(),
-                   Want::kAllFailed, {"leaves most of the variance of its runs unexplained", "< 0.5", "exit status 2"}});
+                   ishigami_of_seed(3) + " --samples 20 --out " + w().out(), Want::kAllFailed,
+                   {"falls short of q2_threshold", "< 0.95", "exit status 2"}});
+  // Cross-validated Q2 0.66 and 0.75: total indices 0.2 from the exact ones.
+  cases.push_back({"PCE indices of Ishigami from 30 runs of seed 5", ishigami_of_seed(5) + " --samples 30 --out " + w().out(),
+                   Want::kAllFailed, {"falls short of q2_threshold", "exit status 2"}});
+  cases.push_back({"PCE indices of Ishigami from 40 runs of seed 6", ishigami_of_seed(6) + " --samples 40 --out " + w().out(),
+                   Want::kAllFailed, {"falls short of q2_threshold", "exit status 2"}});
   cases.push_back({"PCE indices of Ishigami from 100 runs", "sensitivity --no-plot --study " + ishigami +
                                                                 " --samples 100 --out " + w().out(),
                    Want::kRuns, {}, {}, {}, {"worse than the mean"}});
@@ -6234,6 +6241,21 @@ TEST_F(Audit, ASurrogateWithAboutAsManyTermsAsRunsIsNotTrusted) {
                          &o.output);
   EXPECT_EQ(o.status, 0) << o.output;
   EXPECT_EQ(o.output.find("not to be trusted"), std::string::npos) << o.output;
+  // A Gaussian process on 6 runs: Q2_LOO 0.97 with length-scales fitted to them; re-estimated, -0.45.
+  Json gp = surrogate(6, 0.0, 3);
+  gp["surrogate"] = "gp";
+  gp.erase("pce");
+  const std::string gp_model = w().out();
+  o.status = run_command(rover_binary() + " " + study_args("surrogate", w().json_file("gp", gp), gp_model) + " 2>&1",
+                         &o.output);
+  EXPECT_EQ(o.status, 2) << o.output;
+  EXPECT_NE(o.output.find("6-fold cross-validated Q2 (length-scales re-estimated) -0.45"), std::string::npos)
+      << o.output;
+  o.status = run_command(rover_binary() + " surrogate --predict " + gp_model + " --design " + design + " --csv " +
+                             w().out("csv") + " 2>&1",
+                         &o.output);
+  EXPECT_EQ(o.status, 2) << o.output;
+  EXPECT_NE(o.output.find("predicts worse than the mean"), std::string::npos) << o.output;
 }
 
 // An effective sample size above the kept draws (a tau below 1, estimated
