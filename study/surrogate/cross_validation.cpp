@@ -6,21 +6,6 @@
 #include <vector>
 
 namespace rover::study {
-namespace {
-
-// The rows of x and y in `rows`, in order.
-DesignMatrix rows_of(const DesignMatrix& x, const std::vector<Eigen::Index>& rows) {
-  DesignMatrix out(static_cast<Eigen::Index>(rows.size()), x.cols());
-  for (std::size_t k = 0; k < rows.size(); ++k) out.row(static_cast<Eigen::Index>(k)) = x.row(rows[k]);
-  return out;
-}
-Eigen::VectorXd values_of(const Eigen::VectorXd& y, const std::vector<Eigen::Index>& rows) {
-  Eigen::VectorXd out(static_cast<Eigen::Index>(rows.size()));
-  for (std::size_t k = 0; k < rows.size(); ++k) out(static_cast<Eigen::Index>(k)) = y(rows[k]);
-  return out;
-}
-
-}  // namespace
 
 CrossValidation cross_validate(const DesignMatrix& x, const Eigen::VectorXd& y, int min_training_runs,
                                const FitAndPredict& fit_and_predict) {
@@ -44,7 +29,8 @@ CrossValidation cross_validate(const DesignMatrix& x, const Eigen::VectorXd& y, 
     for (Eigen::Index r = 0; r < runs; ++r) (r % folds == f ? test : train).push_back(r);
     Eigen::VectorXd fold_prediction;
     try {
-      fold_prediction = fit_and_predict(rows_of(x, train), values_of(y, train), rows_of(x, test));
+      using Eigen::placeholders::all;
+      fold_prediction = fit_and_predict(x(train, all), y(train), x(test, all));
     } catch (const std::invalid_argument& e) {
       cv.why_not = "fold " + std::to_string(f + 1) + " of " + std::to_string(folds) + ": " + e.what();
       return cv;
