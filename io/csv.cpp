@@ -198,7 +198,9 @@ CsvTable read_csv(const std::string& path, const std::vector<std::string>& requi
       throw ConfigError(where + "expected " + std::to_string(table.header.size()) +
                         " values, got " + std::to_string(fields.size()));
     for (std::size_t j = 0; j < fields.size(); ++j) {
-      const std::string_view field = fields[j];
+      // A value quoted as spreadsheets write every cell ("0.25") reads as the number.
+      const std::string unquoted = unquoted_csv_cell(fields[j]);
+      const std::string_view field = trim(unquoted);
       const std::string column = "column '" + table.header[j] + "': ";
       if (field.empty()) throw ConfigError(where + column + "empty value");
       const DecimalNumber number = parse_decimal_number(field);

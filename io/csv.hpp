@@ -4,8 +4,8 @@
 // Format read: a header line of column names, then one line of numbers per row,
 // comma-separated; blank lines and '#' comments (whole-line or trailing) are
 // ignored; surrounding spaces, Windows line ends and a UTF-8 byte-order mark
-// (as spreadsheet programs write) are accepted. Every value must be a finite
-// number. Errors name the file and the line (never a row index):
+// (as spreadsheet programs write) are accepted, and so are names and values in
+// double quotes ("c_q", "0.25"). Every value must be a finite number. Errors name the file and the line (never a row index):
 // "data.csv:17: expected 2 values, got 3".
 //
 // Measured curves t,z (drop tests: time [s], height [m] of the left bogie pin)
@@ -41,7 +41,7 @@ struct CsvTable {
 // `required_columns`, or a file without data rows.
 CsvTable read_csv(const std::string& path, const std::vector<std::string>& required_columns = {});
 
-// A header cell as RFC 4180 quotes it ("c_q", or "a""b" for a"b), unquoted;
+// A cell as RFC 4180 quotes it ("c_q", "0.25", or "a""b" for a"b), unquoted;
 // any other cell as it is.
 std::string unquoted_csv_cell(std::string_view cell);
 

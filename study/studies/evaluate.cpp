@@ -97,7 +97,9 @@ DesignTable read_design_csv(const std::string& path, const std::function<void(co
                             std::to_string(cells.size()));
     std::vector<double> row;
     for (std::size_t j = 0; j < cells.size(); ++j) {
-      const io::DecimalNumber cell = io::parse_decimal_number(cells[j]);
+      // A value quoted as spreadsheets write every cell ("0.25") reads as the number.
+      const std::string text = trim(io::unquoted_csv_cell(cells[j]));
+      const io::DecimalNumber cell = io::parse_decimal_number(text);
       const std::string hint = io::decimal_number_hint(cells[j]);
       if (cell.status != io::DecimalStatus::kOk)
         throw io::ConfigError(where + ": column " + std::to_string(j + 1) + " (" + table.columns[j] +

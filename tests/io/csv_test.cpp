@@ -64,11 +64,12 @@ TEST(Csv, AcceptsCommentsSpacesAndWindowsLineEnds) {
                                       " time_s , \"torque_Nm\" \r\n"
                                       "0, +1.5   # first sample\r\n"
                                       "   # a comment between rows\r\n"
-                                      "0.5,-2e-3\r\n");
+                                      "0.5,-2e-3\r\n"
+                                      "\"1.25\",\" 4 \"\r\n");  // every cell quoted, as spreadsheets may save
   const CsvTable table = read_csv(path, {"torque_Nm"});
   EXPECT_EQ(table.header, (std::vector<std::string>{"time_s", "torque_Nm"}));
-  EXPECT_EQ(table.column("time_s"), (std::vector<double>{0.0, 0.5}));
-  EXPECT_EQ(table.column("torque_Nm"), (std::vector<double>{1.5, -2e-3}));
+  EXPECT_EQ(table.column("time_s"), (std::vector<double>{0.0, 0.5, 1.25}));
+  EXPECT_EQ(table.column("torque_Nm"), (std::vector<double>{1.5, -2e-3, 4.0}));
 }
 
 TEST(Csv, EachMalformedLineIsNamedWithItsNumber) {
@@ -87,6 +88,8 @@ TEST(Csv, EachMalformedLineIsNamedWithItsNumber) {
       {"-inf,1", ":4: column 'f': '-inf' is not a finite number"},
       {"1e999,1", ":4: column 'f': '1e999' is out of range"},
       {",1", ":4: column 'f': empty value"},
+      {"\"\",1", ":4: column 'f': empty value"},
+      {"1,\"abc\"", ":4: column 'c_q': 'abc' is not a number"},
   };
   for (const Case& c : cases) {
     const std::string path = write_text("bad.csv", header + c.last_line + "\n1,2\n");
