@@ -180,11 +180,19 @@ std::string mismatch_text(const std::string& what, const CLI::App* sub) {
   return where(name) + " needs a value: " + accepted(option);
 }
 
-std::string required_text(const std::string& what, const CLI::App* sub) {
+// `first_unparsed`: the first word CLI11 left over ("flat" in `terrain flat`).
+std::string required_text(const std::string& what, const CLI::App* sub, const std::string& first_unparsed) {
   if (starts_with(what, "A subcommand is required") || starts_with(what, "Requires at least")) {
     std::string names;
-    for (const CLI::App* command : subcommands(sub)) names += (names.empty() ? "" : ", ") + command->get_name();
-    return "a subcommand is required (" + names + ")";
+    std::vector<std::string> known;
+    for (const CLI::App* command : subcommands(sub)) {
+      names += (names.empty() ? "" : ", ") + command->get_name();
+      known.push_back(command->get_name());
+    }
+    if (first_unparsed.empty()) return "a subcommand is required (" + names + ")";
+    const std::string near = nearest_name(first_unparsed, known);
+    return "'" + first_unparsed + "' is not a subcommand of " + sub->get_name() + " (its subcommands: " + names +
+           ")" + (near.empty() ? "" : "; did you mean '" + near + "'?");
   }
   const std::string suffix = " is required";
   if (what.size() > suffix.size() && what.compare(what.size() - suffix.size(), suffix.size(), suffix) == 0) {
@@ -267,7 +275,8 @@ std::vector<std::string> command_line_error_lines(const CLI::ParseError& error, 
   // An unknown option is the first thing to fix (CLI11 may report a required
   // option first: `--scenaro x` leaves --scenario unset).
   std::string unparsed;
-  for (const std::string& arg : sub->remaining()) unparsed += (unparsed.empty() ? "" : " ") + arg;
+  const std::vector<std::string> remaining = sub->remaining();
+  for (const std::string& arg : remaining) unparsed += (unparsed.empty() ? "" : " ") + arg;
   if (dynamic_cast<const CLI::ExtrasError*>(&error)) {
     // CLI11 lists them last first.
     std::istringstream words(what.substr(what.find(": ") + 2));
@@ -284,7 +293,7 @@ std::vector<std::string> command_line_error_lines(const CLI::ParseError& error, 
   } else if (dynamic_cast<const CLI::ArgumentMismatch*>(&error)) {
     text = mismatch_text(what, sub);
   } else if (dynamic_cast<const CLI::RequiredError*>(&error)) {
-    text = required_text(what, sub);
+    text = required_text(what, sub, remaining.empty() ? "" : remaining.front());
   } else if (dynamic_cast<const CLI::ExcludesError*>(&error)) {
     const std::size_t word = what.find(" excludes ");
     text = word == std::string::npos ? what

@@ -20,6 +20,41 @@ std::size_t edit_distance(std::string_view a, std::string_view b) {
   return d[a.size()][b.size()];
 }
 
+namespace {
+
+// A name's first word, without leading dashes: "crab" for "--crab-deg" and
+// "--crab-angle", "noise" for "noise_sd"; `whole` is false for a one-word name.
+struct LeadingWord {
+  std::string_view word;
+  bool whole = true;
+};
+
+LeadingWord leading_word(std::string_view name) {
+  name.remove_prefix(std::min(name.find_first_not_of('-'), name.size()));
+  const std::size_t end = name.find_first_of("-_");
+  if (end == std::string_view::npos) return {name, true};
+  return {name.substr(0, end), false};
+}
+
+// A word short enough to be shared by chance ("a", "no") names nothing.
+constexpr std::size_t kMinSharedWordLength = 3;
+
+// The one known name whose first word is that of a multi-word `typed`
+// ("--crab-angle" -> "--crab-deg"); empty when none or several share it.
+std::string only_name_sharing_first_word(std::string_view typed, const std::vector<std::string>& known) {
+  const LeadingWord first = leading_word(typed);
+  if (first.whole || first.word.size() < kMinSharedWordLength) return "";
+  std::string found;
+  for (const std::string& name : known) {
+    if (leading_word(name).word != first.word) continue;
+    if (!found.empty()) return "";
+    found = name;
+  }
+  return found;
+}
+
+}  // namespace
+
 std::string nearest_name(std::string_view typed, const std::vector<std::string>& known) {
   std::string nearest;
   std::size_t best = std::string::npos;
@@ -30,7 +65,8 @@ std::string nearest_name(std::string_view typed, const std::vector<std::string>&
       nearest = name;
     }
   }
-  if (nearest.empty() || best > std::max<std::size_t>(2, nearest.size() / 3)) return "";
+  if (nearest.empty() || best > std::max<std::size_t>(2, nearest.size() / 3))
+    return only_name_sharing_first_word(typed, known);
   return nearest;
 }
 

@@ -546,7 +546,7 @@ void read_mcmc_settings(const io::JsonReader& r, CalibrationStudy& s) {
     if (m.has("noise_sd")) {
       if (m.raw("noise_sd").is_number()) {
         s.mcmc.sample_noise = false;
-        s.mcmc.known_noise_sd_m = m.positive("noise_sd");
+        s.mcmc.known_noise_sd_m = m.number("noise_sd");
         if (!noise_sd_resolved(s.mcmc.known_noise_sd_m))
           m.fail("noise_sd", noise_scale_problem(s.mcmc.known_noise_sd_m));
       } else {

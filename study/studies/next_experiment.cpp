@@ -91,7 +91,7 @@ NextExperimentCandidate read_candidate(const io::JsonReader& c, std::size_t inde
   }
   out.rate_hz = c.positive("rate_hz");
   if (out.rate_hz > kMaxRateHz) c.fail("rate_hz", "must be at most 1e5 Hz, got " + number(out.rate_hz, 6));
-  out.noise_sd_m = c.positive("noise_sd");
+  out.noise_sd_m = c.number("noise_sd");
   if (!noise_sd_resolved(out.noise_sd_m)) c.fail("noise_sd", noise_scale_problem(out.noise_sd_m));
   try {
     out.sources = io::read_scenario_sources(out.scenario_path);

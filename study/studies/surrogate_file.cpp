@@ -426,9 +426,13 @@ void write_surrogate_set(io::Hdf5Writer& h5, const SurrogateSet& set) {
 SurrogateSet read_surrogate_set(const std::string& path) {
   const SavedModel f(path);
   const io::Hdf5Reader& h5 = f.h5();
-  if (!h5.exists("/surrogate/inputs") || !h5.exists("/surrogate/outputs"))
+  if (!h5.exists("/surrogate/inputs") || !h5.exists("/surrogate/outputs")) {
+    if (h5.has_attribute("/", "study") && h5.attribute_string("/", "study") != "surrogate")
+      throw io::ConfigError(path + ": a " + h5.attribute_string("/", "study") +
+                            " result, not a surrogate model: give the file written by `rover surrogate --study`");
     throw io::ConfigError(path + ": no /surrogate/inputs and /surrogate/outputs: not a model written by "
                           "`rover surrogate --study`, or one damaged since it was written (write it again)");
+  }
   SurrogateSet set;
   try {
     set.kind = surrogate_kind_from_name(h5.attribute_string("/surrogate", "kind"));

@@ -963,7 +963,9 @@ TEST_F(Audit, CalibrationStudy) {
   c_case("discard beyond steps", [](Json& j) { j["method"] = "mcmc"; j["mcmc"] = {{"steps", 10}, {"discard", 20}}; },
          {"'mcmc.discard'", "20"});
   c_case("negative noise", [](Json& j) { j["method"] = "mcmc"; j["mcmc"] = {{"noise_sd", -1e-4}}; },
-         {"'mcmc.noise_sd'", "-0.0001"});
+         {"'mcmc.noise_sd'", "-0.0001", "outside the noise sds from 1e-12 to 1000 m"});
+  c_case("zero noise", [](Json& j) { j["method"] = "mcmc"; j["mcmc"] = {{"noise_sd", 0}}; },
+         {"'mcmc.noise_sd'", "0 m, outside the noise sds from 1e-12 to 1000 m"});
   c_case("prior of an unknown distribution", [](Json& j) { j["priors"] = {{"c_q", {{"distribution", "beta"}}}}; },
          {"'priors.c_q.distribution'", "beta"});
   c_case("prior of an unknown parameter",
@@ -6283,6 +6285,28 @@ TEST_F(Audit, AnEffectiveSampleSizeAboveTheDrawsIsExplained) {
   }
   EXPECT_EQ(ess_lines, 2) << o.output;  // c_q and noise_sd
   EXPECT_GT(above_the_draws, 0) << "this seed no longer gives an ESS above the draws:\n" << o.output;
+}
+
+
+// What was typed is named with what was meant: a subcommand that does not
+// exist, an option whose first word is right, a result of another study given
+// as a model; and a design of quoted numbers, as spreadsheets save one, runs.
+TEST_F(Audit, TypedNamesGetWhatWasMeantAndQuotedNumbersRead) {
+  std::vector<Case> cases;
+  cases.push_back({"terrain flat", "terrain flat --out " + w().out("json"), Want::kError,
+                   {"'flat' is not a subcommand of terrain", "obstacle"}, {}, {}, {"a subcommand is required"}});
+  cases.push_back({"kinematics --crab-angle", "kinematics --mode parallel --v 0.1 --crab-angle 10", Want::kError,
+                   {"unknown option '--crab-angle'", "did you mean '--crab-deg'?"}});
+  const std::string quoted = w().text_file("quoted", "\"c_q\",\"f\"\n\"0.25\",\" 8000 \"\n", "csv");
+  cases.push_back({"a design of quoted numbers",
+                   "evaluate --scenario " + w().quick() + " --qoi t_min --design " + quoted + " --out " + w().out("csv"),
+                   Want::kRuns});
+  const std::string monte_carlo = w().out("h5");
+  ASSERT_EQ(run_command(rover_binary() + " " + study_args("montecarlo", w().montecarlo([](Json&) {}), monte_carlo)), 0);
+  cases.push_back({"surrogate --predict from a Monte Carlo result",
+                   "surrogate --predict " + monte_carlo + " --design " + quoted + " --csv " + w().out("csv"),
+                   Want::kError, {monte_carlo + ": a montecarlo result, not a surrogate model"}, {}, {}, {"damaged"}});
+  run_table(w().dir(), cases);
 }
 
 }  // namespace
