@@ -127,7 +127,7 @@ double nested_rhat(const Eigen::MatrixXd& full_chain, int superchains) {
 }
 
 ChainDiagnostics diagnose_chain(const std::vector<Eigen::MatrixXd>& samples, long accepted_moves,
-                                int discard_steps, const std::vector<std::string>& names) {
+                                int discard_steps, const std::vector<std::string>& names, double max_rhat) {
   const auto label = [&](Eigen::Index q) {
     return static_cast<std::size_t>(q) < names.size() ? names[static_cast<std::size_t>(q)]
                                                       : "parameter " + std::to_string(q);
@@ -166,11 +166,11 @@ ChainDiagnostics diagnose_chain(const std::vector<Eigen::MatrixXd>& samples, lon
     } else {
       max_tau = std::max(max_tau, tau);
     }
-    if (d.nested_rhat[q] > 1.1)
-      warning << label(q) << ": nested R-hat " << d.nested_rhat[q]
-              << " > 1.1, the walkers disagree (not converged or several modes); ";
-    else if (d.nested_rhat[q] > 1.01)
-      warning << label(q) << ": nested R-hat " << d.nested_rhat[q] << " > 1.01; ";
+    if (d.nested_rhat[q] > kDisagreeingNestedRhat)
+      warning << label(q) << ": nested R-hat " << d.nested_rhat[q] << " > " << kDisagreeingNestedRhat
+              << ", the walkers disagree (not converged or several modes); ";
+    else if (d.nested_rhat[q] >= max_rhat)
+      warning << label(q) << ": nested R-hat " << d.nested_rhat[q] << " >= max_rhat " << max_rhat << "; ";
   }
   if (static_cast<double>(kept) < 50.0 * max_tau) {
     d.chain_too_short = true;

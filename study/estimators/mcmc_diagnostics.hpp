@@ -47,21 +47,29 @@ double split_rhat(const Eigen::MatrixXd& chain);
 // per half (the remainder left out); NaN when no walker moves.
 double nested_rhat(const Eigen::MatrixXd& chain, int superchains);
 
+// The nested R-hat below which chains count as mixed unless a study sets its
+// own (Margossian et al. 2022 use 1.01 with many short chains).
+constexpr double kDefaultMaxNestedRhat = 1.01;
+// Above this the walkers disagree outright: not converged, or several modes.
+constexpr double kDisagreeingNestedRhat = 1.1;
+
 struct ChainDiagnostics {
   double acceptance_fraction = 0;
   Eigen::VectorXd autocorrelation_time, effective_sample_size, split_rhat;  // per parameter
   // Per parameter: nested R-hat over 4 superchains (the split R-hat with fewer than 8 walkers).
   Eigen::VectorXd nested_rhat;
   bool chain_too_short = false;  // steps < 50 * max autocorrelation time, or a parameter never moves
-  std::string warning;           // human text when too short or R-hat > 1.01 / 1.1; empty if fine
+  std::string warning;           // human text when too short or R-hat >= max_rhat / > 1.1; empty if fine
 };
 
 // samples: for each parameter a steps x walkers matrix (all the same shape);
 // accepted_moves: accepted proposals over ALL the steps in `samples`, so the
 // acceptance fraction is accepted_moves / (steps * walkers) before discarding.
 // The first `discard_steps` steps (burn-in) are left out of everything else.
-// `names` (one per parameter, or empty: "parameter q") label the warning.
+// `names` (one per parameter, or empty: "parameter q") label the warning; a
+// nested R-hat of `max_rhat` or more is warned about.
 ChainDiagnostics diagnose_chain(const std::vector<Eigen::MatrixXd>& samples, long accepted_moves,
-                                int discard_steps = 0, const std::vector<std::string>& names = {});
+                                int discard_steps = 0, const std::vector<std::string>& names = {},
+                                double max_rhat = kDefaultMaxNestedRhat);
 
 }  // namespace rover::study

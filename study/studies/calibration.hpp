@@ -54,6 +54,7 @@
 
 #include "core/scenario.hpp"
 #include "study/estimators/distributions.hpp"
+#include "study/estimators/mcmc_diagnostics.hpp"
 #include "study/model/study_model.hpp"
 #include "study/runtime/study_runner.hpp"
 #include "study/model/qoi.hpp"
@@ -126,7 +127,7 @@ struct McmcSettings {
   long steps = 5000;
   std::optional<long> discard;  // burn-in steps left out of the summaries; default by sampler
   double target_ess = 400;
-  double max_rhat = 1.01;
+  double max_rhat = kDefaultMaxNestedRhat;
   std::uint64_t seed = 1;
   // The measurement noise sd [m]: sampled with noise_prior, or known.
   bool sample_noise = true;

@@ -334,8 +334,8 @@ void after_step(const McmcSettings& m, const Sampler& sampler, long discard, int
                 long step) {
   if (m.target_ess <= 0 || step < discard + sampler.check_interval() || step % sampler.check_interval() != 0) return;
   const ChainSamples chain = chain_samples(run.records, step, sampler.chains, p);
-  run.mixed = target_met(diagnose_chain(chain.samples, chain.accepted_moves, static_cast<int>(discard)), m,
-                         &run.progress);
+  run.mixed = target_met(diagnose_chain(chain.samples, chain.accepted_moves, static_cast<int>(discard), {}, m.max_rhat),
+                         m, &run.progress);
   std::cerr << "calibrate: step " << step << " (at most " << m.steps << "): " << run.progress << "\n";
 }
 
@@ -494,6 +494,26 @@ std::vector<PredictiveBand> predictive_bands(const CalibrationStudy& s, const Pr
   return bands;
 }
 
+// A max_rhat is shown to this many digits, so that 1.0001 is never "1".
+constexpr int kMaxRhatDigits = 8;
+
+// Without a target the chains run a fixed length and are judged by it: one
+// too short for its autocorrelation time, that never moves, or whose nested
+// R-hat reaches max_rhat has no intervals to trust. Why, or empty.
+std::string fixed_length_chain_problem(const ChainDiagnostics& d, const McmcSettings& m, long steps,
+                                       const std::vector<std::string>& names) {
+  const std::string ran = "target_ess 0 ran a fixed " + std::to_string(steps) + " steps";
+  if (d.chain_too_short) return ran + ", too few: " + d.warning;
+  std::string unmixed;
+  for (Eigen::Index q = 0; q < d.nested_rhat.size(); ++q)
+    if (!(d.nested_rhat[q] < m.max_rhat))
+      unmixed += (unmixed.empty() ? "" : ", ") + names[static_cast<std::size_t>(q)] + " " +
+                 format_number(d.nested_rhat[q], 5);
+  if (unmixed.empty()) return "";
+  return ran + " and the walkers have not mixed: nested R-hat " + unmixed + " (max_rhat " +
+         format_number(m.max_rhat, kMaxRhatDigits) + ")";
+}
+
 }  // namespace
 
 double gaussian_log_likelihood(const std::vector<double>& residuals, double noise_sd) {
@@ -582,15 +602,12 @@ CalibrationPosterior run_calibration_mcmc(const CalibrationStudy& s, const Study
     for (std::size_t k = 0; k < space.size(); ++k)
       posterior.samples.push_back(chain.samples[k].unaryExpr([&](double u) { return space.natural(k, u); }));
     posterior.log_posterior = std::move(chain.log_posterior);
-    posterior.diagnostics =
-        diagnose_chain(chain.samples, chain.accepted_moves, static_cast<int>(posterior.discard), space.names);
+    posterior.diagnostics = diagnose_chain(chain.samples, chain.accepted_moves, static_cast<int>(posterior.discard),
+                                           space.names, s.mcmc.max_rhat);
     posterior.summary = summarise(posterior.samples, posterior.log_posterior, posterior.discard);
-    // Without a target the chains run a fixed length; one too short for its
-    // autocorrelation time (or that never moves) has no intervals to trust.
-    if (s.mcmc.target_ess <= 0 && posterior.diagnostics.chain_too_short) {
-      posterior.mixed = false;
-      posterior.not_mixed_because = "target_ess 0 ran a fixed " + std::to_string(run.steps) +
-                                    " steps, too few: " + posterior.diagnostics.warning;
+    if (s.mcmc.target_ess <= 0) {
+      posterior.not_mixed_because = fixed_length_chain_problem(posterior.diagnostics, s.mcmc, run.steps, space.names);
+      posterior.mixed = posterior.not_mixed_because.empty();
     }
   }
   const PredictiveRuns runs = run_predictive(s, predictive_draws(posterior, s.mcmc.predictive_draws, space.size()), control);

@@ -6288,6 +6288,36 @@ TEST_F(Audit, AnEffectiveSampleSizeAboveTheDrawsIsExplained) {
 }
 
 
+// A posterior run for a fixed number of steps ("target_ess": 0) is still
+// judged by the study's max_rhat: walkers whose nested R-hat reaches it have
+// not mixed, and the posterior is NOT VALID; a bar they pass lets it stand.
+// The quick drop is a free fall, so it is gravity that its data determine.
+TEST_F(Audit, AFixedLengthPosteriorIsJudgedByItsMaxRhat) {
+  const auto posterior = [&](double max_rhat, const std::string& out) {
+    return study_args("calibrate", w().calibration([&](Json& j) {
+      j["fit"] = {"gravity"};
+      j["bounds"] = {{"gravity", {5.0, 15.0}}, {"time_offset", {-0.2, 0.2}}};
+      j["initial"] = {{"gravity", 9.0}};
+      j.erase("max_evaluations");
+      j["method"] = "mcmc";
+      j["mcmc"] = {{"walkers", 4}, {"steps", 200}, {"discard", 10}, {"target_ess", 0},
+                   {"predictive_draws", 0}, {"max_rhat", max_rhat}};
+    }), out);
+  };
+  const std::string strict = w().out(), loose = w().out();
+  Outcome o;
+  o.status = run_command(rover_binary() + " " + posterior(1.0001, strict) + " 2>&1", &o.output);
+  EXPECT_EQ(o.status, 2) << o.output;
+  for (const std::string& text :
+       {"NOT VALID", "ran a fixed 200 steps and the walkers have not mixed: nested R-hat gravity", "(max_rhat 1.0001)"})
+    EXPECT_NE(o.output.find(text), std::string::npos) << text << "\n" << o.output;
+  EXPECT_EQ(io::Hdf5Reader(strict).attribute_integer("/diagnostics", "mixed"), 0);
+  o.status = run_command(rover_binary() + " " + posterior(2.0, loose) + " 2>&1", &o.output);
+  EXPECT_EQ(o.status, 0) << o.output;  // 190 kept steps of an independence sampler: long enough
+  EXPECT_EQ(io::Hdf5Reader(loose).attribute_integer("/diagnostics", "mixed"), 1);
+}
+
+
 // What was typed is named with what was meant: a subcommand that does not
 // exist, an option whose first word is right, a result of another study given
 // as a model; and a design of quoted numbers, as spreadsheets save one, runs.

@@ -107,6 +107,12 @@ TEST(DiagnoseChain, DiscardedBurnInIsLeftOut) {
   EXPECT_NE(named.warning.find("c_q: nested R-hat"), std::string::npos) << named.warning;
   const ChainDiagnostics without = diagnose_chain({chain}, 0, 200);
   EXPECT_LT(without.split_rhat[0], 1.01);
+  EXPECT_EQ(without.warning.find("R-hat"), std::string::npos) << without.warning;
+  // A study's stricter bar is the one warned about.
+  const double strict_bar = 1.0 + 0.5 * (without.nested_rhat[0] - 1.0);
+  const ChainDiagnostics strict = diagnose_chain({chain}, 0, 200, {"c_q"}, strict_bar);
+  EXPECT_NE(strict.warning.find("c_q: nested R-hat"), std::string::npos) << strict.warning;
+  EXPECT_NE(strict.warning.find(">= max_rhat"), std::string::npos) << strict.warning;
   // Sokal's window on 1000 iid steps: tau ~ 1 (the data-dependent window biases it slightly low).
   EXPECT_NEAR(without.autocorrelation_time[0], 1.0, 0.15);
 }
