@@ -59,6 +59,24 @@ long suggested_samples(int n, double widest, double target) {
   return static_cast<long>(std::ceil(n * std::pow(widest / target, 2)));
 }
 
+// "; the indices themselves are sampling noise at this size: x3 S1 -0.395
+// below 0, x2 S1 0.521 above its ST 0.461", for indices no variance share can
+// have (outside [0, 1], or a first-order above its total); empty when none.
+std::string impossible_indices_note(const SobolIndices& s, const std::vector<std::string>& labels) {
+  std::string found;
+  const auto add = [&](Eigen::Index i, const std::string& what) {
+    found += (found.empty() ? "" : ", ") + labels[static_cast<std::size_t>(i)] + " " + what;
+  };
+  for (Eigen::Index i = 0; i < s.S1.size(); ++i) {
+    for (const auto& [index, value] : {std::pair<const char*, double>{"S1", s.S1[i]}, {"ST", s.ST[i]}}) {
+      if (value < 0.0) add(i, std::string(index) + " " + fixed_text(value) + " below 0");
+      if (value > 1.0) add(i, std::string(index) + " " + fixed_text(value) + " above 1");
+    }
+    if (s.S1[i] > s.ST[i]) add(i, "S1 " + fixed_text(s.S1[i]) + " above its ST " + fixed_text(s.ST[i]));
+  }
+  return found.empty() ? "" : "; the indices themselves are sampling noise at this size: " + found;
+}
+
 std::vector<std::string> sobol_warnings(const std::string& qoi, const SobolIndices& s,
                                         const std::vector<std::string>& labels, int n) {
   std::vector<std::string> w;
@@ -143,7 +161,8 @@ void estimate_qoi_indices(const SensitivityStudy& study, const MorrisDesign& mor
   if (sobol && study.sobol.bootstrap_resamples > 0 && !out.sobol.back().has_intervals)
     out.warnings.push_back(name + ": no intervals: the " + std::to_string(out.sobol.back().groups_used) +
                            " complete groups are too few to resample (at least " +
-                           std::to_string(kMinBootstrapSobolGroups) + "); use more samples");
+                           std::to_string(kMinBootstrapSobolGroups) + "); use more samples" +
+                           impossible_indices_note(out.sobol.back(), labels));
   else if (!sobol && study.morris.bootstrap_resamples > 0 && !out.morris.back().has_intervals)
     out.warnings.push_back(name + ": no intervals: the " + std::to_string(out.morris.back().trajectories_used) +
                            " complete trajectories are too few to resample (at least " +

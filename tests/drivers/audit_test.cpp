@@ -6114,6 +6114,10 @@ TEST_F(Audit, IntervalsNeedUnitsToResample) {
                    "sensitivity --no-plot --study " + ishigami + " --samples 2 --out " + two_groups, Want::kRuns,
                    {"no intervals: 2 groups are too few to resample (at least 10)", "use more samples"}, {}, {},
                    {"% intervals"}});
+  // Ishigami from 8 groups of seed 1: x3's S1 comes out -0.4, an index no variance share can have.
+  cases.push_back({"Sobol' indices of Ishigami from 8 groups",
+                   "sensitivity --no-plot --study " + ishigami + " --samples 8 --out " + w().out(), Want::kRuns,
+                   {"the indices themselves are sampling noise at this size", "x3 S1 -0.", " below 0"}});
   cases.push_back({"Sobol' indices of Ishigami from 10 groups",
                    "sensitivity --no-plot --study " + ishigami + " --samples 10 --out " + w().out(), Want::kRuns,
                    {"95 % intervals"}, {}, {}, {"too few to resample"}});
