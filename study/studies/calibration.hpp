@@ -174,6 +174,10 @@ struct CalibrationStudy {
   // The integrator of every simulation of the calibration: the study's
   // "integrator", else the stiff one at its default tolerances.
   IntegratorSettings integrator;
+  // Where `integrator` came from when the study chose none and the scenario's
+  // differs ("the calibration's default, not the scenario's dopri5 at ...");
+  // empty otherwise.
+  std::string integrator_origin;
   IntegrationCheck integration_check;
   // Levenberg-Marquardt iterations (Jacobians) at most; 0: 10 + 5 p.
   int max_iterations = 0;

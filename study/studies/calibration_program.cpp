@@ -64,7 +64,9 @@ StudyProgram<Result> calibration_program(const CalibrationStudy& s, const std::s
   p.command = "calibrate";
   p.name = s.identity.name;
   p.fingerprint = s.fingerprint;
-  p.banner = s.accuracy_choice.empty() ? banner : banner + "; \"accuracy\" chose " + s.accuracy_choice;
+  p.banner = banner + "; every run on " + describe_integrator(s.integrator) +
+             (s.integrator_origin.empty() ? "" : " (" + s.integrator_origin + ")");
+  if (!s.accuracy_choice.empty()) p.banner += "; \"accuracy\" chose " + s.accuracy_choice;
   p.provenance = [s](io::Hdf5Writer& h5) { write_calibration_provenance(h5, s); };
   return p;
 }

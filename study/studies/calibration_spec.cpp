@@ -698,7 +698,12 @@ IntegratorSettings calibration_integrator(const io::JsonReader& r, CalibrationSt
     r.fail("scenario", e.what());
   }
   const std::optional<IntegratorSettings> chosen = study_integrator(r, scenario, &s.accuracy_choice);
-  return chosen ? *chosen : default_integrator_settings(IntegratorMethod::kRosenbrockW);
+  if (chosen) return *chosen;
+  const IntegratorSettings stiff = default_integrator_settings(IntegratorMethod::kRosenbrockW);
+  if (describe_integrator(scenario.integrator) != describe_integrator(stiff))
+    s.integrator_origin = "the calibration's default, not the scenario's " + describe_integrator(scenario.integrator) +
+                          "; the study's \"integrator\" chooses another";
+  return stiff;
 }
 
 // Everything that changes a result: the files and the data (the digest), and

@@ -6343,5 +6343,26 @@ TEST_F(Audit, TypedNamesGetWhatWasMeantAndQuotedNumbersRead) {
   run_table(w().dir(), cases);
 }
 
+
+// A calibration runs on the stiff integrator unless the study chooses one,
+// whatever its scenario says; the first line says so, and names the
+// scenario's integrator it does not use.
+TEST_F(Audit, ACalibrationSaysWhichIntegratorItRunsOn) {
+  const std::string dopri5 = w().scenario([](Json& j) { j["integrator"] = {{"method", "dopri5"}}; });
+  std::vector<Case> cases;
+  cases.push_back({"a calibration of a dopri5 scenario",
+                   study("calibrate", w().calibration([&](Json& j) { j["scenario"] = dopri5; })) + " --dry-run",
+                   Want::kRuns,
+                   {"every run on rosenbrock at rtol 1e-05, atol 0.0002 (the calibration's default, not the "
+                    "scenario's dopri5 at rtol 1e-06, atol 1e-09"}});
+  cases.push_back({"a calibration that chooses dopri5",
+                   study("calibrate", w().calibration([&](Json& j) {
+                     j["scenario"] = dopri5;
+                     j["integrator"] = {{"method", "dopri5"}, {"rtol", 1e-7}, {"atol", 1e-10}};
+                   })) + " --dry-run",
+                   Want::kRuns, {"every run on dopri5 at rtol 1e-07, atol 1e-10"}, {}, {}, {"not the scenario's"}});
+  run_table(w().dir(), cases);
+}
+
 }  // namespace
 }  // namespace rover
