@@ -74,8 +74,13 @@ bool step_is_bad(IntegrationReport& report, StallWatch& stall, double t, double 
   if (h < floor && t < duration) {  // the last step may end just past a sample
     report.status = SimulationStatus::kStepSizeCollapsed;
     report.failed_at_s = t;
+    // The times of a run are resolved to the rounding of its longest one.
+    const bool duration_sets_floor = duration > std::abs(t);
     report.detail = "step " + number_text(h) + " s is below " + number_text(StallWatch::kRoundingUnits) +
-                    " rounding units of the time (" + number_text(floor) + " s)";
+                    " rounding units of the " +
+                    (duration_sets_floor ? "duration " + number_text(duration) + " s (" + number_text(floor) +
+                                               " s), the finest step a run this long resolves in double precision"
+                                         : "time (" + number_text(floor) + " s)");
     return true;
   }
   if (report.steps - stall.window_start_step >= StallWatch::kWindowSteps) {

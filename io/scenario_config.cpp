@@ -513,12 +513,28 @@ ModelInputs parse_simulation_inputs(const JsonReader& r, ModelInputs in) {
   return in;
 }
 
+namespace {
+
+// A file read through /dev/stdin or /dev/fd/N (or /proc/self/fd/N) has no
+// folder of its own: relative names in it are resolved against /dev or
+// /proc. " (relative names ... )" when `config_path` is such a stream and
+// `name` relative; empty otherwise.
+std::string stream_folder_note(const std::string& config_path, const std::string& name) {
+  if (std::filesystem::path(name).is_absolute()) return "";
+  const std::string folder = std::filesystem::path(config_path).parent_path().string();
+  if (folder != "/dev" && folder != "/dev/fd" && !folder.starts_with("/proc/")) return "";
+  return " (" + config_path + " is a stream, not a file in a folder of yours: relative names in it are resolved "
+         "against " + folder + "; give absolute paths, or save the file and give its path)";
+}
+
+}  // namespace
+
 std::string named_input_file(const JsonReader& r, const std::string& key, const std::string& kind) {
   const std::string name = r.string(key);
   if (name.empty()) r.fail(key, "expected the path of " + kind);
   const std::string resolved = resolve_relative(r.file(), name);
   if (const std::string problem = input_path_problem(resolved, kind); problem == "no such file")
-    r.fail(key, "file not found: " + resolved);
+    r.fail(key, "file not found: " + resolved + stream_folder_note(r.file(), name));
   else if (!problem.empty())
     r.fail(key, resolved + " " + problem);
   return resolved;

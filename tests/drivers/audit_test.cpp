@@ -6364,5 +6364,26 @@ TEST_F(Audit, ACalibrationSaysWhichIntegratorItRunsOn) {
   run_table(w().dir(), cases);
 }
 
+
+// A scenario read from /dev/stdin has no folder: its relative names resolve
+// against /dev, and the refusal says so. A step refused for rounding names
+// what sets the floor: a duration of 1e6 s, not the time of the step.
+TEST_F(Audit, StreamsAndRoundingFloorsAreExplained) {
+  std::vector<Case> cases;
+  const std::string shipped = source_path("configs/scenarios/drop_horizontal.json");
+  cases.push_back({"a shipped scenario through /dev/stdin",
+                   "simulate --scenario /dev/stdin --no-plot --out " + w().out() + " < " + shipped, Want::kError,
+                   {"file not found: /rover.json", "/dev/stdin is a stream", "resolved against /dev",
+                    "give absolute paths"}});
+  const std::string million_seconds = w().scenario([](Json& j) {
+    j["duration"] = 1e6;
+    j["output_rate"] = 1;
+    j.erase("integrator");  // Dormand-Prince: the impact at 0.09 s needs steps under the floor
+  });
+  cases.push_back({"a run of 1e6 s", "simulate --scenario " + million_seconds + " --no-plot --out " + w().out(),
+                   Want::kAllFailed, {"rounding units of the duration 1000000 s", "a run this long resolves"}});
+  run_table(w().dir(), cases);
+}
+
 }  // namespace
 }  // namespace rover
