@@ -220,9 +220,11 @@ int run_reporting_errors(CLI::App& sub, const std::function<int()>& run, std::ve
     report_input_problem({prefix + e.what()}, &held);
     return 1;
   } catch (const std::bad_alloc&) {
+    const bool has_samples = sub.get_option_no_throw("--samples") != nullptr;
     report_error(prefix, "out of memory while running rover " + sub.get_name() +
-                             ": its inputs ask for more than this process may hold (physical memory, ulimit -v); "
-                             "reduce --samples or the study's size");
+                             ": its inputs ask for more than this process may hold (physical memory, ulimit -v); " +
+                             (has_samples ? "reduce --samples or the study's size"
+                                          : "reduce the run's size (the scenario's duration or output_rate)"));
     return 1;
   } catch (const std::exception& e) {
     report_error(prefix, e.what());

@@ -21,6 +21,7 @@
 #include "core/number_text.hpp"
 #include "io/csv.hpp"
 #include "io/model_config.hpp"
+#include "io/process_memory.hpp"
 #include "io/rover_config.hpp"
 #include "io/terrain_json.hpp"
 
@@ -331,7 +332,8 @@ double recorded_sample_count(double duration_s, double rate_hz) {
   return std::floor(duration_s * rate_hz * (1.0 + 1e-12)) + 1.0;
 }
 
-std::string recording_size_problem(double samples, double bytes_per_sample, double max_bytes) {
+std::string recording_size_problem(double samples, double bytes_per_sample, double max_bytes,
+                                   const std::string& limit_name) {
   const double bytes = samples * bytes_per_sample;
   if (bytes <= max_bytes) return "";
   constexpr std::array<const char*, 7> kUnits{"B", "kB", "MB", "GB", "TB", "PB", "EB"};
@@ -342,9 +344,9 @@ std::string recording_size_problem(double samples, double bytes_per_sample, doub
     ++unit;
   }
   char text[120];
-  std::snprintf(text, sizeof text, "would record %.1e samples (%.3g %s, more than the %.3g GB allowed)",
-                samples, amount, kUnits[unit], max_bytes / 1e9);
-  return text;
+  std::snprintf(text, sizeof text, "would record %.1e samples (%.3g %s, more than the %.3g GB ", samples, amount,
+                kUnits[unit], max_bytes / 1e9);
+  return text + (limit_name.empty() ? std::string("allowed") : "of " + limit_name) + ")";
 }
 
 double initial_penetration_tolerance_m(const RoverModel& model) {
@@ -653,12 +655,13 @@ void parse_run_length(const JsonReader& r, Scenario& s) {
                std::to_string(kMeasuredCurveMinRows) + " of a curve rover compare and calibrate accept; the run " +
                "must last at least " + std::to_string(kMeasuredCurveMinRows - 1) + " output periods (" +
                number_text((kMeasuredCurveMinRows - 1) / s.output_rate_hz) + " s)");
-  if (const std::string problem = recording_size_problem(
-          recorded_sample_count(s.duration_s, s.output_rate_hz), kTrajectoryBytesPerSample);
-      !problem.empty()) {
+  const double samples = recorded_sample_count(s.duration_s, s.output_rate_hz);
+  std::string problem = recording_size_problem(samples, kTrajectoryBytesPerSample);
+  if (const MemoryLimit memory = process_memory_limit(); problem.empty() && memory.bytes < kMaxRecordingBytes)
+    problem = recording_size_problem(samples, kTrajectoryBytesPerSample, memory.bytes, memory.what);
+  if (!problem.empty())
     r.fail(r.has("duration") ? "duration" : "travel_distance",
            problem + " at " + number_text(s.output_rate_hz) + " Hz; reduce duration or output_rate");
-  }
 }
 
 // A wheel deep in the ground would start with a contact force far beyond

@@ -57,10 +57,11 @@ inline constexpr double kMaxRecordingBytes = 8.0 * 1024.0 * 1024.0 * 1024.0;
 double recorded_sample_count(double duration_s, double rate_hz);
 
 // Empty when `samples` of `bytes_per_sample` fit in `max_bytes`; otherwise
-// "would record 1.0e+15 samples (448 PB, more than the 8.59 GB allowed)" for
-// the caller to extend with the remedy.
+// "would record 1.0e+15 samples (448 PB, more than the 8.59 GB allowed)", or
+// "... more than the 0.7 GB of <limit_name>)" when the bound is a limit of
+// the process (io/process_memory.hpp), for the caller to extend with the remedy.
 std::string recording_size_problem(double samples, double bytes_per_sample,
-                                   double max_bytes = kMaxRecordingBytes);
+                                   double max_bytes = kMaxRecordingBytes, const std::string& limit_name = "");
 
 // Deepest start of a wheel in the terrain that load_scenario accepts: the
 // penetration at which the contact law k_g p^sigma carries the whole weight

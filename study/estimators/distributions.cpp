@@ -143,6 +143,14 @@ std::string shortest(double x) {
   return std::string(buffer, result.ptr);
 }
 
+// A derived number to 4 significant digits ("0.262"), where the shortest
+// round-trip text would show digits nobody typed.
+std::string four_digits(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.4g", x);
+  return std::string(text);
+}
+
 bool fail_with(std::string* why, const std::string& reason) {
   if (why) *why = reason;
   return false;
@@ -316,13 +324,8 @@ std::string negligible_spread_problem(const Distribution& d, double reference) {
   const bool by_reference = !std::isnan(reference) && std::abs(reference) > std::abs(mean);
   const std::string scale_text =
       by_reference ? "the configured value " + shortest(reference) : "its mean's size " + shortest(std::abs(mean));
-  const auto approx = [](double x) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.4g", x);
-    return std::string(text);
-  };
-  return d.describe() + " has sd " + approx(sd) +
-         (std::isfinite(width) ? " on a support " + approx(width) + " wide" : std::string()) + ", not above " +
+  return d.describe() + " has sd " + four_digits(sd) +
+         (std::isfinite(width) ? " on a support " + four_digits(width) + " wide" : std::string()) + ", not above " +
          shortest(kMinRelativeSpread) + " of " + scale_text + spread_rule_text();
 }
 
@@ -387,9 +390,13 @@ std::string Distribution::describe() const {
     case DistributionKind::kUniform:
     case DistributionKind::kLogUniform: args = "min " + shortest(a) + ", max " + shortest(b); break;
     case DistributionKind::kNormal: args = "mean " + shortest(a) + ", sd " + shortest(b); break;
-    case DistributionKind::kLognormal:
-      args = "log_mean " + shortest(a) + ", log_sd " + shortest(b);
+    case DistributionKind::kLognormal: {
+      // The value's own mean and sd beside the parameters of its log.
+      const double mean = std::exp(a + 0.5 * b * b), sd = mean * std::sqrt(std::expm1(b * b));
+      args = "log_mean " + shortest(a) + ", log_sd " + shortest(b) + "; the value's mean " + four_digits(mean) +
+             ", sd " + four_digits(sd) + (untruncated(*this) ? "" : " before truncation");
       break;
+    }
   }
   const bool truncatable = kind == DistributionKind::kNormal || kind == DistributionKind::kLognormal;
   if (truncatable && !untruncated(*this)) {

@@ -1,7 +1,6 @@
 // See study_output.hpp.
 #include "study/studies/study_output.hpp"
 
-#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -54,23 +53,7 @@ std::string checked_results_path(const std::string& name, const std::string& req
   return path;
 }
 
-MemoryLimit machine_memory() {
-  const double page = static_cast<double>(::sysconf(_SC_PAGESIZE));
-  MemoryLimit limit{page * static_cast<double>(::sysconf(_SC_PHYS_PAGES)), "this machine's physical memory"};
-  double mapped = 0.0;  // what the process maps already (MPI and HDF5 map hundreds of MB)
-  if (std::ifstream statm("/proc/self/statm"); statm >> mapped) mapped *= page;
-  const std::pair<int, const char*> limits[] = {{RLIMIT_AS, "the address-space limit (ulimit -v)"},
-                                                {RLIMIT_DATA, "the data-size limit (ulimit -d)"}};
-  for (const auto& [resource, name] : limits) {
-    struct rlimit r {};
-    if (::getrlimit(resource, &r) != 0 || r.rlim_cur == RLIM_INFINITY) continue;
-    const double left = std::max(0.0, static_cast<double>(r.rlim_cur) - mapped);
-    if (left < limit.bytes) limit = {left, std::string(name) + " less what the process maps already"};
-  }
-  return limit;
-}
-
-void require_memory(const std::string& what, double bytes, const MemoryLimit& limit) {
+void require_memory(const std::string& what, double bytes, const io::MemoryLimit& limit) {
   if (bytes <= limit.bytes) return;
   char text[160];
   std::snprintf(text, sizeof text, "would hold %.3g GB of %s in memory, more than the %.3g GB of ", bytes / 1e9,

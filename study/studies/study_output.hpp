@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "io/hdf5_file.hpp"
+#include "io/process_memory.hpp"
 #include "study/runtime/study_runner.hpp"
 #include "study/studies/study_spec.hpp"
 
@@ -25,17 +26,11 @@ std::string checked_results_path(const std::string& name, const std::string& req
 // 'results/x.h5'" when no --out was given.
 std::string results_path_label(const std::string& path, bool is_default);
 
-// The memory a study may hold: the physical memory, or less where a limit of
-// the process (ulimit -v, -d) leaves less beside what it maps already.
-struct MemoryLimit {
-  double bytes = 0.0;
-  std::string what;  // "this machine's physical memory", ...
-};
-MemoryLimit machine_memory();
 // Refuses up front, with the estimate, a study whose rank-0 working set would
-// exceed `limit`: "would hold 12.3 GB of run records (...) in memory, more
-// than the 4 GB of ...". `what` says what the bytes are.
-void require_memory(const std::string& what, double bytes, const MemoryLimit& limit = machine_memory());
+// exceed `limit` (io/process_memory.hpp): "would hold 12.3 GB of run records
+// (...) in memory, more than the 4 GB of ...". `what` says what the bytes are.
+void require_memory(const std::string& what, double bytes,
+                    const io::MemoryLimit& limit = io::process_memory_limit());
 
 // "results/x.h5" + "_band_B_l_z.png" -> "results/x_band_B_l_z.png".
 std::string sibling_path(const std::string& results_path, const std::string& suffix);

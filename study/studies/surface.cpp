@@ -1,6 +1,7 @@
 // See surface.hpp: the study's configuration and runs.
 #include "study/studies/surface.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/number_text.hpp"
@@ -26,6 +27,9 @@ constexpr double kMinRelativeSpacing = 1e-12;
 // A line through two points fits them exactly (r^2 = 1 whatever the timing):
 // the sweep's regression is judged on three f values or more.
 constexpr int kMinSweepPoints = 3;
+// The exit status of a surface whose kriged map is not to be trusted (README
+// "Guarantees": a result not to be trusted).
+constexpr int kUntrustedMapStatus = 2;
 const std::vector<std::string> kSurfaceInputs{"s_structure.f", "s_structure.c_q"};
 
 std::vector<double> parse_axis(const io::JsonReader& parent, const std::string& key, bool* log_spacing = nullptr) {
@@ -387,6 +391,11 @@ StudyProgram<SurfaceResult> surface_program(SurfaceStudy study) {
   };
   p.plot = plot_surface;
   p.figures = [study](PlotSelection plots) { return surface_figures(study, plots); };
+  // A kriged map the report calls not to be trusted is a result not to be trusted.
+  p.verdict = [](const SurfaceResult& r) {
+    const auto& maps = r.kriging.maps;
+    return std::any_of(maps.begin(), maps.end(), surface_map_not_to_trust) ? kUntrustedMapStatus : 0;
+  };
   p.report = [](const SurfaceResult& r, std::ostream& out) {
     if (r.study.kriging.enabled) report_surface_kriging(r.kriging, out);
     if (!r.reference_warning.empty()) out << "surface: warning: " << r.reference_warning << "\n";

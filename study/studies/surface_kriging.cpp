@@ -44,6 +44,7 @@ SurfaceKrigingMap fit_map(const SurfaceKrigingSpec& spec, const SurfaceKriging& 
   SurfaceKrigingMap m;
   m.name = name;
   m.log_scale = log_scale;
+  m.wall_time = name == kQoiNames[1];
   const std::vector<Eigen::Index> rows = ok_runs(k, y);
   DesignMatrix x(static_cast<Eigen::Index>(rows.size()), 2);
   Eigen::VectorXd v(static_cast<Eigen::Index>(rows.size()));
@@ -233,6 +234,17 @@ void write_surface_kriging(const SurfaceKriging& k, io::Hdf5Writer& h5) {
 // interpolates its runs: its left-out error is the map's own.
 constexpr double kInterpolatingNugget = 1e-6;
 
+namespace {
+
+// A process that interpolates its runs predicts them, left out one at a time, with a Q2 below the bar.
+bool interpolates_badly(const SurfaceKrigingMap& m) {
+  return m.fitted && m.model.gp.nugget < kInterpolatingNugget && !(m.model.gp.validation.q2_loo >= kDefaultQ2Threshold);
+}
+
+}  // namespace
+
+bool surface_map_not_to_trust(const SurfaceKrigingMap& m) { return !m.wall_time && interpolates_badly(m); }
+
 void report_surface_kriging(const SurfaceKriging& k, std::ostream& out) {
   const long ok = std::count(k.status.begin(), k.status.end(), run_status::kOk);
   out << "surface: kriging from " << ok << " of " << k.status.size() << " runs (Latin hypercube)\n";
@@ -246,12 +258,13 @@ void report_surface_kriging(const SurfaceKriging& k, std::ostream& out) {
         << " c_q " << gp.length_scales(1) << ", nugget " << gp.nugget << " (noise sd "
         << std::sqrt(gp.nugget * gp.process_variance) << (m.log_scale ? " in log units" : "") << "), Q2 LOO "
         << gp.validation.q2_loo << "\n";
-    // A process with a nugget (a wall time's scatter) cannot predict noisy
-    // left-out runs well, whatever its mean map; one that interpolates must.
-    if (gp.nugget < kInterpolatingNugget && !(gp.validation.q2_loo >= kDefaultQ2Threshold))
+    if (surface_map_not_to_trust(m))
       out << "  WARNING: " << m.name << "'s process predicts its own left-out runs with Q2 "
           << gp.validation.q2_loo << ", below " << kDefaultQ2Threshold
-          << ": its map is not to be trusted between the runs (more runs, or a smaller range)\n";
+          << ": its map is not to be trusted between the runs (more runs, or a smaller range; exit status 2)\n";
+    else if (interpolates_badly(m))
+      out << "  note: " << m.name << " is a wall time and its process predicts its own left-out runs with Q2 "
+          << gp.validation.q2_loo << ": its map shows the cost's trend at best, not a prediction\n";
     if (m.checked)
       out << "    against " << k.check_source << " (" << m.checked_points << " points): Q2 " << m.q2
           << ", largest error " << m.max_abs_error << ", " << m.covered_points << " of " << m.checked_points

@@ -67,6 +67,7 @@ DesignMatrix surface_kriging_design(const SurfaceKrigingSpec& spec);
 struct SurfaceKrigingMap {
   std::string name;                // "rms", "t_c"
   bool log_scale = false;          // kriged as log(value): t_c
+  bool wall_time = false;          // t_c: a measured cost, which scatters with the machine's load
   bool fitted = false;
   std::string undefined_reason;    // why there is no process
   FittedSurrogate model;           // of the value or, log_scale, of its log
@@ -86,6 +87,13 @@ struct SurfaceKriging {
   std::string check_source;        // "grid", the file, or empty
   std::vector<SurfaceKrigingMap> maps;  // rms, t_c
 };
+
+// Whether a map of the model's response (rms) is not to be trusted between
+// its runs: its process interpolates them (no nugget) and predicts them, left
+// out one at a time, with a Q2 below kDefaultQ2Threshold. A wall time's map
+// (t_c) is never judged so: its runs scatter with the machine's load, and a
+// process cannot predict noisy left-out runs whatever its mean map.
+bool surface_map_not_to_trust(const SurfaceKrigingMap& m);
 
 // Fits both QoIs on the successful runs of `k` and predicts them on the grid.
 void fit_surface_kriging(const SurfaceKrigingSpec& spec, const std::vector<double>& f, const std::vector<double>& c_q,

@@ -383,9 +383,9 @@ TEST(Distributions, Describe) {
   EXPECT_EQ(normal(0, 0.5).describe(), "normal(mean 0, sd 0.5)");
   EXPECT_EQ(uniform(0.1, 2).describe(), "uniform(min 0.1, max 2)");
   EXPECT_EQ(log_uniform(1e-06, 10).describe(), "log_uniform(min 1e-06, max 10)");
-  EXPECT_EQ(lognormal(0, 0.25).describe(), "lognormal(log_mean 0, log_sd 0.25)");
+  EXPECT_EQ(lognormal(0, 0.25).describe(), "lognormal(log_mean 0, log_sd 0.25; the value's mean 1.032, sd 0.262)");
   EXPECT_EQ(lognormal(0, 0.25, 0, 4).describe(),
-            "lognormal(log_mean 0, log_sd 0.25, truncated to [0, 4])");
+            "lognormal(log_mean 0, log_sd 0.25; the value's mean 1.032, sd 0.262 before truncation, truncated to [0, 4])");
   EXPECT_EQ(fixed_value(3).describe(), "fixed(value 3)");
 }
 
