@@ -34,9 +34,6 @@ struct CalibrateOptions {
 void check_flag_inputs(const CalibrateOptions& o) {
   FlagChecks checks;
   const study::CalibrationOverrides& v = o.overrides;
-  if (v.walkers && *v.walkers % 2 != 0)
-    checks.add("--walkers must be even (and at least twice the number of sampled parameters), got " +
-               std::to_string(*v.walkers));
   io::InputFiles inputs;
   inputs.add(v.data_path, "--data");
   inputs.add_config(o.next_experiment, "--next-experiment");

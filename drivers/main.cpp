@@ -124,7 +124,7 @@ void read_integral_numbers_as_integers(CLI::App& app) {
           const auto value = io::exact_unsigned_integer(number);
           if (!value)  // beyond 2^53 (1e30) the flag's range says so
             return std::trunc(number.get<double>()) == number.get<double>() ? std::string()
-                                                                           : "must be a whole number, got " + text;
+                                                                           : "must be a whole number" + range + ", got " + text;
           text = (negative ? "-" : "") + std::to_string(*value);
           return std::string();
         },

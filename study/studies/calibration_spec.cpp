@@ -615,8 +615,14 @@ void refuse_unreachable_target_ess(const io::JsonReader& r, const CalibrationOve
 }
 
 // The posterior's sizes after the command line's overrides, checked; an
-// override's error names its flag.
-void check_mcmc_sizes(const io::JsonReader& r, const CalibrationOverrides& o, CalibrationStudy& s) {
+// override's error names its flag. A least-squares fit takes no overrides
+// (the command refuses them as unused) and checks the file's sizes alone.
+void check_mcmc_sizes(const io::JsonReader& r, CalibrationOverrides o, CalibrationStudy& s) {
+  if (s.method != CalibrationMethod::mcmc) {
+    o.walkers.reset();
+    o.steps.reset();
+    o.discard.reset();
+  }
   if (o.walkers) s.mcmc.walkers = *o.walkers;
   if (o.steps) s.mcmc.steps = *o.steps;
   if (o.discard) s.mcmc.discard = *o.discard;

@@ -2317,11 +2317,11 @@ TEST_F(Audit, UnitMistakesFlagsAndFailuresInRoversWords) {
                    Want::kRuns, {"dry run"}});
   // A flag's error names the flag, not the study file's field.
   const std::string calibration = w().calibration([](Json&) {});
-  cases.push_back({"calibrate --walkers 2", study("calibrate", calibration) + " --dry-run --walkers 2", Want::kError,
+  cases.push_back({"calibrate --walkers 2", study("calibrate", calibration) + " --dry-run --method mcmc --walkers 2", Want::kError,
                    {"--walkers: got 2", "at least 4"}, {}, {}, {"mcmc.walkers"}});
-  cases.push_back({"calibrate --steps 2 --discard 0", study("calibrate", calibration) + " --dry-run --steps 2 --discard 0",
+  cases.push_back({"calibrate --steps 2 --discard 0", study("calibrate", calibration) + " --dry-run --method mcmc --steps 2 --discard 0",
                    Want::kError, {"--steps 2 with --discard 0", "leaves 2 step(s)", "need at least 4"}, {}, {}, {"mcmc."}});
-  cases.push_back({"calibrate --steps 3", study("calibrate", calibration) + " --dry-run --steps 3", Want::kError,
+  cases.push_back({"calibrate --steps 3", study("calibrate", calibration) + " --dry-run --method mcmc --steps 3", Want::kError,
                    {"--steps 3", "leaves 2 step(s) after a burn-in of 1", "need at least 4"}, {}, {}, {"mcmc."}});
   cases.push_back({"calibrate --algorithm with gradients", study("calibrate", calibration) + " --dry-run --algorithm LD_MMA",
                    Want::kError, {"--algorithm: 'LD_MMA' needs gradients"}, {}, {}, {"field 'algorithm'"}});
@@ -2379,7 +2379,10 @@ TEST_F(Audit, UnitMistakesFlagsAndFailuresInRoversWords) {
   const std::string mc = w().montecarlo([](Json&) {});
   cases.push_back({"--samples 1e3", study("montecarlo", mc) + " --dry-run --samples 1e3", Want::kRuns, {"1000 runs"}});
   cases.push_back({"--samples 2.5", study("montecarlo", mc) + " --dry-run --samples 2.5", Want::kError,
-                   {"--samples", "must be a whole number, got 2.5"}});
+                   {"--samples", "must be a whole number, from ", ", got 2.5"}});
+  cases.push_back({"--walkers 3 on a least-squares fit",
+                   study("calibrate", w().calibration([](Json&) {})) + " --dry-run --walkers 3", Want::kError,
+                   {"--walkers 3 applies to --method mcmc only"}, {}, {}, {"must be even"}});
   const std::string tiny_max_step = w().scenario([](Json& j) {
     j["integrator"] = {{"method", "dopri5"}, {"max_step", 1e-15}};
   });
